@@ -1,0 +1,47 @@
+//! `pcsim`: the command-line tool over `pcsim-core`.
+
+mod commands;
+mod output;
+mod progress;
+
+use clap::{Parser, Subcommand};
+
+/// Pantograph–catenary dynamic interaction simulator (modal superposition, EN 50318 statistics).
+#[derive(Parser)]
+#[command(name = "pcsim", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+    /// No progress bar.
+    #[arg(long, global = true)]
+    quiet: bool,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run one case and write summary.json and timeseries.csv.
+    Run(commands::RunArgs),
+    /// Run a validation (default: en50318-2002 at 250 and 300 km/h) and print the table.
+    Validate(commands::ValidateArgs),
+    /// List the embedded presets, or print one (`presets show NAME`).
+    Presets(commands::PresetsArgs),
+    /// Benchmark: wall time against simulated time on one core.
+    Bench(commands::BenchArgs),
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let res = match cli.command {
+        Command::Run(a) => commands::run(a, cli.quiet),
+        Command::Validate(a) => commands::validate(a, cli.quiet),
+        Command::Presets(a) => commands::presets(a),
+        Command::Bench(a) => commands::bench(a, cli.quiet),
+    };
+    match res {
+        Ok(code) => std::process::exit(code),
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::exit(2);
+        }
+    }
+}

@@ -1,0 +1,89 @@
+//! Writing run results: `summary.json` and `timeseries.csv`.
+
+use anyhow::{Context, Result};
+use pcsim_core::sim::RunOutput;
+use pcsim_core::stats::ContactStats;
+use serde::Serialize;
+use std::path::Path;
+
+#[derive(Serialize)]
+pub struct PantographSummary {
+    pub name: String,
+    pub stats: Option<ContactStats>,
+}
+
+#[derive(Serialize)]
+pub struct Summary {
+    pub speed_kmh: f64,
+    pub simulated_time_s: f64,
+    pub wall_time_s: f64,
+    pub analysis_section_m: [f64; 2],
+    pub modes_per_wire: usize,
+    pub dt_s: f64,
+    pub max_slack_droppers: usize,
+    pub steps_with_slack_percent: f64,
+    pub warnings: Vec<String>,
+    pub pantographs: Vec<PantographSummary>,
+}
+
+impl Summary {
+    pub fn new(out: &RunOutput, wall_time_s: f64, warnings: Vec<String>) -> Self {
+        Summary {
+            speed_kmh: out.speed_m_s * 3.6,
+            simulated_time_s: out.simulated_time_s(),
+            wall_time_s,
+            analysis_section_m: out.analysis_m,
+            modes_per_wire: out.n_modes,
+            dt_s: out.dt_s,
+            max_slack_droppers: out.max_slack_droppers,
+            steps_with_slack_percent: out.steps_with_slack_percent,
+            warnings,
+            pantographs: out
+                .pantographs
+                .iter()
+                .map(|p| PantographSummary {
+                    name: p.name.clone(),
+                    stats: p.stats,
+                })
+                .collect(),
+        }
+    }
+}
+
+/// Write `summary.json` and `timeseries.csv` into `dir` (created if needed).
+pub fn write_run(dir: &Path, out: &RunOutput, summary: &Summary) -> Result<()> {
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("cannot create output directory {}", dir.display()))?;
+    let js = serde_json::to_string_pretty(summary)?;
+    std::fs::write(dir.join("summary.json"), js + "\n")
+        .with_context(|| format!("cannot write {}", dir.join("summary.json").display()))?;
+    let path = dir.join("timeseries.csv");
+    let mut w = csv::Writer::from_path(&path)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    let mut header = vec!["time_s".to_string()];
+    for (i, p) in out.pantographs.iter().enumerate() {
+        let tag = if p.name.is_empty() {
+            format!("p{i}")
+        } else {
+            p.name.clone()
+        };
+        for col in ["position_m", "force_n", "force_filtered_n", "height_m"] {
+            header.push(format!("{tag}_{col}"));
+        }
+    }
+    w.write_record(&header)?;
+    let mut rec = Vec::with_capacity(header.len());
+    for (k, t) in out.time_s.iter().enumerate() {
+        rec.clear();
+        rec.push(format!("{t:.6}"));
+        for p in &out.pantographs {
+            rec.push(format!("{:.4}", p.position_m[k]));
+            rec.push(format!("{:.4}", p.force_n[k]));
+            rec.push(format!("{:.4}", p.force_filtered_n[k]));
+            rec.push(format!("{:.6}", p.wire_height_m[k]));
+        }
+        w.write_record(&rec)?;
+    }
+    w.flush()?;
+    Ok(())
+}

@@ -1,0 +1,184 @@
+//! The command line: names, files and exit codes that users and other tools depend on.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn pcsim() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_pcsim"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("pcsim-cli-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A short plain-valued case (6 spans) written from the preset.
+fn short_case(dir: &std::path::Path) -> PathBuf {
+    let (mut c, _) = pcsim_core::presets::load("en50318-2002").unwrap();
+    c.catenary.spans = 6;
+    c.run.start_m = 60.0;
+    c.run.end_m = 300.0;
+    c.run.analysis_m = [120.0, 240.0];
+    let p = dir.join("short.toml");
+    std::fs::write(&p, c.to_toml_string()).unwrap();
+    p
+}
+
+#[test]
+fn presets_lists_and_shows_an_editable_case() {
+    let out = pcsim().arg("presets").output().unwrap();
+    assert!(out.status.success());
+    let s = String::from_utf8(out.stdout).unwrap();
+    assert!(s.contains("en50318-2002") && s.contains("benchmark-55m"));
+    let out = pcsim()
+        .args(["presets", "show", "benchmark-55m"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    let (case, _) = pcsim_core::Case::from_toml_str(&text).unwrap();
+    assert_eq!(case, pcsim_core::presets::load("benchmark-55m").unwrap().0);
+    let out = pcsim().args(["presets", "show", "nope"]).output().unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("nope"));
+}
+
+#[test]
+fn run_writes_summary_and_timeseries() {
+    let dir = scratch("run");
+    let case = short_case(&dir);
+    let outdir = dir.join("out");
+    let out = pcsim()
+        .arg("run")
+        .arg(&case)
+        .arg("--out")
+        .arg(&outdir)
+        .args(["--speed", "200", "--quiet"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let js: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(outdir.join("summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(js["speed_kmh"].as_f64().unwrap(), 200.0);
+    for k in ["simulated_time_s", "wall_time_s"] {
+        assert!(js[k].as_f64().unwrap() > 0.0, "{k}");
+    }
+    assert_eq!(js["analysis_section_m"][0].as_f64().unwrap(), 120.0);
+    let p = &js["pantographs"][0]["stats"];
+    for k in [
+        "mean_n",
+        "std_n",
+        "std_0_5hz_n",
+        "std_5_20hz_n",
+        "stat_max_n",
+        "stat_min_n",
+        "actual_max_n",
+        "actual_min_n",
+        "contact_point_range_mm",
+        "max_uplift_at_support_mm",
+        "loss_of_contact_percent",
+    ] {
+        assert!(p[k].as_f64().unwrap().is_finite(), "{k}");
+    }
+    let csv = std::fs::read_to_string(outdir.join("timeseries.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header = lines.next().unwrap();
+    assert_eq!(
+        header,
+        "time_s,leading_position_m,leading_force_n,leading_force_filtered_n,leading_height_m"
+    );
+    let rows: Vec<&str> = lines.collect();
+    let sim = js["simulated_time_s"].as_f64().unwrap();
+    assert_eq!(rows.len(), (sim / 0.001).round() as usize);
+    assert!(!csv.to_lowercase().contains("nan"));
+}
+
+#[test]
+fn missing_file_is_a_clear_error() {
+    let out = pcsim()
+        .args(["run", "/no/such/case.toml", "--quiet"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        e.contains("/no/such/case.toml") && e.contains("cannot read"),
+        "{e}"
+    );
+}
+
+#[test]
+fn bad_value_names_field_and_value_with_nonzero_exit() {
+    let dir = scratch("bad");
+    let case = short_case(&dir);
+    let text = std::fs::read_to_string(&case).unwrap().replacen(
+        "tension_n = 20000.0",
+        "tension_n = -5.0",
+        1,
+    );
+    std::fs::write(&case, text).unwrap();
+    let out = pcsim()
+        .arg("run")
+        .arg(&case)
+        .arg("--out")
+        .arg(dir.join("o"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        e.contains("catenary.contact_wire.tension_n") && e.contains("-5"),
+        "{e}"
+    );
+    assert!(!e.contains("panicked"));
+    assert!(
+        !dir.join("o").join("summary.json").exists(),
+        "no output for a bad case"
+    );
+}
+
+#[test]
+fn validate_json_reports_every_row() {
+    let out = pcsim()
+        .args(["validate", "--json", "--quiet"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let js: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(js["all_pass"].is_boolean());
+    let cases = js["cases"].as_array().unwrap();
+    let speeds: Vec<f64> = cases
+        .iter()
+        .map(|c| c["speed_kmh"].as_f64().unwrap())
+        .collect();
+    assert_eq!(speeds, vec![250.0, 300.0]);
+    for c in cases {
+        let rows = c["rows"].as_array().unwrap();
+        assert_eq!(rows.len(), 8);
+        for r in rows {
+            assert!(
+                r["quantity"].is_string()
+                    && r["value"].as_f64().unwrap().is_finite()
+                    && r["pass"].is_boolean()
+            );
+            assert_eq!(r["range"].as_array().unwrap().len(), 2);
+        }
+    }
+    // Not a terminal: no progress bar, and --quiet anyway.
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

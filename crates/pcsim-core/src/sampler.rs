@@ -1,0 +1,360 @@
+//! Products of fixed-point sines with modal coordinates: `w(x_j) = Σ_k q_k sin(κ_k x_j)` (gather)
+//! and `Q_k += Σ_j f_j sin(κ_k x_j)` (scatter, the generalised force of point forces; the
+//! transpose). These are the hot spot of a modal catenary model.
+//!
+//! # The span-periodic fast path
+//! The catenary repeats every span `S`, and the model length is `L = n_s·S`. Points that share an
+//! offset `d` inside the span sit at `x = d + sS`. With `P = 2 n_s` and `κ_k sS = 2πks/P`,
+//!
+//! ```text
+//! w(d + sS) = Σ_k q_k [sin(κ_k d) cos(2πks/P) + cos(κ_k d) sin(2πks/P)]
+//!           = Σ_{r<P} A_r cos(2π r s/P) + B_r sin(2π r s/P),
+//! A_r = Σ_{k ≡ r (mod P)} q_k sin(κ_k d),   B_r = Σ_{k ≡ r} q_k cos(κ_k d).
+//! ```
+//!
+//! The real-DFT symmetry (`cos(2π(P−ρ)s/P) = cos(2πρs/P)`, sines change sign) folds the `P`
+//! bins into `P/2 + 1` cosine and sine terms. So one offset group costs about
+//! `4N + 2(P+2)·(points in group)` flops instead of `2N·(points in group)`: for 30 spans and
+//! 1200 modes about 7× fewer operations, in contiguous loops that vectorise. Points whose offset is shared by fewer than [`MIN_GROUP`] points use dense rows.
+//! Both paths are tested against each other. No allocation happens in `gather`/`scatter_add`.
+
+use std::f64::consts::PI;
+
+use crate::basis::{dot, SineBasis};
+
+/// Smallest number of points sharing an offset for the folded path to pay off.
+pub const MIN_GROUP: usize = 4;
+
+#[derive(Debug, Clone)]
+struct Group {
+    /// `sin(κ_k d)`, `cos(κ_k d)` for every mode.
+    sin_d: Vec<f64>,
+    cos_d: Vec<f64>,
+    /// Output index of each member.
+    members: Vec<usize>,
+    /// Per member, `[cos(2πρs/P) for ρ in 0..H, sin(2πρs/P) for ρ in 0..H]`, `H = P/2 + 1`
+    /// (the real-DFT symmetry halves the table).
+    tab: Vec<f64>,
+}
+
+/// Precomputed sampler for a fixed set of points on one [`SineBasis`].
+#[derive(Debug, Clone)]
+pub struct PointSampler {
+    n_modes: usize,
+    n_points: usize,
+    period: usize,
+    groups: Vec<Group>,
+    /// Dense rows `sin(κ_k x_j)` for the points outside groups: (output index, row).
+    dense: Vec<(usize, Vec<f64>)>,
+}
+
+/// Scratch for [`PointSampler`]: folded bins and the half-spectrum.
+#[derive(Debug, Clone)]
+pub struct SamplerScratch {
+    a: Vec<f64>,
+    b: Vec<f64>,
+    h: Vec<f64>,
+}
+
+impl SamplerScratch {
+    /// Length of the bin arrays.
+    pub fn len(&self) -> usize {
+        self.a.len()
+    }
+    /// True when empty.
+    pub fn is_empty(&self) -> bool {
+        self.a.is_empty()
+    }
+}
+
+impl PointSampler {
+    /// Build a sampler for points `xs` on `basis`. `span_m` enables the periodic path when the
+    /// model length is a whole number of spans; pass `None` for dense rows only.
+    pub fn new(basis: &SineBasis, xs: &[f64], span_m: Option<f64>) -> Self {
+        let n = basis.n_modes();
+        let l = basis.length_m();
+        let mut groups = Vec::new();
+        let mut dense = Vec::new();
+        let mut period = 2;
+        let n_spans = span_m.and_then(|s| {
+            let ns = (l / s).round();
+            ((ns * s - l).abs() < 1e-9 * l && ns >= 1.0).then_some(ns as usize)
+        });
+        let mut used = vec![false; xs.len()];
+        if let (Some(ns), Some(s)) = (n_spans, span_m) {
+            period = 2 * ns;
+            let hh = period / 2 + 1;
+            // Group points by their offset within a span.
+            let tol = 1e-9 * l.max(1.0);
+            let mut offsets: Vec<(f64, Vec<(usize, usize)>)> = Vec::new();
+            for (j, &x) in xs.iter().enumerate() {
+                let mut sidx = (x / s).floor();
+                let mut d = x - sidx * s;
+                if d > s - tol {
+                    d -= s;
+                    sidx += 1.0;
+                }
+                if d.abs() < tol {
+                    d = 0.0;
+                }
+                let sidx = sidx as usize;
+                match offsets.iter_mut().find(|(od, _)| (od - d).abs() < tol) {
+                    Some((_, m)) => m.push((j, sidx)),
+                    None => offsets.push((d, vec![(j, sidx)])),
+                }
+            }
+            for (d, members) in offsets {
+                if members.len() < MIN_GROUP {
+                    continue;
+                }
+                let mut sin_d = vec![0.0; n];
+                let mut cos_d = vec![0.0; n];
+                basis.fill_sines_cosines(d, &mut sin_d, &mut cos_d);
+                let mut tab = Vec::with_capacity(members.len() * 2 * hh);
+                for &(j, sidx) in &members {
+                    used[j] = true;
+                    for trig in [f64::cos, f64::sin] {
+                        for rho in 0..hh {
+                            let ph = 2.0 * PI * ((rho * sidx) % period) as f64 / period as f64;
+                            tab.push(trig(ph));
+                        }
+                    }
+                }
+                groups.push(Group {
+                    sin_d,
+                    cos_d,
+                    members: members.iter().map(|m| m.0).collect(),
+                    tab,
+                });
+            }
+        }
+        for (j, &x) in xs.iter().enumerate() {
+            if !used[j] {
+                let mut row = vec![0.0; n];
+                basis.fill_sines(x, &mut row);
+                dense.push((j, row));
+            }
+        }
+        Self {
+            n_modes: n,
+            n_points: xs.len(),
+            period,
+            groups,
+            dense,
+        }
+    }
+
+    /// Number of points.
+    pub fn n_points(&self) -> usize {
+        self.n_points
+    }
+
+    /// Scratch sized for this sampler.
+    pub fn scratch(&self) -> SamplerScratch {
+        let p = self.period;
+        SamplerScratch {
+            a: vec![0.0; p],
+            b: vec![0.0; p],
+            h: vec![0.0; 2 * (p / 2 + 1)],
+        }
+    }
+
+    /// `out[j] = Σ_k q_k sin(κ_k x_j)`.
+    pub fn gather(&self, q: &[f64], out: &mut [f64], sc: &mut SamplerScratch) {
+        debug_assert_eq!(q.len(), self.n_modes);
+        let p = self.period;
+        let hh = p / 2 + 1;
+        // Bin `r` holds modes with index ≡ r (mod P), i.e. phase ρ = r + 1 (mod P).
+        let bin = |rho: usize| if rho == 0 { p - 1 } else { rho - 1 };
+        for g in &self.groups {
+            let (a, b, h) = (&mut sc.a[..p], &mut sc.b[..p], &mut sc.h[..2 * hh]);
+            a.fill(0.0);
+            b.fill(0.0);
+            fold(q, &g.sin_d, &g.cos_d, p, a, b);
+            h[0] = a[bin(0)];
+            h[hh] = 0.0;
+            for rho in 1..p / 2 {
+                h[rho] = a[bin(rho)] + a[bin(p - rho)];
+                h[hh + rho] = b[bin(rho)] - b[bin(p - rho)];
+            }
+            h[p / 2] = a[bin(p / 2)];
+            h[hh + p / 2] = 0.0;
+            for (&j, row) in g.members.iter().zip(g.tab.chunks_exact(2 * hh)) {
+                out[j] = dot(h, row);
+            }
+        }
+        for (j, row) in &self.dense {
+            out[*j] = dot(q, row);
+        }
+    }
+
+    /// `out_k += Σ_j f_j sin(κ_k x_j)`.
+    pub fn scatter_add(&self, f: &[f64], out: &mut [f64], sc: &mut SamplerScratch) {
+        debug_assert_eq!(out.len(), self.n_modes);
+        let p = self.period;
+        let hh = p / 2 + 1;
+        let bin = |rho: usize| if rho == 0 { p - 1 } else { rho - 1 };
+        for g in &self.groups {
+            let (a, b, h) = (&mut sc.a[..p], &mut sc.b[..p], &mut sc.h[..2 * hh]);
+            h.fill(0.0);
+            for (&j, row) in g.members.iter().zip(g.tab.chunks_exact(2 * hh)) {
+                let fj = f[j];
+                for (hv, &t) in h.iter_mut().zip(row) {
+                    *hv += fj * t;
+                }
+            }
+            for rho in 0..p {
+                let (m, sign) = if rho <= p / 2 {
+                    (rho, 1.0)
+                } else {
+                    (p - rho, -1.0)
+                };
+                a[bin(rho)] = h[m];
+                b[bin(rho)] = sign * h[hh + m];
+            }
+            unfold(a, b, &g.sin_d, &g.cos_d, p, out);
+        }
+        for (j, row) in &self.dense {
+            let fj = f[*j];
+            if fj != 0.0 {
+                crate::basis::axpy(fj, row, out);
+            }
+        }
+    }
+
+    /// Number of points handled by the folded (periodic) path.
+    pub fn n_folded(&self) -> usize {
+        self.groups.iter().map(|g| g.members.len()).sum()
+    }
+}
+
+/// Register block of the fold kernels.
+const BLK: usize = 8;
+
+/// `a[r] = Σ_m q[mP+r] s[mP+r]`, `b[r] = Σ_m q[mP+r] c[mP+r]`. Blocks of 8 bins stay in
+/// registers while the loop walks down the modes (no load/store of the bins per mode).
+#[inline]
+fn fold(q: &[f64], s: &[f64], c: &[f64], p: usize, a: &mut [f64], b: &mut [f64]) {
+    let n = q.len();
+    let mut r0 = 0;
+    while r0 < p {
+        let w = BLK.min(p - r0);
+        let mut acc_a = [0.0f64; BLK];
+        let mut acc_b = [0.0f64; BLK];
+        let mut base = r0;
+        if w == BLK {
+            while base + BLK <= n {
+                let (qq, ss, cc) = (
+                    &q[base..base + BLK],
+                    &s[base..base + BLK],
+                    &c[base..base + BLK],
+                );
+                for l in 0..BLK {
+                    acc_a[l] += qq[l] * ss[l];
+                    acc_b[l] += qq[l] * cc[l];
+                }
+                base += p;
+            }
+        }
+        while base < n {
+            for l in 0..w.min(n - base) {
+                acc_a[l] += q[base + l] * s[base + l];
+                acc_b[l] += q[base + l] * c[base + l];
+            }
+            base += p;
+        }
+        a[r0..r0 + w].copy_from_slice(&acc_a[..w]);
+        b[r0..r0 + w].copy_from_slice(&acc_b[..w]);
+        r0 += w;
+    }
+}
+
+/// `out[mP+r] += a[r] s[mP+r] + b[r] c[mP+r]`, the transpose of [`fold`].
+#[inline]
+fn unfold(a: &[f64], b: &[f64], s: &[f64], c: &[f64], p: usize, out: &mut [f64]) {
+    let n = out.len();
+    let mut r0 = 0;
+    while r0 < p {
+        let w = BLK.min(p - r0);
+        let mut base = r0;
+        if w == BLK {
+            let mut ra = [0.0f64; BLK];
+            let mut rb = [0.0f64; BLK];
+            ra.copy_from_slice(&a[r0..r0 + BLK]);
+            rb.copy_from_slice(&b[r0..r0 + BLK]);
+            while base + BLK <= n {
+                let (oo, ss, cc) = (
+                    &mut out[base..base + BLK],
+                    &s[base..base + BLK],
+                    &c[base..base + BLK],
+                );
+                for l in 0..BLK {
+                    oo[l] += ra[l] * ss[l] + rb[l] * cc[l];
+                }
+                base += p;
+            }
+        }
+        while base < n {
+            for l in 0..w.min(n - base) {
+                out[base + l] += a[r0 + l] * s[base + l] + b[r0 + l] * c[base + l];
+            }
+            base += p;
+        }
+        r0 += w;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn xs_periodic(ns: usize, s: f64) -> Vec<f64> {
+        let offs = [0.0, 5.0, 10.5, 17.0, 23.5, 30.0, 36.5, 43.0, 49.5, 55.0];
+        let mut xs = Vec::new();
+        for k in 0..ns {
+            for &d in &offs {
+                let x = k as f64 * s + d;
+                if x > 0.0 {
+                    xs.push(x);
+                }
+            }
+        }
+        xs.push(13.7); // a stray point: dense path
+        xs
+    }
+
+    #[test]
+    fn folded_path_equals_dense_path() {
+        let (ns, s) = (12, 60.0);
+        for n in [700usize, 720, 1001] {
+            let basis = SineBasis::new(ns as f64 * s, n);
+            let xs = xs_periodic(ns, s);
+            let fast = PointSampler::new(&basis, &xs, Some(s));
+            let slow = PointSampler::new(&basis, &xs, None);
+            assert!(fast.n_folded() > 100);
+            assert_eq!(slow.n_folded(), 0);
+            let q: Vec<f64> = (0..n)
+                .map(|i| ((i * 37 % 101) as f64 - 50.0) / (1.0 + i as f64))
+                .collect();
+            let (mut o1, mut o2) = (vec![0.0; xs.len()], vec![0.0; xs.len()]);
+            let (mut s1, mut s2) = (fast.scratch(), slow.scratch());
+            fast.gather(&q, &mut o1, &mut s1);
+            slow.gather(&q, &mut o2, &mut s2);
+            for j in 0..xs.len() {
+                assert!(
+                    (o1[j] - o2[j]).abs() < 1e-10,
+                    "gather j={j}: {} vs {}",
+                    o1[j],
+                    o2[j]
+                );
+            }
+            let f: Vec<f64> = (0..xs.len()).map(|j| ((j * 13 % 7) as f64) - 3.0).collect();
+            let (mut g1, mut g2) = (vec![0.0; n], vec![0.0; n]);
+            fast.scatter_add(&f, &mut g1, &mut s1);
+            slow.scatter_add(&f, &mut g2, &mut s2);
+            for k in 0..n {
+                assert!((g1[k] - g2[k]).abs() < 1e-9, "scatter k={k}");
+            }
+        }
+    }
+}

@@ -1,0 +1,213 @@
+//! Case files: presets carry a source on every field, unknown keys are errors, and bad values
+//! give an error naming the field and the value.
+
+use pcsim_core::case::{unsourced_fields, Case};
+use pcsim_core::error::CaseError;
+use pcsim_core::model::Model;
+use pcsim_core::presets::{self, PRESETS};
+
+#[test]
+fn every_preset_field_has_a_source_and_the_preset_validates() {
+    for p in PRESETS {
+        let missing = unsourced_fields(p.toml).unwrap();
+        assert!(
+            missing.is_empty(),
+            "{}: fields without a source: {missing:?}",
+            p.name
+        );
+        let (case, prov) = Case::from_toml_str(p.toml).unwrap();
+        assert!(
+            prov.len() > 30,
+            "{}: only {} sourced fields",
+            p.name,
+            prov.len()
+        );
+        assert!(prov.values().all(|s| !s.trim().is_empty()));
+        Model::from_case(&case).unwrap();
+    }
+}
+
+#[test]
+fn plain_values_parse_like_sourced_ones() {
+    let (case, _) = presets::load("en50318-2002").unwrap();
+    let plain = case.to_toml_string();
+    let (again, prov) = Case::from_toml_str(&plain).unwrap();
+    assert!(prov.is_empty());
+    assert_eq!(case, again);
+}
+
+fn err_of(edit: impl Fn(&mut String)) -> String {
+    let mut text = presets::find("en50318-2002").unwrap().toml.to_string();
+    edit(&mut text);
+    match Case::from_toml_str(&text) {
+        Err(e) => e.to_string(),
+        Ok((case, _)) => match Model::from_case(&case) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("expected an error"),
+        },
+    }
+}
+
+fn replace(from: &'static str, to: &'static str) -> impl Fn(&mut String) {
+    move |t: &mut String| {
+        assert!(t.contains(from), "test edit `{from}` not found");
+        *t = t.replacen(from, to, 1);
+    }
+}
+
+#[test]
+fn unknown_key_is_an_error_naming_it() {
+    let e = err_of(replace(
+        "[catenary.contact_wire]\n",
+        "[catenary.contact_wire]\ncolour = 3\n",
+    ));
+    assert!(
+        e.contains("colour") && e.contains("catenary.contact_wire"),
+        "{e}"
+    );
+}
+
+#[test]
+fn negative_tension_names_field_and_value() {
+    let e = err_of(replace(
+        "tension_n = { value = 20000.0",
+        "tension_n = { value = -20000.0",
+    ));
+    assert!(
+        e.contains("catenary.contact_wire.tension_n") && e.contains("-20000"),
+        "{e}"
+    );
+}
+
+#[test]
+fn zero_mass_names_field_and_value() {
+    let e = err_of(replace(
+        "mass_per_m_kg = { value = 1.07",
+        "mass_per_m_kg = { value = 0.0",
+    ));
+    assert!(
+        e.contains("catenary.messenger.mass_per_m_kg") && e.contains("= 0"),
+        "{e}"
+    );
+}
+
+#[test]
+fn pantograph_mass_must_be_positive() {
+    let e = err_of(replace("value = [7.2, 15.0]", "value = [7.2, -15.0]"));
+    assert!(
+        e.contains("pantographs[0].masses_kg[1]") && e.contains("-15"),
+        "{e}"
+    );
+}
+
+#[test]
+fn dropper_outside_its_span() {
+    let e = err_of(replace("[5.0, 10.5,", "[5.0, 70.5,"));
+    assert!(
+        e.contains("catenary.droppers.positions_m[1]")
+            && e.contains("70.5")
+            && e.contains("outside"),
+        "{e}"
+    );
+}
+
+#[test]
+fn speed_at_or_above_wave_speed() {
+    let e = err_of(replace(
+        "speed_kmh = { value = 250.0",
+        "speed_kmh = { value = 450.0",
+    ));
+    assert!(
+        e.contains("run.speed_kmh") && e.contains("450") && e.contains("wave speed"),
+        "{e}"
+    );
+}
+
+#[test]
+fn high_speed_ratio_warns() {
+    let (mut case, _) = presets::load("en50318-2002").unwrap();
+    case.run.speed_kmh = 320.0;
+    let (_, w) = Model::from_case(&case).unwrap();
+    assert!(w.iter().any(|w| w.0.contains("0.7")), "{w:?}");
+    case.run.speed_kmh = 200.0;
+    assert!(Model::from_case(&case).unwrap().1.is_empty());
+}
+
+#[test]
+fn analysis_section_outside_the_model() {
+    let e = err_of(replace("value = [300.0, 900.0]", "value = [300.0, 1900.0]"));
+    assert!(e.contains("run.analysis_m") && e.contains("1900"), "{e}");
+}
+
+#[test]
+fn nan_names_the_field() {
+    let e = err_of(replace(
+        "ei_nm2 = { value = 195.0",
+        "ei_nm2 = { value = nan",
+    ));
+    assert!(
+        e.contains("catenary.contact_wire.ei_nm2") && e.to_lowercase().contains("nan"),
+        "{e}"
+    );
+}
+
+#[test]
+fn unknown_preset() {
+    match presets::load("nope") {
+        Err(CaseError::UnknownPreset(n)) => assert_eq!(n, "nope"),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn invalid_toml_reports_a_line() {
+    let e = err_of(replace("[run]\n", "[run\n"));
+    assert!(e.contains("line"), "{e}");
+}
+
+#[test]
+fn time_step_too_large_for_the_modes() {
+    let e = err_of(replace(
+        "modes_per_m = { value = 1.0",
+        "modes_per_m = { value = 6.0",
+    ));
+    assert!(e.contains("run.dt_s") && e.contains("0.001"), "{e}");
+}
+
+#[test]
+fn encumbrance_too_small_for_the_messenger_sag() {
+    let e = err_of(replace(
+        "encumbrance_m = { value = 1.2",
+        "encumbrance_m = { value = 0.3",
+    ));
+    assert!(
+        e.contains("catenary.encumbrance_m") && e.contains("0.3"),
+        "{e}"
+    );
+}
+
+#[test]
+fn blow_up_stops_with_time_and_place() {
+    // Stable wire modes but droppers far too stiff for the explicit step: the run must stop
+    // with an error giving the time and the position instead of writing NaN.
+    let (mut case, _) = presets::load("en50318-2002").unwrap();
+    case.catenary.droppers.stiffness_n_per_m = Some(1.0e9);
+    let err = pcsim_core::run_case(&case, &mut |_| true).unwrap_err();
+    let msg = err.to_string();
+    assert!(
+        msg.contains("blow-up") && msg.contains("t = ") && msg.contains("x = "),
+        "{msg}"
+    );
+}
+
+#[test]
+fn contact_spring_too_stiff_for_the_step() {
+    let e = err_of(replace(
+        "[contact]\nstiffness_n_per_m = { value = 50000.0",
+        "[contact]\nstiffness_n_per_m = { value = 5.0e8",
+    ));
+    assert!(
+        e.contains("contact.stiffness_n_per_m") && e.contains("500000000"),
+        "{e}"
+    );
+}

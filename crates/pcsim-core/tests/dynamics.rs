@@ -1,0 +1,163 @@
+//! Dynamics of the full catenary: slack droppers, the energy balance, determinism.
+
+mod common;
+
+use common::{short_en50318, with_moving_force};
+use pcsim_core::case::Damping;
+use pcsim_core::model::Model;
+use pcsim_core::run_case;
+use pcsim_core::solver::Solver;
+
+#[test]
+fn droppers_go_slack_when_pushed_past_their_preload() {
+    // A large stationary upward force in mid-span lifts the contact wire more than the messenger:
+    // droppers near it lose their whole preload and carry exactly zero (never compression).
+    let mut case = with_moving_force(short_en50318(5, 100.0), 2000.0);
+    case.catenary.damping = Damping::Modal { ratio: 0.3 };
+    let (mut model, _) = Model::from_case(&case).unwrap();
+    model.speed_m_s = 0.0;
+    model.start_m = 150.0 + 17.0;
+    let nd = model.droppers.len();
+    let mut solver = Solver::new(model);
+    let mut st = solver.initial_state();
+    for _ in 0..20_000 {
+        solver.step(&mut st);
+    }
+    let mut t = vec![0.0; nd];
+    let mut e = vec![0.0; nd];
+    solver.dropper_tensions(&mut t);
+    solver.dropper_elongations(&mut e);
+    let m = solver.model();
+    let mut slack = 0;
+    for i in 0..nd {
+        let d = &m.droppers[i];
+        let linear = d.preload_n + d.stiffness_n_per_m * e[i];
+        if linear < 0.0 {
+            slack += 1;
+            assert_eq!(t[i], 0.0);
+        } else {
+            assert!((t[i] - linear).abs() < 1e-9);
+        }
+    }
+    assert!(
+        slack >= 2,
+        "expected slack droppers near the load, found {slack}"
+    );
+    assert_eq!(slack, solver.slack_droppers());
+    // Far from the load the droppers keep (nearly) their preload.
+    assert!((t[0] - m.droppers[0].preload_n).abs() < 0.2 * m.droppers[0].preload_n);
+}
+
+#[test]
+fn slack_droppers_are_common_at_speed() {
+    // README §5: at least one dropper slack in most steps at 300 km/h.
+    let case = short_en50318(8, 300.0);
+    let out = run_case(&case, &mut |_| true).unwrap();
+    assert!(
+        out.steps_with_slack_percent > 50.0,
+        "{} %",
+        out.steps_with_slack_percent
+    );
+    assert!(out.max_slack_droppers >= 2);
+}
+
+/// Integrate the energy balance along a run: E(t) − E(0) + dissipated(t) − work(t).
+fn energy_residual(model: Model, steps: usize, moving_force: Option<f64>) -> (f64, f64, usize) {
+    let mut solver = Solver::new(model);
+    let mut st = solver.initial_state();
+    let e0 = solver.energy(&st).total();
+    let mut d_prev = solver.dissipation_rate(&st);
+    let mut p_prev = 0.0;
+    let (mut dissipated, mut work) = (0.0, 0.0);
+    let dt = solver.model().dt_s;
+    let mut worst: f64 = 0.0;
+    let mut scale: f64 = 0.0;
+    let mut max_slack = 0;
+    for _ in 0..steps {
+        solver.step(&mut st);
+        max_slack = max_slack.max(solver.slack_droppers());
+        let d = solver.dissipation_rate(&st);
+        dissipated += 0.5 * dt * (d + d_prev);
+        d_prev = d;
+        if let Some(f) = moving_force {
+            let p = f * solver.samples()[0].wire_velocity_m_s;
+            work += 0.5 * dt * (p + p_prev);
+            p_prev = p;
+        }
+        let e = solver.energy(&st).total();
+        worst = worst.max((e - e0 + dissipated - work).abs());
+        scale = scale.max((e - e0).abs()).max(dissipated).max(work.abs());
+    }
+    eprintln!("energy residual {worst:.4e} J of {scale:.4e} J, max slack {max_slack}");
+    (worst, scale, max_slack)
+}
+
+#[test]
+fn energy_balance_with_moving_force_slack_droppers_and_damping() {
+    let mut case = with_moving_force(short_en50318(5, 150.0), 400.0);
+    case.catenary.messenger_support.damping_ns_per_m = 200.0;
+    case.catenary.damping = Damping::Rayleigh {
+        alpha: 0.05,
+        beta: 2e-4,
+    };
+    case.run.dt_s = 2.5e-4;
+    let (model, _) = Model::from_case(&case).unwrap();
+    let (worst, scale, slack) = energy_residual(model, 20_000, Some(400.0));
+    assert!(slack > 0, "the load should slacken droppers");
+    assert!(scale > 1.0, "scale {scale} J");
+    assert!(
+        worst < 2e-3 * scale,
+        "energy residual {worst} J against {scale} J"
+    );
+}
+
+#[test]
+fn energy_balance_with_pantograph_contact_and_damping() {
+    // Stationary pantograph started off equilibrium: contact, pantograph dampers, wire damping.
+    let mut case = short_en50318(5, 100.0);
+    case.catenary.messenger_support.damping_ns_per_m = 200.0;
+    case.run.dt_s = 2.5e-4;
+    let (mut model, _) = Model::from_case(&case).unwrap();
+    model.speed_m_s = 0.0;
+    model.start_m = 150.0 + 30.0;
+    // Kick the pantograph head upward by 5 cm relative to equilibrium.
+    let (worst, scale) = {
+        let mut solver = Solver::new(model);
+        let mut st = solver.initial_state();
+        st.py[0][0] += 0.05;
+        let e0 = solver.energy(&st).total();
+        let dt = solver.model().dt_s;
+        let mut d_prev = solver.dissipation_rate(&st);
+        let mut dissipated = 0.0;
+        let (mut worst, mut scale): (f64, f64) = (0.0, 0.0);
+        for _ in 0..20_000 {
+            solver.step(&mut st);
+            let d = solver.dissipation_rate(&st);
+            dissipated += 0.5 * dt * (d + d_prev);
+            d_prev = d;
+            let e = solver.energy(&st).total();
+            worst = worst.max((e - e0 + dissipated).abs());
+            scale = scale.max((e - e0).abs()).max(dissipated);
+        }
+        eprintln!("energy residual {worst:.4e} J of {scale:.4e} J");
+        (worst, scale)
+    };
+    assert!(scale > 1.0, "scale {scale} J");
+    assert!(
+        worst < 2e-3 * scale,
+        "energy residual {worst} J against {scale} J"
+    );
+}
+
+#[test]
+fn runs_are_bitwise_deterministic() {
+    let case = short_en50318(6, 250.0);
+    let a = run_case(&case, &mut |_| true).unwrap();
+    let b = run_case(&case, &mut |_| true).unwrap();
+    assert_eq!(a, b);
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(
+        bits(&a.pantographs[0].force_n),
+        bits(&b.pantographs[0].force_n)
+    );
+}
