@@ -54,6 +54,9 @@ pub struct SamplerScratch {
     a: Vec<f64>,
     b: Vec<f64>,
     h: Vec<f64>,
+    a2: Vec<f64>,
+    b2: Vec<f64>,
+    h2: Vec<f64>,
 }
 
 impl SamplerScratch {
@@ -152,10 +155,14 @@ impl PointSampler {
     /// Scratch sized for this sampler.
     pub fn scratch(&self) -> SamplerScratch {
         let p = self.period;
+        let hh = 2 * (p / 2 + 1);
         SamplerScratch {
             a: vec![0.0; p],
             b: vec![0.0; p],
-            h: vec![0.0; 2 * (p / 2 + 1)],
+            h: vec![0.0; hh],
+            a2: vec![0.0; p],
+            b2: vec![0.0; p],
+            h2: vec![0.0; hh],
         }
     }
 
@@ -218,6 +225,110 @@ impl PointSampler {
             let fj = f[*j];
             if fj != 0.0 {
                 crate::basis::axpy(fj, row, out);
+            }
+        }
+    }
+
+    /// [`gather`](Self::gather) for two coefficient vectors at once (both wires share the
+    /// point set; the sine tables are read once for both).
+    pub fn gather_pair(
+        &self,
+        qa: &[f64],
+        qb: &[f64],
+        outa: &mut [f64],
+        outb: &mut [f64],
+        sc: &mut SamplerScratch,
+    ) {
+        let p = self.period;
+        let hh = p / 2 + 1;
+        let bin = |rho: usize| if rho == 0 { p - 1 } else { rho - 1 };
+        for g in &self.groups {
+            fold_pair(
+                qa,
+                qb,
+                &g.sin_d,
+                &g.cos_d,
+                p,
+                [
+                    &mut sc.a[..p],
+                    &mut sc.b[..p],
+                    &mut sc.a2[..p],
+                    &mut sc.b2[..p],
+                ],
+            );
+            for (a, b, h) in [(&sc.a, &sc.b, &mut sc.h), (&sc.a2, &sc.b2, &mut sc.h2)] {
+                h[0] = a[bin(0)];
+                h[hh] = 0.0;
+                for rho in 1..p / 2 {
+                    h[rho] = a[bin(rho)] + a[bin(p - rho)];
+                    h[hh + rho] = b[bin(rho)] - b[bin(p - rho)];
+                }
+                h[p / 2] = a[bin(p / 2)];
+                h[hh + p / 2] = 0.0;
+            }
+            for (&j, row) in g.members.iter().zip(g.tab.chunks_exact(2 * hh)) {
+                outa[j] = dot(&sc.h[..2 * hh], row);
+                outb[j] = dot(&sc.h2[..2 * hh], row);
+            }
+        }
+        for (j, row) in &self.dense {
+            outa[*j] = dot(qa, row);
+            outb[*j] = dot(qb, row);
+        }
+    }
+
+    /// [`scatter_add`](Self::scatter_add) for two force vectors at once.
+    pub fn scatter_add_pair(
+        &self,
+        fa: &[f64],
+        fb: &[f64],
+        outa: &mut [f64],
+        outb: &mut [f64],
+        sc: &mut SamplerScratch,
+    ) {
+        let p = self.period;
+        let hh = p / 2 + 1;
+        let bin = |rho: usize| if rho == 0 { p - 1 } else { rho - 1 };
+        for g in &self.groups {
+            let (h, h2) = (&mut sc.h[..2 * hh], &mut sc.h2[..2 * hh]);
+            h.fill(0.0);
+            h2.fill(0.0);
+            for (&j, row) in g.members.iter().zip(g.tab.chunks_exact(2 * hh)) {
+                let (x, y) = (fa[j], fb[j]);
+                for ((hv, h2v), &t) in h.iter_mut().zip(h2.iter_mut()).zip(row) {
+                    *hv += x * t;
+                    *h2v += y * t;
+                }
+            }
+            for (a, b, h) in [
+                (&mut sc.a, &mut sc.b, &sc.h),
+                (&mut sc.a2, &mut sc.b2, &sc.h2),
+            ] {
+                for rho in 0..p {
+                    let (m, sign) = if rho <= p / 2 {
+                        (rho, 1.0)
+                    } else {
+                        (p - rho, -1.0)
+                    };
+                    a[bin(rho)] = h[m];
+                    b[bin(rho)] = sign * h[hh + m];
+                }
+            }
+            unfold_pair(
+                [&sc.a[..p], &sc.b[..p], &sc.a2[..p], &sc.b2[..p]],
+                &g.sin_d,
+                &g.cos_d,
+                p,
+                outa,
+                outb,
+            );
+        }
+        for (j, row) in &self.dense {
+            if fa[*j] != 0.0 {
+                crate::basis::axpy(fa[*j], row, outa);
+            }
+            if fb[*j] != 0.0 {
+                crate::basis::axpy(fb[*j], row, outb);
             }
         }
     }
@@ -304,6 +415,98 @@ fn unfold(a: &[f64], b: &[f64], s: &[f64], c: &[f64], p: usize, out: &mut [f64])
     }
 }
 
+/// [`fold`] for two coefficient vectors sharing the tables: `[a, b, a2, b2]`.
+#[inline]
+fn fold_pair(qa: &[f64], qb: &[f64], s: &[f64], c: &[f64], p: usize, out: [&mut [f64]; 4]) {
+    let n = qa.len();
+    let [a, b, a2, b2] = out;
+    const W: usize = 4;
+    let mut r0 = 0;
+    while r0 < p {
+        let w = W.min(p - r0);
+        let mut acc = [[0.0f64; W]; 4];
+        let mut base = r0;
+        if w == W {
+            while base + W <= n {
+                let (x, y, ss, cc) = (
+                    &qa[base..base + W],
+                    &qb[base..base + W],
+                    &s[base..base + W],
+                    &c[base..base + W],
+                );
+                for l in 0..W {
+                    acc[0][l] += x[l] * ss[l];
+                    acc[1][l] += x[l] * cc[l];
+                    acc[2][l] += y[l] * ss[l];
+                    acc[3][l] += y[l] * cc[l];
+                }
+                base += p;
+            }
+        }
+        while base < n {
+            for l in 0..w.min(n - base) {
+                acc[0][l] += qa[base + l] * s[base + l];
+                acc[1][l] += qa[base + l] * c[base + l];
+                acc[2][l] += qb[base + l] * s[base + l];
+                acc[3][l] += qb[base + l] * c[base + l];
+            }
+            base += p;
+        }
+        a[r0..r0 + w].copy_from_slice(&acc[0][..w]);
+        b[r0..r0 + w].copy_from_slice(&acc[1][..w]);
+        a2[r0..r0 + w].copy_from_slice(&acc[2][..w]);
+        b2[r0..r0 + w].copy_from_slice(&acc[3][..w]);
+        r0 += w;
+    }
+}
+
+/// [`unfold`] into two outputs sharing the tables; bins `[a, b, a2, b2]`.
+#[inline]
+fn unfold_pair(
+    bins: [&[f64]; 4],
+    s: &[f64],
+    c: &[f64],
+    p: usize,
+    outa: &mut [f64],
+    outb: &mut [f64],
+) {
+    let n = outa.len();
+    let [a, b, a2, b2] = bins;
+    const W: usize = 4;
+    let mut r0 = 0;
+    while r0 < p {
+        let w = W.min(p - r0);
+        let mut base = r0;
+        if w == W {
+            let mut r = [[0.0f64; W]; 4];
+            r[0].copy_from_slice(&a[r0..r0 + W]);
+            r[1].copy_from_slice(&b[r0..r0 + W]);
+            r[2].copy_from_slice(&a2[r0..r0 + W]);
+            r[3].copy_from_slice(&b2[r0..r0 + W]);
+            while base + W <= n {
+                let (ss, cc) = (&s[base..base + W], &c[base..base + W]);
+                let oa = &mut outa[base..base + W];
+                for l in 0..W {
+                    oa[l] += r[0][l] * ss[l] + r[1][l] * cc[l];
+                }
+                let ob = &mut outb[base..base + W];
+                for l in 0..W {
+                    ob[l] += r[2][l] * ss[l] + r[3][l] * cc[l];
+                }
+                base += p;
+            }
+        }
+        while base < n {
+            for l in 0..w.min(n - base) {
+                outa[base + l] += a[r0 + l] * s[base + l] + b[r0 + l] * c[base + l];
+                outb[base + l] += a2[r0 + l] * s[base + l] + b2[r0 + l] * c[base + l];
+            }
+            base += p;
+        }
+        r0 += w;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -354,6 +557,25 @@ mod tests {
             slow.scatter_add(&f, &mut g2, &mut s2);
             for k in 0..n {
                 assert!((g1[k] - g2[k]).abs() < 1e-9, "scatter k={k}");
+            }
+            // The paired versions equal two single calls.
+            let q2: Vec<f64> = q.iter().rev().copied().collect();
+            let (mut pa, mut pb, mut sb) = (
+                vec![0.0; xs.len()],
+                vec![0.0; xs.len()],
+                vec![0.0; xs.len()],
+            );
+            fast.gather_pair(&q, &q2, &mut pa, &mut pb, &mut s1);
+            fast.gather(&q2, &mut sb, &mut s1);
+            assert_eq!(pa, o1);
+            assert_eq!(pb, sb);
+            let f2: Vec<f64> = f.iter().map(|v| 2.0 * v + 1.0).collect();
+            let (mut ga, mut gb, mut gs) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            fast.scatter_add_pair(&f, &f2, &mut ga, &mut gb, &mut s1);
+            fast.scatter_add(&f2, &mut gs, &mut s1);
+            for k in 0..n {
+                assert!((ga[k] - g1[k]).abs() < 1e-12 * (1.0 + g1[k].abs()));
+                assert!((gb[k] - gs[k]).abs() < 1e-12 * (1.0 + gs[k].abs()));
             }
         }
     }

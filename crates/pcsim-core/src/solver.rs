@@ -75,8 +75,11 @@ impl Energy {
 pub struct Solver {
     model: Model,
     nd: usize,
-    sm: PointSampler,
-    sc: PointSampler,
+    /// Droppers, supports and arms, for both wires.
+    sp: PointSampler,
+    sup_idx: Vec<usize>,
+    arm_idx: Vec<usize>,
+    arm_u: Vec<f64>,
     s_sup: PointSampler,
     s_arm: PointSampler,
     scr: SamplerScratch,
@@ -110,21 +113,28 @@ impl Solver {
         let n = model.basis.n_modes();
         let dt = model.dt_s;
         let nd = model.droppers.len();
-        let mut xm: Vec<f64> = model.droppers.iter().map(|d| d.x_m).collect();
-        xm.extend(model.supports.iter().map(|s| s.x_m));
-        let mut xc: Vec<f64> = model.droppers.iter().map(|d| d.x_m).collect();
-        xc.extend(model.arms.iter().map(|a| a.x_m));
+        // One point set for both wires: droppers first, then supports and arms (which share the
+        // masts' positions), so one sampler serves both wires with shared sine tables.
+        let mut pts: Vec<f64> = model.droppers.iter().map(|d| d.x_m).collect();
+        let mut index_of = |x: f64| match pts.iter().position(|&p| (p - x).abs() < 1e-9) {
+            Some(i) => i,
+            None => {
+                pts.push(x);
+                pts.len() - 1
+            }
+        };
+        let sup_idx: Vec<usize> = model.supports.iter().map(|s| index_of(s.x_m)).collect();
+        let arm_idx: Vec<usize> = model.arms.iter().map(|a| index_of(a.x_m)).collect();
         let xs: Vec<f64> = model.supports.iter().map(|s| s.x_m).collect();
         let xa: Vec<f64> = model.arms.iter().map(|a| a.x_m).collect();
-        let sm = PointSampler::new(&model.basis, &xm, model.span_m);
-        let sc = PointSampler::new(&model.basis, &xc, model.span_m);
+        let sp = PointSampler::new(&model.basis, &pts, model.span_m);
         let s_sup = PointSampler::new(&model.basis, &xs, model.span_m);
         let s_arm = PointSampler::new(&model.basis, &xa, model.span_m);
-        let scr = [&sm, &sc, &s_sup, &s_arm]
+        let scr = [&sp, &s_sup, &s_arm]
             .iter()
             .map(|s| s.scratch())
             .max_by_key(|s| s.len())
-            .unwrap_or_else(|| sm.scratch());
+            .unwrap_or_else(|| sp.scratch());
         let eff = |w: &crate::model::Wire| -> Vec<f64> {
             (0..n)
                 .map(|i| w.vertical.mass[i] + 0.5 * dt * w.vertical.damping[i])
@@ -201,18 +211,20 @@ impl Solver {
             .unwrap_or(0);
         Self {
             nd,
-            um_pts: vec![0.0; xm.len()],
-            uc_pts: vec![0.0; xc.len()],
-            fm_pts: vec![0.0; xm.len()],
-            fc_pts: vec![0.0; xc.len()],
+            um_pts: vec![0.0; pts.len()],
+            uc_pts: vec![0.0; pts.len()],
+            fm_pts: vec![0.0; pts.len()],
+            fc_pts: vec![0.0; pts.len()],
+            arm_u: vec![0.0; arm_idx.len()],
+            sup_idx,
+            arm_idx,
             v_sup: vec![0.0; xs.len()],
             wood_g: vec![0.0; na],
             wood_y: vec![0.0; na],
             rows: vec![vec![0.0; n]; npan],
             prhs: vec![0.0; max_pdof],
             samples: vec![ContactSample::default(); npan],
-            sm,
-            sc,
+            sp,
             s_sup,
             s_arm,
             scr,
@@ -288,7 +300,7 @@ impl Solver {
     /// Contact-wire deviation at the steady arms after the last step, m (same order as
     /// `model.arms`).
     pub fn arm_displacements(&self) -> &[f64] {
-        &self.uc_pts[self.nd..]
+        &self.arm_u
     }
 
     /// Dropper tensions after the last step, N (Eq. 15 with preload: `max(F0 + k·Δ, 0)`).
@@ -334,10 +346,16 @@ impl Solver {
         st.t += dt;
 
         // Point displacements and forces.
-        self.sm.gather(&st.qm, &mut self.um_pts, &mut self.scr);
-        self.sc.gather(&st.qc, &mut self.uc_pts, &mut self.scr);
+        self.sp.gather_pair(
+            &st.qm,
+            &st.qc,
+            &mut self.um_pts,
+            &mut self.uc_pts,
+            &mut self.scr,
+        );
+        self.fm_pts.fill(0.0);
+        self.fc_pts.fill(0.0);
         self.s_sup.gather(&st.vm, &mut self.v_sup, &mut self.scr);
-        let nd = self.nd;
         let mut slack = 0;
         for (i, d) in m.droppers.iter().enumerate() {
             let e = self.um_pts[i] - self.uc_pts[i];
@@ -353,11 +371,14 @@ impl Solver {
         }
         self.slack = slack;
         for (j, s) in m.supports.iter().enumerate() {
-            self.fm_pts[nd + j] =
-                -s.stiffness_n_per_m * self.um_pts[nd + j] - s.damping_ns_per_m * self.v_sup[j];
+            let k = self.sup_idx[j];
+            self.fm_pts[k] +=
+                -s.stiffness_n_per_m * self.um_pts[k] - s.damping_ns_per_m * self.v_sup[j];
         }
         for (j, a) in m.arms.iter().enumerate() {
-            self.fc_pts[nd + j] = -a.stiffness_n_per_m * self.uc_pts[nd + j];
+            let k = self.arm_idx[j];
+            self.arm_u[j] = self.uc_pts[k];
+            self.fc_pts[k] += -a.stiffness_n_per_m * self.uc_pts[k];
         }
         // Right-hand sides, stored in the acceleration arrays.
         let (wm, wc) = (&m.messenger.vertical, &m.contact.vertical);
@@ -379,8 +400,13 @@ impl Solver {
         {
             *a = -k * q - c * v;
         }
-        self.sm.scatter_add(&self.fm_pts, &mut st.am, &mut self.scr);
-        self.sc.scatter_add(&self.fc_pts, &mut st.ac, &mut self.scr);
+        self.sp.scatter_add_pair(
+            &self.fm_pts,
+            &self.fc_pts,
+            &mut st.am,
+            &mut st.ac,
+            &mut self.scr,
+        );
 
         // Contact at each pantograph (Eq. 19).
         let kn = m.contact_stiffness_n_per_m;
@@ -485,8 +511,8 @@ impl Solver {
         let mut um = vec![0.0; self.um_pts.len()];
         let mut uc = vec![0.0; self.uc_pts.len()];
         let mut va = vec![0.0; m.arms.len()];
-        self.sm.gather(&st.qm, &mut um, &mut self.scr);
-        self.sc.gather(&st.qc, &mut uc, &mut self.scr);
+        self.sp
+            .gather_pair(&st.qm, &st.qc, &mut um, &mut uc, &mut self.scr);
         self.s_arm.gather(&st.vc, &mut va, &mut self.scr);
         for (i, d) in m.droppers.iter().enumerate() {
             let e = um[i] - uc[i];
@@ -497,12 +523,11 @@ impl Solver {
                 -f0 * e - f0 * f0 / (2.0 * k)
             };
         }
-        let nd = self.nd;
         for (j, s) in m.supports.iter().enumerate() {
-            pot += 0.5 * s.stiffness_n_per_m * um[nd + j].powi(2);
+            pot += 0.5 * s.stiffness_n_per_m * um[self.sup_idx[j]].powi(2);
         }
         for (j, a) in m.arms.iter().enumerate() {
-            pot += 0.5 * a.stiffness_n_per_m * uc[nd + j].powi(2);
+            pot += 0.5 * a.stiffness_n_per_m * uc[self.arm_idx[j]].powi(2);
             kin += 0.5 * a.mass_kg * va[j] * va[j];
         }
         let mut ext = 0.0;
