@@ -55,6 +55,28 @@ pub struct CatenaryCase {
     pub droppers: DropperCase,
     pub messenger_support: SupportCase,
     pub steady_arm: ArmCase,
+    /// Stitch wires at every support (stitched catenaries), or none.
+    #[serde(default)]
+    pub stitch_wire: Option<StitchCase>,
+}
+
+/// A stitch wire at each support, modelled as the paper does (§2.1): spring-damping elements on
+/// the messenger at the stitch droppers, from which those droppers hang.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct StitchCase {
+    /// Length of the stitch wire, centred on the support.
+    pub length_m: f64,
+    pub tension_n: f64,
+    pub mass_per_m_kg: f64,
+    /// Mass of each stitch-dropper clamp on the stitch wire.
+    pub clamp_mass_kg: f64,
+    /// Indices (into `droppers.positions_m`) of the droppers that hang from stitch wires.
+    pub droppers: Vec<usize>,
+    /// Damping of each stitch element; by default the messenger support's damping ratio c/k is
+    /// applied to the stitch stiffness.
+    #[serde(default)]
+    pub damping_ns_per_m: Option<f64>,
 }
 
 /// One wire's properties.
@@ -131,6 +153,15 @@ pub struct SupportCase {
 pub struct ArmCase {
     pub mass_kg: f64,
     pub stiffness_n_per_m: f64,
+    /// Whether the arm holds the contact wire at its design height at the support and carries
+    /// the static force there (simple catenaries). When false (stitched catenaries) the contact
+    /// wire hangs from the droppers only and the arm carries no static load.
+    #[serde(default = "yes")]
+    pub static_support: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 /// A pantograph, or a constant moving force (for analytic moving-load checks).
@@ -369,6 +400,52 @@ impl Case {
             "catenary.steady_arm.stiffness_n_per_m",
             c.steady_arm.stiffness_n_per_m,
         )?;
+        if let Some(st) = &c.stitch_wire {
+            pos("catenary.stitch_wire.length_m", st.length_m)?;
+            pos("catenary.stitch_wire.tension_n", st.tension_n)?;
+            nonneg("catenary.stitch_wire.mass_per_m_kg", st.mass_per_m_kg)?;
+            nonneg("catenary.stitch_wire.clamp_mass_kg", st.clamp_mass_kg)?;
+            if let Some(cs) = st.damping_ns_per_m {
+                nonneg("catenary.stitch_wire.damping_ns_per_m", cs)?;
+            }
+            if st.length_m >= c.span_m {
+                return Err(inv(
+                    "catenary.stitch_wire.length_m",
+                    st.length_m,
+                    "must be shorter than the span",
+                ));
+            }
+            if st.droppers.is_empty() {
+                return Err(inv(
+                    "catenary.stitch_wire.droppers",
+                    "[]",
+                    "name the droppers that hang from the stitch wire",
+                ));
+            }
+            for (j, &i) in st.droppers.iter().enumerate() {
+                let field = format!("catenary.stitch_wire.droppers[{j}]");
+                let Some(&x) = d.positions_m.get(i) else {
+                    return Err(inv(
+                        &field,
+                        i,
+                        &format!("no such dropper (there are {})", d.positions_m.len()),
+                    ));
+                };
+                let to_support = x.min(c.span_m - x);
+                if to_support >= 0.5 * st.length_m - 1e-9 {
+                    return Err(inv(
+                        &field,
+                        i,
+                        &format!("dropper at {x} m is not under a stitch wire (±{} m around the support)", 0.5 * st.length_m),
+                    ));
+                }
+            }
+            if c.steady_arm.static_support {
+                w.push(Warning(
+                    "stitched catenary with catenary.steady_arm.static_support = true: the arm, not the stitch droppers, holds the contact wire at the support".into(),
+                ));
+            }
+        }
         pos("contact.stiffness_n_per_m", self.contact.stiffness_n_per_m)?;
 
         if self.pantographs.is_empty() {

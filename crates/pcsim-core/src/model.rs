@@ -76,6 +76,20 @@ pub struct Dropper {
     pub stiffness_n_per_m: f64,
     /// Static tension (at the contact-wire clamp), N.
     pub preload_n: f64,
+    /// The stitch element this dropper hangs from (index into `Model::stitches`); `None` for a
+    /// dropper on the messenger.
+    pub stitch: Option<usize>,
+}
+
+/// A stitch element (paper §2.1: the stitch wire as spring-damping elements on the messenger):
+/// a node of mass `mass_kg` joined to the messenger at `x_m` by a spring-damper, from which a
+/// stitch dropper hangs. Stiffness from [`crate::statics::stitch_stiffness`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stitch {
+    pub x_m: f64,
+    pub mass_kg: f64,
+    pub stiffness_n_per_m: f64,
+    pub damping_ns_per_m: f64,
 }
 
 /// Messenger support spring-damper to ground.
@@ -169,6 +183,7 @@ pub struct Model {
     pub droppers: Vec<Dropper>,
     pub supports: Vec<Support>,
     pub arms: Vec<Arm>,
+    pub stitches: Vec<Stitch>,
     pub statics: StaticShape,
     pub pantographs: Vec<Pantograph>,
     pub contact_stiffness_n_per_m: f64,
@@ -213,8 +228,10 @@ impl Model {
         let half_dropper = 0.5 * c.droppers.mass_per_m_kg * mean_len;
         let rho_c = c.contact_wire.mass_per_m_kg
             + nd * (c.droppers.clamp_mass_contact_kg + half_dropper) / c.span_m;
+        // Stitch droppers' upper clamps are the stitch nodes (own degrees of freedom).
+        let n_on_messenger = nd - c.stitch_wire.as_ref().map_or(0, |st| st.droppers.len()) as f64;
         let rho_m = c.messenger.mass_per_m_kg
-            + nd * (c.droppers.clamp_mass_messenger_kg + half_dropper) / c.span_m;
+            + (n_on_messenger * c.droppers.clamp_mass_messenger_kg + nd * half_dropper) / c.span_m;
         let wire = |rho: f64, w: &crate::case::WireCase| Wire {
             mass_per_m_kg: rho,
             tension_n: w.tension_n,
@@ -222,10 +239,30 @@ impl Model {
             vertical: ModalSeries::tensioned_beam(&basis, rho, w.tension_n, w.ei_nm2, &c.damping),
         };
         let mut droppers = Vec::new();
+        let mut stitches = Vec::new();
+        let sup = &c.messenger_support;
         for s in 0..c.spans {
             for (i, &d) in c.droppers.positions_m.iter().enumerate() {
+                let x = s as f64 * c.span_m + d;
+                let stitch = stat.stitch[i].map(|st| {
+                    let damping = match c.stitch_wire.as_ref().and_then(|w| w.damping_ns_per_m) {
+                        Some(cs) => cs,
+                        None if sup.stiffness_n_per_m > 0.0 => {
+                            sup.damping_ns_per_m / sup.stiffness_n_per_m * st.stiffness_n_per_m
+                        }
+                        None => 0.0,
+                    };
+                    stitches.push(Stitch {
+                        x_m: x,
+                        mass_kg: st.node_mass_kg,
+                        stiffness_n_per_m: st.stiffness_n_per_m,
+                        damping_ns_per_m: damping,
+                    });
+                    stitches.len() - 1
+                });
                 droppers.push(Dropper {
-                    x_m: s as f64 * c.span_m + d,
+                    stitch,
+                    x_m: x,
                     stiffness_n_per_m: match (c.droppers.stiffness_n_per_m, c.droppers.ea_n) {
                         (Some(k), _) => k,
                         (None, Some(ea)) => ea / stat.dropper_length_m[i],
@@ -305,6 +342,30 @@ impl Model {
                 });
             }
         }
+        // Explicit stability of the stitch nodes.
+        for st in stat.stitch.iter().flatten() {
+            let k = st.stiffness_n_per_m
+                + c.droppers
+                    .stiffness_n_per_m
+                    .unwrap_or(0.0)
+                    .max(c.droppers.ea_n.map_or(0.0, |ea| {
+                        ea / stat
+                            .dropper_length_m
+                            .iter()
+                            .cloned()
+                            .fold(f64::MAX, f64::min)
+                    }));
+            if (k / st.node_mass_kg).sqrt() * case.run.dt_s > 1.8 {
+                return Err(CaseError::Invalid {
+                    field: "run.dt_s".into(),
+                    value: case.run.dt_s.to_string(),
+                    reason: format!(
+                        "too large for the stitch nodes ({} kg on {k:.0} N/m): explicit stability",
+                        st.node_mass_kg
+                    ),
+                });
+            }
+        }
         // Explicit stability of the penalty contact and the pantograph springs (ω Δt below a
         // margin; the wire's own participating mass only lowers these frequencies).
         let dt = case.run.dt_s;
@@ -350,6 +411,7 @@ impl Model {
             droppers,
             supports,
             arms,
+            stitches,
             statics: StaticShape::Catenary(Box::new(stat)),
             pantographs,
             contact_stiffness_n_per_m: case.contact.stiffness_n_per_m,
@@ -406,6 +468,7 @@ impl ModelBuilder {
                 droppers: vec![],
                 supports: vec![],
                 arms: vec![],
+                stitches: vec![],
                 statics: StaticShape::Flat,
                 pantographs: vec![],
                 contact_stiffness_n_per_m: 50_000.0,
@@ -474,32 +537,24 @@ pub fn static_balance(case: &Case) -> StaticBalance {
         .iter()
         .map(|len| len * c.droppers.mass_per_m_kg * G)
         .sum();
-    let clamps = c.droppers.positions_m.len() as f64
-        * (c.droppers.clamp_mass_contact_kg + c.droppers.clamp_mass_messenger_kg)
-        * G;
+    // Upper clamps: on the messenger, or the stitch clamp plus half a stitch wire per stitch dropper.
+    let clamps: f64 = (0..c.droppers.positions_m.len())
+        .map(|i| {
+            let upper = match c.stitch_wire.as_ref().filter(|st| st.droppers.contains(&i)) {
+                Some(st) => st.clamp_mass_kg + 0.5 * st.mass_per_m_kg * st.length_m,
+                None => c.droppers.clamp_mass_messenger_kg,
+            };
+            (c.droppers.clamp_mass_contact_kg + upper) * G
+        })
+        .sum();
     let weight = (c.contact_wire.mass_per_m_kg + c.messenger.mass_per_m_kg) * G * l
         + n * (dropper_w + clamps);
     // Support forces from the kinks of the solved shapes at a support (not from load sums): the
-    // contact-wire kink is the steady-arm force, the messenger kink the messenger-support force.
-    // Interior supports carry one span's load and the two end supports half each: n spans in all.
-    let kink = |h: &[f64], t: f64, w: f64| {
-        let x = &s.nodes_x;
-        let k = x.len() - 1;
-        let s_first = (h[1] - h[0]) / (x[1] - x[0]);
-        let s_last = (h[k] - h[k - 1]) / (x[k] - x[k - 1]);
-        t * (s_last - s_first) + w * 0.5 * ((x[1] - x[0]) + (x[k] - x[k - 1]))
-    };
-    let arm = kink(
-        &s.contact_heights_m,
-        c.contact_wire.tension_n,
-        c.contact_wire.mass_per_m_kg * G,
-    );
-    let sup = kink(
-        &s.messenger_heights_m,
-        c.messenger.tension_n,
-        c.messenger.mass_per_m_kg * G,
-    );
-    let support = n * (arm + sup);
+    // messenger's kink is the messenger-support force; the steady arm carries the contact wire's
+    // kink when it holds the design height (zero in a stitched catenary). Interior supports carry
+    // one span's load and the two end supports half each: n spans in all.
+    let sup = s.messenger.node_forces()[0];
+    let support = n * (s.arm_force_n + sup);
     StaticBalance {
         weight_n: weight,
         support_n: support,

@@ -34,6 +34,10 @@ pub struct State {
     pub py: Vec<Vec<f64>>,
     pub pv: Vec<Vec<f64>>,
     pub pa: Vec<Vec<f64>>,
+    /// Stitch nodes: displacement from static, velocity, acceleration.
+    pub sz: Vec<f64>,
+    pub sv: Vec<f64>,
+    pub sa: Vec<f64>,
 }
 
 /// What one step saw at each pantograph.
@@ -99,6 +103,9 @@ pub struct Solver {
     fm_pts: Vec<f64>,
     fc_pts: Vec<f64>,
     v_sup: Vec<f64>,
+    /// Point index (the dropper's) of each stitch element, and the force on each stitch node.
+    stitch_pt: Vec<usize>,
+    f_stitch: Vec<f64>,
     wood_g: Vec<f64>,
     wood_y: Vec<f64>,
     rows: Vec<Vec<f64>>,
@@ -125,7 +132,15 @@ impl Solver {
         };
         let sup_idx: Vec<usize> = model.supports.iter().map(|s| index_of(s.x_m)).collect();
         let arm_idx: Vec<usize> = model.arms.iter().map(|a| index_of(a.x_m)).collect();
-        let xs: Vec<f64> = model.supports.iter().map(|s| s.x_m).collect();
+        // Velocity points: supports (dampers), then stitch attachments (stitch dampers).
+        let mut xs: Vec<f64> = model.supports.iter().map(|s| s.x_m).collect();
+        xs.extend(model.stitches.iter().map(|s| s.x_m));
+        let mut stitch_pt = vec![0usize; model.stitches.len()];
+        for (i, d) in model.droppers.iter().enumerate() {
+            if let Some(j) = d.stitch {
+                stitch_pt[j] = i;
+            }
+        }
         let xa: Vec<f64> = model.arms.iter().map(|a| a.x_m).collect();
         let sp = PointSampler::new(&model.basis, &pts, model.span_m);
         let s_sup = PointSampler::new(&model.basis, &xs, model.span_m);
@@ -219,6 +234,8 @@ impl Solver {
             sup_idx,
             arm_idx,
             v_sup: vec![0.0; xs.len()],
+            f_stitch: vec![0.0; stitch_pt.len()],
+            stitch_pt,
             wood_g: vec![0.0; na],
             wood_y: vec![0.0; na],
             rows: vec![vec![0.0; n]; npan],
@@ -289,6 +306,9 @@ impl Solver {
             pa: pv.clone(),
             pv,
             py,
+            sz: vec![0.0; self.model.stitches.len()],
+            sv: vec![0.0; self.model.stitches.len()],
+            sa: vec![0.0; self.model.stitches.len()],
         }
     }
 
@@ -343,6 +363,10 @@ impl Solver {
                 st.py[p][i] += dt * st.pv[p][i];
             }
         }
+        for j in 0..st.sz.len() {
+            st.sv[j] += h * st.sa[j];
+            st.sz[j] += dt * st.sv[j];
+        }
         st.t += dt;
 
         // Point displacements and forces.
@@ -358,7 +382,12 @@ impl Solver {
         self.s_sup.gather(&st.vm, &mut self.v_sup, &mut self.scr);
         let mut slack = 0;
         for (i, d) in m.droppers.iter().enumerate() {
-            let e = self.um_pts[i] - self.uc_pts[i];
+            // A stitch dropper hangs from its stitch node instead of the messenger.
+            let top = match d.stitch {
+                Some(j) => st.sz[j],
+                None => self.um_pts[i],
+            };
+            let e = top - self.uc_pts[i];
             let t = d.preload_n + d.stiffness_n_per_m * e;
             let df = if t > 0.0 {
                 t - d.preload_n
@@ -367,9 +396,22 @@ impl Solver {
                 -d.preload_n
             };
             self.fc_pts[i] = df;
-            self.fm_pts[i] = -df;
+            match d.stitch {
+                Some(j) => self.f_stitch[j] = -df,
+                None => self.fm_pts[i] = -df,
+            }
         }
         self.slack = slack;
+        let nsup = m.supports.len();
+        for (j, s) in m.stitches.iter().enumerate() {
+            let i = self.stitch_pt[j];
+            let f = -s.stiffness_n_per_m * (st.sz[j] - self.um_pts[i])
+                - s.damping_ns_per_m * (st.sv[j] - self.v_sup[nsup + j]);
+            self.f_stitch[j] += f;
+            self.fm_pts[i] -= f;
+            st.sa[j] = self.f_stitch[j] / s.mass_kg;
+            st.sv[j] += h * st.sa[j];
+        }
         for (j, s) in m.supports.iter().enumerate() {
             let k = self.sup_idx[j];
             self.fm_pts[k] +=
@@ -514,8 +556,17 @@ impl Solver {
         self.sp
             .gather_pair(&st.qm, &st.qc, &mut um, &mut uc, &mut self.scr);
         self.s_arm.gather(&st.vc, &mut va, &mut self.scr);
+        for (j, s) in m.stitches.iter().enumerate() {
+            let i = self.stitch_pt[j];
+            kin += 0.5 * s.mass_kg * st.sv[j] * st.sv[j];
+            pot += 0.5 * s.stiffness_n_per_m * (st.sz[j] - um[i]).powi(2);
+        }
         for (i, d) in m.droppers.iter().enumerate() {
-            let e = um[i] - uc[i];
+            let top = match d.stitch {
+                Some(j) => st.sz[j],
+                None => um[i],
+            };
+            let e = top - uc[i];
             let (f0, k) = (d.preload_n, d.stiffness_n_per_m);
             pot += if f0 + k * e >= 0.0 {
                 0.5 * k * e * e
@@ -572,10 +623,13 @@ impl Solver {
         for i in 0..st.vm.len() {
             d += wm.damping[i] * st.vm[i].powi(2) + wc.damping[i] * st.vc[i].powi(2);
         }
-        let mut vs = vec![0.0; m.supports.len()];
+        let mut vs = vec![0.0; m.supports.len() + m.stitches.len()];
         self.s_sup.gather(&st.vm, &mut vs, &mut self.scr);
         for (s, v) in m.supports.iter().zip(&vs) {
             d += s.damping_ns_per_m * v * v;
+        }
+        for (j, s) in m.stitches.iter().enumerate() {
+            d += s.damping_ns_per_m * (st.sv[j] - vs[m.supports.len() + j]).powi(2);
         }
         for (p, pan) in m.pantographs.iter().enumerate() {
             if let Pantograph::Lumped {

@@ -1,8 +1,8 @@
 //! Static shape of the catenary from its design geometry (paper §2.1: "the static shape of the
 //! catenary is obtained based on its design parameters"; README §5).
 //!
-//! The design fixes the contact-wire height at the supports (0) and at every dropper (minus the
-//! pre-sag). Between those nodes a tensioned wire under its own weight `w = ρA g` is a parabola
+//! The design fixes the contact-wire height at every dropper (minus the pre-sag) and, where the
+//! steady arm holds it (simple catenaries), at the supports (0). Between those nodes a tensioned wire under its own weight `w = ρA g` is a parabola
 //! (`T y'' = w`), and the kink at a node gives the point force that holds it:
 //!
 //! ```text
@@ -10,7 +10,8 @@
 //! ```
 //!
 //! with `s` the chord slopes and `h` the segment lengths. That yields the dropper tensions at the
-//! contact wire and the steady-arm force. The messenger hangs from its supports (at the
+//! contact wire and the steady-arm force. In a stitched catenary the stitch droppers hang from
+//! stitch elements (see [`stitch_stiffness`]) that sag under their load by `F/k`. The messenger hangs from its supports (at the
 //! encumbrance) under its weight, the dropper tensions, the dropper weights and its clamps; its
 //! shape follows from the simply supported moment diagram, `y_m = E − M(x)/T_m`. Dropper lengths
 //! are the differences of the two heights. Bending stiffness is neglected in this step: with
@@ -24,30 +25,109 @@
 use crate::basis::SineBasis;
 use crate::case::{CatenaryCase, Presag, PresagZero, G};
 
+/// A span-periodic piecewise-parabolic wire profile: nodal heights, and between nodes the
+/// parabola of a tensioned wire under its weight (`T y'' = w`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Profile {
+    /// Node positions within a span, sorted, in `[0, span)`.
+    pub xs: Vec<f64>,
+    /// Heights at the nodes, m.
+    pub hs: Vec<f64>,
+    pub span_m: f64,
+    pub n_spans: usize,
+    /// Weight per metre, N/m, and tension, N.
+    pub w: f64,
+    pub t: f64,
+}
+
+impl Profile {
+    /// The segment `(x_left, h_left, x_right, h_right)` containing local coordinate `xi`.
+    fn segment(&self, xi: f64) -> (f64, f64, f64, f64) {
+        let n = self.xs.len();
+        match self.xs.iter().rposition(|&x| x <= xi) {
+            None => (
+                self.xs[n - 1] - self.span_m,
+                self.hs[n - 1],
+                self.xs[0],
+                self.hs[0],
+            ),
+            Some(j) if j + 1 < n => (self.xs[j], self.hs[j], self.xs[j + 1], self.hs[j + 1]),
+            Some(j) => (self.xs[j], self.hs[j], self.xs[0] + self.span_m, self.hs[0]),
+        }
+    }
+
+    /// Height at track position `x`.
+    pub fn height(&self, x: f64) -> f64 {
+        let s = self.span_m;
+        let k = (x / s).floor().clamp(0.0, self.n_spans as f64);
+        let xi = x - k * s;
+        let (x0, h0, x1, h1) = self.segment(xi);
+        h0 + (h1 - h0) / (x1 - x0) * (xi - x0) + self.w / (2.0 * self.t) * (xi - x0) * (xi - x1)
+    }
+
+    /// Upward point force the wire needs at each node to hold this shape:
+    /// `T (s_left − s_right) + w (h_left + h_right)/2` (the kink).
+    pub fn node_forces(&self) -> Vec<f64> {
+        let n = self.xs.len();
+        (0..n)
+            .map(|j| {
+                let (xl, hl) = if j == 0 {
+                    (self.xs[n - 1] - self.span_m, self.hs[n - 1])
+                } else {
+                    (self.xs[j - 1], self.hs[j - 1])
+                };
+                let (xr, hr) = if j + 1 == n {
+                    (self.xs[0] + self.span_m, self.hs[0])
+                } else {
+                    (self.xs[j + 1], self.hs[j + 1])
+                };
+                let (x, h) = (self.xs[j], self.hs[j]);
+                self.t * ((h - hl) / (x - xl) - (hr - h) / (xr - x)) + self.w * 0.5 * (xr - xl)
+            })
+            .collect()
+    }
+}
+
+/// Transverse stiffness of a stitch wire (tension `T`, length `L`) at a point `a` from its nearer
+/// end: `k = T L / (a (L − a))`, the point flexibility of a taut string. This is how pcsim derives
+/// the stiffness of the paper's stitch spring elements (§2.1) from the stitch-wire data.
+pub fn stitch_stiffness(tension_n: f64, length_m: f64, dist_to_support_m: f64) -> f64 {
+    let a = 0.5 * length_m - dist_to_support_m;
+    tension_n * length_m / (a * (length_m - a))
+}
+
 /// The static equilibrium of one (repeating) span.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StaticSolution {
     pub span_m: f64,
     pub n_spans: usize,
-    /// Node positions within a span: 0, droppers…, span.
-    pub nodes_x: Vec<f64>,
-    /// Contact-wire design height at the nodes (0 at the supports), m.
-    pub contact_heights_m: Vec<f64>,
-    /// Messenger height at the nodes (encumbrance at the supports), m.
-    pub messenger_heights_m: Vec<f64>,
+    /// Contact wire: nodes at the droppers (and at the support when the steady arm holds it).
+    pub contact: Profile,
+    /// Messenger: nodes at the support and the droppers.
+    pub messenger: Profile,
+    /// Dropper positions within a span.
+    pub dropper_x_m: Vec<f64>,
     /// Dropper tension at the contact-wire clamp, N.
     pub dropper_force_contact_n: Vec<f64>,
-    /// Dropper tension at the messenger clamp (adds the dropper's own weight), N.
+    /// Dropper tension at the upper clamp (adds the dropper's own weight), N.
     pub dropper_force_messenger_n: Vec<f64>,
     pub dropper_length_m: Vec<f64>,
+    /// Per dropper: the stitch element it hangs from (stiffness N/m, node mass kg, static force
+    /// in the element N), or `None` for droppers on the messenger.
+    pub stitch: Vec<Option<StitchStatic>>,
     /// Upward force of a steady arm on the contact wire (interior supports), N.
     pub arm_force_n: f64,
     /// Upward force of a messenger support (interior supports), N.
     pub support_force_n: f64,
-    w_contact: f64,
-    w_messenger: f64,
-    t_contact: f64,
-    t_messenger: f64,
+}
+
+/// Static data of one stitch element.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StitchStatic {
+    pub stiffness_n_per_m: f64,
+    pub node_mass_kg: f64,
+    /// Force carried by the stitch element (dropper tension at the top + node weight), N.
+    pub force_n: f64,
 }
 
 /// Contact-wire pre-sag at each dropper (positive downward), m.
@@ -83,110 +163,144 @@ impl StaticSolution {
     /// Solve the static shape of the catenary of `c`.
     pub fn solve(c: &CatenaryCase) -> Self {
         let s = c.span_m;
-        let mut nodes_x = vec![0.0];
-        nodes_x.extend_from_slice(&c.droppers.positions_m);
-        nodes_x.push(s);
+        let d = &c.droppers.positions_m;
+        let nd = d.len();
         let presag = presag_at_droppers(c);
-        let mut hc = vec![0.0];
-        hc.extend(presag.iter().map(|p| -p));
-        hc.push(0.0);
-        let wc = c.contact_wire.mass_per_m_kg * G;
-        let wm = c.messenger.mass_per_m_kg * G;
-        let (tc, tm) = (c.contact_wire.tension_n, c.messenger.tension_n);
-        let nn = nodes_x.len();
-        let seg_len: Vec<f64> = (0..nn - 1).map(|j| nodes_x[j + 1] - nodes_x[j]).collect();
-        let slope: Vec<f64> = (0..nn - 1)
-            .map(|j| (hc[j + 1] - hc[j]) / seg_len[j])
+        let hold = c.steady_arm.static_support;
+        let mut xs = Vec::new();
+        let mut hs = Vec::new();
+        if hold {
+            xs.push(0.0);
+            hs.push(0.0);
+        }
+        xs.extend_from_slice(d);
+        hs.extend(presag.iter().map(|p| -p));
+        let contact = Profile {
+            xs,
+            hs,
+            span_m: s,
+            n_spans: c.spans,
+            w: c.contact_wire.mass_per_m_kg * G,
+            t: c.contact_wire.tension_n,
+        };
+        let nf = contact.node_forces();
+        let off = hold as usize;
+        let fc: Vec<f64> = (0..nd)
+            .map(|i| nf[i + off] + c.droppers.clamp_mass_contact_kg * G)
             .collect();
-        let nd = nn - 2;
-        let fc: Vec<f64> = (1..=nd)
+        let arm = if hold { nf[0] } else { 0.0 };
+
+        // Stitch elements.
+        let stitch: Vec<Option<(f64, f64)>> = (0..nd)
             .map(|i| {
-                tc * (slope[i - 1] - slope[i])
-                    + wc * 0.5 * (seg_len[i - 1] + seg_len[i])
-                    + c.droppers.clamp_mass_contact_kg * G
+                c.stitch_wire
+                    .as_ref()
+                    .filter(|st| st.droppers.contains(&i))
+                    .map(|st| {
+                        let dist = d[i].min(s - d[i]);
+                        let k = stitch_stiffness(st.tension_n, st.length_m, dist);
+                        (k, st.clamp_mass_kg + 0.5 * st.mass_per_m_kg * st.length_m)
+                    })
             })
             .collect();
-        let arm = tc * (slope[nn - 2] - slope[0]) + wc * 0.5 * (seg_len[nn - 2] + seg_len[0]);
 
         // Messenger: iterate on dropper lengths (their weight loads the messenger).
+        let wm = c.messenger.mass_per_m_kg * G;
+        let tm = c.messenger.tension_n;
         let mut len = vec![c.encumbrance_m; nd];
-        let mut hm = vec![c.encumbrance_m; nn];
+        let mut hm = vec![c.encumbrance_m; nd];
         let mut fm = fc.clone();
-        for _ in 0..6 {
+        let mut st_force = vec![0.0; nd];
+        for _ in 0..8 {
             fm = (0..nd)
-                .map(|i| {
-                    fc[i]
-                        + c.droppers.mass_per_m_kg * G * len[i]
-                        + c.droppers.clamp_mass_messenger_kg * G
+                .map(|i| fc[i] + c.droppers.mass_per_m_kg * G * len[i])
+                .collect();
+            let loads: Vec<f64> = (0..nd)
+                .map(|i| match stitch[i] {
+                    Some((_, m)) => {
+                        st_force[i] = fm[i] + m * G;
+                        st_force[i]
+                    }
+                    None => fm[i] + c.droppers.clamp_mass_messenger_kg * G,
                 })
                 .collect();
-            let ra = fm
+            let ra = loads
                 .iter()
-                .zip(&nodes_x[1..=nd])
+                .zip(d)
                 .map(|(p, x)| p * (s - x) / s)
                 .sum::<f64>()
                 + wm * s / 2.0;
-            for (j, &x) in nodes_x.iter().enumerate() {
+            for (j, &x) in d.iter().enumerate() {
                 let mut m = ra * x - wm * x * x / 2.0;
                 for i in 0..nd {
-                    if nodes_x[i + 1] < x {
-                        m -= fm[i] * (x - nodes_x[i + 1]);
+                    if d[i] < x {
+                        m -= loads[i] * (x - d[i]);
                     }
                 }
                 hm[j] = c.encumbrance_m - m / tm;
             }
-            hm[0] = c.encumbrance_m;
-            hm[nn - 1] = c.encumbrance_m;
             for i in 0..nd {
-                len[i] = hm[i + 1] - hc[i + 1];
+                let top = match stitch[i] {
+                    Some((k, _)) => hm[i] - st_force[i] / k,
+                    None => hm[i],
+                };
+                len[i] = top - contact.height(d[i]);
             }
         }
-        let support = fm.iter().sum::<f64>() + wm * s;
+        let loads_total: f64 = (0..nd)
+            .map(|i| match stitch[i] {
+                Some(_) => st_force[i],
+                None => fm[i] + c.droppers.clamp_mass_messenger_kg * G,
+            })
+            .sum();
+        let mut mxs = vec![0.0];
+        mxs.extend_from_slice(d);
+        let mut mhs = vec![c.encumbrance_m];
+        mhs.extend_from_slice(&hm);
+        let messenger = Profile {
+            xs: mxs,
+            hs: mhs,
+            span_m: s,
+            n_spans: c.spans,
+            w: wm,
+            t: tm,
+        };
         Self {
             span_m: s,
             n_spans: c.spans,
-            nodes_x,
-            contact_heights_m: hc,
-            messenger_heights_m: hm,
+            contact,
+            messenger,
+            dropper_x_m: d.clone(),
             dropper_force_contact_n: fc,
             dropper_force_messenger_n: fm,
             dropper_length_m: len,
+            stitch: (0..nd)
+                .map(|i| {
+                    stitch[i].map(|(k, m)| StitchStatic {
+                        stiffness_n_per_m: k,
+                        node_mass_kg: m,
+                        force_n: st_force[i],
+                    })
+                })
+                .collect(),
             arm_force_n: arm,
-            support_force_n: support,
-            w_contact: wc,
-            w_messenger: wm,
-            t_contact: tc,
-            t_messenger: tm,
+            support_force_n: loads_total + wm * s,
         }
     }
 
-    fn eval(&self, x: f64, h: &[f64], w: f64, t: f64) -> f64 {
-        let s = self.span_m;
-        let k = (x / s).floor().clamp(0.0, (self.n_spans - 1) as f64);
-        let xi = (x - k * s).clamp(0.0, s);
-        let j = match self.nodes_x.iter().position(|&n| n > xi) {
-            Some(0) => 0,
-            Some(p) => p - 1,
-            None => self.nodes_x.len() - 2,
-        };
-        let (x0, x1) = (self.nodes_x[j], self.nodes_x[j + 1]);
-        let sl = (h[j + 1] - h[j]) / (x1 - x0);
-        h[j] + sl * (xi - x0) + w / (2.0 * t) * (xi - x0) * (xi - x1)
-    }
-
-    /// Static contact-wire height at track position `x` (0 at the supports), m.
+    /// Static contact-wire height at track position `x` (0 at the supports' design height), m.
     pub fn contact_height(&self, x: f64) -> f64 {
-        self.eval(x, &self.contact_heights_m, self.w_contact, self.t_contact)
+        self.contact.height(x)
     }
 
     /// Static messenger height at `x`, m.
     pub fn messenger_height(&self, x: f64) -> f64 {
-        self.eval(
-            x,
-            &self.messenger_heights_m,
-            self.w_messenger,
-            self.t_messenger,
-        )
+        self.messenger.height(x)
+    }
+
+    /// Messenger height at dropper `i` (within a span).
+    pub fn messenger_height_at_dropper(&self, i: usize) -> f64 {
+        self.messenger.hs[i + 1]
     }
 }
 
