@@ -2,6 +2,7 @@
 
 mod commands;
 mod output;
+mod plots;
 mod progress;
 
 use clap::{Parser, Subcommand};
@@ -27,6 +28,8 @@ enum Command {
     Presets(commands::PresetsArgs),
     /// Benchmark: wall time against simulated time on one core.
     Bench(commands::BenchArgs),
+    /// Redraw the plots of a finished run from its output directory.
+    Plot(commands::PlotArgs),
 }
 
 fn main() {
@@ -36,6 +39,7 @@ fn main() {
         Command::Validate(a) => commands::validate(a, cli.quiet),
         Command::Presets(a) => commands::presets(a),
         Command::Bench(a) => commands::bench(a, cli.quiet),
+        Command::Plot(a) => commands::plot(a),
     };
     match res {
         Ok(code) => std::process::exit(code),

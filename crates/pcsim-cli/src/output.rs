@@ -14,7 +14,11 @@ pub struct PantographSummary {
 
 #[derive(Serialize)]
 pub struct Summary {
+    pub case_name: String,
     pub speed_kmh: f64,
+    /// Contact-wire tension used, N.
+    pub contact_wire_tension_n: f64,
+    pub span_m: f64,
     pub simulated_time_s: f64,
     pub wall_time_s: f64,
     pub analysis_section_m: [f64; 2],
@@ -27,9 +31,21 @@ pub struct Summary {
 }
 
 impl Summary {
-    pub fn new(out: &RunOutput, wall_time_s: f64, warnings: Vec<String>) -> Self {
+    pub fn new(
+        case: &pcsim_core::Case,
+        out: &RunOutput,
+        wall_time_s: f64,
+        warnings: Vec<String>,
+    ) -> Self {
         Summary {
+            case_name: if case.meta.name.is_empty() {
+                "case".into()
+            } else {
+                case.meta.name.clone()
+            },
             speed_kmh: out.speed_m_s * 3.6,
+            contact_wire_tension_n: case.catenary.contact_wire.tension_n,
+            span_m: case.catenary.span_m,
             simulated_time_s: out.simulated_time_s(),
             wall_time_s,
             analysis_section_m: out.analysis_m,

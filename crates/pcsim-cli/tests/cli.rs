@@ -182,3 +182,111 @@ fn validate_json_reports_every_row() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+#[test]
+fn seed_table1_json_names_the_pantograph_and_the_paper_value() {
+    let out = pcsim()
+        .args(["validate", "seed-table1", "--json", "--quiet"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let js: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(js["all_pass"].is_boolean());
+    let cases = js["cases"].as_array().unwrap();
+    let keys: Vec<(f64, String)> = cases
+        .iter()
+        .map(|c| {
+            (
+                c["speed_kmh"].as_f64().unwrap(),
+                c["pantograph"].as_str().unwrap().to_string(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        keys,
+        vec![
+            (275.0, "leading".into()),
+            (275.0, "trailing".into()),
+            (320.0, "leading".into()),
+            (320.0, "trailing".into())
+        ]
+    );
+    for c in cases {
+        let rows = c["rows"].as_array().unwrap();
+        assert_eq!(rows.len(), 9);
+        for r in rows {
+            assert!(r["value"].as_f64().unwrap().is_finite());
+            assert!(
+                r["paper_value"].as_f64().is_some()
+                    && r["pass"].is_boolean()
+                    && r["paper_pass"].is_boolean()
+            );
+        }
+    }
+}
+
+#[test]
+fn run_plot_and_replot_write_readable_figures() {
+    let dir = scratch("plot");
+    let case = short_case(&dir);
+    let outdir = dir.join("out");
+    let out = pcsim()
+        .arg("run")
+        .arg(&case)
+        .arg("--out")
+        .arg(&outdir)
+        .args(["--plot", "--quiet", "--tension", "18"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let js: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(outdir.join("summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(js["contact_wire_tension_n"].as_f64().unwrap(), 18_000.0);
+    for f in ["contact_force_leading", "contact_height"] {
+        let svg = std::fs::read_to_string(outdir.join(format!("{f}.svg"))).unwrap();
+        assert!(svg.contains("Position along the track [m]"), "{f}: x label");
+        assert!(
+            svg.contains("[N]") || svg.contains("[mm]"),
+            "{f}: y label with unit"
+        );
+        assert!(
+            svg.contains("supports (every 60 m)"),
+            "{f}: span marks in the legend"
+        );
+        let png = std::fs::read(outdir.join(format!("{f}.png"))).unwrap();
+        assert_eq!(&png[1..4], b"PNG");
+        assert!(png.len() > 20_000, "{f}.png looks empty");
+    }
+    assert!(
+        std::fs::read_to_string(outdir.join("contact_force_leading.svg"))
+            .unwrap()
+            .contains("0–20 Hz")
+    );
+    // Redraw from the files alone.
+    for f in ["contact_force_leading.svg", "contact_height.png"] {
+        std::fs::remove_file(outdir.join(f)).unwrap();
+    }
+    let out = pcsim().arg("plot").arg(&outdir).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        outdir.join("contact_force_leading.svg").exists()
+            && outdir.join("contact_height.png").exists()
+    );
+    // A directory that is not a run's output is a clear error.
+    let out = pcsim().arg("plot").arg(&dir).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("summary.json"));
+}

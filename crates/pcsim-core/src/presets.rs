@@ -23,6 +23,16 @@ pub const PRESETS: &[Preset] = &[
         summary: "simple catenary, 55 m spans, 3-mass pantograph (probably the 2015 benchmark, README §3.2)",
         toml: include_str!("../../../presets/benchmark-55m.toml"),
     },
+    Preset {
+        name: "stitched-2018-like",
+        summary: "stitched catenary, 30 x 60 m, two pantographs 200 m apart (the paper's Table 1 set-up from public data; not EN 50318:2018)",
+        toml: include_str!("../../../presets/stitched-2018-like.toml"),
+    },
+    Preset {
+        name: "syt-7.0-9.8",
+        summary: "Swedish stitched SYT 7.0/9.8 (reconstructed; the paper's EVA case), DSA380-type pantograph, 222 km/h",
+        toml: include_str!("../../../presets/syt-7.0-9.8.toml"),
+    },
 ];
 
 /// Find a preset by name.

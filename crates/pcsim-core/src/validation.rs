@@ -15,12 +15,21 @@ pub struct Row {
     pub value: f64,
     pub range: [f64; 2],
     pub pass: bool,
+    /// The seed paper's own value, where the targets give one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub paper_value: Option<f64>,
+    /// Whether the paper's value lies in the range.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub paper_pass: Option<bool>,
 }
 
 /// A speed case of a validation.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CaseRows {
     pub speed_kmh: f64,
+    /// "leading" or "trailing" where the targets distinguish pantographs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pantograph: Option<String>,
     pub rows: Vec<Row>,
 }
 
@@ -62,7 +71,11 @@ pub fn stat_value(s: &ContactStats, q: &str) -> Option<f64> {
 pub struct TargetCase {
     pub key: String,
     pub speed_kmh: f64,
+    /// From the key's suffix (`v275_leading` → "leading").
+    pub pantograph: Option<String>,
     pub ranges: Vec<(String, [f64; 2])>,
+    /// `paper_value` entries, by quantity.
+    pub paper: Vec<(String, f64)>,
 }
 
 /// Read the target cases of a table (e.g. `en50318_2002`) from the embedded targets.
@@ -94,10 +107,26 @@ pub fn target_cases(table: &str) -> Result<Vec<TargetCase>, CaseError> {
                 }
             }
         }
+        let num = |x: &toml::Value| x.as_float().or(x.as_integer().map(|i| i as f64));
+        let paper = c
+            .get("paper_value")
+            .and_then(|p| p.as_table())
+            .map(|p| {
+                p.iter()
+                    .filter_map(|(k, v)| num(v).map(|v| (k.clone(), v)))
+                    .collect()
+            })
+            .unwrap_or_default();
+        let pantograph = ["leading", "trailing"]
+            .iter()
+            .find(|p| key.ends_with(*p))
+            .map(|p| p.to_string());
         out.push(TargetCase {
             key: key.clone(),
             speed_kmh: speed,
+            pantograph,
             ranges,
+            paper,
         });
     }
     Ok(out)
@@ -111,22 +140,29 @@ pub fn compare(stats: &ContactStats, target: &TargetCase) -> CaseRows {
         .iter()
         .filter_map(|(q, r)| {
             let v = stat_value(stats, q)?;
-            let (lo, hi) = if r[0] == r[1] && r[0] != 0.0 {
-                (r[0] - 0.5, r[1] + 0.5)
-            } else {
-                (r[0].min(r[1]), r[0].max(r[1]))
+            let inside = |v: f64| {
+                let (lo, hi) = if r[0] == r[1] && r[0] != 0.0 {
+                    (r[0] - 0.5, r[1] + 0.5)
+                } else {
+                    (r[0].min(r[1]), r[0].max(r[1]))
+                };
+                let vr = (v * 10.0).round() / 10.0;
+                vr >= lo && vr <= hi
             };
-            let vr = (v * 10.0).round() / 10.0;
+            let paper_value = target.paper.iter().find(|(k, _)| k == q).map(|(_, v)| *v);
             Some(Row {
                 quantity: q.clone(),
                 value: v,
                 range: *r,
-                pass: vr >= lo && vr <= hi,
+                pass: inside(v),
+                paper_value,
+                paper_pass: paper_value.map(inside),
             })
         })
         .collect();
     CaseRows {
         speed_kmh: target.speed_kmh,
+        pantograph: target.pantograph.clone(),
         rows,
     }
 }

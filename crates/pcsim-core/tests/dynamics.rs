@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{short_en50318, with_moving_force};
+use common::{short_en50318, short_preset, with_moving_force};
 use pcsim_core::case::Damping;
 use pcsim_core::model::Model;
 use pcsim_core::run_case;
@@ -159,5 +159,21 @@ fn runs_are_bitwise_deterministic() {
     assert_eq!(
         bits(&a.pantographs[0].force_n),
         bits(&b.pantographs[0].force_n)
+    );
+}
+
+#[test]
+fn energy_balance_with_stitch_nodes() {
+    // Stitched catenary: stitch nodes (mass, spring, damper) and stitch droppers that slacken.
+    let mut case = with_moving_force(short_preset("stitched-2018-like", 5, 150.0), 400.0);
+    case.run.dt_s = 2.5e-4;
+    let (model, _) = Model::from_case(&case).unwrap();
+    assert_eq!(model.stitches.len(), 2 * 5);
+    let (worst, scale, slack) = energy_residual(model, 20_000, Some(400.0));
+    assert!(slack > 0);
+    assert!(scale > 1.0, "scale {scale} J");
+    assert!(
+        worst < 2e-3 * scale,
+        "energy residual {worst} J against {scale} J"
     );
 }

@@ -25,3 +25,18 @@ pub fn with_moving_force(mut c: Case, force_n: f64) -> Case {
     }];
     c
 }
+
+/// A preset cut to `spans` spans, leading pantograph only, run over the middle.
+pub fn short_preset(name: &str, spans: usize, speed_kmh: f64) -> Case {
+    let (mut c, _) = presets::load(name).unwrap();
+    c.catenary.spans = spans;
+    c.pantographs.truncate(1);
+    let l = c.length_m();
+    c.run.speed_kmh = speed_kmh;
+    c.run.start_m = c.catenary.span_m;
+    c.run.end_m = l - c.catenary.span_m;
+    c.run.analysis_m = [2.0 * c.catenary.span_m, l - 2.0 * c.catenary.span_m];
+    c.run.modes = None;
+    c.run.modes_per_m = Some(1.0);
+    c
+}
