@@ -59,31 +59,27 @@ impl SineBasis {
         debug_assert_eq!(out.len(), self.n_modes);
         let theta = PI * x / self.length_m;
         // Four interleaved rotation chains (modes k, k+1, k+2, k+3 advance by 4θ) break the
-        // latency chain of a single recurrence.
+        // latency chain of a single recurrence; each block of 256 modes is re-seeded directly.
         let (s4, c4) = (4.0 * theta).sin_cos();
-        let mut i = 0;
-        while i < self.n_modes {
-            let end = (i + RESEED).min(self.n_modes);
-            if end - i == RESEED {
-                let mut s = [0.0f64; 4];
-                let mut c = [0.0f64; 4];
+        for (b, block) in out.chunks_mut(4 * RESEED).enumerate() {
+            let i = b * 4 * RESEED;
+            let mut s = [0.0f64; 4];
+            let mut c = [0.0f64; 4];
+            for l in 0..4 {
+                (s[l], c[l]) = ((i + 1 + l) as f64 * theta).sin_cos();
+            }
+            let mut chunks = block.chunks_exact_mut(4);
+            for chunk in &mut chunks {
                 for l in 0..4 {
-                    (s[l], c[l]) = ((i + 1 + l) as f64 * theta).sin_cos();
-                }
-                for chunk in out[i..end].chunks_exact_mut(4) {
-                    for l in 0..4 {
-                        chunk[l] = s[l];
-                        let sn = s[l] * c4 + c[l] * s4;
-                        c[l] = c[l] * c4 - s[l] * s4;
-                        s[l] = sn;
-                    }
-                }
-            } else {
-                for (j, o) in out[i..end].iter_mut().enumerate() {
-                    *o = ((i + 1 + j) as f64 * theta).sin();
+                    chunk[l] = s[l];
+                    let sn = s[l] * c4 + c[l] * s4;
+                    c[l] = c[l] * c4 - s[l] * s4;
+                    s[l] = sn;
                 }
             }
-            i = end;
+            for (l, o) in chunks.into_remainder().iter_mut().enumerate() {
+                *o = s[l];
+            }
         }
     }
 

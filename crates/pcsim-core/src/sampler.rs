@@ -374,8 +374,10 @@ fn fold(q: &[f64], s: &[f64], c: &[f64], p: usize, a: &mut [f64], b: &mut [f64])
             }
             base += p;
         }
-        a[r0..r0 + w].copy_from_slice(&acc_a[..w]);
-        b[r0..r0 + w].copy_from_slice(&acc_b[..w]);
+        for l in 0..w {
+            a[r0 + l] = acc_a[l];
+            b[r0 + l] = acc_b[l];
+        }
         r0 += w;
     }
 }
@@ -391,8 +393,10 @@ fn unfold(a: &[f64], b: &[f64], s: &[f64], c: &[f64], p: usize, out: &mut [f64])
         if w == BLK {
             let mut ra = [0.0f64; BLK];
             let mut rb = [0.0f64; BLK];
-            ra.copy_from_slice(&a[r0..r0 + BLK]);
-            rb.copy_from_slice(&b[r0..r0 + BLK]);
+            for l in 0..BLK {
+                ra[l] = a[r0 + l];
+                rb[l] = b[r0 + l];
+            }
             while base + BLK <= n {
                 let (oo, ss, cc) = (
                     &mut out[base..base + BLK],
@@ -452,10 +456,12 @@ fn fold_pair(qa: &[f64], qb: &[f64], s: &[f64], c: &[f64], p: usize, out: [&mut 
             }
             base += p;
         }
-        a[r0..r0 + w].copy_from_slice(&acc[0][..w]);
-        b[r0..r0 + w].copy_from_slice(&acc[1][..w]);
-        a2[r0..r0 + w].copy_from_slice(&acc[2][..w]);
-        b2[r0..r0 + w].copy_from_slice(&acc[3][..w]);
+        for l in 0..w {
+            a[r0 + l] = acc[0][l];
+            b[r0 + l] = acc[1][l];
+            a2[r0 + l] = acc[2][l];
+            b2[r0 + l] = acc[3][l];
+        }
         r0 += w;
     }
 }
@@ -479,10 +485,12 @@ fn unfold_pair(
         let mut base = r0;
         if w == W {
             let mut r = [[0.0f64; W]; 4];
-            r[0].copy_from_slice(&a[r0..r0 + W]);
-            r[1].copy_from_slice(&b[r0..r0 + W]);
-            r[2].copy_from_slice(&a2[r0..r0 + W]);
-            r[3].copy_from_slice(&b2[r0..r0 + W]);
+            for l in 0..W {
+                r[0][l] = a[r0 + l];
+                r[1][l] = b[r0 + l];
+                r[2][l] = a2[r0 + l];
+                r[3][l] = b2[r0 + l];
+            }
             while base + W <= n {
                 let (ss, cc) = (&s[base..base + W], &c[base..base + W]);
                 let oa = &mut outa[base..base + W];
