@@ -339,12 +339,16 @@ impl PointSampler {
     }
 }
 
+// The fold kernels copy with explicit element loops instead of `copy_from_slice`: the tiny
+// copies otherwise become memcpy calls in the hot loop (measured, hence the clippy allowances).
+
 /// Register block of the fold kernels.
 const BLK: usize = 8;
 
 /// `a[r] = Σ_m q[mP+r] s[mP+r]`, `b[r] = Σ_m q[mP+r] c[mP+r]`. Blocks of 8 bins stay in
 /// registers while the loop walks down the modes (no load/store of the bins per mode).
 #[inline]
+#[allow(clippy::manual_memcpy)]
 fn fold(q: &[f64], s: &[f64], c: &[f64], p: usize, a: &mut [f64], b: &mut [f64]) {
     let n = q.len();
     let mut r0 = 0;
@@ -384,6 +388,7 @@ fn fold(q: &[f64], s: &[f64], c: &[f64], p: usize, a: &mut [f64], b: &mut [f64])
 
 /// `out[mP+r] += a[r] s[mP+r] + b[r] c[mP+r]`, the transpose of [`fold`].
 #[inline]
+#[allow(clippy::manual_memcpy)]
 fn unfold(a: &[f64], b: &[f64], s: &[f64], c: &[f64], p: usize, out: &mut [f64]) {
     let n = out.len();
     let mut r0 = 0;
@@ -421,6 +426,7 @@ fn unfold(a: &[f64], b: &[f64], s: &[f64], c: &[f64], p: usize, out: &mut [f64])
 
 /// [`fold`] for two coefficient vectors sharing the tables: `[a, b, a2, b2]`.
 #[inline]
+#[allow(clippy::manual_memcpy)]
 fn fold_pair(qa: &[f64], qb: &[f64], s: &[f64], c: &[f64], p: usize, out: [&mut [f64]; 4]) {
     let n = qa.len();
     let [a, b, a2, b2] = out;
@@ -468,6 +474,7 @@ fn fold_pair(qa: &[f64], qb: &[f64], s: &[f64], c: &[f64], p: usize, out: [&mut 
 
 /// [`unfold`] into two outputs sharing the tables; bins `[a, b, a2, b2]`.
 #[inline]
+#[allow(clippy::manual_memcpy)]
 fn unfold_pair(
     bins: [&[f64]; 4],
     s: &[f64],
