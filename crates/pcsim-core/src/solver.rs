@@ -10,10 +10,12 @@
 //! ```
 //!
 //! `Q` holds the point forces: droppers (tension-only with preload, Eq. 15), messenger
-//! supports (spring-damper; the damper uses v½), steady-arm springs, the penalty contact (Eq. 19)
+//! supports (spring-damper), steady-arm springs, stitch elements, the penalty contact (Eq. 19)
 //! and the pantograph's own springs. The wire mass matrix is diagonal plus the arm masses
-//! (`M = D + Φₐᵀ mₐ Φₐ`); it is solved exactly with the Woodbury identity and a Cholesky factor
-//! of the small capacitance matrix computed once. Every step does the same fixed work: no
+//! (`M = D + Φₐᵀ mₐ Φₐ`), and the messenger-support dampers join `C` the same way; both are solved
+//! exactly with the Woodbury identity and a Cholesky factor of the small capacitance matrix
+//! computed once ([`ImplicitPoints`]). Implicit support dampers matter: with a light messenger
+//! and many modes an explicit 1000 N·s/m damper is unstable at Δt = 1 ms. Every step does the same fixed work: no
 //! iteration, no allocation. See ARCHITECTURE.md for why this scheme was chosen over ode15s.
 
 use crate::basis::{axpy, dot};
@@ -91,11 +93,11 @@ pub struct Solver {
     dm_inv: Vec<f64>,
     dc_inv: Vec<f64>,
     /// Woodbury scratch (length N).
-    wood_tmp: Vec<f64>,
+    /// Point terms taken implicitly: arm masses on the contact wire, support dampers on the
+    /// messenger.
+    imp_c: Option<ImplicitPoints>,
+    imp_m: Option<ImplicitPoints>,
     /// Woodbury: arms with mass, Cholesky factor (lower, row-major) of the capacitance matrix.
-    arm_mass_idx: Vec<usize>,
-    s_arm_mass: Option<PointSampler>,
-    cap_chol: Vec<f64>,
     panto: Vec<Option<PantoMats>>,
     // scratch
     um_pts: Vec<f64>,
@@ -106,8 +108,6 @@ pub struct Solver {
     /// Point index (the dropper's) of each stitch element, and the force on each stitch node.
     stitch_pt: Vec<usize>,
     f_stitch: Vec<f64>,
-    wood_g: Vec<f64>,
-    wood_y: Vec<f64>,
     rows: Vec<Vec<f64>>,
     prhs: Vec<f64>,
     samples: Vec<ContactSample>,
@@ -158,37 +158,21 @@ impl Solver {
         let dm_eff = eff(&model.messenger);
         let dc_eff = eff(&model.contact);
 
-        // Woodbury capacitance for the arm point masses: diag(1/m) + Φ D⁻¹ Φᵀ.
-        let arm_mass_idx: Vec<usize> = (0..model.arms.len())
-            .filter(|&i| model.arms[i].mass_kg > 0.0)
+        // Implicit point terms: arm masses (M) and support dampers (Δt/2 C), by Woodbury.
+        let arms: Vec<(f64, f64)> = model
+            .arms
+            .iter()
+            .filter(|a| a.mass_kg > 0.0)
+            .map(|a| (a.x_m, a.mass_kg))
             .collect();
-        let na = arm_mass_idx.len();
-        let (s_arm_mass, cap_chol) = if na > 0 {
-            let xam: Vec<f64> = arm_mass_idx.iter().map(|&i| model.arms[i].x_m).collect();
-            let mut rows = vec![vec![0.0; n]; na];
-            for (r, &x) in rows.iter_mut().zip(&xam) {
-                model.basis.fill_sines(x, r);
-            }
-            let mut cap = vec![0.0; na * na];
-            for i in 0..na {
-                for j in 0..=i {
-                    let mut s = 0.0;
-                    for k in 0..n {
-                        s += rows[i][k] * rows[j][k] / dc_eff[k];
-                    }
-                    cap[i * na + j] = s;
-                    cap[j * na + i] = s;
-                }
-                cap[i * na + i] += 1.0 / model.arms[arm_mass_idx[i]].mass_kg;
-            }
-            cholesky_in_place(&mut cap, na);
-            (
-                Some(PointSampler::new(&model.basis, &xam, model.span_m)),
-                cap,
-            )
-        } else {
-            (None, vec![])
-        };
+        let imp_c = ImplicitPoints::new(&model.basis, model.span_m, &dc_eff, &arms);
+        let dampers: Vec<(f64, f64)> = model
+            .supports
+            .iter()
+            .filter(|s| s.damping_ns_per_m > 0.0)
+            .map(|s| (s.x_m, 0.5 * dt * s.damping_ns_per_m))
+            .collect();
+        let imp_m = ImplicitPoints::new(&model.basis, model.span_m, &dm_eff, &dampers);
 
         let panto = model
             .pantographs
@@ -236,8 +220,6 @@ impl Solver {
             v_sup: vec![0.0; xs.len()],
             f_stitch: vec![0.0; stitch_pt.len()],
             stitch_pt,
-            wood_g: vec![0.0; na],
-            wood_y: vec![0.0; na],
             rows: vec![vec![0.0; n]; npan],
             prhs: vec![0.0; max_pdof],
             samples: vec![ContactSample::default(); npan],
@@ -247,10 +229,8 @@ impl Solver {
             scr,
             dm_inv: dm_eff.iter().map(|d| 1.0 / d).collect(),
             dc_inv: dc_eff.iter().map(|d| 1.0 / d).collect(),
-            wood_tmp: vec![0.0; n],
-            arm_mass_idx,
-            s_arm_mass,
-            cap_chol,
+            imp_c,
+            imp_m,
             panto,
             slack: 0,
             model,
@@ -471,39 +451,23 @@ impl Solver {
         }
 
         // Solve for the accelerations and finish the velocities.
-        for ((a, v), d) in st.am.iter_mut().zip(st.vm.iter_mut()).zip(&self.dm_inv) {
+        for (a, d) in st.am.iter_mut().zip(&self.dm_inv) {
             *a *= d;
-            *v += h * *a;
         }
-        if let Some(sam) = &self.s_arm_mass {
-            // Woodbury: a = z − D⁻¹ Φᵀ Cap⁻¹ Φ z with z = D⁻¹ r.
-            for (a, d) in st.ac.iter_mut().zip(&self.dc_inv) {
-                *a *= d;
-            }
-            sam.gather(&st.ac, &mut self.wood_g, &mut self.scr);
-            cholesky_solve(
-                &self.cap_chol,
-                self.arm_mass_idx.len(),
-                &mut self.wood_g,
-                &mut self.wood_y,
-            );
-            self.wood_tmp.fill(0.0);
-            sam.scatter_add(&self.wood_g, &mut self.wood_tmp, &mut self.scr);
-            for (((a, v), d), t) in st
-                .ac
-                .iter_mut()
-                .zip(st.vc.iter_mut())
-                .zip(&self.dc_inv)
-                .zip(&self.wood_tmp)
-            {
-                *a -= d * t;
-                *v += h * *a;
-            }
-        } else {
-            for ((a, v), d) in st.ac.iter_mut().zip(st.vc.iter_mut()).zip(&self.dc_inv) {
-                *a *= d;
-                *v += h * *a;
-            }
+        for (a, d) in st.ac.iter_mut().zip(&self.dc_inv) {
+            *a *= d;
+        }
+        if let Some(imp) = &mut self.imp_m {
+            imp.correct(&mut st.am, &self.dm_inv, &mut self.scr);
+        }
+        if let Some(imp) = &mut self.imp_c {
+            imp.correct(&mut st.ac, &self.dc_inv, &mut self.scr);
+        }
+        for (v, a) in st.vm.iter_mut().zip(&st.am) {
+            *v += h * a;
+        }
+        for (v, a) in st.vc.iter_mut().zip(&st.ac) {
+            *v += h * a;
         }
         for p in 0..m.pantographs.len() {
             self.samples[p].wire_velocity_m_s = dot(&st.vc, &self.rows[p]);
@@ -653,6 +617,71 @@ impl Solver {
 #[inline]
 fn static_height(s: &StaticShape, x: f64) -> f64 {
     s.contact_height(x)
+}
+
+/// Point terms of a wire's system matrix taken implicitly: `A = D + Φᵀ W Φ` with `D` the diagonal
+/// modal part and `W = diag(w_j)` (a point mass, or Δt/2 × a point damper). `A⁻¹` is applied with
+/// the Woodbury identity, `A⁻¹ r = z − D⁻¹ Φᵀ (W⁻¹ + Φ D⁻¹ Φᵀ)⁻¹ Φ z`, `z = D⁻¹ r`, and a Cholesky
+/// factor of the small capacitance matrix computed once.
+struct ImplicitPoints {
+    sampler: PointSampler,
+    chol: Vec<f64>,
+    g: Vec<f64>,
+    y: Vec<f64>,
+    tmp: Vec<f64>,
+}
+
+impl ImplicitPoints {
+    /// `points`: (position, weight w_j > 0); `None` when there are none.
+    fn new(
+        basis: &crate::basis::SineBasis,
+        span_m: Option<f64>,
+        d: &[f64],
+        points: &[(f64, f64)],
+    ) -> Option<Self> {
+        let np = points.len();
+        if np == 0 {
+            return None;
+        }
+        let n = basis.n_modes();
+        let mut rows = vec![vec![0.0; n]; np];
+        for (r, p) in rows.iter_mut().zip(points) {
+            basis.fill_sines(p.0, r);
+        }
+        let mut cap = vec![0.0; np * np];
+        for i in 0..np {
+            for j in 0..=i {
+                let mut s = 0.0;
+                for k in 0..n {
+                    s += rows[i][k] * rows[j][k] / d[k];
+                }
+                cap[i * np + j] = s;
+                cap[j * np + i] = s;
+            }
+            cap[i * np + i] += 1.0 / points[i].1;
+        }
+        cholesky_in_place(&mut cap, np);
+        let xs: Vec<f64> = points.iter().map(|p| p.0).collect();
+        Some(Self {
+            sampler: PointSampler::new(basis, &xs, span_m),
+            chol: cap,
+            g: vec![0.0; np],
+            y: vec![0.0; np],
+            tmp: vec![0.0; n],
+        })
+    }
+
+    /// Turn `z = D⁻¹ r` (in `a`) into `A⁻¹ r`.
+    fn correct(&mut self, a: &mut [f64], d_inv: &[f64], scr: &mut SamplerScratch) {
+        let np = self.g.len();
+        self.sampler.gather(a, &mut self.g, scr);
+        cholesky_solve(&self.chol, np, &mut self.g, &mut self.y);
+        self.tmp.fill(0.0);
+        self.sampler.scatter_add(&self.g, &mut self.tmp, scr);
+        for ((ai, di), t) in a.iter_mut().zip(d_inv).zip(&self.tmp) {
+            *ai -= di * t;
+        }
+    }
 }
 
 /// Stiffness (or damping) matrix of a chain: element `i` joins `i` and `i+1`, the last joins
