@@ -26,6 +26,9 @@ use std::f64::consts::PI;
 
 use crate::basis::{dot, SineBasis};
 
+/// (output index, span index) of the points of one offset group.
+type Members = Vec<(usize, usize)>;
+
 /// Smallest number of points sharing an offset for the folded path to pay off.
 pub const MIN_GROUP: usize = 4;
 
@@ -138,7 +141,7 @@ impl PointSampler {
             let hh = period / 2 + 1;
             // Group points by their offset within a span.
             let tol = 1e-9 * l.max(1.0);
-            let mut offsets: Vec<(f64, Vec<(usize, usize)>)> = Vec::new();
+            let mut offsets: Vec<(f64, Members)> = Vec::new();
             for (j, &x) in xs.iter().enumerate() {
                 let mut sidx = (x / s).floor();
                 let mut d = x - sidx * s;
@@ -157,7 +160,7 @@ impl PointSampler {
             }
             offsets.retain(|(_, m)| m.len() >= MIN_GROUP);
             // Order as primary, then its mirror (offset S − d) if present.
-            let mut ordered: Vec<(f64, Vec<(usize, usize)>, bool)> = Vec::new();
+            let mut ordered: Vec<(f64, Members, bool)> = Vec::new();
             let mut taken = vec![false; offsets.len()];
             for i in 0..offsets.len() {
                 if taken[i] {
