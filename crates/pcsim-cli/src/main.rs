@@ -1,6 +1,7 @@
 //! `pcsim`: the command-line tool over `pcsim-core`.
 
 mod commands;
+mod eva_cmd;
 mod output;
 mod plots;
 mod progress;
@@ -30,6 +31,9 @@ enum Command {
     Bench(commands::BenchArgs),
     /// Redraw the plots of a finished run from its output directory.
     Plot(commands::PlotArgs),
+    /// Energy distribution and effective vibration area over speeds, tensions and dampings;
+    /// `eva merge DIR…` joins shards.
+    Eva(eva_cmd::EvaArgs),
 }
 
 fn main() {
@@ -40,6 +44,7 @@ fn main() {
         Command::Presets(a) => commands::presets(a),
         Command::Bench(a) => commands::bench(a, cli.quiet),
         Command::Plot(a) => commands::plot(a),
+        Command::Eva(a) => eva_cmd::eva(a, cli.quiet),
     };
     match res {
         Ok(code) => std::process::exit(code),

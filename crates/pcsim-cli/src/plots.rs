@@ -367,3 +367,263 @@ pub fn read_run(dir: &Path) -> Result<PlotData> {
         traces,
     })
 }
+
+/// One line of a generic plot.
+pub struct Line {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+}
+
+fn line_chart<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    title: &str,
+    xl: &str,
+    yl: &str,
+    lines: &[Line],
+    marks: bool,
+) -> Result<()> {
+    root.fill(&WHITE).map_err(|e| anyhow!("{e:?}"))?;
+    let x = xrange(lines.iter().flat_map(|l| l.points.iter().map(|p| p.0)));
+    let y = range(
+        lines
+            .iter()
+            .flat_map(|l| l.points.iter().map(|p| p.1))
+            .chain(std::iter::once(0.0)),
+    );
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 22))
+        .margin(15)
+        .x_label_area_size(50)
+        .y_label_area_size(75)
+        .build_cartesian_2d(x.0..x.1, y.0..y.1)
+        .map_err(|e| anyhow!("{e:?}"))?;
+    chart
+        .configure_mesh()
+        .x_desc(xl)
+        .y_desc(yl)
+        .x_label_formatter(&|v| {
+            if (x.1 - x.0) > 20.0 {
+                format!("{v:.0}")
+            } else {
+                format!("{v:.1}")
+            }
+        })
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 17))
+        .light_line_style(WHITE)
+        .draw()
+        .map_err(|e| anyhow!("{e:?}"))?;
+    for (i, l) in lines.iter().enumerate() {
+        let c = PALETTE[i % PALETTE.len()];
+        chart
+            .draw_series(LineSeries::new(l.points.clone(), c.stroke_width(2)))
+            .map_err(|e| anyhow!("{e:?}"))?
+            .label(l.label.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+        if marks {
+            chart
+                .draw_series(l.points.iter().map(|&p| Circle::new(p, 4, c.filled())))
+                .map_err(|e| anyhow!("{e:?}"))?;
+        }
+    }
+    chart
+        .configure_series_labels()
+        .label_font(("sans-serif", 15))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.5))
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(|e| anyhow!("{e:?}"))?;
+    root.present().map_err(|e| anyhow!("{e:?}"))?;
+    Ok(())
+}
+
+const PALETTE: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(23, 190, 207),
+];
+
+/// Write a line plot as SVG and PNG; returns the two paths.
+pub fn line_plot(
+    stem: &Path,
+    title: &str,
+    xl: &str,
+    yl: &str,
+    lines: &[Line],
+    marks: bool,
+) -> Result<Vec<PathBuf>> {
+    register_font();
+    let size = (1200, 700);
+    let svg = stem.with_extension("svg");
+    line_chart(
+        SVGBackend::new(&svg, size).into_drawing_area(),
+        title,
+        xl,
+        yl,
+        lines,
+        marks,
+    )
+    .with_context(|| format!("drawing {}", svg.display()))?;
+    let png = stem.with_extension("png");
+    line_chart(
+        BitMapBackend::new(&png, size).into_drawing_area(),
+        title,
+        xl,
+        yl,
+        lines,
+        marks,
+    )
+    .with_context(|| format!("drawing {}", png.display()))?;
+    Ok(vec![svg, png])
+}
+
+/// The EVA figures in the style of the paper's Figs. 4–7, from the first damping of the sweep:
+/// E(x) for several speeds and for several tensions (snapshots), E(d_e), and the EVA length
+/// against speed and against tension.
+pub fn draw_eva(
+    dir: &Path,
+    cases: &[(f64, f64, String, &pcsim_core::eva::EvaOutput)],
+) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    let Some(first) = cases.first() else {
+        return Ok(files);
+    };
+    let damping = first.2.clone();
+    let cs: Vec<_> = cases.iter().filter(|c| c.2 == damping).collect();
+    let t0 = cs[0].1;
+    let v0 = cs[0].0;
+    // The paper's Figs. 4-5 show the neighbourhood of the pantograph: ±300 m at most.
+    let density = |o: &pcsim_core::eva::EvaOutput| -> Vec<(f64, f64)> {
+        o.xi_m
+            .iter()
+            .zip(&o.snapshot.density_j_per_m)
+            .filter(|(x, _)| x.abs() <= 300.0)
+            .map(|(&x, &e)| (x, e))
+            .collect()
+    };
+    let by_speed: Vec<Line> = cs
+        .iter()
+        .filter(|c| c.1 == t0)
+        .map(|c| Line {
+            label: format!("{} km/h", c.0),
+            points: density(c.3),
+        })
+        .collect();
+    files.extend(line_plot(
+        &dir.join("eva_density_speeds"),
+        &format!("Energy density around the pantograph (snapshot), T = {t0} kN ({damping})"),
+        "Position relative to the pantograph x − x_p [m]",
+        "Energy density E(x) [J/m]",
+        &by_speed,
+        false,
+    )?);
+    let by_tension: Vec<Line> = cs
+        .iter()
+        .filter(|c| c.0 == v0)
+        .map(|c| Line {
+            label: format!("{} kN", c.1),
+            points: density(c.3),
+        })
+        .collect();
+    files.extend(line_plot(
+        &dir.join("eva_density_tensions"),
+        &format!("Energy density around the pantograph (snapshot), V = {v0} km/h ({damping})"),
+        "Position relative to the pantograph x − x_p [m]",
+        "Energy density E(x) [J/m]",
+        &by_tension,
+        false,
+    )?);
+    let windows: Vec<Line> = cs
+        .iter()
+        .take(PALETTE.len())
+        .map(|c| Line {
+            label: format!("{} km/h, {} kN", c.0, c.1),
+            points: c
+                .3
+                .window_m
+                .iter()
+                .zip(&c.3.snapshot.window_j)
+                .map(|(&d, &e)| (d, e))
+                .collect(),
+        })
+        .collect();
+    files.extend(line_plot(
+        &dir.join("eva_window_energy"),
+        &format!("Window energy E(d_e) (Eq. 21), {damping}"),
+        "Window length d_e [m]",
+        "Window energy E(d_e) [J]",
+        &windows,
+        false,
+    )?);
+    let mut tensions: Vec<f64> = cs.iter().map(|c| c.1).collect();
+    tensions.dedup();
+    tensions.sort_by(f64::total_cmp);
+    tensions.dedup();
+    let mut speeds: Vec<f64> = cs.iter().map(|c| c.0).collect();
+    speeds.sort_by(f64::total_cmp);
+    speeds.dedup();
+    let eva_line = |pts: Vec<(f64, Option<f64>)>| -> Vec<(f64, f64)> {
+        pts.into_iter()
+            .filter_map(|(x, y)| y.map(|y| (x, y)))
+            .collect()
+    };
+    if speeds.len() > 1 {
+        let lines: Vec<Line> = tensions
+            .iter()
+            .take(PALETTE.len())
+            .map(|&t| Line {
+                label: format!("{t} kN"),
+                points: eva_line(
+                    cs.iter()
+                        .filter(|c| c.1 == t)
+                        .map(|c| (c.0, c.3.snapshot.eva_step_m))
+                        .collect(),
+                ),
+            })
+            .collect();
+        files.extend(line_plot(
+            &dir.join("eva_length_vs_speed"),
+            &format!(
+                "EVA length (step criterion, Δd = {} m) against speed, {damping}",
+                first.3.settings.step_m
+            ),
+            "Speed [km/h]",
+            "EVA length d_e [m]",
+            &lines,
+            true,
+        )?);
+    }
+    if tensions.len() > 1 {
+        let lines: Vec<Line> = speeds
+            .iter()
+            .take(PALETTE.len())
+            .map(|&v| Line {
+                label: format!("{v} km/h"),
+                points: eva_line(
+                    cs.iter()
+                        .filter(|c| c.0 == v)
+                        .map(|c| (c.1, c.3.snapshot.eva_step_m))
+                        .collect(),
+                ),
+            })
+            .collect();
+        files.extend(line_plot(
+            &dir.join("eva_length_vs_tension"),
+            &format!(
+                "EVA length (step criterion, Δd = {} m) against contact-wire tension, {damping}",
+                first.3.settings.step_m
+            ),
+            "Contact-wire tension [kN]",
+            "EVA length d_e [m]",
+            &lines,
+            true,
+        )?);
+    }
+    Ok(files)
+}

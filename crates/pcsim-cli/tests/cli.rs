@@ -290,3 +290,140 @@ fn run_plot_and_replot_write_readable_figures() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("summary.json"));
 }
+
+/// A short SYT case (8 spans) for EVA sweeps.
+fn short_syt(dir: &std::path::Path) -> PathBuf {
+    let (mut c, _) = pcsim_core::presets::load("syt-7.0-9.8").unwrap();
+    c.catenary.spans = 8;
+    c.run.modes = Some(480);
+    c.run.start_m = 60.0;
+    c.run.end_m = 400.0;
+    c.run.analysis_m = [180.0, 300.0];
+    let p = dir.join("syt-short.toml");
+    std::fs::write(&p, c.to_toml_string()).unwrap();
+    p
+}
+
+#[test]
+fn eva_shards_merge_to_the_unsharded_result() {
+    let dir = scratch("eva");
+    let case = short_syt(&dir);
+    let grid = [
+        "--speed",
+        "150,200",
+        "--tension",
+        "9.8,12",
+        "--damping",
+        "preset,modal:0.01",
+        "--quiet",
+    ];
+    let full = dir.join("full");
+    let out = pcsim()
+        .arg("eva")
+        .arg(&case)
+        .args(grid)
+        .arg("--out")
+        .arg(&full)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.contains("EVA step [m]") && table.contains("EVA 99% [m]"));
+    let csv = std::fs::read_to_string(full.join("eva.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 8);
+    for f in [
+        "eva_density_speeds.svg",
+        "eva_density_tensions.png",
+        "eva_window_energy.svg",
+        "eva_length_vs_speed.png",
+        "eva_length_vs_tension.svg",
+    ] {
+        assert!(full.join(f).exists(), "{f}");
+    }
+    assert!(full.join("cases/case0000_v150_t9.8_window.csv").exists());
+    let mut shards = Vec::new();
+    for i in 0..3 {
+        let d = dir.join(format!("shard{i}"));
+        let out = pcsim()
+            .arg("eva")
+            .arg(&case)
+            .args(grid)
+            .arg("--out")
+            .arg(&d)
+            .arg("--shard")
+            .arg(format!("{i}/3"))
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        shards.push(d);
+    }
+    let merged = dir.join("merged");
+    let out = pcsim()
+        .args(["eva", "merge"])
+        .args(&shards)
+        .arg("--out")
+        .arg(&merged)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        std::fs::read(merged.join("eva.csv")).unwrap(),
+        csv.as_bytes(),
+        "merged eva.csv differs from the unsharded one"
+    );
+    // Every per-case file is there too, byte-identical.
+    for e in std::fs::read_dir(full.join("cases")).unwrap() {
+        let e = e.unwrap();
+        assert_eq!(
+            std::fs::read(e.path()).unwrap(),
+            std::fs::read(merged.join("cases").join(e.file_name())).unwrap()
+        );
+    }
+    // A missing shard is an error, not a silently short table.
+    let out = pcsim()
+        .args(["eva", "merge"])
+        .args(&shards[..2])
+        .arg("--out")
+        .arg(dir.join("bad"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("missing"));
+}
+
+#[test]
+fn eva_rejects_bad_arguments_by_name() {
+    let dir = scratch("eva-bad");
+    let case = short_syt(&dir);
+    for (args, needle) in [
+        (vec!["--shard", "3/3"], "--shard"),
+        (vec!["--damping", "viscous:1"], "--damping"),
+        (vec!["--speed", "500"], "run.speed_kmh"),
+        (vec!["--tension=-3"], "tension_n"),
+    ] {
+        let out = pcsim()
+            .arg("eva")
+            .arg(&case)
+            .args(&args)
+            .arg("--out")
+            .arg(dir.join("o"))
+            .arg("--quiet")
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let e = String::from_utf8_lossy(&out.stderr);
+        assert!(e.contains(needle), "{args:?}: {e}");
+    }
+}

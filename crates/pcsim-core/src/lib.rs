@@ -13,7 +13,9 @@
 
 pub mod basis;
 pub mod case;
+pub mod energy;
 pub mod error;
+pub mod eva;
 pub mod filter;
 pub mod model;
 pub mod presets;

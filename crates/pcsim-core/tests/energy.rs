@@ -1,0 +1,119 @@
+//! Energy density (Eq. 20, consistent form) and the EVA criteria (Eq. 21).
+
+use pcsim_core::case::Damping;
+use pcsim_core::energy::{integrate, modal_energy, DensityGrid};
+use pcsim_core::eva::{eva_by_fraction, eva_by_step, window_energy};
+use pcsim_core::model::{Model, ModelBuilder};
+use pcsim_core::solver::Solver;
+
+fn wire(l: f64, n: usize) -> Model {
+    ModelBuilder::single_wire(l, n, 1.35, 20_000.0, 195.0)
+        .damping(&Damping::Modal { ratio: 0.0 })
+        .run(0.0, 1.0, 1.0, 2e-4)
+        .build()
+}
+
+#[test]
+fn single_mode_energy_is_half_m_v2_plus_half_k_x2() {
+    let (l, n) = (120.0, 40);
+    let model = wire(l, n);
+    let mut solver = Solver::new(model.clone());
+    let mut st = solver.initial_state();
+    let k = 7; // mode number 7
+    st.qc[k - 1] = 0.013;
+    st.vc[k - 1] = -0.21;
+    let mut grid = DensityGrid::new(&model, 4);
+    let mut e = vec![0.0; grid.n_points()];
+    grid.density(&model, &st, &mut e);
+    let kap = k as f64 * std::f64::consts::PI / l;
+    let m = 1.35 * l / 2.0;
+    let stiff = l / 2.0 * (20_000.0 * kap * kap + 195.0 * kap.powi(4));
+    let expect = 0.5 * m * 0.21f64.powi(2) + 0.5 * stiff * 0.013f64.powi(2);
+    let got = integrate(&e, grid.dx());
+    assert!((got - expect).abs() < 1e-10 * expect, "{got} vs {expect}");
+    // And pointwise: at x the density is ½ρA v² sin² + ½T (qκ cos)² + ½EI (qκ² sin)².
+    let j = 123;
+    let x = j as f64 * grid.dx();
+    let (s, c) = (kap * x).sin_cos();
+    let pointwise = 0.5 * 1.35 * (0.21 * s).powi(2)
+        + 0.5 * 20_000.0 * (0.013 * kap * c).powi(2)
+        + 0.5 * 195.0 * (0.013 * kap * kap * s).powi(2);
+    assert!(
+        (e[j] - pointwise).abs() < 1e-9 * pointwise.max(1e-12),
+        "{} vs {pointwise}",
+        e[j]
+    );
+    let _ = solver.energy(&st);
+}
+
+#[test]
+fn free_undamped_wire_keeps_its_integrated_energy() {
+    // Both wires, many modes excited, no damping, no point elements: ∫E dx stays constant (to
+    // the integrator's O(Δt²) energy error) and equals the modal energy at every sample.
+    let (l, n) = (200.0, 150);
+    let model = wire(l, n);
+    let mut solver = Solver::new(model.clone());
+    let mut st = solver.initial_state();
+    for i in 0..n {
+        st.qc[i] = 0.02 / (1.0 + i as f64).powi(2) * if i % 3 == 0 { 1.0 } else { -0.5 };
+        st.qm[i] = 0.01 / (1.0 + i as f64).powi(2);
+        st.vm[i] = 0.05 / (1.0 + i as f64);
+    }
+    let mut grid = DensityGrid::new(&model, 4);
+    let mut e = vec![0.0; grid.n_points()];
+    grid.density(&model, &st, &mut e);
+    let e0 = integrate(&e, grid.dx());
+    assert!(e0 > 0.05, "{e0}");
+    let mut worst: f64 = 0.0;
+    for step in 1..=20_000 {
+        solver.step(&mut st);
+        if step % 1000 == 0 {
+            grid.density(&model, &st, &mut e);
+            let total = integrate(&e, grid.dx());
+            assert!((total - modal_energy(&model, &st)).abs() < 1e-9 * total);
+            worst = worst.max((total - e0).abs() / e0);
+        }
+    }
+    assert!(worst < 1e-3, "integrated energy drifts by {worst}");
+}
+
+#[test]
+fn eva_criteria_on_a_synthetic_exponential_profile() {
+    // E(x) = A e^{−|x − x_p|/λ}: E(d) = 2Aλ (1 − e^{−d/2λ}), total 2Aλ (far from the ends).
+    let (a, lam, xp, l, dx) = (0.5, 20.0, 1000.0, 2000.0, 0.05);
+    let dens: Vec<f64> = (0..=(l / dx) as usize)
+        .map(|j| a * (-((j as f64 * dx - xp).abs()) / lam).exp())
+        .collect();
+    let step = 2.0;
+    let d: Vec<f64> = (1..=600).map(|i| i as f64 * step).collect();
+    let e = window_energy(&dens, dx, xp, &d);
+    let exact = |w: f64| 2.0 * a * lam * (1.0 - (-w / (2.0 * lam)).exp());
+    for (w, v) in d.iter().zip(&e) {
+        assert!(
+            (v - exact(*w)).abs() < 1e-4 * exact(*w),
+            "E({w}) = {v} vs {}",
+            exact(*w)
+        );
+    }
+    let total = 2.0 * a * lam;
+    // Fraction criterion: d = 2λ ln(1/(1 − f)).
+    let f = eva_by_fraction(&d, &e, total, 0.99).unwrap();
+    let want = 2.0 * lam * 100.0f64.ln();
+    assert!((f - want).abs() < 0.05, "fraction EVA {f} vs {want}");
+    // Step criterion: first d_i with E(d_i + Δd) − E(d_i) < tol, i.e.
+    // 2Aλ e^{−d/2λ} (1 − e^{−Δd/2λ}) < tol  ⇒  d > 2λ ln(2Aλ (1 − e^{−Δd/2λ}) / tol).
+    let tol = 0.01;
+    let s = eva_by_step(&d, &e, tol).unwrap();
+    let bound = 2.0 * lam * (2.0 * a * lam * (1.0 - (-step / (2.0 * lam)).exp()) / tol).ln();
+    let want = d.iter().copied().find(|&w| w > bound).unwrap();
+    assert_eq!(s, want, "step EVA {s}, analytic threshold {bound}");
+    // The step criterion depends on Δd; the fraction one does not.
+    let d10: Vec<f64> = (1..=120).map(|i| i as f64 * 10.0).collect();
+    let e10 = window_energy(&dens, dx, xp, &d10);
+    assert!(eva_by_step(&d10, &e10, tol).unwrap() > s);
+    assert!((eva_by_fraction(&d10, &e10, total, 0.99).unwrap() - want_fraction(lam)).abs() < 1.0);
+}
+
+fn want_fraction(lam: f64) -> f64 {
+    2.0 * lam * 100.0f64.ln()
+}
