@@ -65,8 +65,20 @@ pub struct PresetsArgs {
 pub struct BenchArgs {
     /// Preset to time. `en50318-2002` is extended to the benchmark set-up (30 spans, two
     /// pantographs 200 m apart).
-    #[arg(long, default_value = "stitched-2018-like")]
-    preset: String,
+    #[arg(long)]
+    preset: Option<String>,
+    /// Time the real-time window step instead (default preset: syt-7.0-9.8).
+    #[arg(long)]
+    realtime: bool,
+    /// Window length for --realtime, m.
+    #[arg(long, default_value_t = 215.0)]
+    window: f64,
+    /// Steps to time for --realtime.
+    #[arg(long, default_value_t = 1_000_000)]
+    steps: usize,
+    /// Coupling for --realtime: hil or sil.
+    #[arg(long, default_value = "hil")]
+    coupling: String,
     /// Train speed, km/h.
     #[arg(long, default_value_t = 320.0)]
     speed: f64,
@@ -384,10 +396,17 @@ pub fn bench_case(speed_kmh: f64, modes: usize, spans: usize, dt: Option<f64>) -
 }
 
 pub fn bench(a: BenchArgs, quiet: bool) -> Result<i32> {
-    let case = if a.preset == "en50318-2002" {
+    if a.realtime {
+        return bench_realtime(&a);
+    }
+    let preset = a
+        .preset
+        .clone()
+        .unwrap_or_else(|| "stitched-2018-like".into());
+    let case = if preset == "en50318-2002" {
         bench_case(a.speed, a.modes, a.spans, a.dt)?
     } else {
-        let mut c = presets::load(&a.preset)?.0;
+        let mut c = presets::load(&preset)?.0;
         c.run.speed_kmh = a.speed;
         c.run.modes = Some(a.modes);
         c.run.modes_per_m = None;
@@ -400,7 +419,7 @@ pub fn bench(a: BenchArgs, quiet: bool) -> Result<i32> {
     let sim = out.simulated_time_s();
     println!(
         "bench `{}`: {} spans x {:.0} m, {} modes/wire, {} pantograph(s), {:.0} km/h, dt {} s",
-        a.preset,
+        preset,
         case.catenary.spans,
         case.catenary.span_m,
         out.n_modes,
@@ -416,6 +435,90 @@ pub fn bench(a: BenchArgs, quiet: bool) -> Result<i32> {
         "  {:.2} µs per step ({} steps)",
         wall / out.time_s.len() as f64 * 1e6,
         out.time_s.len()
+    );
+    Ok(0)
+}
+
+/// Step-latency distribution of the real-time window catenary on one core.
+fn bench_realtime(a: &BenchArgs) -> Result<i32> {
+    use pcsim_core::realtime::{Coupling, RealtimeCatenary};
+    let preset = a.preset.clone().unwrap_or_else(|| "syt-7.0-9.8".into());
+    let mut case = presets::load(&preset)?.0;
+    case.pantographs.truncate(1);
+    if let Some(dt) = a.dt {
+        case.run.dt_s = dt;
+    }
+    let speed = if a.speed == 320.0 {
+        case.run.speed_kmh
+    } else {
+        a.speed
+    };
+    case.run.speed_kmh = speed;
+    let coupling = match a.coupling.as_str() {
+        "hil" => Coupling::Hil,
+        "sil" => Coupling::Sil,
+        other => bail!("--coupling `{other}`: use hil or sil"),
+    };
+    let mut rt = RealtimeCatenary::new(&case, a.window, coupling)?;
+    let dt = rt.dt_s();
+    let v = speed / 3.6;
+    let x0 = case.run.start_m;
+    let mut ns = vec![0u64; a.steps];
+    let mut move_ns = Vec::with_capacity(a.steps / 100 + 16);
+    let mut guard = 0.0;
+    let t_all = Instant::now();
+    for (k, slot) in ns.iter_mut().enumerate() {
+        let t = k as f64 * dt;
+        rt.set_input(85.0 + 15.0 * (7.3 * t).sin(), x0 + v * t);
+        let moves = rt.moves();
+        let t0 = Instant::now();
+        let o = rt.step();
+        *slot = t0.elapsed().as_nanos() as u64;
+        if rt.moves() != moves && move_ns.len() < move_ns.capacity() {
+            move_ns.push(*slot);
+        }
+        guard += o.wire_height_m;
+    }
+    move_ns.sort_unstable();
+    let wall = t_all.elapsed().as_secs_f64();
+    if !guard.is_finite() {
+        bail!("the real-time run produced non-finite heights");
+    }
+    let mut sorted = ns.clone();
+    sorted.sort_unstable();
+    let q = |p: f64| {
+        sorted[((p * (sorted.len() - 1) as f64).round() as usize).min(sorted.len() - 1)] as f64
+            / 1e3
+    };
+    println!(
+        "bench --realtime `{preset}`: window {} m, {} modes/wire, {:?}, dt {} s, {} steps ({} window moves), {:.0} km/h",
+        a.window,
+        rt.n_modes(),
+        coupling,
+        dt,
+        a.steps,
+        rt.moves(),
+        speed
+    );
+    println!(
+        "  step latency: median {:.2} µs, p99 {:.2} µs, p99.99 {:.2} µs, max {:.2} µs",
+        q(0.5),
+        q(0.99),
+        q(0.9999),
+        *sorted.last().unwrap_or(&0) as f64 / 1e3
+    );
+    if !move_ns.is_empty() {
+        println!(
+            "  steps that move the window: median {:.2} µs, max {:.2} µs ({} moves)",
+            move_ns[move_ns.len() / 2] as f64 / 1e3,
+            *move_ns.last().unwrap_or(&0) as f64 / 1e3,
+            move_ns.len()
+        );
+    }
+    println!(
+        "  real-time factor {:.0}x at the median ({} s simulated in {wall:.2} s)",
+        dt / (q(0.5) * 1e-6),
+        a.steps as f64 * dt
     );
     Ok(0)
 }

@@ -5,6 +5,7 @@ mod eva_cmd;
 mod output;
 mod plots;
 mod progress;
+mod realtime_cmd;
 
 use clap::{Parser, Subcommand};
 
@@ -34,6 +35,8 @@ enum Command {
     /// Energy distribution and effective vibration area over speeds, tensions and dampings;
     /// `eva merge DIR…` joins shards.
     Eva(eva_cmd::EvaArgs),
+    /// The real-time (moving-window) catenary against the full model, for several window lengths.
+    Realtime(realtime_cmd::RealtimeArgs),
 }
 
 fn main() {
@@ -45,6 +48,7 @@ fn main() {
         Command::Bench(a) => commands::bench(a, cli.quiet),
         Command::Plot(a) => commands::plot(a),
         Command::Eva(a) => eva_cmd::eva(a, cli.quiet),
+        Command::Realtime(a) => realtime_cmd::realtime(a, cli.quiet),
     };
     match res {
         Ok(code) => std::process::exit(code),

@@ -19,6 +19,7 @@ pub mod eva;
 pub mod filter;
 pub mod model;
 pub mod presets;
+pub mod realtime;
 pub mod sampler;
 pub mod sim;
 pub mod solver;

@@ -131,12 +131,17 @@ pub enum Pantograph {
         offset_m: f64,
         force_n: f64,
     },
+    /// A force and position given from outside at every step (hardware in the loop; see
+    /// [`crate::solver::Solver::set_external`]).
+    External { name: String },
 }
 
 impl Pantograph {
     pub fn name(&self) -> &str {
         match self {
-            Pantograph::Lumped { name, .. } | Pantograph::MovingForce { name, .. } => name,
+            Pantograph::Lumped { name, .. }
+            | Pantograph::MovingForce { name, .. }
+            | Pantograph::External { name } => name,
         }
     }
     pub fn offset_m(&self) -> f64 {
@@ -144,13 +149,14 @@ impl Pantograph {
             Pantograph::Lumped { offset_m, .. } | Pantograph::MovingForce { offset_m, .. } => {
                 *offset_m
             }
+            Pantograph::External { .. } => 0.0,
         }
     }
     /// Number of degrees of freedom.
     pub fn n_dof(&self) -> usize {
         match self {
             Pantograph::Lumped { masses_kg, .. } => masses_kg.len(),
-            Pantograph::MovingForce { .. } => 0,
+            Pantograph::MovingForce { .. } | Pantograph::External { .. } => 0,
         }
     }
 }
@@ -558,5 +564,132 @@ pub fn static_balance(case: &Case) -> StaticBalance {
     StaticBalance {
         weight_n: weight,
         support_n: support,
+    }
+}
+
+impl Model {
+    /// A window `[origin, origin + length]` of this (full) model, with its own sine basis of
+    /// `n_modes` modes and the point elements that fall strictly inside it, in window coordinates
+    /// (x − origin). `origin` should be a whole number of spans so that the span-periodic static
+    /// shape reads the same in window coordinates. With `external`, the pantographs become
+    /// [`Pantograph::External`] (HIL); otherwise they are kept, positions shifted (SIL).
+    pub fn window(&self, origin_m: f64, length_m: f64, n_modes: usize, external: bool) -> Model {
+        let basis = SineBasis::new(length_m, n_modes);
+        let inside = |x: f64| x > origin_m + 1e-9 && x < origin_m + length_m - 1e-9;
+        let mut stitch_map = vec![None; self.stitches.len()];
+        let mut stitches = Vec::new();
+        for (i, s) in self.stitches.iter().enumerate() {
+            if inside(s.x_m) {
+                stitch_map[i] = Some(stitches.len());
+                stitches.push(Stitch {
+                    x_m: s.x_m - origin_m,
+                    ..s.clone()
+                });
+            }
+        }
+        let droppers = self
+            .droppers
+            .iter()
+            .filter(|d| inside(d.x_m))
+            .map(|d| Dropper {
+                x_m: d.x_m - origin_m,
+                stitch: d.stitch.and_then(|j| stitch_map[j]),
+                ..d.clone()
+            })
+            .collect();
+        let supports = self
+            .supports
+            .iter()
+            .filter(|s| inside(s.x_m))
+            .map(|s| Support {
+                x_m: s.x_m - origin_m,
+                ..s.clone()
+            })
+            .collect();
+        let arms = self
+            .arms
+            .iter()
+            .filter(|a| inside(a.x_m))
+            .map(|a| Arm {
+                x_m: a.x_m - origin_m,
+                ..a.clone()
+            })
+            .collect();
+        let messenger = Wire {
+            vertical: self.window_series(&self.messenger, &basis),
+            ..self.messenger.clone()
+        };
+        let contact = Wire {
+            vertical: self.window_series(&self.contact, &basis),
+            ..self.contact.clone()
+        };
+        let pantographs = if external {
+            self.pantographs
+                .iter()
+                .map(|p| Pantograph::External {
+                    name: p.name().to_string(),
+                })
+                .collect()
+        } else {
+            self.pantographs.clone()
+        };
+        let periodic = self.span_m.filter(|s| {
+            let n = (length_m / s).round();
+            n >= 1.0 && (n * s - length_m).abs() < 1e-9 * length_m
+        });
+        Model {
+            basis,
+            span_m: periodic,
+            messenger,
+            contact,
+            droppers,
+            supports,
+            arms,
+            stitches,
+            statics: self.statics.clone(),
+            pantographs,
+            contact_stiffness_n_per_m: self.contact_stiffness_n_per_m,
+            speed_m_s: self.speed_m_s,
+            start_m: self.start_m - origin_m,
+            duration_s: self.duration_s,
+            analysis_m: [self.analysis_m[0] - origin_m, self.analysis_m[1] - origin_m],
+            dt_s: self.dt_s,
+        }
+    }
+
+    /// The modal series of `w` over another basis, with the same damping law (recovered from the
+    /// full model's lowest two modes: Rayleigh `c = αm + βk` fits any two modes exactly; a modal
+    /// ratio is the special case the fit also reproduces when it is exact).
+    fn window_series(&self, w: &Wire, basis: &SineBasis) -> ModalSeries {
+        let v = &w.vertical;
+        let damping = self.damping_law(v);
+        ModalSeries::tensioned_beam(basis, w.mass_per_m_kg, w.tension_n, w.ei_nm2, &damping)
+    }
+
+    fn damping_law(&self, v: &ModalSeries) -> Damping {
+        // Modal ratio: c_k = 2ζ√(k_k m_k) with one ζ for all modes.
+        let zeta: Vec<f64> = (0..v.mass.len().min(3))
+            .map(|i| v.damping[i] / (2.0 * (v.stiffness[i] * v.mass[i]).sqrt()))
+            .collect();
+        if zeta
+            .iter()
+            .all(|z| (z - zeta[0]).abs() <= 1e-9 * zeta[0].abs().max(1e-30))
+        {
+            return Damping::Modal { ratio: zeta[0] };
+        }
+        // Rayleigh from modes 1 and 2: [m1 k1; m2 k2] [α β]ᵀ = [c1 c2]ᵀ.
+        let (m1, k1, c1, m2, k2, c2) = (
+            v.mass[0],
+            v.stiffness[0],
+            v.damping[0],
+            v.mass[1],
+            v.stiffness[1],
+            v.damping[1],
+        );
+        let det = m1 * k2 - m2 * k1;
+        Damping::Rayleigh {
+            alpha: (c1 * k2 - c2 * k1) / det,
+            beta: (m1 * c2 - m2 * c1) / det,
+        }
     }
 }

@@ -112,6 +112,8 @@ pub struct Solver {
     prhs: Vec<f64>,
     samples: Vec<ContactSample>,
     slack: usize,
+    /// Position (m, model coordinates) and upward force (N) of each external pantograph.
+    external: Vec<(f64, f64)>,
 }
 
 impl Solver {
@@ -198,7 +200,7 @@ impl Solver {
                         n,
                     })
                 }
-                Pantograph::MovingForce { .. } => None,
+                Pantograph::MovingForce { .. } | Pantograph::External { .. } => None,
             })
             .collect();
         let npan = model.pantographs.len();
@@ -223,6 +225,7 @@ impl Solver {
             rows: vec![vec![0.0; n]; npan],
             prhs: vec![0.0; max_pdof],
             samples: vec![ContactSample::default(); npan],
+            external: vec![(0.0, 0.0); npan],
             sp,
             s_sup,
             s_arm,
@@ -290,6 +293,18 @@ impl Solver {
             sv: vec![0.0; self.model.stitches.len()],
             sa: vec![0.0; self.model.stitches.len()],
         }
+    }
+
+    /// Set the position (model coordinates, m) and the upward contact force (N) that an
+    /// [`Pantograph::External`] applies during the next step.
+    pub fn set_external(&mut self, p: usize, x_m: f64, force_n: f64) {
+        self.external[p] = (x_m, force_n);
+    }
+
+    /// Move the model's origin forward by `d` metres (the pantographs' positions in model
+    /// coordinates drop by `d`). Used by the real-time window when it moves.
+    pub fn shift_origin(&mut self, d: f64) {
+        self.model.start_m -= d;
     }
 
     /// Contact samples of the last step (one per pantograph).
@@ -433,13 +448,17 @@ impl Solver {
         // Contact at each pantograph (Eq. 19).
         let kn = m.contact_stiffness_n_per_m;
         for p in 0..m.pantographs.len() {
-            let x = m.pantograph_position(p, st.t);
+            let x = match &m.pantographs[p] {
+                Pantograph::External { .. } => self.external[p].0,
+                _ => m.pantograph_position(p, st.t),
+            };
             let row = &mut self.rows[p];
             m.basis.fill_sines(x, row);
             let wire = static_height(&m.statics, x) + dot(&st.qc, row);
             let f = match &m.pantographs[p] {
                 Pantograph::Lumped { .. } => kn * (st.py[p][0] - wire).max(0.0),
                 Pantograph::MovingForce { force_n, .. } => *force_n,
+                Pantograph::External { .. } => self.external[p].1,
             };
             axpy(f, row, &mut st.ac);
             self.samples[p] = ContactSample {
