@@ -432,17 +432,41 @@ fn eva_rejects_bad_arguments_by_name() {
 fn realtime_compares_windows_with_the_full_model() {
     let dir = scratch("realtime");
     let case = short_syt(&dir);
-    let out = pcsim().arg("realtime").arg(&case).args(["--window", "60,240", "--quiet"]).arg("--out").arg(dir.join("rt")).output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = pcsim()
+        .arg("realtime")
+        .arg(&case)
+        .args(["--window", "60,240", "--quiet"])
+        .arg("--out")
+        .arg(dir.join("rt"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let table = std::fs::read_to_string(dir.join("rt/realtime.csv")).unwrap();
     let lines: Vec<&str> = table.lines().collect();
-    assert_eq!(lines[0], "window_m,modes,moves,mean_n,std_n,mean_error_percent,std_error_percent");
-    assert!(lines[1].starts_with("60,") && lines[2].starts_with("240,") && lines[3].starts_with("full,"));
+    assert_eq!(
+        lines[0],
+        "window_m,modes,moves,mean_n,std_n,mean_error_percent,std_error_percent"
+    );
+    assert!(
+        lines[1].starts_with("60,")
+            && lines[2].starts_with("240,")
+            && lines[3].starts_with("full,")
+    );
     // The 240 m window is close to the full model on this short case; the 60 m one is not.
     let err = |l: &str| -> f64 { l.split(',').nth(6).unwrap().parse::<f64>().unwrap().abs() };
     assert!(err(lines[2]) < 3.0, "{}", lines[2]);
     assert!(err(lines[1]) > 10.0, "{}", lines[1]);
-    for f in ["realtime_force_60m.svg", "realtime_force_240m.png", "realtime_mean_vs_window.svg", "realtime_std_vs_window.png", "timeseries.csv"] {
+    for f in [
+        "realtime_force_60m.svg",
+        "realtime_force_240m.png",
+        "realtime_mean_vs_window.svg",
+        "realtime_std_vs_window.png",
+        "timeseries.csv",
+    ] {
         assert!(dir.join("rt").join(f).exists(), "{f}");
     }
 }
