@@ -2,6 +2,7 @@
 
 mod commands;
 mod eva_cmd;
+mod fmu_cmd;
 mod output;
 mod plots;
 mod progress;
@@ -37,6 +38,10 @@ enum Command {
     Eva(eva_cmd::EvaArgs),
     /// The real-time (moving-window) catenary against the full model, for several window lengths.
     Realtime(realtime_cmd::RealtimeArgs),
+    /// FMI 2.0 FMU of the real-time catenary: `fmu build --out DIR`, `fmu xml`.
+    Fmu(fmu_cmd::FmuArgs),
+    /// Replay a contact-force/position file through the real-time catenary (HIL, Rust reference).
+    Hil(fmu_cmd::HilArgs),
 }
 
 fn main() {
@@ -49,6 +54,8 @@ fn main() {
         Command::Plot(a) => commands::plot(a),
         Command::Eva(a) => eva_cmd::eva(a, cli.quiet),
         Command::Realtime(a) => realtime_cmd::realtime(a, cli.quiet),
+        Command::Fmu(a) => fmu_cmd::fmu(a),
+        Command::Hil(a) => fmu_cmd::hil(a),
     };
     match res {
         Ok(code) => std::process::exit(code),

@@ -470,3 +470,31 @@ fn realtime_compares_windows_with_the_full_model() {
         assert!(dir.join("rt").join(f).exists(), "{f}");
     }
 }
+
+#[test]
+fn fmu_bundle_holds_the_generated_description_and_the_library() {
+    let dir = scratch("fmu");
+    let out = pcsim()
+        .args(["fmu", "build", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let fmu = std::fs::read(dir.join("pcsim_fmu.fmu")).unwrap();
+    assert_eq!(&fmu[..4], b"PK\x03\x04");
+    let xml = pcsim_fmu::vars::model_description();
+    let text = String::from_utf8_lossy(&fmu);
+    assert!(
+        text.contains("modelDescription.xml") && text.contains("binaries/linux64/pcsim_fmu.so")
+    );
+    assert!(
+        fmu.windows(xml.len()).any(|w| w == xml.as_bytes()),
+        "the stored XML is the generated one"
+    );
+    let printed = pcsim().args(["fmu", "xml"]).output().unwrap();
+    assert_eq!(String::from_utf8_lossy(&printed.stdout), xml);
+}

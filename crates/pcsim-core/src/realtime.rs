@@ -256,6 +256,106 @@ impl RealtimeCatenary {
     }
 }
 
+/// A saved state of a [`RealtimeCatenary`], for rolling a step back. Allocate once with
+/// [`RealtimeCatenary::snapshot`], then [`RealtimeCatenary::save`] and
+/// [`RealtimeCatenary::restore`] copy without allocating.
+#[derive(Debug, Clone)]
+pub struct Snapshot {
+    st: State,
+    origin_m: f64,
+    moves: usize,
+    start_m: f64,
+    input: (f64, f64),
+}
+
+impl RealtimeCatenary {
+    /// A snapshot buffer holding the current state.
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            st: self.st.clone(),
+            origin_m: self.origin_m,
+            moves: self.moves,
+            start_m: self.solver.model().start_m,
+            input: self.input,
+        }
+    }
+
+    /// Copy the current state into `s` (no allocation).
+    pub fn save(&self, s: &mut Snapshot) {
+        copy_state(&self.st, &mut s.st);
+        s.origin_m = self.origin_m;
+        s.moves = self.moves;
+        s.start_m = self.solver.model().start_m;
+        s.input = self.input;
+    }
+
+    /// Return to the state saved in `s` (no allocation).
+    pub fn restore(&mut self, s: &Snapshot) {
+        copy_state(&s.st, &mut self.st);
+        self.origin_m = s.origin_m;
+        self.moves = s.moves;
+        let d = self.solver.model().start_m - s.start_m;
+        self.solver.shift_origin(d);
+        self.input = s.input;
+    }
+
+    /// Static contact-wire height at a track position, m (the wire before any step).
+    pub fn static_height_at(&self, x_m: f64) -> f64 {
+        self.solver
+            .model()
+            .statics
+            .contact_height(x_m - self.origin_m)
+    }
+
+    /// Track position of pantograph 0 in SIL mode at the current time, m.
+    pub fn sil_position_m(&self) -> f64 {
+        self.solver.model().pantograph_position(0, self.st.t) + self.origin_m
+    }
+
+    /// True when the modal state is finite and the wire heights plausible (|deviation| < 2 m).
+    pub fn state_is_sound(&self) -> bool {
+        let ok = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        let st = &self.st;
+        ok(&st.qm)
+            && ok(&st.vm)
+            && ok(&st.qc)
+            && ok(&st.vc)
+            && ok(&st.sz)
+            && st.py.iter().all(|p| ok(p))
+            && self
+                .solver
+                .samples()
+                .iter()
+                .all(|s| s.wire_height_m.abs() < 2.0 && s.force_n.is_finite())
+    }
+}
+
+fn copy_state(from: &State, to: &mut State) {
+    to.t = from.t;
+    for (a, b) in [
+        (&from.qm, &mut to.qm),
+        (&from.vm, &mut to.vm),
+        (&from.am, &mut to.am),
+        (&from.qc, &mut to.qc),
+        (&from.vc, &mut to.vc),
+        (&from.ac, &mut to.ac),
+        (&from.sz, &mut to.sz),
+        (&from.sv, &mut to.sv),
+        (&from.sa, &mut to.sa),
+    ] {
+        b.copy_from_slice(a);
+    }
+    for (a, b) in from.py.iter().zip(to.py.iter_mut()) {
+        b.copy_from_slice(a);
+    }
+    for (a, b) in from.pv.iter().zip(to.pv.iter_mut()) {
+        b.copy_from_slice(a);
+    }
+    for (a, b) in from.pa.iter().zip(to.pa.iter_mut()) {
+        b.copy_from_slice(a);
+    }
+}
+
 /// Result of a window run in SIL mode.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WindowRun {

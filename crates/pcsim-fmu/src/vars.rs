@@ -1,0 +1,246 @@
+//! The FMU's variables and the generated `modelDescription.xml`.
+
+use std::fmt::Write as _;
+
+/// Variable types.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    Real,
+    Boolean,
+    String,
+}
+
+/// FMI causality.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Causality {
+    Input,
+    Output,
+    Parameter,
+}
+
+/// One scalar variable.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Var {
+    pub name: &'static str,
+    pub vr: u32,
+    pub kind: Kind,
+    pub causality: Causality,
+    pub unit: Option<&'static str>,
+    /// Start value as written to the XML (inputs and parameters).
+    pub start: Option<&'static str>,
+    pub description: &'static str,
+}
+
+pub const VR_CONTACT_FORCE: u32 = 1;
+pub const VR_PANTOGRAPH_POSITION: u32 = 2;
+pub const VR_WIRE_HEIGHT: u32 = 3;
+pub const VR_WIRE_VELOCITY: u32 = 4;
+pub const VR_PANTOGRAPH_CONTACT_FORCE: u32 = 5;
+pub const VR_WINDOW_LENGTH: u32 = 6;
+pub const VR_STEP_SIZE: u32 = 7;
+pub const VR_SIL: u32 = 8;
+pub const VR_CASE: u32 = 9;
+
+/// Default start values.
+pub const DEFAULT_CASE: &str = "syt-7.0-9.8";
+pub const DEFAULT_WINDOW_M: f64 = 215.0;
+pub const DEFAULT_STEP_S: f64 = 0.001;
+/// Largest number of internal steps one `fmi2DoStep` may take.
+pub const MAX_INTERNAL_STEPS: u64 = 100_000;
+
+/// The table of variables.
+pub const VARS: &[Var] = &[
+    Var {
+        name: "contact_force",
+        vr: VR_CONTACT_FORCE,
+        kind: Kind::Real,
+        causality: Causality::Input,
+        unit: Some("N"),
+        start: Some("0"),
+        description: "HIL: measured contact force pushing the contact wire up (held over a communication step)",
+    },
+    Var {
+        name: "pantograph_position",
+        vr: VR_PANTOGRAPH_POSITION,
+        kind: Kind::Real,
+        causality: Causality::Input,
+        unit: Some("m"),
+        start: Some("0"),
+        description: "HIL: pantograph position along the track (0 = the case's start position)",
+    },
+    Var {
+        name: "wire_height",
+        vr: VR_WIRE_HEIGHT,
+        kind: Kind::Real,
+        causality: Causality::Output,
+        unit: Some("m"),
+        start: None,
+        description: "contact-wire height at the contact point (static shape + deviation)",
+    },
+    Var {
+        name: "wire_velocity",
+        vr: VR_WIRE_VELOCITY,
+        kind: Kind::Real,
+        causality: Causality::Output,
+        unit: Some("m/s"),
+        start: None,
+        description: "contact-wire vertical velocity at the contact point",
+    },
+    Var {
+        name: "pantograph_contact_force",
+        vr: VR_PANTOGRAPH_CONTACT_FORCE,
+        kind: Kind::Real,
+        causality: Causality::Output,
+        unit: Some("N"),
+        start: None,
+        description: "contact force: computed by pcsim's pantograph (SIL) or the input echoed (HIL)",
+    },
+    Var {
+        name: "window_length",
+        vr: VR_WINDOW_LENGTH,
+        kind: Kind::Real,
+        causality: Causality::Parameter,
+        unit: Some("m"),
+        start: Some("215"),
+        description: "length of the moving catenary window",
+    },
+    Var {
+        name: "step_size",
+        vr: VR_STEP_SIZE,
+        kind: Kind::Real,
+        causality: Causality::Parameter,
+        unit: Some("s"),
+        start: Some("0.001"),
+        description: "internal fixed time step; communication steps must be whole multiples",
+    },
+    Var {
+        name: "sil",
+        vr: VR_SIL,
+        kind: Kind::Boolean,
+        causality: Causality::Parameter,
+        unit: None,
+        start: Some("false"),
+        description: "true: pcsim's own pantograph in the loop (SIL), inputs ignored; false: HIL",
+    },
+    Var {
+        name: "case",
+        vr: VR_CASE,
+        kind: Kind::String,
+        causality: Causality::Parameter,
+        unit: None,
+        start: Some(DEFAULT_CASE),
+        description: "pcsim preset name (see `pcsim presets`)",
+    },
+];
+
+/// Look a variable up by value reference and kind.
+pub fn find(vr: u32, kind: Kind) -> Option<&'static Var> {
+    VARS.iter().find(|v| v.vr == vr && v.kind == kind)
+}
+
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// `modelDescription.xml`, generated from [`VARS`].
+pub fn model_description() -> String {
+    let mut x = String::new();
+    let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
+    let _ = writeln!(
+        x,
+        r#"<fmiModelDescription fmiVersion="2.0" modelName="pcsim real-time catenary" guid="{}" description="Moving-window pantograph-catenary model (pcsim)" generationTool="pcsim {}" variableNamingConvention="flat" numberOfEventIndicators="0">"#,
+        crate::GUID,
+        env!("CARGO_PKG_VERSION")
+    );
+    let _ = writeln!(
+        x,
+        r#"  <CoSimulation modelIdentifier="{}" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="false" canRunAsynchronuously="false" canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="false" canSerializeFMUstate="false" providesDirectionalDerivative="false"/>"#,
+        crate::MODEL_IDENTIFIER
+    );
+    x.push_str("  <UnitDefinitions>\n");
+    x.push_str("    <Unit name=\"N\"><BaseUnit kg=\"1\" m=\"1\" s=\"-2\"/></Unit>\n");
+    x.push_str("    <Unit name=\"m\"><BaseUnit m=\"1\"/></Unit>\n");
+    x.push_str("    <Unit name=\"m/s\"><BaseUnit m=\"1\" s=\"-1\"/></Unit>\n");
+    x.push_str("    <Unit name=\"s\"><BaseUnit s=\"1\"/></Unit>\n");
+    x.push_str("  </UnitDefinitions>\n");
+    let _ = writeln!(
+        x,
+        r#"  <DefaultExperiment startTime="0" stopTime="10" stepSize="{DEFAULT_STEP_S}"/>"#
+    );
+    x.push_str("  <ModelVariables>\n");
+    for v in VARS {
+        let (causality, variability, initial) = match v.causality {
+            Causality::Input => ("input", "continuous", None),
+            Causality::Output => ("output", "continuous", Some("calculated")),
+            Causality::Parameter => ("parameter", "fixed", Some("exact")),
+        };
+        let _ = write!(
+            x,
+            r#"    <ScalarVariable name="{}" valueReference="{}" description="{}" causality="{causality}" variability="{variability}""#,
+            v.name,
+            v.vr,
+            esc(v.description)
+        );
+        if let Some(i) = initial {
+            let _ = write!(x, r#" initial="{i}""#);
+        }
+        x.push('>');
+        let tag = match v.kind {
+            Kind::Real => "Real",
+            Kind::Boolean => "Boolean",
+            Kind::String => "String",
+        };
+        let _ = write!(x, "<{tag}");
+        if let Some(u) = v.unit {
+            let _ = write!(x, r#" unit="{u}""#);
+        }
+        if let Some(s) = v.start {
+            let _ = write!(x, r#" start="{}""#, esc(s));
+        }
+        x.push_str("/></ScalarVariable>\n");
+    }
+    x.push_str("  </ModelVariables>\n  <ModelStructure>\n    <Outputs>\n");
+    // Indices are 1-based positions in ModelVariables.
+    for (i, v) in VARS.iter().enumerate() {
+        if v.causality == Causality::Output {
+            let _ = writeln!(x, r#"      <Unknown index="{}" dependencies=""/>"#, i + 1);
+        }
+    }
+    x.push_str("    </Outputs>\n    <InitialUnknowns>\n");
+    for (i, v) in VARS.iter().enumerate() {
+        if v.causality == Causality::Output {
+            let _ = writeln!(x, r#"      <Unknown index="{}" dependencies=""/>"#, i + 1);
+        }
+    }
+    x.push_str("    </InitialUnknowns>\n  </ModelStructure>\n</fmiModelDescription>\n");
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn value_references_are_unique_and_the_xml_lists_every_variable() {
+        let xml = model_description();
+        for (i, v) in VARS.iter().enumerate() {
+            assert!(
+                VARS.iter()
+                    .skip(i + 1)
+                    .all(|w| w.vr != v.vr || w.kind != v.kind),
+                "duplicate vr {}",
+                v.vr
+            );
+            assert!(
+                xml.contains(&format!(r#"name="{}" valueReference="{}""#, v.name, v.vr)),
+                "{}",
+                v.name
+            );
+        }
+        assert_eq!(xml.matches("<ScalarVariable ").count(), VARS.len());
+        assert!(xml.contains(crate::GUID) && xml.contains(r#"modelIdentifier="pcsim_fmu""#));
+    }
+}

@@ -1,0 +1,90 @@
+#!/usr/bin/env python3
+"""FMU tests run by .ci/run: FMPy validation, simulate_fmu against pcsim's Rust run, misuse suite.
+
+Usage: run_fmu_tests.py FMU PCSIM_EXECUTABLE
+"""
+import os
+import subprocess
+import sys
+import tempfile
+import zipfile
+
+import numpy as np
+from fmpy import simulate_fmu
+from fmpy.validation import validate_fmu
+
+fmu, pcsim = sys.argv[1], sys.argv[2]
+here = os.path.dirname(os.path.abspath(__file__))
+passed, failed = 0, 0
+
+
+def check(name, ok, detail=""):
+    global passed, failed
+    if ok:
+        passed += 1
+        print(f"ok   {name} {detail}")
+    else:
+        failed += 1
+        print(f"FAIL {name} {detail}")
+
+
+# 1. fmpy validate
+problems = validate_fmu(fmu)
+check("fmpy validate", not problems, "; ".join(problems))
+
+# 2. simulate_fmu with a time-varying contact force against `pcsim hil` (same held input).
+dt, stop = 0.001, 4.0
+t = np.round(np.arange(0.0, stop + dt / 2, dt), 9)
+force = 85.0 + 20.0 * np.sin(2 * np.pi * 1.3 * t) + 10.0 * np.sin(2 * np.pi * 7.0 * t)
+position = (222.0 / 3.6) * t
+signals = np.zeros(len(t), dtype=[("time", np.float64), ("contact_force", np.float64), ("pantograph_position", np.float64)])
+signals["time"], signals["contact_force"], signals["pantograph_position"] = t, force, position
+res = simulate_fmu(fmu, start_time=0.0, stop_time=stop, step_size=dt, output_interval=dt, input=signals,
+                   output=["wire_height", "wire_velocity", "pantograph_contact_force"])
+with tempfile.TemporaryDirectory() as d:
+    inp = os.path.join(d, "in.csv")
+    out = os.path.join(d, "ref.csv")
+    n = len(t) - 1  # FMPy steps from t[0] to t[-1]
+    with open(inp, "w") as f:
+        f.write("time_s,contact_force_n,pantograph_position_m\n")
+        for k in range(n):
+            f.write(f"{float(t[k])!r},{float(force[k])!r},{float(position[k])!r}\n")
+    subprocess.run([pcsim, "hil", "--preset", "syt-7.0-9.8", "--window", "215", "--input", inp, "--out", out], check=True,
+                   stdout=subprocess.DEVNULL)
+    ref = np.loadtxt(out, delimiter=",", skiprows=1)
+# FMPy's first row is the initial state at t = 0; row k + 1 follows the k-th step.
+fm_t, fm_h, fm_v = res["time"][1:], res["wire_height"][1:], res["wire_velocity"][1:]
+m = min(len(fm_t), len(ref))
+dt_err = np.max(np.abs(fm_t[:m] - ref[:m, 0]))
+h_err = np.max(np.abs(fm_h[:m] - ref[:m, 1]))
+v_err = np.max(np.abs(fm_v[:m] - ref[:m, 2]))
+moving = np.ptp(ref[:m, 1])
+check("simulate_fmu vs pcsim hil: same times", m == n and dt_err < 1e-9, f"({m} steps, time error {dt_err:.1e} s)")
+check("simulate_fmu vs pcsim hil: wire height within 1e-9 m", h_err < 1e-9 and moving > 1e-3,
+      f"(max error {h_err:.2e} m; the height moves over {moving * 1e3:.1f} mm)")
+check("simulate_fmu vs pcsim hil: wire velocity within 1e-9 m/s", v_err < 1e-9, f"(max error {v_err:.2e} m/s)")
+check("HIL echoes the input force", np.max(np.abs(res["pantograph_contact_force"][1:m + 1] - force[:m])) < 1e-9)
+
+# 3. SIL variant runs and computes its own contact force.
+res_sil = simulate_fmu(fmu, stop_time=2.0, step_size=dt, output_interval=dt, start_values={"sil": True},
+                       output=["pantograph_contact_force", "wire_height"])
+fsil = res_sil["pantograph_contact_force"][500:]
+check("SIL: contact force of pcsim's own pantograph", 60.0 < float(np.mean(fsil)) < 110.0 and float(np.std(fsil)) > 1.0,
+      f"(mean {np.mean(fsil):.1f} N, σ {np.std(fsil):.1f} N over 1.5 s)")
+
+# 4. Misuse suite: each probe in its own process, on the library inside the FMU.
+with tempfile.TemporaryDirectory() as d:
+    with zipfile.ZipFile(fmu) as z:
+        z.extract("binaries/linux64/pcsim_fmu.so", d)
+    so = os.path.join(d, "binaries", "linux64", "pcsim_fmu.so")
+    probes = ["double_free", "use_after_free", "null", "foreign", "bad_instantiate", "set_output", "param_after_init",
+              "get_before_init", "step_after_terminate", "nonfinite_input", "step_contract", "discard_rollback",
+              "panic_is_fatal", "independent_instances", "unknown_vr"]
+    for p in probes:
+        r = subprocess.run([sys.executable, os.path.join(here, "probe.py"), so, p], capture_output=True, text=True)
+        crashed = r.returncode < 0
+        check(f"misuse probe {p}", r.returncode == 0,
+              ("(host crashed: signal %d)" % -r.returncode) if crashed else r.stdout.strip().splitlines()[-1] if r.stdout.strip() else r.stderr[-300:])
+
+print(f"fmu: {passed} passed, {failed} failed")
+sys.exit(1 if failed else 0)
