@@ -156,14 +156,7 @@ pub fn run(a: RunArgs, quiet: bool) -> Result<i32> {
                 .collect(),
         };
         let files = crate::plots::draw_all(&a.out, &data)?;
-        println!(
-            "plots: {}",
-            files
-                .iter()
-                .map(|f| f.display().to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
+        crate::plots::report(&files);
     }
     println!(
         "{} at {:.0} km/h: {:.2} s simulated in {:.2} s wall ({:.1}x real time), {} modes/wire",
@@ -204,14 +197,7 @@ struct ValidationJson {
 pub fn plot(a: PlotArgs) -> Result<i32> {
     let data = crate::plots::read_run(&a.dir)?;
     let files = crate::plots::draw_all(&a.dir, &data)?;
-    println!(
-        "plots: {}",
-        files
-            .iter()
-            .map(|f| f.display().to_string())
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
+    crate::plots::report(&files);
     Ok(0)
 }
 

@@ -338,14 +338,7 @@ pub fn eva(a: EvaArgs, quiet: bool) -> Result<i32> {
                 })
                 .collect::<Vec<_>>(),
         )?;
-        println!(
-            "plots: {}",
-            files
-                .iter()
-                .map(|f| f.display().to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
+        crate::plots::report(&files);
     }
     Ok(0)
 }

@@ -44,7 +44,26 @@ enum Command {
     Hil(fmu_cmd::HilArgs),
 }
 
+/// Restore the default SIGPIPE action so that `pcsim … | head` ends quietly instead of panicking
+/// on a closed stdout (Rust ignores SIGPIPE by default).
+#[cfg(unix)]
+fn default_sigpipe() {
+    extern "C" {
+        fn signal(signum: i32, handler: usize) -> usize;
+    }
+    const SIGPIPE: i32 = 13;
+    const SIG_DFL: usize = 0;
+    // SAFETY: resetting a signal to its default action, before any other thread exists.
+    unsafe {
+        signal(SIGPIPE, SIG_DFL);
+    }
+}
+
+#[cfg(not(unix))]
+fn default_sigpipe() {}
+
 fn main() {
+    default_sigpipe();
     let cli = Cli::parse();
     let res = match cli.command {
         Command::Run(a) => commands::run(a, cli.quiet),

@@ -627,3 +627,15 @@ pub fn draw_eva(
     }
     Ok(files)
 }
+
+/// Print the plot files written (one line).
+pub fn report(files: &[PathBuf]) {
+    println!(
+        "plots: {}",
+        files
+            .iter()
+            .map(|f| f.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+}

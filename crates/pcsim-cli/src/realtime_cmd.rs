@@ -247,14 +247,7 @@ pub fn realtime(a: RealtimeArgs, quiet: bool) -> Result<i32> {
                 true,
             )?);
         }
-        println!(
-            "plots: {}",
-            files
-                .iter()
-                .map(|f| f.display().to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
+        crate::plots::report(&files);
     }
     Ok(0)
 }

@@ -186,7 +186,7 @@ pub fn run_eva(
             });
         }
         let c = solver.samples()[0];
-        if !(c.force_n.is_finite() && c.wire_height_m.abs() < 2.0) {
+        if !c.is_sound() {
             return Err(SimError::BlowUp {
                 time_s: st.t,
                 position_m: xp,

@@ -57,12 +57,33 @@ pub struct Wire {
     pub mass_per_m_kg: f64,
     pub tension_n: f64,
     pub ei_nm2: f64,
+    /// The damping law of the wire's modes.
+    pub damping: Damping,
     /// Vertical motion. Lateral and torsional series would be further `ModalSeries` over the same
     /// basis (Eqs. 11–14); they are not excited in this model and not built.
     pub vertical: ModalSeries,
 }
 
 impl Wire {
+    /// A wire over `basis` with its vertical series (Eqs. 11–12) and damping law.
+    pub fn new(
+        basis: &SineBasis,
+        mass_per_m_kg: f64,
+        tension_n: f64,
+        ei_nm2: f64,
+        damping: Damping,
+    ) -> Self {
+        let vertical =
+            ModalSeries::tensioned_beam(basis, mass_per_m_kg, tension_n, ei_nm2, &damping);
+        Self {
+            mass_per_m_kg,
+            tension_n,
+            ei_nm2,
+            damping,
+            vertical,
+        }
+    }
+
     /// Transverse wave speed √(T/ρA), m/s.
     pub fn wave_speed(&self) -> f64 {
         (self.tension_n / self.mass_per_m_kg).sqrt()
@@ -238,11 +259,8 @@ impl Model {
         let n_on_messenger = nd - c.stitch_wire.as_ref().map_or(0, |st| st.droppers.len()) as f64;
         let rho_m = c.messenger.mass_per_m_kg
             + (n_on_messenger * c.droppers.clamp_mass_messenger_kg + nd * half_dropper) / c.span_m;
-        let wire = |rho: f64, w: &crate::case::WireCase| Wire {
-            mass_per_m_kg: rho,
-            tension_n: w.tension_n,
-            ei_nm2: w.ei_nm2,
-            vertical: ModalSeries::tensioned_beam(&basis, rho, w.tension_n, w.ei_nm2, &c.damping),
+        let wire = |rho: f64, w: &crate::case::WireCase| {
+            Wire::new(&basis, rho, w.tension_n, w.ei_nm2, c.damping.clone())
         };
         let mut droppers = Vec::new();
         let mut stitches = Vec::new();
@@ -458,13 +476,13 @@ impl ModelBuilder {
         ei_nm2: f64,
     ) -> Self {
         let basis = SineBasis::new(length_m, n_modes);
-        let none = Damping::Modal { ratio: 0.0 };
-        let w = Wire {
-            mass_per_m_kg: mass_per_m,
+        let w = Wire::new(
+            &basis,
+            mass_per_m,
             tension_n,
             ei_nm2,
-            vertical: ModalSeries::tensioned_beam(&basis, mass_per_m, tension_n, ei_nm2, &none),
-        };
+            Damping::Modal { ratio: 0.0 },
+        );
         Self {
             model: Model {
                 basis,
@@ -491,8 +509,7 @@ impl ModelBuilder {
     pub fn damping(mut self, d: &Damping) -> Self {
         let m = &mut self.model;
         for w in [&mut m.messenger, &mut m.contact] {
-            w.vertical =
-                ModalSeries::tensioned_beam(&m.basis, w.mass_per_m_kg, w.tension_n, w.ei_nm2, d);
+            *w = Wire::new(&m.basis, w.mass_per_m_kg, w.tension_n, w.ei_nm2, d.clone());
         }
         self
     }
@@ -615,14 +632,16 @@ impl Model {
                 ..a.clone()
             })
             .collect();
-        let messenger = Wire {
-            vertical: self.window_series(&self.messenger, &basis),
-            ..self.messenger.clone()
+        let rebase = |w: &Wire| {
+            Wire::new(
+                &basis,
+                w.mass_per_m_kg,
+                w.tension_n,
+                w.ei_nm2,
+                w.damping.clone(),
+            )
         };
-        let contact = Wire {
-            vertical: self.window_series(&self.contact, &basis),
-            ..self.contact.clone()
-        };
+        let (messenger, contact) = (rebase(&self.messenger), rebase(&self.contact));
         let pantographs = if external {
             self.pantographs
                 .iter()
@@ -633,13 +652,10 @@ impl Model {
         } else {
             self.pantographs.clone()
         };
-        let periodic = self.span_m.filter(|s| {
-            let n = (length_m / s).round();
-            n >= 1.0 && (n * s - length_m).abs() < 1e-9 * length_m
-        });
         Model {
             basis,
-            span_m: periodic,
+            // The point sampler uses the periodic path only when the window is whole spans.
+            span_m: self.span_m,
             messenger,
             contact,
             droppers,
@@ -654,42 +670,6 @@ impl Model {
             duration_s: self.duration_s,
             analysis_m: [self.analysis_m[0] - origin_m, self.analysis_m[1] - origin_m],
             dt_s: self.dt_s,
-        }
-    }
-
-    /// The modal series of `w` over another basis, with the same damping law (recovered from the
-    /// full model's lowest two modes: Rayleigh `c = αm + βk` fits any two modes exactly; a modal
-    /// ratio is the special case the fit also reproduces when it is exact).
-    fn window_series(&self, w: &Wire, basis: &SineBasis) -> ModalSeries {
-        let v = &w.vertical;
-        let damping = self.damping_law(v);
-        ModalSeries::tensioned_beam(basis, w.mass_per_m_kg, w.tension_n, w.ei_nm2, &damping)
-    }
-
-    fn damping_law(&self, v: &ModalSeries) -> Damping {
-        // Modal ratio: c_k = 2ζ√(k_k m_k) with one ζ for all modes.
-        let zeta: Vec<f64> = (0..v.mass.len().min(3))
-            .map(|i| v.damping[i] / (2.0 * (v.stiffness[i] * v.mass[i]).sqrt()))
-            .collect();
-        if zeta
-            .iter()
-            .all(|z| (z - zeta[0]).abs() <= 1e-9 * zeta[0].abs().max(1e-30))
-        {
-            return Damping::Modal { ratio: zeta[0] };
-        }
-        // Rayleigh from modes 1 and 2: [m1 k1; m2 k2] [α β]ᵀ = [c1 c2]ᵀ.
-        let (m1, k1, c1, m2, k2, c2) = (
-            v.mass[0],
-            v.stiffness[0],
-            v.damping[0],
-            v.mass[1],
-            v.stiffness[1],
-            v.damping[1],
-        );
-        let det = m1 * k2 - m2 * k1;
-        Damping::Rayleigh {
-            alpha: (c1 * k2 - c2 * k1) / det,
-            beta: (m1 * c2 - m2 * c1) / det,
         }
     }
 }

@@ -30,9 +30,9 @@
 //! - the projection itself is exact for the modes kept, but the truncated series of a function
 //!   cut off at the overlap's end carries a small Gibbs error.
 
-use crate::case::Case;
+use crate::case::{Case, PantographCase};
 use crate::error::{CaseError, SimError};
-use crate::model::{Model, Pantograph};
+use crate::model::Model;
 use crate::solver::{Solver, State};
 use crate::stats::{contact_stats, ContactStats};
 
@@ -75,6 +75,9 @@ pub struct RealtimeCatenary {
     sbuf: Vec<f64>,
     input: (f64, f64),
     moves: usize,
+    /// The full model's run length and analysis section (track coordinates), for comparisons.
+    full_duration_s: f64,
+    analysis_m: [f64; 2],
 }
 
 /// `∫_0^A cos(ω x + φ) dx`.
@@ -146,6 +149,8 @@ impl RealtimeCatenary {
             n,
             input: (x_start, 0.0),
             moves: 0,
+            full_duration_s: full.duration_s,
+            analysis_m: full.analysis_m,
         })
     }
 
@@ -322,11 +327,7 @@ impl RealtimeCatenary {
             && ok(&st.vc)
             && ok(&st.sz)
             && st.py.iter().all(|p| ok(p))
-            && self
-                .solver
-                .samples()
-                .iter()
-                .all(|s| s.wire_height_m.abs() < 2.0 && s.force_n.is_finite())
+            && self.solver.samples().iter().all(|s| s.is_sound())
     }
 }
 
@@ -371,8 +372,10 @@ pub struct WindowRun {
 /// Run `case` with the window model in SIL mode over the same time as the full model, and take
 /// the EN 50318 statistics of the leading pantograph over the case's analysis section.
 pub fn run_window_sil(case: &Case, window_m: f64) -> Result<WindowRun, SimError> {
-    let (full, _) = Model::from_case(case)?;
-    if !matches!(full.pantographs[0], Pantograph::Lumped { .. }) {
+    if !matches!(
+        case.pantographs.first(),
+        Some(PantographCase::Lumped { .. })
+    ) {
         return Err(SimError::Case(CaseError::Invalid {
             field: "pantographs[0].kind".into(),
             value: "moving_force".into(),
@@ -380,7 +383,8 @@ pub fn run_window_sil(case: &Case, window_m: f64) -> Result<WindowRun, SimError>
         }));
     }
     let mut rt = RealtimeCatenary::new(case, window_m, Coupling::Sil)?;
-    let n_steps = (full.duration_s / full.dt_s).ceil() as usize;
+    let dt = rt.dt_s();
+    let n_steps = (rt.full_duration_s / dt).ceil() as usize;
     let (mut t, mut x, mut f, mut h) = (
         Vec::with_capacity(n_steps),
         Vec::with_capacity(n_steps),
@@ -389,7 +393,7 @@ pub fn run_window_sil(case: &Case, window_m: f64) -> Result<WindowRun, SimError>
     );
     for _ in 0..n_steps {
         let o = rt.step();
-        if !(o.contact_force_n.is_finite() && o.wire_height_m.abs() < 2.0) {
+        if !rt.solver.samples()[0].is_sound() {
             return Err(SimError::BlowUp {
                 time_s: o.time_s,
                 position_m: o.position_m,
@@ -401,7 +405,7 @@ pub fn run_window_sil(case: &Case, window_m: f64) -> Result<WindowRun, SimError>
         f.push(o.contact_force_n);
         h.push(o.wire_height_m);
     }
-    let stats = contact_stats(&f, &x, &h, full.dt_s, full.analysis_m, 0.0);
+    let stats = contact_stats(&f, &x, &h, dt, rt.analysis_m, 0.0);
     Ok(WindowRun {
         window_m,
         n_modes: rt.n_modes(),

@@ -80,11 +80,7 @@ pub fn simulate(
         max_slack = max_slack.max(slack);
         steps_slack += (slack > 0) as usize;
         for (p, s) in solver.samples().iter().enumerate() {
-            if !(s.force_n.is_finite()
-                && s.wire_height_m.is_finite()
-                && s.force_n.abs() < 1e6
-                && s.wire_height_m.abs() < 2.0)
-            {
+            if !s.is_sound() {
                 return Err(SimError::BlowUp {
                     time_s: st.t,
                     position_m: s.position_m,

@@ -54,6 +54,23 @@ pub struct ContactSample {
     pub wire_velocity_m_s: f64,
 }
 
+/// Largest plausible deviation of the contact wire from its design height, m: beyond it a run is
+/// treated as blown up (no catenary moves that far).
+pub const MAX_PLAUSIBLE_HEIGHT_M: f64 = 2.0;
+/// Largest plausible contact force, N.
+pub const MAX_PLAUSIBLE_FORCE_N: f64 = 1e6;
+
+impl ContactSample {
+    /// Finite and physically plausible (the blow-up test of every run loop).
+    pub fn is_sound(&self) -> bool {
+        self.force_n.is_finite()
+            && self.wire_height_m.is_finite()
+            && self.wire_velocity_m_s.is_finite()
+            && self.force_n.abs() < MAX_PLAUSIBLE_FORCE_N
+            && self.wire_height_m.abs() < MAX_PLAUSIBLE_HEIGHT_M
+    }
+}
+
 struct PantoMats {
     /// Inverse of (M + Δt/2 C), row-major n×n.
     a_inv: Vec<f64>,
