@@ -17,8 +17,7 @@ fn wire(l: f64, n: usize) -> Model {
 fn single_mode_energy_is_half_m_v2_plus_half_k_x2() {
     let (l, n) = (120.0, 40);
     let model = wire(l, n);
-    let mut solver = Solver::new(model.clone());
-    let mut st = solver.initial_state();
+    let mut st = Solver::new(model.clone()).initial_state();
     let k = 7; // mode number 7
     st.qc[k - 1] = 0.013;
     st.vc[k - 1] = -0.21;
