@@ -181,7 +181,9 @@ pub enum PantographCase {
         damping_ns_per_m: Vec<f64>,
         /// Net static uplift on the lowest mass (gravity included), N.
         uplift_n: f64,
-        /// Aerodynamic force on the head, `Σ c_i v^i` with `v` in km/h, N.
+        /// Aerodynamic force on the head, `Σ c_i v^i` with `v` in km/h, N. Deviation from Eq. 17
+        /// (`F = 0.0097 V²`, no unit for V, 478 N at 222 km/h): a configurable polynomial whose
+        /// coefficients each preset states with their source (README §2.1).
         #[serde(default)]
         aero_coeffs_kmh: Vec<f64>,
     },

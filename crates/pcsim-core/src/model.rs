@@ -143,7 +143,8 @@ pub enum Pantograph {
         damping_ns_per_m: Vec<f64>,
         /// Net static uplift on the lowest mass, N.
         uplift_n: f64,
-        /// Aerodynamic force on the head at the run speed, N (README §2.1).
+        /// Aerodynamic force on the head at the run speed, N (Eq. 17 as a configurable polynomial;
+        /// README §2.1).
         aero_n: f64,
     },
     /// A constant upward force on the contact wire.
