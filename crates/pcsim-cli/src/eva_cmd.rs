@@ -2,13 +2,11 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pcsim_core::case::Damping;
 use pcsim_core::eva::{run_eva, EvaOutput, EvaSettings};
 use pcsim_core::model::Model;
 use rayon::prelude::*;
 use std::fmt::Write as _;
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 #[derive(Args)]
@@ -257,16 +255,10 @@ pub fn eva(a: EvaArgs, quiet: bool) -> Result<i32> {
     };
     std::fs::create_dir_all(&a.out)
         .with_context(|| format!("cannot create {}", a.out.display()))?;
-    let pb = ProgressBar::new(mine.len() as u64);
-    if quiet || !std::io::stderr().is_terminal() {
-        pb.set_draw_target(ProgressDrawTarget::hidden());
-    }
-    pb.set_style(
-        ProgressStyle::with_template(
-            "eva [{bar:40}] {pos}/{len} cases {elapsed_precise} eta {eta}",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar())
-        .progress_chars("=> "),
+    let pb = crate::progress::styled(
+        mine.len() as u64,
+        "eva [{bar:40}] {pos}/{len} cases {elapsed_precise} eta {eta}",
+        quiet,
     );
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.jobs.unwrap_or(0))

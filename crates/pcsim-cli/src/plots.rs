@@ -132,6 +132,55 @@ fn span_marks<DB: DrawingBackend>(
     Ok(())
 }
 
+type Chart<'a, DB> = ChartContext<
+    'a,
+    DB,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+/// A chart against track position with the house style (labels with units, integer ticks).
+fn track_chart<'a, DB: DrawingBackend>(
+    root: &'a DrawingArea<DB, Shift>,
+    title: String,
+    y_desc: &str,
+    x: (f64, f64),
+    y: (f64, f64),
+) -> Result<Chart<'a, DB>> {
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, ("sans-serif", 22))
+        .margin(15)
+        .x_label_area_size(50)
+        .y_label_area_size(65)
+        .build_cartesian_2d(x.0..x.1, y.0..y.1)
+        .map_err(|e| anyhow!("{e:?}"))?;
+    chart
+        .configure_mesh()
+        .x_desc("Position along the track [m]")
+        .y_desc(y_desc)
+        .x_label_formatter(&|v| format!("{v:.0}"))
+        .y_label_formatter(&|v| format!("{v:.0}"))
+        .x_labels(20)
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 17))
+        .light_line_style(WHITE)
+        .draw()
+        .map_err(|e| anyhow!("{e:?}"))?;
+    Ok(chart)
+}
+
+/// The legend box of every plot.
+fn legend<'a, DB: DrawingBackend + 'a>(chart: &mut Chart<'a, DB>) -> Result<()> {
+    chart
+        .configure_series_labels()
+        .label_font(("sans-serif", 15))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.5))
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(|e| anyhow!("{e:?}"))?;
+    Ok(())
+}
+
 fn force_chart<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     d: &PlotData,
@@ -149,25 +198,7 @@ fn force_chart<DB: DrawingBackend>(
         "{}: contact force, {} pantograph, {:.0} km/h",
         d.case_name, t.name, d.speed_kmh
     );
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 22))
-        .margin(15)
-        .x_label_area_size(50)
-        .y_label_area_size(65)
-        .build_cartesian_2d(x.0..x.1, y.0..y.1)
-        .map_err(|e| anyhow!("{e:?}"))?;
-    chart
-        .configure_mesh()
-        .x_desc("Position along the track [m]")
-        .y_desc("Contact force [N]")
-        .x_label_formatter(&|v| format!("{v:.0}"))
-        .y_label_formatter(&|v| format!("{v:.0}"))
-        .x_labels(20)
-        .label_style(("sans-serif", 15))
-        .axis_desc_style(("sans-serif", 17))
-        .light_line_style(WHITE)
-        .draw()
-        .map_err(|e| anyhow!("{e:?}"))?;
+    let mut chart = track_chart(&root, title, "Contact force [N]", x, y)?;
     span_marks(&mut chart, d, x, y)?;
     chart
         .draw_series(LineSeries::new(
@@ -185,14 +216,7 @@ fn force_chart<DB: DrawingBackend>(
         .map_err(|e| anyhow!("{e:?}"))?
         .label("0–20 Hz (zero-phase Butterworth)")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], COLOURS[0].stroke_width(2)));
-    chart
-        .configure_series_labels()
-        .label_font(("sans-serif", 15))
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK.mix(0.5))
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(|e| anyhow!("{e:?}"))?;
+    legend(&mut chart)?;
     root.present().map_err(|e| anyhow!("{e:?}"))?;
     Ok(())
 }
@@ -209,25 +233,13 @@ fn height_chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, d: &PlotData) 
         "{}: contact-point height, {:.0} km/h",
         d.case_name, d.speed_kmh
     );
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 22))
-        .margin(15)
-        .x_label_area_size(50)
-        .y_label_area_size(65)
-        .build_cartesian_2d(x.0..x.1, y.0..y.1)
-        .map_err(|e| anyhow!("{e:?}"))?;
-    chart
-        .configure_mesh()
-        .x_desc("Position along the track [m]")
-        .y_desc("Contact-wire height at the contact point [mm]")
-        .x_label_formatter(&|v| format!("{v:.0}"))
-        .y_label_formatter(&|v| format!("{v:.0}"))
-        .x_labels(20)
-        .label_style(("sans-serif", 15))
-        .axis_desc_style(("sans-serif", 17))
-        .light_line_style(WHITE)
-        .draw()
-        .map_err(|e| anyhow!("{e:?}"))?;
+    let mut chart = track_chart(
+        &root,
+        title,
+        "Contact-wire height at the contact point [mm]",
+        x,
+        y,
+    )?;
     span_marks(&mut chart, d, x, y)?;
     for (i, t) in d.traces.iter().enumerate() {
         let c = COLOURS[i % COLOURS.len()];
@@ -241,14 +253,7 @@ fn height_chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, d: &PlotData) 
             .label(format!("{} pantograph", t.name))
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
     }
-    chart
-        .configure_series_labels()
-        .label_font(("sans-serif", 15))
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK.mix(0.5))
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(|e| anyhow!("{e:?}"))?;
+    legend(&mut chart)?;
     root.present().map_err(|e| anyhow!("{e:?}"))?;
     Ok(())
 }
@@ -426,14 +431,7 @@ fn line_chart<DB: DrawingBackend>(
                 .map_err(|e| anyhow!("{e:?}"))?;
         }
     }
-    chart
-        .configure_series_labels()
-        .label_font(("sans-serif", 15))
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK.mix(0.5))
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(|e| anyhow!("{e:?}"))?;
+    legend(&mut chart)?;
     root.present().map_err(|e| anyhow!("{e:?}"))?;
     Ok(())
 }
