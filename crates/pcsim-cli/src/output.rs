@@ -1,7 +1,7 @@
 //! Writing run results: `summary.json` and `timeseries.csv`.
 
 use anyhow::{Context, Result};
-use pcsim_core::sim::RunOutput;
+use pcsim_core::sim::{RunOutput, RunStatistics};
 use pcsim_core::stats::ContactStats;
 use serde::Serialize;
 use std::path::Path;
@@ -26,6 +26,7 @@ pub struct Summary {
     pub dt_s: f64,
     pub max_slack_droppers: usize,
     pub steps_with_slack_percent: f64,
+    pub run_statistics: RunStatistics,
     pub warnings: Vec<String>,
     pub pantographs: Vec<PantographSummary>,
 }
@@ -53,6 +54,7 @@ impl Summary {
             dt_s: out.dt_s,
             max_slack_droppers: out.max_slack_droppers,
             steps_with_slack_percent: out.steps_with_slack_percent,
+            run_statistics: out.run_statistics,
             warnings,
             pantographs: out
                 .pantographs

@@ -26,8 +26,10 @@ pub mod solver;
 pub mod statics;
 pub mod stats;
 pub mod validation;
+#[cfg(feature = "zoo")]
+pub mod zoo;
 
 pub use case::Case;
 pub use error::{CaseError, SimError};
 pub use model::Model;
-pub use sim::{run_case, simulate, RunOutput};
+pub use sim::{run_case, simulate, RunOutput, RunStatistics};

@@ -40,6 +40,27 @@ pub struct RunOutput {
     /// Share of steps with at least one slack dropper, %.
     pub steps_with_slack_percent: f64,
     pub n_modes: usize,
+    /// Counters of what the run loop saw (snapshot-tested on the zoo).
+    pub run_statistics: RunStatistics,
+}
+
+/// What a run loop counted: the solver's statistics, snapshot-tested on the zoo so that a silent
+/// change of the algorithm shows in review.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct RunStatistics {
+    /// Time steps taken.
+    pub steps: u64,
+    /// Steps with at least one slack dropper.
+    pub steps_with_slack_dropper: u64,
+    /// The most droppers slack at once.
+    pub max_slack_droppers: u64,
+    /// Steps in which at least one pantograph lost contact (zero contact force).
+    pub steps_with_contact_loss: u64,
+    /// Moves of a real-time window (0 for a full-model run).
+    pub window_moves: u64,
+    /// Blow-up checks made (one per step on the contact samples, one every 256 steps on the
+    /// modal coordinates).
+    pub blow_up_checks: u64,
 }
 
 impl RunOutput {
@@ -73,12 +94,23 @@ pub fn simulate(
     let mut uplift = vec![0.0f64; np];
     let mut max_slack = 0;
     let mut steps_slack = 0usize;
+    let mut rs = RunStatistics::default();
     for step in 0..n_steps {
         solver.step(&mut st);
         time.push(st.t);
         let slack = solver.slack_droppers();
         max_slack = max_slack.max(slack);
         steps_slack += (slack > 0) as usize;
+        rs.steps += 1;
+        rs.blow_up_checks += 1;
+        if solver
+            .samples()
+            .iter()
+            .zip(&m.pantographs)
+            .any(|(s, p)| matches!(p, crate::model::Pantograph::Lumped { .. }) && s.force_n <= 0.0)
+        {
+            rs.steps_with_contact_loss += 1;
+        }
         for (p, s) in solver.samples().iter().enumerate() {
             if !s.is_sound() {
                 return Err(SimError::BlowUp {
@@ -103,6 +135,7 @@ pub fn simulate(
             }
         }
         if step % 256 == 0 {
+            rs.blow_up_checks += 1;
             let norm: f64 = st.qc.iter().chain(&st.qm).map(|v| v * v).sum();
             if !norm.is_finite() || st.py.iter().flatten().any(|v| !v.is_finite()) {
                 return Err(SimError::BlowUp {
@@ -149,5 +182,10 @@ pub fn simulate(
         max_slack_droppers: max_slack,
         steps_with_slack_percent: 100.0 * steps_slack as f64 / n_steps.max(1) as f64,
         n_modes: m.basis.n_modes(),
+        run_statistics: RunStatistics {
+            steps_with_slack_dropper: steps_slack as u64,
+            max_slack_droppers: max_slack as u64,
+            ..rs
+        },
     })
 }

@@ -1,0 +1,186 @@
+//! A zoo of small test models (after diffsol's `test_models`), shared by the tests, the benches
+//! and the Python tests. Each is small enough to run in well under a second and exercises a
+//! different part of the model:
+//!
+//! | name | what it is | what it exercises |
+//! |---|---|---|
+//! | `taut_string` | one wire, no bending stiffness, a constant moving force | the sine series, the modal damping, a moving point load |
+//! | `tensioned_beam` | one wire with EI and a point mass on a spring | Eq. 12 with EI, the exact point mass (Woodbury) |
+//! | `one_span` | one span of the simple catenary with its nine droppers, a lumped pantograph | droppers (Eq. 15), contact (Eq. 19), pantograph (Eq. 16), a window of a larger model |
+//! | `stitched_three_spans` | three spans of the stitched catenary, one pantograph | stitch nodes, stitch droppers, support dampers, free steady arms |
+//! | `two_pantographs` | six spans of the simple catenary, two pantographs 60 m apart | supports, steady arms, two contacts |
+//!
+//! Golden time histories of every zoo model are committed in `data/golden/zoo/`, written by
+//! `cargo run --release -p pcsim-core --example zoo_golden -- data/golden/zoo`.
+
+use crate::case::{Damping, PantographCase};
+use crate::model::{Arm, Model, ModelBuilder, Pantograph};
+use crate::presets;
+
+/// The names of the zoo models, in a fixed order.
+pub const NAMES: &[&str] = &[
+    "taut_string",
+    "tensioned_beam",
+    "one_span",
+    "stitched_three_spans",
+    "two_pantographs",
+];
+
+/// Build a zoo model by name.
+pub fn model(name: &str) -> Option<Model> {
+    Some(match name {
+        "taut_string" => taut_string(),
+        "tensioned_beam" => tensioned_beam(),
+        "one_span" => one_span(),
+        "stitched_three_spans" => stitched_three_spans(),
+        "two_pantographs" => two_pantographs(),
+        _ => return None,
+    })
+}
+
+/// A 100 m string (20 kN, 1.35 kg/m, no EI), 100 modes, modal damping 1 %, crossed by a constant
+/// 100 N force at 30 m/s from x = 10 m, for 1 s at Δt = 1 ms.
+pub fn taut_string() -> Model {
+    ModelBuilder::single_wire(100.0, 100, 1.35, 20_000.0, 0.0)
+        .damping(&Damping::Modal { ratio: 0.01 })
+        .pantograph(Pantograph::MovingForce {
+            name: "load".into(),
+            offset_m: 0.0,
+            force_n: 100.0,
+        })
+        .run(30.0, 10.0, 1.0, 1e-3)
+        .build()
+}
+
+/// A 60 m tensioned beam (20 kN, EI 195 N·m², 1.35 kg/m), 120 modes, Rayleigh damping, a 1 kg
+/// point mass on a 300 N/m spring at mid-length, crossed by a constant 150 N force at 40 m/s.
+pub fn tensioned_beam() -> Model {
+    ModelBuilder::single_wire(60.0, 120, 1.35, 20_000.0, 195.0)
+        .damping(&Damping::Rayleigh {
+            alpha: 0.05,
+            beta: 1e-4,
+        })
+        .arm(Arm {
+            x_m: 30.0,
+            mass_kg: 1.0,
+            stiffness_n_per_m: 300.0,
+        })
+        .pantograph(Pantograph::MovingForce {
+            name: "load".into(),
+            offset_m: 0.0,
+            force_n: 150.0,
+        })
+        .run(40.0, 2.0, 1.0, 5e-4)
+        .build()
+}
+
+/// The middle span of a three-span `en50318-2002` catenary (one mode per metre), as a window
+/// model of its own: nine droppers, ends pinned at the supports, the two-mass pantograph at
+/// 100 km/h from 5 m to 55 m of the span.
+pub fn one_span() -> Model {
+    let (mut c, _) = presets::load("en50318-2002").expect("embedded preset");
+    c.catenary.spans = 3;
+    c.run.speed_kmh = 100.0;
+    c.run.start_m = 65.0;
+    c.run.end_m = 115.0;
+    c.run.analysis_m = [65.0, 115.0];
+    let (full, _) = Model::from_case(&c).expect("zoo case is valid");
+    let mut m = full.window(60.0, 60.0, 60, false);
+    m.duration_s = 50.0 / (100.0 / 3.6);
+    m
+}
+
+/// `stitched-2018-like` cut to three spans (one mode per metre), leading pantograph at 200 km/h.
+pub fn stitched_three_spans() -> Model {
+    let (mut c, _) = presets::load("stitched-2018-like").expect("embedded preset");
+    c.catenary.spans = 3;
+    c.pantographs.truncate(1);
+    c.run.speed_kmh = 200.0;
+    c.run.modes = None;
+    c.run.modes_per_m = Some(1.0);
+    c.run.start_m = 20.0;
+    c.run.end_m = 160.0;
+    c.run.analysis_m = [60.0, 120.0];
+    Model::from_case(&c).expect("zoo case is valid").0
+}
+
+/// `en50318-2002` over six spans with a second, identical pantograph 60 m behind, at 250 km/h.
+pub fn two_pantographs() -> Model {
+    let (mut c, _) = presets::load("en50318-2002").expect("embedded preset");
+    c.catenary.spans = 6;
+    let mut trailing = c.pantographs[0].clone();
+    if let PantographCase::Lumped { name, offset_m, .. } = &mut trailing {
+        *name = "trailing".into();
+        *offset_m = 60.0;
+    }
+    c.pantographs.push(trailing);
+    c.run.speed_kmh = 250.0;
+    c.run.start_m = 130.0;
+    c.run.end_m = 290.0;
+    c.run.analysis_m = [140.0, 280.0];
+    Model::from_case(&c).expect("zoo case is valid").0
+}
+
+/// A recorded time history of a zoo model: the columns and one row every `every` steps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trace {
+    pub columns: Vec<String>,
+    pub rows: Vec<Vec<f64>>,
+}
+
+/// Steps between recorded rows of [`trace`].
+pub const TRACE_EVERY: usize = 5;
+
+/// Step a zoo model over its duration and record, every [`TRACE_EVERY`] steps: the time, per
+/// pantograph its position, contact force, contact-wire height and velocity at the contact point
+/// (and the head's height for a lumped pantograph), the number of slack droppers, and three modal
+/// coordinates (contact wire modes 1 and N/2, messenger mode 1).
+pub fn trace(name: &str) -> Option<Trace> {
+    Some(trace_of(model(name)?))
+}
+
+/// [`trace`] of a given model (a zoo model, perhaps modified by a test).
+pub fn trace_of(model: Model) -> Trace {
+    use crate::solver::Solver;
+    let n_steps = (model.duration_s / model.dt_s).ceil() as usize;
+    let mut columns = vec!["time_s".to_string()];
+    for p in &model.pantographs {
+        for c in ["position_m", "force_n", "height_m", "velocity_m_s"] {
+            columns.push(format!("{}_{c}", p.name()));
+        }
+        if matches!(p, Pantograph::Lumped { .. }) {
+            columns.push(format!("{}_head_m", p.name()));
+        }
+    }
+    columns.extend(
+        ["slack_droppers", "qc_1", "qc_mid", "qm_1"]
+            .iter()
+            .map(|s| s.to_string()),
+    );
+    let n = model.basis.n_modes();
+    let mut solver = Solver::new(model);
+    let mut st = solver.initial_state();
+    let mut rows = Vec::new();
+    for step in 1..=n_steps {
+        solver.step(&mut st);
+        if step % TRACE_EVERY != 0 {
+            continue;
+        }
+        let mut row = vec![st.t];
+        for (p, s) in solver.samples().iter().enumerate() {
+            row.extend([
+                s.position_m,
+                s.force_n,
+                s.wire_height_m,
+                s.wire_velocity_m_s,
+            ]);
+            if let Some(y) = st.py[p].first() {
+                row.push(*y);
+            }
+        }
+        row.push(solver.slack_droppers() as f64);
+        row.extend([st.qc[0], st.qc[n / 2], st.qm[0]]);
+        rows.push(row);
+    }
+    Trace { columns, rows }
+}

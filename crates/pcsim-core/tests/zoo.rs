@@ -1,0 +1,94 @@
+//! The zoo of small models against their golden time histories (`data/golden/zoo/`, written by
+//! `cargo run --release -p pcsim-core --example zoo_golden -- data/golden/zoo` before the core
+//! restructure), and snapshots of each model's run statistics.
+
+use pcsim_core::zoo;
+
+fn golden(name: &str) -> (Vec<String>, Vec<Vec<f64>>) {
+    let path = format!(
+        "{}/../../data/golden/zoo/{name}.csv",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    let mut lines = text.lines();
+    let cols = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|v| v.parse::<f64>().unwrap()).collect())
+        .collect();
+    (cols, rows)
+}
+
+/// Every recorded value within 1e-12 of the golden one, relative to the largest magnitude in its
+/// column (the time histories pass through zero).
+fn check(name: &str) {
+    let (cols, rows) = golden(name);
+    let t = zoo::trace(name).unwrap();
+    assert_eq!(t.columns, cols, "{name}: columns");
+    assert_eq!(t.rows.len(), rows.len(), "{name}: rows");
+    for c in 0..cols.len() {
+        let scale = rows.iter().map(|r| r[c].abs()).fold(1e-300, f64::max);
+        for (k, (a, b)) in t.rows.iter().zip(&rows).enumerate() {
+            assert!(
+                (a[c] - b[c]).abs() <= 1e-12 * scale,
+                "{name}: {} at row {k}: {} vs golden {} (scale {scale})",
+                cols[c],
+                a[c],
+                b[c]
+            );
+        }
+    }
+}
+
+#[test]
+fn taut_string_matches_its_golden_history() {
+    check("taut_string");
+}
+
+#[test]
+fn tensioned_beam_matches_its_golden_history() {
+    check("tensioned_beam");
+}
+
+#[test]
+fn one_span_matches_its_golden_history() {
+    check("one_span");
+}
+
+#[test]
+fn stitched_three_spans_matches_its_golden_history() {
+    check("stitched_three_spans");
+}
+
+#[test]
+fn two_pantographs_matches_its_golden_history() {
+    check("two_pantographs");
+}
+
+#[test]
+fn the_goldens_can_tell_a_wrong_answer() {
+    // The same string with the moving force 1e-6 larger must fail the comparison.
+    let mut m = zoo::model("taut_string").unwrap();
+    match &mut m.pantographs[0] {
+        pcsim_core::model::Pantograph::MovingForce { force_n, .. } => *force_n *= 1.0 + 1e-6,
+        _ => unreachable!(),
+    }
+    let (_, rows) = golden("taut_string");
+    let t = zoo::trace_of(m);
+    let c = 3; // load_height_m
+    let scale = rows.iter().map(|r| r[c].abs()).fold(0.0, f64::max);
+    let worst = t
+        .rows
+        .iter()
+        .zip(&rows)
+        .map(|(a, b)| (a[c] - b[c]).abs())
+        .fold(0.0, f64::max);
+    assert!(worst > 1e-12 * scale, "{worst} vs scale {scale}");
+}
+
+#[test]
+fn run_statistics_of_the_zoo() {
+    for name in zoo::NAMES {
+        let out = pcsim_core::simulate(zoo::model(name).unwrap(), &mut |_| true).unwrap();
+        insta::assert_debug_snapshot!(*name, out.run_statistics);
+    }
+}
