@@ -1,12 +1,11 @@
-//! `pcsim`: the command-line tool over `pcsim-core`.
+//! `pcsim`: the command-line tool over `pcsim-core`. Each command parses its arguments, calls the
+//! core and writes files; none of them re-implements the core's orchestration.
 
-mod commands;
-mod eva_cmd;
-mod fmu_cmd;
+mod cmd;
+mod common;
 mod output;
-mod plots;
+mod plot;
 mod progress;
-mod realtime_cmd;
 
 use clap::{Parser, Subcommand};
 
@@ -24,24 +23,24 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Run one case and write summary.json and timeseries.csv.
-    Run(commands::RunArgs),
+    Run(cmd::run::RunArgs),
     /// Run a validation (default: en50318-2002 at 250 and 300 km/h) and print the table.
-    Validate(commands::ValidateArgs),
+    Validate(cmd::validate::ValidateArgs),
     /// List the embedded presets, or print one (`presets show NAME`).
-    Presets(commands::PresetsArgs),
+    Presets(cmd::presets::PresetsArgs),
     /// Benchmark: wall time against simulated time on one core.
-    Bench(commands::BenchArgs),
+    Bench(cmd::bench::BenchArgs),
     /// Redraw the plots of a finished run from its output directory.
-    Plot(commands::PlotArgs),
+    Plot(cmd::plot::PlotArgs),
     /// Energy distribution and effective vibration area over speeds, tensions and dampings;
     /// `eva merge DIR…` joins shards.
-    Eva(eva_cmd::EvaArgs),
+    Eva(cmd::eva::EvaArgs),
     /// The real-time (moving-window) catenary against the full model, for several window lengths.
-    Realtime(realtime_cmd::RealtimeArgs),
+    Realtime(cmd::realtime::RealtimeArgs),
     /// FMI 2.0 FMU of the real-time catenary: `fmu build --out DIR`, `fmu xml`.
-    Fmu(fmu_cmd::FmuArgs),
+    Fmu(cmd::fmu::FmuArgs),
     /// Replay a contact-force/position file through the real-time catenary (HIL, Rust reference).
-    Hil(fmu_cmd::HilArgs),
+    Hil(cmd::hil::HilArgs),
 }
 
 /// Restore the default SIGPIPE action so that `pcsim … | head` ends quietly instead of panicking
@@ -66,15 +65,15 @@ fn main() {
     default_sigpipe();
     let cli = Cli::parse();
     let res = match cli.command {
-        Command::Run(a) => commands::run(a, cli.quiet),
-        Command::Validate(a) => commands::validate(a, cli.quiet),
-        Command::Presets(a) => commands::presets(a),
-        Command::Bench(a) => commands::bench(a, cli.quiet),
-        Command::Plot(a) => commands::plot(a),
-        Command::Eva(a) => eva_cmd::eva(a, cli.quiet),
-        Command::Realtime(a) => realtime_cmd::realtime(a, cli.quiet),
-        Command::Fmu(a) => fmu_cmd::fmu(a),
-        Command::Hil(a) => fmu_cmd::hil(a),
+        Command::Run(a) => cmd::run::run(a, cli.quiet),
+        Command::Validate(a) => cmd::validate::validate(a, cli.quiet),
+        Command::Presets(a) => cmd::presets::presets(a),
+        Command::Bench(a) => cmd::bench::bench(a, cli.quiet),
+        Command::Plot(a) => cmd::plot::plot(a),
+        Command::Eva(a) => cmd::eva::eva(a, cli.quiet),
+        Command::Realtime(a) => cmd::realtime::realtime(a, cli.quiet),
+        Command::Fmu(a) => cmd::fmu::fmu(a),
+        Command::Hil(a) => cmd::hil::hil(a),
     };
     match res {
         Ok(code) => std::process::exit(code),

@@ -1,8 +1,10 @@
 //! Writing run results: `summary.json` and `timeseries.csv`.
 
 use anyhow::{Context, Result};
-use pcsim_core::sim::{RunOutput, RunStatistics};
-use pcsim_core::stats::ContactStats;
+use pcsim_core::analysis::record::RunOutput;
+use pcsim_core::analysis::stats::ContactStats;
+use pcsim_core::RunStatistics;
+
 use serde::Serialize;
 use std::path::Path;
 

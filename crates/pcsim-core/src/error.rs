@@ -15,6 +15,12 @@ pub enum CaseError {
     },
     #[error("unknown preset `{0}` (see `pcsim presets`)")]
     UnknownPreset(String),
+    /// An error of one case of a sweep or a study, with the case it belongs to.
+    #[error("{case}: {source}")]
+    InCase {
+        case: String,
+        source: Box<CaseError>,
+    },
 }
 
 /// A run that failed.

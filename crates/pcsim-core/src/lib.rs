@@ -4,32 +4,30 @@
 //! the Effective Vibration Area of the Catenary in a Pantograph–Catenary Interaction System"
 //! (MDPI, 2024). The physics, the solver and the analysis; no file, terminal or network I/O.
 //!
-//! Flow: a [`case::Case`] (TOML) → [`model::Model`] (modal matrices, point elements, pantographs)
-//! → [`solver::Solver`] steps a [`solver::State`] → [`sim::RunOutput`] with
-//! [`stats::ContactStats`] → [`validation`] against EN 50318 ranges.
+//! Layers, each importing only from the ones above it in this list:
+//! - [`input`]: cases (TOML with provenance), presets, validation targets;
+//! - [`model`]: wires and their modal series, point elements, pantographs, statics — the problem;
+//! - [`solve`]: plan and options, state, workspace, integrator, the run loop, the real-time window;
+//! - [`analysis`]: filters, EN 50318 statistics, energy, EVA, validation, sweeps, studies.
+//!
+//! Flow: a [`Case`] → [`solve::Setup`] (model, plan, options) → [`solve::Integrator`] steps a
+//! [`solve::State`] with a [`solve::Workspace`] in [`solve::run()`] → observers such as the EN 50318
+//! recorder ([`analysis::record::simulate`]) → [`analysis::validation`].
 
 // Index loops read like the equations they implement.
 #![allow(clippy::needless_range_loop)]
 
-pub mod basis;
-pub mod case;
-pub mod energy;
+pub mod analysis;
 pub mod error;
-pub mod eva;
-pub mod filter;
+pub mod input;
+pub mod linalg;
 pub mod model;
-pub mod presets;
-pub mod realtime;
-pub mod sampler;
-pub mod sim;
-pub mod solver;
-pub mod statics;
-pub mod stats;
-pub mod validation;
+pub mod solve;
 #[cfg(feature = "zoo")]
 pub mod zoo;
 
-pub use case::Case;
+pub use analysis::record::{run_case, simulate, RunOutput};
 pub use error::{CaseError, SimError};
+pub use input::{presets, Case};
 pub use model::Model;
-pub use sim::{run_case, simulate, RunOutput, RunStatistics};
+pub use solve::{RunStatistics, Setup};

@@ -13,9 +13,10 @@
 //! Golden time histories of every zoo model are committed in `data/golden/zoo/`, written by
 //! `cargo run --release -p pcsim-core --example zoo_golden -- data/golden/zoo`.
 
-use crate::case::{Damping, PantographCase};
-use crate::model::{Arm, Model, ModelBuilder, Pantograph};
-use crate::presets;
+use crate::input::case::{Damping, PantographCase};
+use crate::input::presets;
+use crate::model::ModelBuilder;
+use crate::solve::{Plan, Setup, Stepper};
 
 /// The names of the zoo models, in a fixed order.
 pub const NAMES: &[&str] = &[
@@ -26,8 +27,8 @@ pub const NAMES: &[&str] = &[
     "two_pantographs",
 ];
 
-/// Build a zoo model by name.
-pub fn model(name: &str) -> Option<Model> {
+/// Build a zoo model (with its plan and options) by name.
+pub fn model(name: &str) -> Option<Setup> {
     Some(match name {
         "taut_string" => taut_string(),
         "tensioned_beam" => tensioned_beam(),
@@ -40,58 +41,59 @@ pub fn model(name: &str) -> Option<Model> {
 
 /// A 100 m string (20 kN, 1.35 kg/m, no EI), 100 modes, modal damping 1 %, crossed by a constant
 /// 100 N force at 30 m/s from x = 10 m, for 1 s at Δt = 1 ms.
-pub fn taut_string() -> Model {
-    ModelBuilder::single_wire(100.0, 100, 1.35, 20_000.0, 0.0)
-        .damping(&Damping::Modal { ratio: 0.01 })
-        .pantograph(Pantograph::MovingForce {
-            name: "load".into(),
-            offset_m: 0.0,
-            force_n: 100.0,
-        })
-        .run(30.0, 10.0, 1.0, 1e-3)
-        .build()
+pub fn taut_string() -> Setup {
+    Setup::from_builder(
+        ModelBuilder::single_wire(100.0, 100, 1.35, 20_000.0, 0.0)
+            .damping(&Damping::Modal { ratio: 0.01 })
+            .moving_force("load", 100.0)
+            .run(30.0, 10.0, 1.0, 1e-3)
+            .build(),
+    )
 }
 
 /// A 60 m tensioned beam (20 kN, EI 195 N·m², 1.35 kg/m), 120 modes, Rayleigh damping, a 1 kg
 /// point mass on a 300 N/m spring at mid-length, crossed by a constant 150 N force at 40 m/s.
-pub fn tensioned_beam() -> Model {
-    ModelBuilder::single_wire(60.0, 120, 1.35, 20_000.0, 195.0)
-        .damping(&Damping::Rayleigh {
-            alpha: 0.05,
-            beta: 1e-4,
-        })
-        .arm(Arm {
-            x_m: 30.0,
-            mass_kg: 1.0,
-            stiffness_n_per_m: 300.0,
-        })
-        .pantograph(Pantograph::MovingForce {
-            name: "load".into(),
-            offset_m: 0.0,
-            force_n: 150.0,
-        })
-        .run(40.0, 2.0, 1.0, 5e-4)
-        .build()
+pub fn tensioned_beam() -> Setup {
+    Setup::from_builder(
+        ModelBuilder::single_wire(60.0, 120, 1.35, 20_000.0, 195.0)
+            .damping(&Damping::Rayleigh {
+                alpha: 0.05,
+                beta: 1e-4,
+            })
+            .point_mass(30.0, 1.0, 300.0)
+            .moving_force("load", 150.0)
+            .run(40.0, 2.0, 1.0, 5e-4)
+            .build(),
+    )
 }
 
 /// The middle span of a three-span `en50318-2002` catenary (one mode per metre), as a window
 /// model of its own: nine droppers, ends pinned at the supports, the two-mass pantograph at
 /// 100 km/h from 5 m to 55 m of the span.
-pub fn one_span() -> Model {
+pub fn one_span() -> Setup {
     let (mut c, _) = presets::load("en50318-2002").expect("embedded preset");
     c.catenary.spans = 3;
     c.run.speed_kmh = 100.0;
     c.run.start_m = 65.0;
     c.run.end_m = 115.0;
     c.run.analysis_m = [65.0, 115.0];
-    let (full, _) = Model::from_case(&c).expect("zoo case is valid");
-    let mut m = full.window(60.0, 60.0, 60, false);
-    m.duration_s = 50.0 / (100.0 / 3.6);
-    m
+    let full = Setup::from_case(&c).expect("zoo case is valid");
+    let model = full.model.window(60.0, 60.0, 60, false);
+    Setup {
+        model,
+        plan: Plan {
+            start_m: full.plan.start_m - 60.0,
+            duration_s: 50.0 / (100.0 / 3.6),
+            analysis_m: [5.0, 55.0],
+            ..full.plan
+        },
+        options: full.options,
+        warnings: vec![],
+    }
 }
 
 /// `stitched-2018-like` cut to three spans (one mode per metre), leading pantograph at 200 km/h.
-pub fn stitched_three_spans() -> Model {
+pub fn stitched_three_spans() -> Setup {
     let (mut c, _) = presets::load("stitched-2018-like").expect("embedded preset");
     c.catenary.spans = 3;
     c.pantographs.truncate(1);
@@ -101,11 +103,11 @@ pub fn stitched_three_spans() -> Model {
     c.run.start_m = 20.0;
     c.run.end_m = 160.0;
     c.run.analysis_m = [60.0, 120.0];
-    Model::from_case(&c).expect("zoo case is valid").0
+    Setup::from_case(&c).expect("zoo case is valid")
 }
 
 /// `en50318-2002` over six spans with a second, identical pantograph 60 m behind, at 250 km/h.
-pub fn two_pantographs() -> Model {
+pub fn two_pantographs() -> Setup {
     let (mut c, _) = presets::load("en50318-2002").expect("embedded preset");
     c.catenary.spans = 6;
     let mut trailing = c.pantographs[0].clone();
@@ -118,7 +120,7 @@ pub fn two_pantographs() -> Model {
     c.run.start_m = 130.0;
     c.run.end_m = 290.0;
     c.run.analysis_m = [140.0, 280.0];
-    Model::from_case(&c).expect("zoo case is valid").0
+    Setup::from_case(&c).expect("zoo case is valid")
 }
 
 /// A recorded time history of a zoo model: the columns and one row every `every` steps.
@@ -134,22 +136,23 @@ pub const TRACE_EVERY: usize = 5;
 /// Step a zoo model over its duration and record, every [`TRACE_EVERY`] steps: the time, per
 /// pantograph its position, contact force, contact-wire height and velocity at the contact point
 /// (and the head's height for a lumped pantograph), the number of slack droppers, and three modal
-/// coordinates (contact wire modes 1 and N/2, messenger mode 1).
+/// coordinates (contact wire modes 1 and N/2, messenger mode 1; 0 without a messenger).
 pub fn trace(name: &str) -> Option<Trace> {
-    Some(trace_of(model(name)?))
+    Some(trace_of(&model(name)?))
 }
 
-/// [`trace`] of a given model (a zoo model, perhaps modified by a test).
-pub fn trace_of(model: Model) -> Trace {
-    use crate::solver::Solver;
-    let n_steps = (model.duration_s / model.dt_s).ceil() as usize;
+/// [`trace`] of a given set-up (a zoo model, perhaps modified by a test).
+pub fn trace_of(setup: &Setup) -> Trace {
+    use crate::model::{Direction, PantographKind, WireRole};
+    let model = &setup.model;
+    let n_steps = setup.n_steps();
     let mut columns = vec!["time_s".to_string()];
     for p in &model.pantographs {
         for c in ["position_m", "force_n", "height_m", "velocity_m_s"] {
-            columns.push(format!("{}_{c}", p.name()));
+            columns.push(format!("{}_{c}", p.name));
         }
-        if matches!(p, Pantograph::Lumped { .. }) {
-            columns.push(format!("{}_head_m", p.name()));
+        if matches!(p.kind, PantographKind::Lumped(_)) {
+            columns.push(format!("{}_head_m", p.name));
         }
     }
     columns.extend(
@@ -157,29 +160,34 @@ pub fn trace_of(model: Model) -> Trace {
             .iter()
             .map(|s| s.to_string()),
     );
-    let n = model.basis.n_modes();
-    let mut solver = Solver::new(model);
-    let mut st = solver.initial_state();
+    let cb = model
+        .block(WireRole::Contact, Direction::Vertical)
+        .expect("a contact wire");
+    let mb = model.block(WireRole::Messenger, Direction::Vertical);
+    let n = model.layout.blocks[cb].n_modes;
+    let mut s = Stepper::new(setup).expect("zoo models are valid");
     let mut rows = Vec::new();
     for step in 1..=n_steps {
-        solver.step(&mut st);
+        s.step();
         if step % TRACE_EVERY != 0 {
             continue;
         }
-        let mut row = vec![st.t];
-        for (p, s) in solver.samples().iter().enumerate() {
+        let mut row = vec![s.state.t];
+        for (p, smp) in s.samples().iter().enumerate() {
             row.extend([
-                s.position_m,
-                s.force_n,
-                s.wire_height_m,
-                s.wire_velocity_m_s,
+                smp.position_m,
+                smp.force_n,
+                smp.wire_height_m,
+                smp.wire_velocity_m_s,
             ]);
-            if let Some(y) = st.py[p].first() {
-                row.push(*y);
+            if s.model().pantographs[p].n_dof() > 0 {
+                row.push(s.state.pantographs.u[s.integ.pantograph_dofs(p).start]);
             }
         }
-        row.push(solver.slack_droppers() as f64);
-        row.extend([st.qc[0], st.qc[n / 2], st.qm[0]]);
+        row.push(s.ws.slack_droppers() as f64);
+        let qc = s.state.q(s.model(), cb);
+        row.extend([qc[0], qc[n / 2]]);
+        row.push(mb.map_or(0.0, |b| s.state.q(s.model(), b)[0]));
         rows.push(row);
     }
     Trace { columns, rows }

@@ -1,12 +1,23 @@
 //! Checks against analytic solutions: static deflection, natural frequencies (with and without
 //! a point mass), wave-front arrival, and a constant moving load against the exact modal series.
 
-use pcsim_core::basis::SineBasis;
-use pcsim_core::case::Damping;
-use pcsim_core::model::{Arm, ModelBuilder, Pantograph};
-use pcsim_core::solver::Solver;
-use pcsim_core::statics::modal_static_deflection;
+use pcsim_core::input::case::Damping;
+use pcsim_core::model::basis::SineBasis;
+use pcsim_core::model::statics::modal_static_deflection;
+use pcsim_core::model::{Direction, ModelBuilder, WireRole};
+use pcsim_core::solve::{Setup, Stepper};
 use std::f64::consts::PI;
+
+fn stepper(b: ModelBuilder) -> Stepper {
+    Stepper::new(&Setup::from_builder(b.build())).unwrap()
+}
+
+/// The contact wire's vertical block.
+fn wire(s: &Stepper) -> usize {
+    s.model()
+        .block(WireRole::Contact, Direction::Vertical)
+        .unwrap()
+}
 
 /// Deflection at the load point of a pinned tensioned Euler–Bernoulli beam under a point load
 /// `F` at `a`: `F/T [a(L−a)/L − sinh(λa) sinh(λ(L−a)) / (λ sinh λL)]`, `λ = √(T/EI)`.
@@ -17,15 +28,6 @@ fn tensioned_beam_point_deflection(f: f64, a: f64, l: f64, t: f64, ei: f64) -> f
     let ratio = (1.0 - (-2.0 * x).exp()) * (1.0 - (-2.0 * y).exp())
         / (2.0 * (1.0 - (-2.0 * (x + y)).exp()));
     f / t * (a * (l - a) / l - ratio / lam)
-}
-
-/// A constant upward force; its start position is the run's `start_m`.
-fn moving_force(_start: f64, force: f64) -> Pantograph {
-    Pantograph::MovingForce {
-        name: "load".into(),
-        offset_m: 0.0,
-        force_n: force,
-    }
 }
 
 #[test]
@@ -48,17 +50,16 @@ fn static_point_load_on_tensioned_beam_modal_solution() {
 #[test]
 fn static_point_load_reached_by_the_time_integrator() {
     let (l, t, ei, f, a) = (100.0, 20_000.0, 195.0, 500.0, 37.0);
-    let model = ModelBuilder::single_wire(l, 400, 1.35, t, ei)
-        .damping(&Damping::Modal { ratio: 0.3 })
-        .pantograph(moving_force(a, f))
-        .run(0.0, a, 20.0, 2e-4)
-        .build();
-    let mut solver = Solver::new(model);
-    let mut st = solver.initial_state();
+    let mut s = stepper(
+        ModelBuilder::single_wire(l, 400, 1.35, t, ei)
+            .damping(&Damping::Modal { ratio: 0.3 })
+            .moving_force("load", f)
+            .run(0.0, a, 20.0, 2e-4),
+    );
     for _ in 0..100_000 {
-        solver.step(&mut st);
+        s.step();
     }
-    let w = solver.samples()[0].wire_height_m;
+    let w = s.samples()[0].wire_height_m;
     let exact = tensioned_beam_point_deflection(f, a, l, t, ei);
     assert!(
         (w - exact).abs() < 5e-3 * exact,
@@ -84,21 +85,18 @@ fn mean_period(z: &[f64]) -> f64 {
 fn natural_frequency_of_simply_supported_tensioned_beam() {
     // Beam-dominated parameters so that the EI κ⁴ term matters.
     let (l, rho, t, ei) = (50.0, 1.0, 1000.0, 5000.0);
-    let model = ModelBuilder::single_wire(l, 100, rho, t, ei)
-        .run(0.0, 1.0, 1.0, 5e-5)
-        .build();
-    let mut solver = Solver::new(model);
-    let mut st = solver.initial_state();
+    let mut s = stepper(ModelBuilder::single_wire(l, 100, rho, t, ei).run(0.0, 1.0, 1.0, 5e-5));
+    let b = wire(&s);
     let k = 3;
-    st.qc[k - 1] = 0.01;
+    s.state.q_mut(s.integ.model(), b)[k - 1] = 0.01;
     let basis = SineBasis::new(l, 100);
     let x = l / (2.0 * k as f64); // antinode of mode k
     let mut row = vec![0.0; 100];
     let (mut ts, mut ys) = (Vec::new(), Vec::new());
     for _ in 0..40_000 {
-        solver.step(&mut st);
-        ts.push(st.t);
-        ys.push(basis.eval(&st.qc, x, &mut row));
+        s.step();
+        ts.push(s.state.t);
+        ys.push(basis.eval(s.state.q(s.model(), b), x, &mut row));
     }
     let kap = k as f64 * PI / l;
     let omega = kap * ((t + ei * kap * kap) / rho).sqrt();
@@ -128,24 +126,28 @@ fn natural_frequency_of_string_with_central_point_mass() {
     }
     let omega = c * 0.5 * (lo + hi);
     let n = 400;
-    let model = ModelBuilder::single_wire(l, n, rho, t, 0.0)
-        .arm(Arm {
-            x_m: l / 2.0,
-            mass_kg: m,
-            stiffness_n_per_m: 0.0,
-        })
-        .run(0.0, 1.0, 1.0, 2e-4)
-        .build();
-    let mut solver = Solver::new(model);
-    let mut st = solver.initial_state();
+    let mut s = stepper(
+        ModelBuilder::single_wire(l, n, rho, t, 0.0)
+            .point_mass(l / 2.0, m, 0.0)
+            .run(0.0, 1.0, 1.0, 2e-4),
+    );
+    let b = wire(&s);
     // Start from the static shape under a central point load (mostly the first symmetric mode).
     let basis = SineBasis::new(l, n);
-    st.qc = modal_static_deflection(&basis, t, 0.0, 0.0, &[(l / 2.0, 1.0)]);
+    s.state
+        .q_mut(s.integ.model(), b)
+        .copy_from_slice(&modal_static_deflection(
+            &basis,
+            t,
+            0.0,
+            0.0,
+            &[(l / 2.0, 1.0)],
+        ));
     let (mut ts, mut ys) = (Vec::new(), Vec::new());
     for _ in 0..200_000 {
-        solver.step(&mut st);
-        ts.push(st.t);
-        ys.push(solver.arm_displacements()[0]);
+        s.step();
+        ts.push(s.state.t);
+        ys.push(s.integ.monitor(&s.ws, 0));
     }
     let measured = 2.0 * PI / mean_period(&zero_crossings(&ts, &ys));
     assert!(
@@ -163,12 +165,12 @@ fn wave_front_arrives_at_the_wave_speed() {
         (400.0, 1.35, 20_000.0, 100.0, 100.0, 160.0);
     let c = (t / rho).sqrt();
     let n = 1600;
-    let model = ModelBuilder::single_wire(l, n, rho, t, 0.0)
-        .pantograph(moving_force(x0, f))
-        .run(0.0, x0, 3.0, 2e-4)
-        .build();
-    let mut solver = Solver::new(model);
-    let mut st = solver.initial_state();
+    let mut s = stepper(
+        ModelBuilder::single_wire(l, n, rho, t, 0.0)
+            .moving_force("load", f)
+            .run(0.0, x0, 3.0, 2e-4),
+    );
+    let b = wire(&s);
     let basis = SineBasis::new(l, n);
     let mut row = vec![0.0; n];
     let arrival = (x1 - x0) / c;
@@ -176,12 +178,12 @@ fn wave_front_arrives_at_the_wave_speed() {
     let scale = f / (2.0 * t) * (c * reflection - (x1 - x0));
     let mut checked = 0;
     for step in 1..=10_000 {
-        solver.step(&mut st);
+        s.step();
         if step % 250 != 0 {
             continue;
         }
-        let time = st.t;
-        let u = basis.eval(&st.qc, x1, &mut row);
+        let time = s.state.t;
+        let u = basis.eval(s.state.q(s.model(), b), x1, &mut row);
         let exact = f / (2.0 * t) * (c * time - (x1 - x0)).max(0.0);
         if time < 0.9 * arrival {
             assert!(
@@ -204,19 +206,18 @@ fn constant_moving_load_matches_exact_modal_series() {
     let (l, rho, t, ei, f, v) = (100.0, 1.35, 20_000.0, 195.0, 100.0, 50.0);
     let n = 50;
     let dt = 2.5e-4;
-    let model = ModelBuilder::single_wire(l, n, rho, t, ei)
-        .pantograph(moving_force(0.0, f))
-        .run(v, 0.0, 2.0, dt)
-        .build();
+    let mut s = stepper(
+        ModelBuilder::single_wire(l, n, rho, t, ei)
+            .moving_force("load", f)
+            .run(v, 0.0, 2.0, dt),
+    );
     let basis = SineBasis::new(l, n);
-    let mut solver = Solver::new(model);
-    let mut st = solver.initial_state();
     let mut row = vec![0.0; n];
     let mut worst: f64 = 0.0;
     let mut peak: f64 = 0.0;
     for _ in 0..7600 {
-        solver.step(&mut st);
-        let time = st.t;
+        s.step();
+        let time = s.state.t;
         let x = v * time;
         let mut q = vec![0.0; n];
         for (i, qi) in q.iter_mut().enumerate() {
@@ -227,7 +228,7 @@ fn constant_moving_load_matches_exact_modal_series() {
                 / (om * om - big * big);
         }
         let exact = basis.eval(&q, x, &mut row);
-        let got = solver.samples()[0].wire_height_m;
+        let got = s.samples()[0].wire_height_m;
         worst = worst.max((got - exact).abs());
         peak = peak.max(exact.abs());
     }

@@ -1,10 +1,10 @@
 //! Case files: presets carry a source on every field, unknown keys are errors, and bad values
 //! give an error naming the field and the value.
 
-use pcsim_core::case::{unsourced_fields, Case};
 use pcsim_core::error::CaseError;
-use pcsim_core::model::Model;
+use pcsim_core::input::case::{unsourced_fields, Case};
 use pcsim_core::presets::{self, PRESETS};
+use pcsim_core::Setup;
 
 #[test]
 fn every_preset_field_has_a_source_and_the_preset_validates() {
@@ -23,7 +23,7 @@ fn every_preset_field_has_a_source_and_the_preset_validates() {
             prov.len()
         );
         assert!(prov.values().all(|s| !s.trim().is_empty()));
-        Model::from_case(&case).unwrap();
+        Setup::from_case(&case).unwrap();
     }
 }
 
@@ -41,7 +41,7 @@ fn err_of(edit: impl Fn(&mut String)) -> String {
     edit(&mut text);
     match Case::from_toml_str(&text) {
         Err(e) => e.to_string(),
-        Ok((case, _)) => match Model::from_case(&case) {
+        Ok((case, _)) => match Setup::from_case(&case) {
             Err(e) => e.to_string(),
             Ok(_) => panic!("expected an error"),
         },
@@ -127,10 +127,10 @@ fn speed_at_or_above_wave_speed() {
 fn high_speed_ratio_warns() {
     let (mut case, _) = presets::load("en50318-2002").unwrap();
     case.run.speed_kmh = 320.0;
-    let (_, w) = Model::from_case(&case).unwrap();
+    let w = Setup::from_case(&case).unwrap().warnings;
     assert!(w.iter().any(|w| w.0.contains("0.7")), "{w:?}");
     case.run.speed_kmh = 200.0;
-    assert!(Model::from_case(&case).unwrap().1.is_empty());
+    assert!(Setup::from_case(&case).unwrap().warnings.is_empty());
 }
 
 #[test]

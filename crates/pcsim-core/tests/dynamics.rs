@@ -3,10 +3,12 @@
 mod common;
 
 use common::{short_en50318, short_preset, with_moving_force};
-use pcsim_core::case::Damping;
-use pcsim_core::model::Model;
+use pcsim_core::analysis::energy::{dissipation_rate, system_energy};
+use pcsim_core::input::case::Damping;
+use pcsim_core::model::elements::dropper::Droppers;
+use pcsim_core::model::elements::stitch::Stitches;
 use pcsim_core::run_case;
-use pcsim_core::solver::Solver;
+use pcsim_core::solve::{Setup, Stepper};
 
 #[test]
 fn droppers_go_slack_when_pushed_past_their_preload() {
@@ -14,23 +16,23 @@ fn droppers_go_slack_when_pushed_past_their_preload() {
     // droppers near it lose their whole preload and carry exactly zero (never compression).
     let mut case = with_moving_force(short_en50318(5, 100.0), 2000.0);
     case.catenary.damping = Damping::Modal { ratio: 0.3 };
-    let (mut model, _) = Model::from_case(&case).unwrap();
-    model.speed_m_s = 0.0;
-    model.start_m = 150.0 + 17.0;
-    let nd = model.droppers.len();
-    let mut solver = Solver::new(model);
-    let mut st = solver.initial_state();
+    let mut setup = Setup::from_case(&case).unwrap();
+    setup.plan.speed_m_s = 0.0;
+    setup.plan.start_m = 150.0 + 17.0;
+    let mut s = Stepper::new(&setup).unwrap();
     for _ in 0..20_000 {
-        solver.step(&mut st);
+        s.step();
     }
+    let (droppers, slots) = s.integ.element::<Droppers>().unwrap();
+    let nd = droppers.0.len();
     let mut t = vec![0.0; nd];
     let mut e = vec![0.0; nd];
-    solver.dropper_tensions(&mut t);
-    solver.dropper_elongations(&mut e);
-    let m = solver.model();
+    let u = s.integ.displacements(&s.ws);
+    droppers.tensions(slots, u, &mut t);
+    droppers.elongations(slots, u, &mut e);
     let mut slack = 0;
     for i in 0..nd {
-        let d = &m.droppers[i];
+        let d = &droppers.0[i];
         let linear = d.preload_n + d.stiffness_n_per_m * e[i];
         if linear < 0.0 {
             slack += 1;
@@ -43,9 +45,9 @@ fn droppers_go_slack_when_pushed_past_their_preload() {
         slack >= 2,
         "expected slack droppers near the load, found {slack}"
     );
-    assert_eq!(slack, solver.slack_droppers());
+    assert_eq!(slack, s.ws.slack_droppers());
     // Far from the load the droppers keep (nearly) their preload.
-    assert!((t[0] - m.droppers[0].preload_n).abs() < 0.2 * m.droppers[0].preload_n);
+    assert!((t[0] - droppers.0[0].preload_n).abs() < 0.2 * droppers.0[0].preload_n);
 }
 
 #[test]
@@ -62,29 +64,33 @@ fn slack_droppers_are_common_at_speed() {
 }
 
 /// Integrate the energy balance along a run: E(t) − E(0) + dissipated(t) − work(t).
-fn energy_residual(model: Model, steps: usize, moving_force: Option<f64>) -> (f64, f64, usize) {
-    let mut solver = Solver::new(model);
-    let mut st = solver.initial_state();
-    let e0 = solver.energy(&st).total();
-    let mut d_prev = solver.dissipation_rate(&st);
+fn energy_residual(setup: Setup, steps: usize, moving_force: Option<f64>) -> (f64, f64, usize) {
+    let Stepper {
+        integ,
+        state: mut st,
+        mut ws,
+    } = Stepper::new(&setup).unwrap();
+    let e0 = system_energy(&integ, &st, &mut ws).total();
+    let mut d_prev = dissipation_rate(&integ, &st, &mut ws);
     let mut p_prev = 0.0;
     let (mut dissipated, mut work) = (0.0, 0.0);
-    let dt = solver.model().dt_s;
+    let dt = integ.dt_s();
     let mut worst: f64 = 0.0;
     let mut scale: f64 = 0.0;
     let mut max_slack = 0;
     for _ in 0..steps {
-        solver.step(&mut st);
-        max_slack = max_slack.max(solver.slack_droppers());
-        let d = solver.dissipation_rate(&st);
+        integ.step(&mut st, &mut ws);
+        max_slack = max_slack.max(ws.slack_droppers());
+        let p_now = ws.samples()[0].wire_velocity_m_s;
+        let d = dissipation_rate(&integ, &st, &mut ws);
         dissipated += 0.5 * dt * (d + d_prev);
         d_prev = d;
         if let Some(f) = moving_force {
-            let p = f * solver.samples()[0].wire_velocity_m_s;
+            let p = f * p_now;
             work += 0.5 * dt * (p + p_prev);
             p_prev = p;
         }
-        let e = solver.energy(&st).total();
+        let e = system_energy(&integ, &st, &mut ws).total();
         worst = worst.max((e - e0 + dissipated - work).abs());
         scale = scale.max((e - e0).abs()).max(dissipated).max(work.abs());
     }
@@ -101,8 +107,8 @@ fn energy_balance_with_moving_force_slack_droppers_and_damping() {
         beta: 2e-4,
     };
     case.run.dt_s = 2.5e-4;
-    let (model, _) = Model::from_case(&case).unwrap();
-    let (worst, scale, slack) = energy_residual(model, 20_000, Some(400.0));
+    let setup = Setup::from_case(&case).unwrap();
+    let (worst, scale, slack) = energy_residual(setup, 20_000, Some(400.0));
     assert!(slack > 0, "the load should slacken droppers");
     assert!(scale > 1.0, "scale {scale} J");
     assert!(
@@ -117,25 +123,28 @@ fn energy_balance_with_pantograph_contact_and_damping() {
     let mut case = short_en50318(5, 100.0);
     case.catenary.messenger_support.damping_ns_per_m = 200.0;
     case.run.dt_s = 2.5e-4;
-    let (mut model, _) = Model::from_case(&case).unwrap();
-    model.speed_m_s = 0.0;
-    model.start_m = 150.0 + 30.0;
+    let mut setup = Setup::from_case(&case).unwrap();
+    setup.plan.speed_m_s = 0.0;
+    setup.plan.start_m = 150.0 + 30.0;
     // Kick the pantograph head upward by 5 cm relative to equilibrium.
     let (worst, scale) = {
-        let mut solver = Solver::new(model);
-        let mut st = solver.initial_state();
-        st.py[0][0] += 0.05;
-        let e0 = solver.energy(&st).total();
-        let dt = solver.model().dt_s;
-        let mut d_prev = solver.dissipation_rate(&st);
+        let Stepper {
+            integ,
+            state: mut st,
+            mut ws,
+        } = Stepper::new(&setup).unwrap();
+        st.pantographs.u[0] += 0.05;
+        let e0 = system_energy(&integ, &st, &mut ws).total();
+        let dt = integ.dt_s();
+        let mut d_prev = dissipation_rate(&integ, &st, &mut ws);
         let mut dissipated = 0.0;
         let (mut worst, mut scale): (f64, f64) = (0.0, 0.0);
         for _ in 0..20_000 {
-            solver.step(&mut st);
-            let d = solver.dissipation_rate(&st);
+            integ.step(&mut st, &mut ws);
+            let d = dissipation_rate(&integ, &st, &mut ws);
             dissipated += 0.5 * dt * (d + d_prev);
             d_prev = d;
-            let e = solver.energy(&st).total();
+            let e = system_energy(&integ, &st, &mut ws).total();
             worst = worst.max((e - e0 + dissipated).abs());
             scale = scale.max((e - e0).abs()).max(dissipated);
         }
@@ -167,9 +176,9 @@ fn energy_balance_with_stitch_nodes() {
     // Stitched catenary: stitch nodes (mass, spring, damper) and stitch droppers that slacken.
     let mut case = with_moving_force(short_preset("stitched-2018-like", 5, 150.0), 400.0);
     case.run.dt_s = 2.5e-4;
-    let (model, _) = Model::from_case(&case).unwrap();
-    assert_eq!(model.stitches.len(), 2 * 5);
-    let (worst, scale, slack) = energy_residual(model, 20_000, Some(400.0));
+    let setup = Setup::from_case(&case).unwrap();
+    assert_eq!(setup.model.element::<Stitches>().unwrap().0.len(), 2 * 5);
+    let (worst, scale, slack) = energy_residual(setup, 20_000, Some(400.0));
     assert!(slack > 0);
     assert!(scale > 1.0, "scale {scale} J");
     assert!(

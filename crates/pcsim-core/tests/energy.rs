@@ -1,29 +1,33 @@
 //! Energy density (Eq. 20, consistent form) and the EVA criteria (Eq. 21).
 
-use pcsim_core::case::Damping;
-use pcsim_core::energy::{integrate, modal_energy, DensityGrid};
-use pcsim_core::eva::{eva_by_fraction, eva_by_step, window_energy};
-use pcsim_core::model::{Model, ModelBuilder};
-use pcsim_core::solver::Solver;
+use pcsim_core::analysis::energy::{integrate, modal_energy, DensityGrid};
+use pcsim_core::analysis::eva::{eva_by_fraction, eva_by_step, window_energy};
+use pcsim_core::input::case::Damping;
+use pcsim_core::model::{Direction, ModelBuilder, WireRole};
+use pcsim_core::solve::{Setup, Stepper};
 
-fn wire(l: f64, n: usize) -> Model {
-    ModelBuilder::single_wire(l, n, 1.35, 20_000.0, 195.0)
-        .damping(&Damping::Modal { ratio: 0.0 })
-        .run(0.0, 1.0, 1.0, 2e-4)
-        .build()
+fn wire(l: f64, n: usize) -> Setup {
+    Setup::from_builder(
+        ModelBuilder::single_wire(l, n, 1.35, 20_000.0, 195.0)
+            .damping(&Damping::Modal { ratio: 0.0 })
+            .run(0.0, 1.0, 1.0, 2e-4)
+            .build(),
+    )
 }
 
 #[test]
 fn single_mode_energy_is_half_m_v2_plus_half_k_x2() {
     let (l, n) = (120.0, 40);
-    let model = wire(l, n);
-    let mut st = Solver::new(model.clone()).initial_state();
+    let setup = wire(l, n);
+    let model = &setup.model;
+    let b = model.block(WireRole::Contact, Direction::Vertical).unwrap();
+    let mut st = Stepper::new(&setup).unwrap().state;
     let k = 7; // mode number 7
-    st.qc[k - 1] = 0.013;
-    st.vc[k - 1] = -0.21;
-    let mut grid = DensityGrid::new(&model, 4);
+    st.q_mut(model, b)[k - 1] = 0.013;
+    st.qdot_mut(model, b)[k - 1] = -0.21;
+    let mut grid = DensityGrid::new(model, 4).unwrap();
     let mut e = vec![0.0; grid.n_points()];
-    grid.density(&model, &st, &mut e);
+    grid.density(model, &st, &mut e);
     let kap = k as f64 * std::f64::consts::PI / l;
     let m = 1.35 * l / 2.0;
     let stiff = l / 2.0 * (20_000.0 * kap * kap + 195.0 * kap.powi(4));
@@ -49,26 +53,36 @@ fn free_undamped_wire_keeps_its_integrated_energy() {
     // Both wires, many modes excited, no damping, no point elements: ∫E dx stays constant (to
     // the integrator's O(Δt²) energy error) and equals the modal energy at every sample.
     let (l, n) = (200.0, 150);
-    let model = wire(l, n);
-    let mut solver = Solver::new(model.clone());
-    let mut st = solver.initial_state();
+    let setup = Setup::from_builder(
+        ModelBuilder::single_wire(l, n, 1.35, 20_000.0, 195.0)
+            .uncoupled_messenger(1.07, 16_000.0, 131.7)
+            .run(0.0, 1.0, 1.0, 2e-4)
+            .build(),
+    );
+    let model = setup.model.clone();
+    let c = model.block(WireRole::Contact, Direction::Vertical).unwrap();
+    let m = model
+        .block(WireRole::Messenger, Direction::Vertical)
+        .unwrap();
+    let mut s = Stepper::new(&setup).unwrap();
     for i in 0..n {
-        st.qc[i] = 0.02 / (1.0 + i as f64).powi(2) * if i % 3 == 0 { 1.0 } else { -0.5 };
-        st.qm[i] = 0.01 / (1.0 + i as f64).powi(2);
-        st.vm[i] = 0.05 / (1.0 + i as f64);
+        s.state.q_mut(&model, c)[i] =
+            0.02 / (1.0 + i as f64).powi(2) * if i % 3 == 0 { 1.0 } else { -0.5 };
+        s.state.q_mut(&model, m)[i] = 0.01 / (1.0 + i as f64).powi(2);
+        s.state.qdot_mut(&model, m)[i] = 0.05 / (1.0 + i as f64);
     }
-    let mut grid = DensityGrid::new(&model, 4);
+    let mut grid = DensityGrid::new(&model, 4).unwrap();
     let mut e = vec![0.0; grid.n_points()];
-    grid.density(&model, &st, &mut e);
+    grid.density(&model, &s.state, &mut e);
     let e0 = integrate(&e, grid.dx());
     assert!(e0 > 0.05, "{e0}");
     let mut worst: f64 = 0.0;
     for step in 1..=20_000 {
-        solver.step(&mut st);
+        s.step();
         if step % 1000 == 0 {
-            grid.density(&model, &st, &mut e);
+            grid.density(&model, &s.state, &mut e);
             let total = integrate(&e, grid.dx());
-            assert!((total - modal_energy(&model, &st)).abs() < 1e-9 * total);
+            assert!((total - modal_energy(&model, &s.state)).abs() < 1e-9 * total);
             worst = worst.max((total - e0).abs() / e0);
         }
     }

@@ -1,7 +1,7 @@
 //! Zero-phase Butterworth filters against SciPy's `sosfiltfilt(butter(...))` output, committed in
 //! `data/golden/filter_golden.csv` by `scripts/gen_filter_golden.py`.
 
-use pcsim_core::filter::{butter, Band};
+use pcsim_core::analysis::filter::{butter, Band};
 
 fn golden() -> (Vec<String>, Vec<Vec<Option<f64>>>) {
     let text = include_str!("../../../data/golden/filter_golden.csv");

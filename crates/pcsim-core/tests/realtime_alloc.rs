@@ -1,26 +1,35 @@
-//! The real-time step must not allocate: a counting global allocator watches 10 000 steps in
-//! each coupling mode, window moves included.
+//! Stepping must not allocate: a counting global allocator (per thread, so that tests running
+//! side by side do not disturb each other) watches 10 000 real-time steps in each coupling mode
+//! (window moves included), full-model steps, and the energy and dissipation evaluations.
 
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::cell::Cell;
 
+use pcsim_core::analysis::energy::{dissipation_rate, system_energy};
 use pcsim_core::presets;
-use pcsim_core::realtime::{Coupling, RealtimeCatenary};
+use pcsim_core::solve::realtime::{Coupling, RealtimeCatenary};
+use pcsim_core::solve::Stepper;
 
 struct Counting;
 
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    static ALLOCS: Cell<usize> = const { Cell::new(0) };
+}
+
+fn allocs() -> usize {
+    ALLOCS.with(|c| c.get())
+}
 
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::SeqCst);
+        ALLOCS.with(|c| c.set(c.get() + 1));
         unsafe { System.alloc(layout) }
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
         unsafe { System.dealloc(ptr, layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::SeqCst);
+        ALLOCS.with(|c| c.set(c.get() + 1));
         unsafe { System.realloc(ptr, layout, new_size) }
     }
 }
@@ -29,19 +38,19 @@ unsafe impl GlobalAlloc for Counting {
 static GLOBAL: Counting = Counting;
 
 #[test]
-fn ten_thousand_steps_allocate_nothing() {
+fn ten_thousand_realtime_steps_allocate_nothing() {
     let (case, _) = presets::load("syt-7.0-9.8").unwrap();
     for coupling in [Coupling::Sil, Coupling::Hil] {
-        let c0 = ALLOCS.load(Ordering::SeqCst);
+        let c0 = allocs();
         let mut rt = RealtimeCatenary::new(&case, 215.0, coupling).unwrap();
         assert!(
-            ALLOCS.load(Ordering::SeqCst) > c0,
+            allocs() > c0,
             "the counter must see the set-up's allocations"
         );
         let v = case.run.speed_kmh / 3.6;
         let x0 = case.run.start_m;
         let dt = rt.dt_s();
-        let before = ALLOCS.load(Ordering::SeqCst);
+        let before = allocs();
         let mut check = 0.0;
         for k in 0..10_000 {
             let t = k as f64 * dt;
@@ -49,7 +58,7 @@ fn ten_thousand_steps_allocate_nothing() {
             let o = rt.step();
             check += o.wire_height_m;
         }
-        let after = ALLOCS.load(Ordering::SeqCst);
+        let after = allocs();
         assert!(check.is_finite());
         assert!(
             rt.moves() >= 5,
@@ -63,4 +72,21 @@ fn ten_thousand_steps_allocate_nothing() {
             after - before
         );
     }
+}
+
+#[test]
+fn full_model_steps_and_energy_evaluations_allocate_nothing() {
+    // The stitched zoo model has every element kind: droppers, supports, arms, stitch nodes.
+    let setup = pcsim_core::zoo::model("stitched_three_spans").unwrap();
+    let mut s = Stepper::new(&setup).unwrap();
+    let before = allocs();
+    let mut check = 0.0;
+    for _ in 0..2_000 {
+        s.step();
+        check += system_energy(&s.integ, &s.state, &mut s.ws).total()
+            + dissipation_rate(&s.integ, &s.state, &mut s.ws);
+    }
+    let after = allocs();
+    assert!(check.is_finite() && check > 0.0);
+    assert_eq!(after - before, 0, "{} allocations", after - before);
 }

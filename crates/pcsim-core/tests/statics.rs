@@ -1,11 +1,11 @@
 //! Static shape from the design geometry: heights at the droppers within 1 mm of the design (by
 //! an independent modal solve of each wire, EI included), and the vertical force balance.
 
-use pcsim_core::basis::SineBasis;
-use pcsim_core::case::G;
+use pcsim_core::input::case::G;
+use pcsim_core::model::basis::SineBasis;
 use pcsim_core::model::static_balance;
+use pcsim_core::model::statics::{modal_static_deflection, presag_at_droppers, StaticSolution};
 use pcsim_core::presets;
-use pcsim_core::statics::{modal_static_deflection, presag_at_droppers, StaticSolution};
 
 fn check_heights(preset: &str) {
     let (mut case, _) = presets::load(preset).unwrap();
@@ -123,7 +123,7 @@ fn design_heights_within_1mm_stitched() {
 
 #[test]
 fn stitch_elements_take_the_stitch_droppers_and_soften_the_support() {
-    use pcsim_core::statics::stitch_stiffness;
+    use pcsim_core::model::statics::stitch_stiffness;
     let (case, _) = presets::load("stitched-2018-like").unwrap();
     let c = &case.catenary;
     let s = StaticSolution::solve(c);

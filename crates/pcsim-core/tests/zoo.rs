@@ -68,12 +68,12 @@ fn two_pantographs_matches_its_golden_history() {
 fn the_goldens_can_tell_a_wrong_answer() {
     // The same string with the moving force 1e-6 larger must fail the comparison.
     let mut m = zoo::model("taut_string").unwrap();
-    match &mut m.pantographs[0] {
-        pcsim_core::model::Pantograph::MovingForce { force_n, .. } => *force_n *= 1.0 + 1e-6,
+    match &mut m.model.pantographs[0].kind {
+        pcsim_core::model::PantographKind::MovingForce { force_n } => *force_n *= 1.0 + 1e-6,
         _ => unreachable!(),
     }
     let (_, rows) = golden("taut_string");
-    let t = zoo::trace_of(m);
+    let t = zoo::trace_of(&m);
     let c = 3; // load_height_m
     let scale = rows.iter().map(|r| r[c].abs()).fold(0.0, f64::max);
     let worst = t
@@ -88,7 +88,7 @@ fn the_goldens_can_tell_a_wrong_answer() {
 #[test]
 fn run_statistics_of_the_zoo() {
     for name in zoo::NAMES {
-        let out = pcsim_core::simulate(zoo::model(name).unwrap(), &mut |_| true).unwrap();
+        let out = pcsim_core::simulate(&zoo::model(name).unwrap(), &mut |_| true).unwrap();
         insta::assert_debug_snapshot!(*name, out.run_statistics);
     }
 }

@@ -2,7 +2,7 @@
 //! getting values, and the `do_step` contract.
 
 use pcsim_core::presets;
-use pcsim_core::realtime::{Coupling, RealtimeCatenary, RealtimeOutput, Snapshot};
+use pcsim_core::solve::realtime::{Coupling, RealtimeCatenary, RealtimeOutput, Snapshot};
 
 use crate::vars::{self, Causality, Kind};
 

@@ -1,7 +1,7 @@
 //! # pcsim-fmu
 //!
 //! An FMI 2.0 co-simulation FMU of pcsim's real-time catenary
-//! ([`pcsim_core::realtime::RealtimeCatenary`]). Standard library only: the Rust FMI crates in the
+//! ([`pcsim_core::solve::realtime::RealtimeCatenary`]). Standard library only: the Rust FMI crates in the
 //! registry return dangling pointers from string getters, enforce none of the standard's rules and
 //! do not catch panics (issue 6), so the 34 entry points are written by hand.
 //!

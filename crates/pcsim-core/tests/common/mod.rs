@@ -1,7 +1,7 @@
 //! The shared zoo of test models (after diffsol's test_models): short versions of the presets.
 #![allow(dead_code)]
 
-use pcsim_core::case::{Case, PantographCase};
+use pcsim_core::input::case::{Case, PantographCase};
 use pcsim_core::presets;
 
 /// The `en50318-2002` preset cut to `spans` spans with the pantograph run over the middle.

@@ -1,0 +1,138 @@
+//! `pcsim fmu build`: bundle the FMI 2.0 FMU; `pcsim fmu xml`: print its model description.
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, Subcommand};
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct FmuArgs {
+    #[command(subcommand)]
+    sub: FmuSub,
+}
+
+#[derive(Subcommand)]
+enum FmuSub {
+    /// Bundle `pcsim_fmu.fmu` (modelDescription.xml + binaries/linux64/pcsim_fmu.so).
+    Build {
+        /// Output directory.
+        #[arg(long, default_value = "out/fmu")]
+        out: PathBuf,
+        /// The shared library (default: libpcsim_fmu.so built beside this executable).
+        #[arg(long)]
+        lib: Option<PathBuf>,
+    },
+    /// Print the generated modelDescription.xml.
+    Xml,
+}
+
+/// CRC-32 (IEEE) for the zip container.
+fn crc32(data: &[u8]) -> u32 {
+    let mut table = [0u32; 256];
+    for (i, t) in table.iter_mut().enumerate() {
+        let mut c = i as u32;
+        for _ in 0..8 {
+            c = if c & 1 != 0 {
+                0xEDB8_8320 ^ (c >> 1)
+            } else {
+                c >> 1
+            };
+        }
+        *t = c;
+    }
+    let mut c = 0xFFFF_FFFFu32;
+    for &b in data {
+        c = table[((c ^ b as u32) & 0xFF) as usize] ^ (c >> 8);
+    }
+    c ^ 0xFFFF_FFFF
+}
+
+/// A zip archive with stored (uncompressed) entries. Written by hand (≈40 lines) rather than
+/// pulling a compression crate into the tree for two files.
+fn zip_stored(entries: &[(&str, Vec<u8>)]) -> Vec<u8> {
+    let mut out = Vec::new();
+    let mut central = Vec::new();
+    for (name, data) in entries {
+        let offset = out.len() as u32;
+        let crc = crc32(data);
+        let (n, len) = (name.len() as u16, data.len() as u32);
+        let mut h = Vec::new();
+        h.extend_from_slice(&0x0403_4b50u32.to_le_bytes());
+        h.extend_from_slice(&[20, 0, 0, 0, 0, 0, 0, 0, 0x21, 0]); // version, flags, method 0 (stored), time, date 1980-01-01
+        h.extend_from_slice(&crc.to_le_bytes());
+        h.extend_from_slice(&len.to_le_bytes());
+        h.extend_from_slice(&len.to_le_bytes());
+        h.extend_from_slice(&n.to_le_bytes());
+        h.extend_from_slice(&0u16.to_le_bytes());
+        out.extend_from_slice(&h);
+        out.extend_from_slice(name.as_bytes());
+        out.extend_from_slice(data);
+        central.extend_from_slice(&0x0201_4b50u32.to_le_bytes());
+        central.extend_from_slice(&[20, 3, 20, 0, 0, 0, 0, 0, 0x21, 0, 0x21, 0]);
+        central.extend_from_slice(&crc.to_le_bytes());
+        central.extend_from_slice(&len.to_le_bytes());
+        central.extend_from_slice(&len.to_le_bytes());
+        central.extend_from_slice(&n.to_le_bytes());
+        central.extend_from_slice(&[0, 0, 0, 0, 0, 0, 0, 0]); // extra, comment, disk, internal attrs
+        central.extend_from_slice(&(0o100644u32 << 16).to_le_bytes()); // external attrs: rw-r--r--
+        central.extend_from_slice(&offset.to_le_bytes());
+        central.extend_from_slice(name.as_bytes());
+    }
+    let cd_offset = out.len() as u32;
+    out.extend_from_slice(&central);
+    out.extend_from_slice(&0x0605_4b50u32.to_le_bytes());
+    out.extend_from_slice(&[0, 0, 0, 0]);
+    out.extend_from_slice(&(entries.len() as u16).to_le_bytes());
+    out.extend_from_slice(&(entries.len() as u16).to_le_bytes());
+    out.extend_from_slice(&(central.len() as u32).to_le_bytes());
+    out.extend_from_slice(&cd_offset.to_le_bytes());
+    out.extend_from_slice(&0u16.to_le_bytes());
+    out
+}
+
+fn find_lib() -> Result<PathBuf> {
+    let exe = std::env::current_exe().context("cannot locate the pcsim executable")?;
+    let dir = exe.parent().context("executable has no directory")?;
+    for p in [
+        dir.join("libpcsim_fmu.so"),
+        dir.join("deps").join("libpcsim_fmu.so"),
+    ] {
+        if p.exists() {
+            return Ok(p);
+        }
+    }
+    bail!("libpcsim_fmu.so not found beside {}; build it with `cargo build --release` (or pass --lib PATH)", exe.display())
+}
+
+pub fn fmu(a: FmuArgs) -> Result<i32> {
+    match a.sub {
+        FmuSub::Xml => {
+            print!("{}", pcsim_fmu::vars::model_description());
+            Ok(0)
+        }
+        FmuSub::Build { out, lib } => {
+            let lib = match lib {
+                Some(l) => l,
+                None => find_lib()?,
+            };
+            let so =
+                std::fs::read(&lib).with_context(|| format!("cannot read {}", lib.display()))?;
+            let xml = pcsim_fmu::vars::model_description().into_bytes();
+            let id = pcsim_fmu::MODEL_IDENTIFIER;
+            let zip = zip_stored(&[
+                ("modelDescription.xml", xml),
+                (&format!("binaries/linux64/{id}.so"), so),
+            ]);
+            std::fs::create_dir_all(&out)
+                .with_context(|| format!("cannot create {}", out.display()))?;
+            let path = out.join(format!("{id}.fmu"));
+            std::fs::write(&path, zip)
+                .with_context(|| format!("cannot write {}", path.display()))?;
+            println!(
+                "wrote {} (FMI 2.0 co-simulation, linux64, from {})",
+                path.display(),
+                lib.display()
+            );
+            Ok(0)
+        }
+    }
+}

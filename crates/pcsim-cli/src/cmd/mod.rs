@@ -1,0 +1,11 @@
+//! One file per command.
+
+pub mod bench;
+pub mod eva;
+pub mod fmu;
+pub mod hil;
+pub mod plot;
+pub mod presets;
+pub mod realtime;
+pub mod run;
+pub mod validate;

@@ -1,0 +1,164 @@
+//! `pcsim realtime`: the moving-window catenary (SIL) against the full model, for several window
+//! lengths (paper §4.2, Figs. 8–9).
+
+use anyhow::{Context, Result};
+use clap::Args;
+use pcsim_core::analysis::filter::lowpass_zero_phase;
+use pcsim_core::analysis::stats::CUTOFF_HZ;
+use pcsim_core::analysis::studies::window_study;
+use pcsim_core::input::targets::target_value;
+use pcsim_core::Setup;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct RealtimeArgs {
+    /// Case file (TOML). Give this or --preset.
+    case: Option<PathBuf>,
+    /// Embedded preset name.
+    #[arg(long)]
+    preset: Option<String>,
+    /// Window lengths, m (comma-separated).
+    #[arg(long, value_delimiter = ',', required = true)]
+    window: Vec<f64>,
+    /// Train speed, km/h (default: the case's).
+    #[arg(long)]
+    speed: Option<f64>,
+    /// Output directory.
+    #[arg(long, default_value = "out/realtime")]
+    out: PathBuf,
+    /// No plots.
+    #[arg(long)]
+    no_plot: bool,
+}
+
+/// Measured reference values of `[paper_realtime]` when the case is the SYT preset at 222 km/h.
+fn measured(case_name: &str, speed: f64) -> Option<(f64, f64)> {
+    if case_name != "syt-7.0-9.8" || (speed - 222.0).abs() > 1e-9 {
+        return None;
+    }
+    Some((
+        target_value("paper_realtime", "measured_mean_n")?,
+        target_value("paper_realtime", "measured_std_n")?,
+    ))
+}
+
+pub fn realtime(a: RealtimeArgs, quiet: bool) -> Result<i32> {
+    let mut case = crate::common::load_case(a.case.as_ref(), a.preset.as_deref())?;
+    if let Some(v) = a.speed {
+        case.run.speed_kmh = v;
+    }
+    case.pantographs.truncate(1);
+    let setup = Setup::from_case(&case)?;
+    for w in &setup.warnings {
+        eprintln!("warning: {w}");
+    }
+    let dt = setup.options.dt_s;
+    std::fs::create_dir_all(&a.out)
+        .with_context(|| format!("cannot create {}", a.out.display()))?;
+    let pb = crate::progress::bar("full model", quiet);
+    let study = window_study(&case, &a.window, None, &mut |f| {
+        pb.set_position((f * 1000.0) as u64);
+        true
+    })?;
+    pb.finish_and_clear();
+    let full = &study.full;
+    let runs = &study.windows;
+    let fs = full.pantographs[0]
+        .stats
+        .context("the pantograph did not cross the analysis section")?;
+    let name = crate::common::case_name(&case);
+    let reference = measured(&name, case.run.speed_kmh);
+    // Table.
+    let mut table =
+        String::from("window_m,modes,moves,mean_n,std_n,mean_error_percent,std_error_percent\n");
+    println!(
+        "{name} at {} km/h, 0–20 Hz contact force over {:?} m",
+        case.run.speed_kmh, case.run.analysis_m
+    );
+    println!(
+        "{:>10} {:>6} {:>6} {:>9} {:>8} {:>9} {:>9}",
+        "window [m]", "modes", "moves", "mean [N]", "σ [N]", "Δmean %", "Δσ %"
+    );
+    for (r, e) in runs.iter().zip(study.errors_percent()) {
+        let s = r
+            .stats
+            .context("window run did not cross the analysis section")?;
+        let (em, es) = e.context("window run did not cross the analysis section")?;
+        let _ = writeln!(
+            table,
+            "{},{},{},{:.4},{:.4},{:.3},{:.3}",
+            r.window_m, r.n_modes, r.moves, s.mean_n, s.std_n, em, es
+        );
+        println!(
+            "{:>10} {:>6} {:>6} {:>9.2} {:>8.2} {:>+9.2} {:>+9.2}",
+            r.window_m, r.n_modes, r.moves, s.mean_n, s.std_n, em, es
+        );
+    }
+    let _ = writeln!(
+        table,
+        "full,{},0,{:.4},{:.4},0,0",
+        full.n_modes, fs.mean_n, fs.std_n
+    );
+    println!(
+        "{:>10} {:>6} {:>6} {:>9.2} {:>8.2}",
+        "full", full.n_modes, "", fs.mean_n, fs.std_n
+    );
+    if let Some((m, s)) = reference {
+        let _ = writeln!(table, "measured,,,{m},{s},,");
+        println!(
+            "{:>10} {:>6} {:>6} {:>9.2} {:>8.2}   (paper §4.2)",
+            "measured", "", "", m, s
+        );
+    }
+    std::fs::write(a.out.join("realtime.csv"), table)?;
+    // Time histories (0–20 Hz) of the full model and each window.
+    let ff = lowpass_zero_phase(&full.pantographs[0].force_n, 1.0 / dt, CUTOFF_HZ);
+    let wf: Vec<Vec<f64>> = runs
+        .iter()
+        .map(|r| lowpass_zero_phase(&r.force_n, 1.0 / dt, CUTOFF_HZ))
+        .collect();
+    let mut ts = String::from("time_s,position_m,full_force_filtered_n");
+    for r in runs {
+        let _ = write!(ts, ",window_{}m_force_filtered_n", r.window_m);
+    }
+    ts.push('\n');
+    let n = ff
+        .len()
+        .min(wf.iter().map(|v| v.len()).min().unwrap_or(usize::MAX));
+    for k in 0..n {
+        let _ = write!(
+            ts,
+            "{:.6},{:.4},{:.4}",
+            full.time_s[k], full.pantographs[0].position_m[k], ff[k]
+        );
+        for w in &wf {
+            let _ = write!(ts, ",{:.4}", w[k]);
+        }
+        ts.push('\n');
+    }
+    std::fs::write(a.out.join("timeseries.csv"), ts)?;
+    println!(
+        "wrote {}/realtime.csv and {}/timeseries.csv",
+        a.out.display(),
+        a.out.display()
+    );
+    if !a.no_plot {
+        let files = crate::plot::realtime::draw_realtime(
+            &a.out,
+            &crate::plot::realtime::RealtimeFigures {
+                name: &name,
+                speed_kmh: case.run.speed_kmh,
+                analysis_m: case.run.analysis_m,
+                position_m: &full.pantographs[0].position_m[..n],
+                full_filtered_n: &ff[..n],
+                full_stats: fs,
+                windows: runs,
+                window_filtered_n: &wf,
+                measured: reference,
+            },
+        )?;
+        crate::plot::report(&files);
+    }
+    Ok(0)
+}

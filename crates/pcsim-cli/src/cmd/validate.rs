@@ -1,0 +1,115 @@
+//! `pcsim validate`: a validation's runs side by side, and the table of value against range.
+
+use anyhow::Result;
+use clap::Args;
+use pcsim_core::analysis::record::RunOutput;
+use pcsim_core::analysis::validation::ValidationPlan;
+
+use crate::common::run_with_progress;
+
+#[derive(Args)]
+pub struct ValidateArgs {
+    /// Validation to run: en50318-2002 or seed-table1.
+    #[arg(default_value = "en50318-2002")]
+    name: String,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    json: bool,
+    /// Exit with status 1 when a row fails.
+    #[arg(long)]
+    strict: bool,
+}
+
+pub fn validate(a: ValidateArgs, quiet: bool) -> Result<i32> {
+    let plan = ValidationPlan::new(&a.name)?;
+    // Each run is single-threaded and deterministic; the runs go side by side.
+    let runs: Vec<Result<(RunOutput, f64)>> = std::thread::scope(|s| {
+        let handles: Vec<_> = plan
+            .cases
+            .iter()
+            .map(|case| {
+                let label = format!("{} km/h", case.run.speed_kmh);
+                s.spawn(move || -> Result<(RunOutput, f64)> {
+                    let (out, wall, _) = run_with_progress(case, &label, quiet)?;
+                    Ok((out, wall))
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| {
+                h.join()
+                    .unwrap_or_else(|_| Err(anyhow::anyhow!("worker panicked")))
+            })
+            .collect()
+    });
+    let runs: Vec<(RunOutput, f64)> = runs.into_iter().collect::<Result<_>>()?;
+    let outputs: Vec<RunOutput> = runs.iter().map(|r| r.0.clone()).collect();
+    let report = plan.assemble(&outputs)?;
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        let v = &plan.validation;
+        println!(
+            "{}, preset `{}` (ranges from data/validation-targets.toml)",
+            v.title, v.preset
+        );
+        for (c, &k) in report.cases.iter().zip(&plan.run_of_target) {
+            let (out, wall) = &runs[k];
+            let who = c
+                .pantograph
+                .as_deref()
+                .map(|p| format!(", {p} pantograph"))
+                .unwrap_or_default();
+            println!(
+                "\n{} km/h{who}  ({:.1} s simulated in {wall:.1} s)",
+                c.speed_kmh,
+                out.simulated_time_s()
+            );
+            let paper = c.rows.iter().any(|r| r.paper_value.is_some());
+            if paper {
+                println!(
+                    "  {:<26} {:>8} {:>6}  {:>8} {:>6}  {:>14}",
+                    "quantity", "pcsim", "", "paper", "", "range"
+                );
+            } else {
+                println!(
+                    "  {:<26} {:>8} {:>6}  {:>14}",
+                    "quantity", "value", "result", "range"
+                );
+            }
+            for r in &c.rows {
+                let mark = |p: bool| if p { "pass" } else { "FAIL" };
+                let range = format!("[{}, {}]", r.range[0], r.range[1]);
+                match (r.paper_value, r.paper_pass) {
+                    (Some(pv), Some(pp)) => println!(
+                        "  {:<26} {:>8.1} {:>6}  {:>8.1} {:>6}  {:>14}",
+                        r.quantity,
+                        r.value,
+                        mark(r.pass),
+                        pv,
+                        mark(pp),
+                        range
+                    ),
+                    _ => println!(
+                        "  {:<26} {:>8.1} {:>6}  {:>14}",
+                        r.quantity,
+                        r.value,
+                        mark(r.pass),
+                        range
+                    ),
+                }
+            }
+        }
+        let rows = report.cases.iter().flat_map(|c| &c.rows);
+        let n = rows.clone().count();
+        let p = rows.clone().filter(|r| r.pass).count();
+        let pp = rows.clone().filter(|r| r.paper_pass == Some(true)).count();
+        if rows.clone().any(|r| r.paper_value.is_some()) {
+            println!("\n{p} of {n} rows pass (the paper's own values: {pp} of {n}). See docs/validation.md for the reasons.");
+        } else {
+            println!("\n{p} of {n} rows pass. Rows out of reach with the public data are explained in docs/validation.md.");
+        }
+    }
+    Ok(if a.strict && !report.all_pass { 1 } else { 0 })
+}

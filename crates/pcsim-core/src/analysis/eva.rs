@@ -1,0 +1,375 @@
+//! The effective vibration area (EVA): window energy around the pantograph (Eq. 21) and the window
+//! length at which it converges (paper §2.4; README §2.5–2.7).
+
+use crate::analysis::energy::{integrate, DensityGrid};
+use crate::error::SimError;
+use crate::solve::run::{run, Observer};
+use crate::solve::{Integrator, Setup, State, Workspace};
+
+/// Settings of an EVA evaluation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EvaSettings {
+    /// Step Δd between neighbouring window lengths, m.
+    pub step_m: f64,
+    /// Largest window length evaluated, m (default: the model length, so that the fraction
+    /// criterion always has an answer).
+    pub max_window_m: Option<f64>,
+    /// Paper's criterion: the step of E(d_e) between neighbours below this, J.
+    pub tolerance_j: f64,
+    /// Step-independent criterion: the window holding this fraction of the whole model's energy.
+    pub fraction: f64,
+    /// Snapshot when the leading pantograph passes this position (default: mid-model), m.
+    pub snapshot_at_m: Option<f64>,
+    /// Interval between samples for the maximum and the time average, s.
+    pub sample_every_s: f64,
+    /// Grid intervals per mode for the density.
+    pub points_per_mode: usize,
+}
+
+impl Default for EvaSettings {
+    fn default() -> Self {
+        Self {
+            step_m: 1.0,
+            max_window_m: None,
+            tolerance_j: 0.01,
+            fraction: 0.99,
+            snapshot_at_m: None,
+            sample_every_s: 0.1,
+            points_per_mode: 4,
+        }
+    }
+}
+
+/// Window energy `E(d) = ∫_{x_p − d/2}^{x_p + d/2} E(x) dx` (Eq. 21) for each `d`, from grid values
+/// `density` at `x_j = j·dx` (linear between grid points; clipped to the model).
+pub fn window_energy(density: &[f64], dx: f64, xp: f64, d: &[f64]) -> Vec<f64> {
+    let n = density.len();
+    let mut cum = vec![0.0; n];
+    for j in 1..n {
+        cum[j] = cum[j - 1] + 0.5 * dx * (density[j - 1] + density[j]);
+    }
+    let l = (n - 1) as f64 * dx;
+    let at = |x: f64| -> f64 {
+        let x = x.clamp(0.0, l);
+        let j = ((x / dx).floor() as usize).min(n - 2);
+        let t = x - j as f64 * dx;
+        let slope = (density[j + 1] - density[j]) / dx;
+        cum[j] + density[j] * t + 0.5 * slope * t * t
+    };
+    d.iter()
+        .map(|&w| at(xp + 0.5 * w) - at(xp - 0.5 * w))
+        .collect()
+}
+
+/// The paper's criterion (§2.4): the first `d_i` at which `E(d_{i+1}) − E(d_i) < tol`.
+pub fn eva_by_step(d: &[f64], e: &[f64], tol_j: f64) -> Option<f64> {
+    (0..e.len().saturating_sub(1))
+        .find(|&i| e[i + 1] - e[i] < tol_j)
+        .map(|i| d[i])
+}
+
+/// The step-independent criterion: the smallest `d` with `E(d) ≥ fraction · total` (linear
+/// interpolation between grid values).
+pub fn eva_by_fraction(d: &[f64], e: &[f64], total_j: f64, fraction: f64) -> Option<f64> {
+    let target = fraction * total_j;
+    let i = e.iter().position(|&v| v >= target)?;
+    if i == 0 {
+        return Some(d[0]);
+    }
+    let t = (target - e[i - 1]) / (e[i] - e[i - 1]);
+    Some(d[i - 1] + t * (d[i] - d[i - 1]))
+}
+
+/// One way of sampling the energy (snapshot, maximum over the passage, or time average).
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnergyView {
+    /// Density at the relative positions `xi_m` (x − x_p), J/m.
+    pub density_j_per_m: Vec<f64>,
+    /// Window energy at `EvaOutput::window_m`, J.
+    pub window_j: Vec<f64>,
+    /// Energy of the whole model, J.
+    pub total_j: f64,
+    /// EVA length by the paper's step criterion, m.
+    pub eva_step_m: Option<f64>,
+    /// EVA length by the fraction criterion, m.
+    pub eva_fraction_m: Option<f64>,
+    /// Window energy at the step-criterion EVA ("converged total energy"), J.
+    pub converged_j: Option<f64>,
+}
+
+impl EnergyView {
+    fn new(density: Vec<f64>, window: Vec<f64>, total: f64, d: &[f64], s: &EvaSettings) -> Self {
+        let eva_step_m = eva_by_step(d, &window, s.tolerance_j);
+        let converged_j = eva_step_m
+            .and_then(|e| d.iter().position(|&x| x == e))
+            .map(|i| window[i]);
+        Self {
+            eva_fraction_m: eva_by_fraction(d, &window, total, s.fraction),
+            density_j_per_m: density,
+            window_j: window,
+            total_j: total,
+            eva_step_m,
+            converged_j,
+        }
+    }
+}
+
+/// Energy distributions and EVA lengths of one run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EvaOutput {
+    pub settings: EvaSettings,
+    /// Relative positions x − x_p of the densities, m.
+    pub xi_m: Vec<f64>,
+    /// Window lengths d_e, m.
+    pub window_m: Vec<f64>,
+    /// Snapshot when the leading pantograph passes `snapshot_at_m`.
+    pub snapshot: EnergyView,
+    /// Maximum over the passage through the analysis section (pointwise in x − x_p and in d_e).
+    pub max: EnergyView,
+    /// Time average over the passage.
+    pub mean: EnergyView,
+    pub snapshot_at_m: f64,
+    pub samples: usize,
+}
+
+/// The energy sampler: an observer that evaluates the energy density around the leading
+/// pantograph at the snapshot and at regular times of its passage through the analysis section.
+struct EnergySampler<'a> {
+    s: &'a EvaSettings,
+    grid: DensityGrid,
+    dx: f64,
+    half: isize,
+    d: Vec<f64>,
+    snap_x: f64,
+    every: usize,
+    analysis: [f64; 2],
+    dens: Vec<f64>,
+    step: usize,
+    prev_x: f64,
+    snapshot: Option<EnergyView>,
+    max_d: Vec<f64>,
+    sum_d: Vec<f64>,
+    max_w: Vec<f64>,
+    sum_w: Vec<f64>,
+    max_total: f64,
+    sum_total: f64,
+    samples: usize,
+}
+
+impl EnergySampler<'_> {
+    /// The density at the relative positions x − x_p.
+    fn relative(&self, xp: f64) -> Vec<f64> {
+        let jp = (xp / self.dx).round() as isize;
+        (-self.half..=self.half)
+            .map(|i| {
+                let k = jp + i;
+                if k < 0 {
+                    0.0
+                } else {
+                    self.dens.get(k as usize).copied().unwrap_or(0.0)
+                }
+            })
+            .collect()
+    }
+}
+
+impl Observer for EnergySampler<'_> {
+    fn observe(
+        &mut self,
+        integ: &Integrator,
+        st: &mut State,
+        _ws: &Workspace,
+    ) -> Result<(), SimError> {
+        self.step += 1;
+        let xp = integ.position(st, 0);
+        let snap_now = self.snapshot.is_none() && self.prev_x < self.snap_x && xp >= self.snap_x;
+        let in_passage =
+            xp >= self.analysis[0] && xp <= self.analysis[1] && self.step % self.every == 0;
+        if snap_now || in_passage {
+            self.grid.density(integ.model(), st, &mut self.dens);
+            let total = integrate(&self.dens, self.dx);
+            let w = window_energy(&self.dens, self.dx, xp, &self.d);
+            if snap_now {
+                self.snapshot = Some(EnergyView::new(
+                    self.relative(xp),
+                    w.clone(),
+                    total,
+                    &self.d,
+                    self.s,
+                ));
+            }
+            if in_passage {
+                let rel = self.relative(xp);
+                for i in 0..rel.len() {
+                    self.max_d[i] = self.max_d[i].max(rel[i]);
+                    self.sum_d[i] += rel[i];
+                }
+                for i in 0..self.d.len() {
+                    self.max_w[i] = self.max_w[i].max(w[i]);
+                    self.sum_w[i] += w[i];
+                }
+                self.max_total = self.max_total.max(total);
+                self.sum_total += total;
+                self.samples += 1;
+            }
+        }
+        self.prev_x = xp;
+        Ok(())
+    }
+}
+
+/// Run a set-up and evaluate the energy distribution around the leading pantograph (Eqs. 20–21).
+pub fn run_eva(
+    setup: &Setup,
+    s: &EvaSettings,
+    progress: &mut dyn FnMut(f64) -> bool,
+) -> Result<EvaOutput, SimError> {
+    let l = setup.model.length_m();
+    let snap_x = s.snapshot_at_m.unwrap_or(0.5 * l);
+    let dt = setup.options.dt_s;
+    let n_steps = setup.n_steps();
+    let every = ((s.sample_every_s / dt).round() as usize).max(1);
+    let grid = DensityGrid::new(&setup.model, s.points_per_mode)?;
+    let dx = grid.dx();
+    let max_window = s.max_window_m.unwrap_or(l).min(2.0 * l);
+    let half = (0.5 * max_window / dx).round() as isize;
+    let xi: Vec<f64> = (-half..=half).map(|i| i as f64 * dx).collect();
+    let nd = (max_window / s.step_m).floor() as usize;
+    let d: Vec<f64> = (1..=nd).map(|i| i as f64 * s.step_m).collect();
+    let integ = setup.integrator()?;
+    let mut st = integ.initial_state(setup.plan.start_m);
+    let mut ws = integ.workspace();
+    let mut sampler = EnergySampler {
+        s,
+        dens: vec![0.0; grid.n_points()],
+        grid,
+        dx,
+        half,
+        snap_x,
+        every,
+        analysis: setup.plan.analysis_m,
+        step: 0,
+        prev_x: integ.position(&st, 0),
+        snapshot: None,
+        max_d: vec![0.0; xi.len()],
+        sum_d: vec![0.0; xi.len()],
+        max_w: vec![0.0; d.len()],
+        sum_w: vec![0.0; d.len()],
+        max_total: 0.0,
+        sum_total: 0.0,
+        samples: 0,
+        d,
+    };
+    run(
+        &integ,
+        &mut st,
+        &mut ws,
+        n_steps,
+        &mut [&mut sampler],
+        progress,
+    )?;
+    let snapshot = sampler.snapshot.take().ok_or_else(|| {
+        SimError::Case(crate::error::CaseError::Invalid {
+            field: "eva.snapshot_at_m".into(),
+            value: snap_x.to_string(),
+            reason: "the leading pantograph never passes this position during the run".into(),
+        })
+    })?;
+    let ns = sampler.samples.max(1) as f64;
+    let mean_d: Vec<f64> = sampler.sum_d.iter().map(|v| v / ns).collect();
+    let mean_w: Vec<f64> = sampler.sum_w.iter().map(|v| v / ns).collect();
+    let d = sampler.d;
+    Ok(EvaOutput {
+        max: EnergyView::new(sampler.max_d, sampler.max_w, sampler.max_total, &d, s),
+        mean: EnergyView::new(mean_d, mean_w, sampler.sum_total / ns, &d, s),
+        snapshot,
+        settings: s.clone(),
+        xi_m: xi,
+        window_m: d,
+        snapshot_at_m: snap_x,
+        samples: sampler.samples,
+    })
+}
+
+/// One row of an EVA sweep (`eva.csv`): the case, the settings and every EVA variant.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct EvaRow {
+    pub index: usize,
+    pub speed_kmh: f64,
+    pub tension_kn: f64,
+    pub damping: String,
+    pub step_m: f64,
+    pub tolerance_j: f64,
+    pub fraction: f64,
+    /// EVA of the snapshot by the paper's step criterion, m (`None`: not reached).
+    pub eva_step_m: Option<f64>,
+    /// EVA of the snapshot by the fraction criterion, m.
+    pub eva_fraction_m: Option<f64>,
+    /// Window energy of the snapshot at its step-criterion EVA, J.
+    pub converged_energy_j: Option<f64>,
+    /// Energy of the whole model at the snapshot, J.
+    pub total_energy_j: f64,
+    pub eva_step_max_m: Option<f64>,
+    pub eva_fraction_max_m: Option<f64>,
+    pub eva_step_mean_m: Option<f64>,
+    pub eva_fraction_mean_m: Option<f64>,
+}
+
+impl EvaRow {
+    /// The CSV header of `eva.csv`.
+    pub const HEADER: &'static str = "index,speed_kmh,tension_kn,damping,step_m,tolerance_j,fraction,eva_step_m,eva_fraction_m,converged_energy_j,total_energy_j,eva_step_max_m,eva_fraction_max_m,eva_step_mean_m,eva_fraction_mean_m";
+
+    /// The row of case `index` of a sweep.
+    pub fn new(
+        index: usize,
+        speed_kmh: f64,
+        tension_kn: f64,
+        damping: &str,
+        o: &EvaOutput,
+    ) -> Self {
+        let s = &o.settings;
+        EvaRow {
+            index,
+            speed_kmh,
+            tension_kn,
+            damping: damping.to_string(),
+            step_m: s.step_m,
+            tolerance_j: s.tolerance_j,
+            fraction: s.fraction,
+            eva_step_m: o.snapshot.eva_step_m,
+            eva_fraction_m: o.snapshot.eva_fraction_m,
+            converged_energy_j: o.snapshot.converged_j,
+            total_energy_j: o.snapshot.total_j,
+            eva_step_max_m: o.max.eva_step_m,
+            eva_fraction_max_m: o.max.eva_fraction_m,
+            eva_step_mean_m: o.mean.eva_step_m,
+            eva_fraction_mean_m: o.mean.eva_fraction_m,
+        }
+    }
+
+    /// The CSV line (lengths to 1 mm, energies to 1 µJ; an empty cell where a criterion was not
+    /// reached).
+    pub fn to_csv(&self) -> String {
+        let opt = |v: Option<f64>| v.map(|x| format!("{x:.3}")).unwrap_or_default();
+        format!(
+            "{},{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{}",
+            self.index,
+            self.speed_kmh,
+            self.tension_kn,
+            self.damping,
+            self.step_m,
+            self.tolerance_j,
+            self.fraction,
+            opt(self.eva_step_m),
+            opt(self.eva_fraction_m),
+            self.converged_energy_j
+                .map(|x| format!("{x:.6}"))
+                .unwrap_or_default(),
+            self.total_energy_j,
+            opt(self.eva_step_max_m),
+            opt(self.eva_fraction_max_m),
+            opt(self.eva_step_mean_m),
+            opt(self.eva_fraction_mean_m),
+        )
+    }
+}

@@ -1,0 +1,22 @@
+//! What the runs mean: filters, the EN 50318 statistics, the energy density and the EVA,
+//! validation against published ranges, sweeps, and studies.
+//!
+//! | file | what it holds |
+//! |---|---|
+//! | `filter.rs` | zero-phase Butterworth filters (SciPy-compatible) |
+//! | `stats.rs` | the EN 50318 contact-force statistics |
+//! | `record.rs` | the EN 50318 recorder (an observer) and `simulate` |
+//! | `energy.rs` | the energy density (Eq. 20), system energy and dissipation |
+//! | `eva.rs` | window energy (Eq. 21), the EVA criteria, the energy sampler (an observer) |
+//! | `validation.rs` | which cases, which targets, the validation table |
+//! | `sweep.rs` | grids of cases, shards, parallel execution, merge |
+//! | `studies.rs` | the real-time window against the full model |
+
+pub mod energy;
+pub mod eva;
+pub mod filter;
+pub mod record;
+pub mod stats;
+pub mod studies;
+pub mod sweep;
+pub mod validation;

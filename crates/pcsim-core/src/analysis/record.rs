@@ -1,0 +1,186 @@
+//! A run with the EN 50318 recorder: the observer that records what each pantograph sees, and
+//! [`simulate`], which runs a set-up through the one run loop and takes the statistics.
+
+use crate::analysis::filter::lowpass_zero_phase;
+use crate::analysis::stats::{contact_stats, ContactStats, CUTOFF_HZ};
+use crate::error::SimError;
+use crate::input::case::Case;
+use crate::solve::run::{run, Observer, RunStatistics};
+use crate::solve::{Integrator, Setup, State, Workspace};
+
+/// Time histories of one pantograph.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PantographTrace {
+    pub name: String,
+    /// Position along the track, m.
+    pub position_m: Vec<f64>,
+    /// Raw contact force, N.
+    pub force_n: Vec<f64>,
+    /// Contact force low-pass filtered at 20 Hz with zero phase, N.
+    pub force_filtered_n: Vec<f64>,
+    /// Contact-wire height at the contact point, m.
+    pub wire_height_m: Vec<f64>,
+    /// See [`ContactStats::max_uplift_at_support_mm`], m.
+    pub max_uplift_at_support_m: f64,
+    pub stats: Option<ContactStats>,
+}
+
+/// Everything a run produced.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunOutput {
+    pub speed_m_s: f64,
+    pub dt_s: f64,
+    pub time_s: Vec<f64>,
+    pub analysis_m: [f64; 2],
+    pub pantographs: Vec<PantographTrace>,
+    /// Largest number of droppers slack at once.
+    pub max_slack_droppers: usize,
+    /// Share of steps with at least one slack dropper, %.
+    pub steps_with_slack_percent: f64,
+    pub n_modes: usize,
+    /// Counters of what the run loop saw (snapshot-tested on the zoo).
+    pub run_statistics: RunStatistics,
+}
+
+impl RunOutput {
+    /// Simulated time, s.
+    pub fn simulated_time_s(&self) -> f64 {
+        self.time_s.last().copied().unwrap_or(0.0)
+    }
+}
+
+/// The EN 50318 recorder: time, and per pantograph its track position, contact force and
+/// contact-wire height, and the largest uplift of the contact wire at a registration point while
+/// the pantograph passes it inside the analysis section.
+#[derive(Debug, Clone)]
+pub struct Recorder {
+    time: Vec<f64>,
+    pos: Vec<Vec<f64>>,
+    force: Vec<Vec<f64>>,
+    height: Vec<Vec<f64>>,
+    uplift: Vec<f64>,
+    span_m: Option<f64>,
+    analysis_m: [f64; 2],
+    /// Registration point of support number `j` (`round(x / span)`), by `j`.
+    support: Vec<Option<usize>>,
+}
+
+impl Recorder {
+    /// A recorder for `n_steps` steps of `integ`'s model over the analysis section (track
+    /// coordinates).
+    pub fn new(integ: &Integrator, n_steps: usize, analysis_m: [f64; 2]) -> Self {
+        let np = integ.model().pantographs.len();
+        let span_m = integ.model().span_m;
+        let mut support = Vec::new();
+        if let Some(span) = span_m {
+            for (k, &x) in integ.monitor_positions().iter().enumerate() {
+                let j = (x / span).round();
+                if j >= 0.0 && (x - j * span).abs() < 1e-6 {
+                    let j = j as usize;
+                    if support.len() <= j {
+                        support.resize(j + 1, None);
+                    }
+                    support[j] = Some(k);
+                }
+            }
+        }
+        Recorder {
+            time: Vec::with_capacity(n_steps),
+            pos: vec![Vec::with_capacity(n_steps); np],
+            force: vec![Vec::with_capacity(n_steps); np],
+            height: vec![Vec::with_capacity(n_steps); np],
+            uplift: vec![0.0; np],
+            span_m,
+            analysis_m,
+            support,
+        }
+    }
+
+    /// The statistics and traces of the recorded run.
+    pub fn finish(mut self, integ: &Integrator, rs: RunStatistics) -> RunOutput {
+        let m = integ.model();
+        let dt = integ.dt_s();
+        let fs = 1.0 / dt;
+        let pantographs = (0..m.pantographs.len())
+            .map(|p| {
+                let filtered = lowpass_zero_phase(&self.force[p], fs, CUTOFF_HZ);
+                let stats = contact_stats(
+                    &self.force[p],
+                    &self.pos[p],
+                    &self.height[p],
+                    dt,
+                    self.analysis_m,
+                    self.uplift[p],
+                );
+                PantographTrace {
+                    name: m.pantographs[p].name.clone(),
+                    position_m: std::mem::take(&mut self.pos[p]),
+                    force_n: std::mem::take(&mut self.force[p]),
+                    force_filtered_n: filtered,
+                    wire_height_m: std::mem::take(&mut self.height[p]),
+                    max_uplift_at_support_m: self.uplift[p],
+                    stats,
+                }
+            })
+            .collect();
+        RunOutput {
+            speed_m_s: integ.speed_m_s(),
+            dt_s: dt,
+            time_s: self.time,
+            analysis_m: self.analysis_m,
+            pantographs,
+            max_slack_droppers: rs.max_slack_droppers as usize,
+            steps_with_slack_percent: 100.0 * rs.steps_with_slack_dropper as f64
+                / rs.steps.max(1) as f64,
+            n_modes: m.n_modes(),
+            run_statistics: rs,
+        }
+    }
+}
+
+impl Observer for Recorder {
+    fn observe(
+        &mut self,
+        integ: &Integrator,
+        st: &mut State,
+        ws: &Workspace,
+    ) -> Result<(), SimError> {
+        self.time.push(st.t);
+        let origin = st.track_origin_m;
+        for (p, s) in ws.samples().iter().enumerate() {
+            self.pos[p].push(s.position_m + origin);
+            self.force[p].push(s.force_n);
+            self.height[p].push(s.wire_height_m);
+            if let Some(span) = self.span_m {
+                let j = (s.position_m / span).round();
+                let xs = j * span + origin;
+                if j >= 0.0 && xs >= self.analysis_m[0] && xs <= self.analysis_m[1] {
+                    if let Some(Some(k)) = self.support.get(j as usize) {
+                        self.uplift[p] = self.uplift[p].max(integ.monitor(ws, *k));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Run a case (validated first).
+pub fn run_case(case: &Case, progress: &mut dyn FnMut(f64) -> bool) -> Result<RunOutput, SimError> {
+    simulate(&Setup::from_case(case)?, progress)
+}
+
+/// Simulate a set-up over its plan and take the EN 50318 statistics. `progress(fraction)` is
+/// called every few hundred steps; returning `false` cancels the run.
+pub fn simulate(
+    setup: &Setup,
+    progress: &mut dyn FnMut(f64) -> bool,
+) -> Result<RunOutput, SimError> {
+    let integ = setup.integrator()?;
+    let mut st = integ.initial_state(setup.plan.start_m);
+    let mut ws = integ.workspace();
+    let n_steps = setup.n_steps();
+    let mut rec = Recorder::new(&integ, n_steps, setup.plan.analysis_m);
+    let rs = run(&integ, &mut st, &mut ws, n_steps, &mut [&mut rec], progress)?;
+    Ok(rec.finish(&integ, rs))
+}

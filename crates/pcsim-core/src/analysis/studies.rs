@@ -1,0 +1,118 @@
+//! Studies built from several runs: the real-time window against the full model (paper §4.2,
+//! Figs. 8–9).
+
+use crate::analysis::record::{simulate, Recorder, RunOutput};
+use crate::analysis::stats::ContactStats;
+use crate::analysis::sweep::parallel_map;
+use crate::error::{CaseError, SimError};
+use crate::input::case::{Case, PantographCase};
+use crate::solve::realtime::{Coupling, RealtimeCatenary};
+use crate::solve::run::run;
+use crate::solve::Setup;
+
+/// Result of a window run in SIL mode.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WindowRun {
+    pub window_m: f64,
+    pub n_modes: usize,
+    pub moves: usize,
+    pub time_s: Vec<f64>,
+    pub position_m: Vec<f64>,
+    pub force_n: Vec<f64>,
+    pub stats: Option<ContactStats>,
+}
+
+/// Run `case` with the window model in SIL mode over the same time as the full model (the one
+/// run loop, with the EN 50318 recorder and the window mover as observers), and take the
+/// statistics of the leading pantograph over the case's analysis section.
+pub fn run_window_sil(case: &Case, window_m: f64) -> Result<WindowRun, SimError> {
+    if !matches!(
+        case.pantographs.first(),
+        Some(PantographCase::Lumped { .. })
+    ) {
+        return Err(SimError::Case(CaseError::Invalid {
+            field: "pantographs[0].kind".into(),
+            value: "moving_force".into(),
+            reason: "SIL needs a lumped pantograph".into(),
+        }));
+    }
+    let mut single = case.clone();
+    single.pantographs.truncate(1);
+    let mut rt = RealtimeCatenary::new(&single, window_m, Coupling::Sil)?;
+    let (duration_s, analysis_m) = rt.full_run();
+    let n_steps = (duration_s / rt.dt_s()).ceil() as usize;
+    let n_modes = rt.n_modes();
+    let (integ, st, ws, mover) = rt.parts_mut();
+    let mut rec = Recorder::new(integ, n_steps, analysis_m);
+    let rs = run(integ, st, ws, n_steps, &mut [&mut rec, mover], &mut |_| {
+        true
+    })
+    .map_err(|e| match e {
+        SimError::BlowUp {
+            time_s,
+            position_m,
+            what,
+        } => SimError::BlowUp {
+            time_s,
+            position_m,
+            what: format!("window {window_m} m: {what}"),
+        },
+        other => other,
+    })?;
+    let mut out = rec.finish(integ, rs);
+    let p = out.pantographs.swap_remove(0);
+    Ok(WindowRun {
+        window_m,
+        n_modes,
+        moves: rs.window_moves as usize,
+        time_s: out.time_s,
+        position_m: p.position_m,
+        force_n: p.force_n,
+        stats: p.stats,
+    })
+}
+
+/// The window study: the full model and the window model at each length, leading pantograph.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WindowStudy {
+    pub full: RunOutput,
+    pub windows: Vec<WindowRun>,
+}
+
+impl WindowStudy {
+    /// Relative errors (%) of the window's mean and σ of the 0–20 Hz force against the full
+    /// model, per window (`None` where a run did not cross the analysis section).
+    pub fn errors_percent(&self) -> Vec<Option<(f64, f64)>> {
+        let Some(fs) = self.full.pantographs[0].stats else {
+            return vec![None; self.windows.len()];
+        };
+        self.windows
+            .iter()
+            .map(|r| {
+                r.stats.map(|s| {
+                    (
+                        100.0 * (s.mean_n - fs.mean_n) / fs.mean_n,
+                        100.0 * (s.std_n - fs.std_n) / fs.std_n,
+                    )
+                })
+            })
+            .collect()
+    }
+}
+
+/// Run the full model of `case` (leading pantograph only), then the window model at every length
+/// in `windows_m` side by side on up to `jobs` threads.
+pub fn window_study(
+    case: &Case,
+    windows_m: &[f64],
+    jobs: Option<usize>,
+    progress: &mut dyn FnMut(f64) -> bool,
+) -> Result<WindowStudy, SimError> {
+    let mut single = case.clone();
+    single.pantographs.truncate(1);
+    let full = simulate(&Setup::from_case(&single)?, progress)?;
+    let windows = parallel_map(windows_m, jobs, |&w| run_window_sil(&single, w))
+        .into_iter()
+        .collect::<Result<_, _>>()?;
+    Ok(WindowStudy { full, windows })
+}

@@ -1,0 +1,198 @@
+//! Sweeps: a grid of cases over speed, tension and damping, split into shards, run in parallel,
+//! and merged back by case index. Each case runs single-threaded and deterministically, so a
+//! sweep gives the same bytes with any number of threads or shards.
+
+use crate::error::CaseError;
+use crate::input::case::{Case, Damping};
+use crate::solve::Setup;
+
+/// Map `f` over `items` on a pool of `jobs` threads (`None`: all cores), keeping the order.
+pub fn parallel_map<T: Sync, R: Send>(
+    items: &[T],
+    jobs: Option<usize>,
+    f: impl Fn(&T) -> R + Sync + Send,
+) -> Vec<R> {
+    use rayon::prelude::*;
+    match rayon::ThreadPoolBuilder::new()
+        .num_threads(jobs.unwrap_or(0))
+        .build()
+    {
+        Ok(pool) => pool.install(|| items.par_iter().map(&f).collect()),
+        Err(_) => items.iter().map(f).collect(),
+    }
+}
+
+/// A damping law as given on a command line: `preset` (the case's own), `rayleigh:ALPHA:BETA`
+/// or `modal:RATIO`.
+pub fn parse_damping(s: &str, preset: &Damping) -> Result<Damping, CaseError> {
+    let bad = |reason: &str| CaseError::Invalid {
+        field: "--damping".into(),
+        value: s.into(),
+        reason: reason.into(),
+    };
+    let num = |x: &str| -> Result<f64, CaseError> {
+        let v: f64 = x
+            .parse()
+            .map_err(|_| bad(&format!("`{x}` is not a number")))?;
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(bad("values must be finite and ≥ 0"));
+        }
+        Ok(v)
+    };
+    let parts: Vec<&str> = s.split(':').collect();
+    Ok(match parts.as_slice() {
+        ["preset"] => preset.clone(),
+        ["rayleigh", a, b] => Damping::Rayleigh {
+            alpha: num(a)?,
+            beta: num(b)?,
+        },
+        ["modal", z] => Damping::Modal { ratio: num(z)? },
+        _ => return Err(bad("use `preset`, `rayleigh:ALPHA:BETA` or `modal:RATIO`")),
+    })
+}
+
+/// The label of a damping law, as [`parse_damping`] reads it.
+pub fn damping_label(d: &Damping) -> String {
+    match d {
+        Damping::Rayleigh { alpha, beta } => format!("rayleigh:{alpha}:{beta}"),
+        Damping::Modal { ratio } => format!("modal:{ratio}"),
+    }
+}
+
+/// A shard `I/N` of a sweep: the cases with index ≡ I (mod N).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    pub index: usize,
+    pub count: usize,
+}
+
+impl Shard {
+    /// The whole sweep.
+    pub const ALL: Shard = Shard { index: 0, count: 1 };
+
+    /// Parse `I/N`.
+    pub fn parse(s: &str) -> Result<Shard, CaseError> {
+        let bad = |reason: &str| CaseError::Invalid {
+            field: "--shard".into(),
+            value: s.into(),
+            reason: reason.into(),
+        };
+        let (i, n) = s.split_once('/').ok_or_else(|| bad("use I/N, e.g. 0/4"))?;
+        let i: usize = i.trim().parse().map_err(|_| bad("I is not a number"))?;
+        let n: usize = n.trim().parse().map_err(|_| bad("N is not a number"))?;
+        if n == 0 || i >= n {
+            return Err(bad("need 0 ≤ I < N"));
+        }
+        Ok(Shard { index: i, count: n })
+    }
+
+    /// Whether case `index` belongs to this shard.
+    pub fn contains(&self, index: usize) -> bool {
+        index % self.count == self.index
+    }
+}
+
+/// A grid of cases: every damping × tension × speed (speed fastest).
+#[derive(Debug, Clone)]
+pub struct Grid {
+    pub base: Case,
+    pub speeds_kmh: Vec<f64>,
+    pub tensions_n: Vec<f64>,
+    pub dampings: Vec<Damping>,
+}
+
+/// One case of a grid.
+#[derive(Debug, Clone)]
+pub struct Job {
+    pub index: usize,
+    pub speed_kmh: f64,
+    /// Contact-wire tension, N.
+    pub tension_n: f64,
+    pub damping: String,
+    pub case: Case,
+}
+
+impl Grid {
+    /// The grid over the base case's own speed, tension and damping where an axis is empty.
+    pub fn new(
+        base: Case,
+        speeds_kmh: Vec<f64>,
+        tensions_n: Vec<f64>,
+        dampings: Vec<Damping>,
+    ) -> Self {
+        let speeds_kmh = if speeds_kmh.is_empty() {
+            vec![base.run.speed_kmh]
+        } else {
+            speeds_kmh
+        };
+        let tensions_n = if tensions_n.is_empty() {
+            vec![base.catenary.contact_wire.tension_n]
+        } else {
+            tensions_n
+        };
+        let dampings = if dampings.is_empty() {
+            vec![base.catenary.damping.clone()]
+        } else {
+            dampings
+        };
+        Grid {
+            base,
+            speeds_kmh,
+            tensions_n,
+            dampings,
+        }
+    }
+
+    /// Every case of the grid, each validated up front (a bad grid point fails before any work
+    /// is done; the error names the case).
+    pub fn jobs(&self) -> Result<Vec<Job>, CaseError> {
+        let mut jobs = Vec::new();
+        for d in &self.dampings {
+            let label = damping_label(d);
+            for &t in &self.tensions_n {
+                for &v in &self.speeds_kmh {
+                    let index = jobs.len();
+                    let mut c = self.base.clone();
+                    c.run.speed_kmh = v;
+                    c.catenary.contact_wire.tension_n = t;
+                    c.catenary.damping = d.clone();
+                    Setup::from_case(&c).map_err(|e| CaseError::InCase {
+                        case: format!("case {index} ({v} km/h, {} kN, {label})", t / 1e3),
+                        source: Box::new(e),
+                    })?;
+                    jobs.push(Job {
+                        index,
+                        speed_kmh: v,
+                        tension_n: t,
+                        damping: label.clone(),
+                        case: c,
+                    });
+                }
+            }
+        }
+        Ok(jobs)
+    }
+}
+
+/// Merge the rows of shards (case index, row): sorted by index; every index from 0 to the last
+/// exactly once.
+pub fn merge_rows(mut rows: Vec<(usize, String)>) -> Result<Vec<(usize, String)>, CaseError> {
+    rows.sort_by_key(|r| r.0);
+    for w in rows.windows(2) {
+        if w[0].0 == w[1].0 {
+            return Err(CaseError::Invalid {
+                field: "shards".into(),
+                value: format!("case {}", w[0].0),
+                reason: "the case appears in more than one shard".into(),
+            });
+        }
+    }
+    if let Some((k, _)) = rows.iter().enumerate().find(|(k, r)| *k != r.0) {
+        return Err(CaseError::Invalid {
+            field: "shards".into(),
+            value: format!("case {k}"),
+            reason: "the case is missing from the shards".into(),
+        });
+    }
+    Ok(rows)
+}

@@ -1,0 +1,238 @@
+//! Validation against published acceptance ranges (`data/validation-targets.toml`, embedded):
+//! which preset, which targets, the runs they need, and the table of value against range.
+
+use serde::Serialize;
+
+use crate::analysis::record::{run_case, RunOutput};
+use crate::analysis::stats::ContactStats;
+use crate::analysis::sweep::parallel_map;
+use crate::error::{CaseError, SimError};
+use crate::input::case::Case;
+use crate::input::presets;
+pub use crate::input::targets::{target_cases, TargetCase, QUANTITIES, TARGETS_TOML};
+
+/// One row of a validation table.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Row {
+    pub quantity: String,
+    pub value: f64,
+    pub range: [f64; 2],
+    pub pass: bool,
+    /// The seed paper's own value, where the targets give one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub paper_value: Option<f64>,
+    /// Whether the paper's value lies in the range.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub paper_pass: Option<bool>,
+}
+
+/// A speed case of a validation.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CaseRows {
+    pub speed_kmh: f64,
+    /// "leading" or "trailing" where the targets distinguish pantographs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pantograph: Option<String>,
+    pub rows: Vec<Row>,
+}
+
+/// The value of quantity `q` (one of [`QUANTITIES`]) in `s`.
+pub fn stat_value(s: &ContactStats, q: &str) -> Option<f64> {
+    Some(match q {
+        "mean" => s.mean_n,
+        "std" => s.std_n,
+        "std_0_5hz" => s.std_0_5hz_n,
+        "std_5_20hz" => s.std_5_20hz_n,
+        "stat_max" => s.stat_max_n,
+        "stat_min" => s.stat_min_n,
+        "actual_max" => s.actual_max_n,
+        "actual_min" => s.actual_min_n,
+        "contact_point_range_mm" => s.contact_point_range_mm,
+        "max_uplift_at_support_mm" => s.max_uplift_at_support_mm,
+        "loss_of_contact_percent" => s.loss_of_contact_percent,
+        _ => return None,
+    })
+}
+
+/// Compare statistics with a target case. Values are compared after rounding to the ranges'
+/// own precision (0.1 N/mm/%); a single-value range such as `[169, 169]` gets ±0.5.
+pub fn compare(stats: &ContactStats, target: &TargetCase) -> CaseRows {
+    let rows = target
+        .ranges
+        .iter()
+        .filter_map(|(q, r)| {
+            let v = stat_value(stats, q)?;
+            let inside = |v: f64| {
+                let (lo, hi) = if r[0] == r[1] && r[0] != 0.0 {
+                    (r[0] - 0.5, r[1] + 0.5)
+                } else {
+                    (r[0].min(r[1]), r[0].max(r[1]))
+                };
+                let vr = (v * 10.0).round() / 10.0;
+                vr >= lo && vr <= hi
+            };
+            let paper_value = target.paper.iter().find(|(k, _)| k == q).map(|(_, v)| *v);
+            Some(Row {
+                quantity: q.clone(),
+                value: v,
+                range: *r,
+                pass: inside(v),
+                paper_value,
+                paper_pass: paper_value.map(inside),
+            })
+        })
+        .collect();
+    CaseRows {
+        speed_kmh: target.speed_kmh,
+        pantograph: target.pantograph.clone(),
+        rows,
+    }
+}
+
+/// A validation pcsim knows: its preset and its table of targets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Validation {
+    pub name: &'static str,
+    pub preset: &'static str,
+    pub table: &'static str,
+    pub title: &'static str,
+}
+
+/// Every validation, by name.
+pub const VALIDATIONS: &[Validation] = &[
+    Validation {
+        name: "en50318-2002",
+        preset: "en50318-2002",
+        table: "en50318_2002",
+        title: "EN 50318:2002 validation",
+    },
+    Validation {
+        name: "seed-table1",
+        preset: "stitched-2018-like",
+        table: "seed_table1",
+        title: "The seed paper's Table 1 (ranges quoted there from EN 50318:2018; our model is built from public data, not the standard's)",
+    },
+];
+
+/// The runs a validation needs and how its targets map onto them.
+#[derive(Debug, Clone)]
+pub struct ValidationPlan {
+    pub validation: Validation,
+    pub targets: Vec<TargetCase>,
+    /// One case per distinct target speed (targets within 1e-9 km/h share a run).
+    pub cases: Vec<Case>,
+    /// For each target, the index of its run in `cases`.
+    pub run_of_target: Vec<usize>,
+}
+
+/// The result: the JSON of `pcsim validate --json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ValidationReport {
+    pub all_pass: bool,
+    pub cases: Vec<CaseRows>,
+}
+
+impl ValidationPlan {
+    /// The plan of validation `name`.
+    pub fn new(name: &str) -> Result<Self, CaseError> {
+        let validation =
+            *VALIDATIONS
+                .iter()
+                .find(|v| v.name == name)
+                .ok_or_else(|| CaseError::Invalid {
+                    field: "validation".into(),
+                    value: name.into(),
+                    reason: format!(
+                        "unknown validation (available: {})",
+                        VALIDATIONS
+                            .iter()
+                            .map(|v| v.name)
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                })?;
+        let base = presets::load(validation.preset)?.0;
+        let mut targets = target_cases(validation.table)?;
+        targets.sort_by(|a, b| {
+            a.speed_kmh
+                .total_cmp(&b.speed_kmh)
+                .then(a.pantograph.cmp(&b.pantograph))
+        });
+        let mut speeds: Vec<f64> = Vec::new();
+        let mut run_of_target = Vec::with_capacity(targets.len());
+        for t in &targets {
+            let k = match speeds.iter().position(|&v| (v - t.speed_kmh).abs() < 1e-9) {
+                Some(k) => k,
+                None => {
+                    speeds.push(t.speed_kmh);
+                    speeds.len() - 1
+                }
+            };
+            run_of_target.push(k);
+        }
+        let cases = speeds
+            .iter()
+            .map(|&v| {
+                let mut c = base.clone();
+                c.run.speed_kmh = v;
+                c
+            })
+            .collect();
+        Ok(Self {
+            validation,
+            targets,
+            cases,
+            run_of_target,
+        })
+    }
+
+    /// Compare the runs (one per entry of `cases`, in order) with the targets.
+    pub fn assemble(&self, runs: &[RunOutput]) -> Result<ValidationReport, CaseError> {
+        let mut cases = Vec::with_capacity(self.targets.len());
+        for (t, &k) in self.targets.iter().zip(&self.run_of_target) {
+            let out = &runs[k];
+            let p = match &t.pantograph {
+                Some(name) => out
+                    .pantographs
+                    .iter()
+                    .find(|p| &p.name == name)
+                    .ok_or_else(|| CaseError::Invalid {
+                        field: "pantographs".into(),
+                        value: name.clone(),
+                        reason: format!(
+                            "preset `{}` has no pantograph of that name",
+                            self.validation.preset
+                        ),
+                    })?,
+                None => &out.pantographs[0],
+            };
+            let stats = p.stats.ok_or_else(|| CaseError::Invalid {
+                field: "run.analysis_m".into(),
+                value: format!("{:?}", out.analysis_m),
+                reason: format!(
+                    "the {} pantograph did not cross the analysis section",
+                    p.name
+                ),
+            })?;
+            cases.push(compare(&stats, t));
+        }
+        Ok(ValidationReport {
+            all_pass: cases.iter().all(|c| c.rows.iter().all(|r| r.pass)),
+            cases,
+        })
+    }
+}
+
+/// Run validation `name` (its runs side by side on up to `jobs` threads; each run is
+/// single-threaded and deterministic) and compare with the targets.
+pub fn validate(
+    name: &str,
+    jobs: Option<usize>,
+) -> Result<(ValidationPlan, ValidationReport, Vec<RunOutput>), SimError> {
+    let plan = ValidationPlan::new(name)?;
+    let runs: Vec<RunOutput> = parallel_map(&plan.cases, jobs, |c| run_case(c, &mut |_| true))
+        .into_iter()
+        .collect::<Result<_, _>>()?;
+    let report = plan.assemble(&runs)?;
+    Ok((plan, report, runs))
+}

@@ -1,0 +1,718 @@
+//! Case files: the TOML description of a catenary, its pantographs and a run.
+//!
+//! Every numeric field may be written plainly (`tension_n = 20000.0`) or with its provenance
+//! (`tension_n = { value = 20000.0, source = "README §3.1 (c1)" }`). Presets use the second form on
+//! every field. Unknown keys are errors. [`Case::from_toml_str`] parses (no file I/O: the caller
+//! reads the file), and [`Case::validate`] checks values and names the offending field.
+
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+use crate::error::CaseError;
+
+/// Gravitational acceleration, m/s².
+pub const G: f64 = 9.81;
+
+/// Provenance of each sourced field: dotted path → source text.
+pub type Provenance = BTreeMap<String, String>;
+
+/// Top-level case.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Case {
+    #[serde(default)]
+    pub meta: Meta,
+    pub catenary: CatenaryCase,
+    pub pantographs: Vec<PantographCase>,
+    #[serde(default)]
+    pub contact: ContactCase,
+    pub run: RunCase,
+}
+
+/// Free-text description of a case.
+#[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Meta {
+    #[serde(default)]
+    pub name: String,
+    #[serde(default)]
+    pub description: String,
+}
+
+/// The catenary: geometry, wires, point elements and damping.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CatenaryCase {
+    /// Number of spans in the model (the model length is `spans × span_m`).
+    pub spans: usize,
+    pub span_m: f64,
+    /// Height of the messenger above the contact wire at the supports.
+    pub encumbrance_m: f64,
+    pub presag: Presag,
+    pub damping: Damping,
+    pub contact_wire: WireCase,
+    pub messenger: WireCase,
+    pub droppers: DropperCase,
+    pub messenger_support: SupportCase,
+    pub steady_arm: ArmCase,
+    /// Stitch wires at every support (stitched catenaries), or none.
+    #[serde(default)]
+    pub stitch_wire: Option<StitchCase>,
+}
+
+/// A stitch wire at each support, modelled as the paper does (§2.1): spring-damping elements on
+/// the messenger at the stitch droppers, from which those droppers hang.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct StitchCase {
+    /// Length of the stitch wire, centred on the support.
+    pub length_m: f64,
+    pub tension_n: f64,
+    pub mass_per_m_kg: f64,
+    /// Mass of each stitch-dropper clamp on the stitch wire.
+    pub clamp_mass_kg: f64,
+    /// Indices (into `droppers.positions_m`) of the droppers that hang from stitch wires.
+    pub droppers: Vec<usize>,
+    /// Damping of each stitch element; by default the messenger support's damping ratio c/k is
+    /// applied to the stitch stiffness.
+    #[serde(default)]
+    pub damping_ns_per_m: Option<f64>,
+}
+
+/// One wire's properties.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct WireCase {
+    pub mass_per_m_kg: f64,
+    pub tension_n: f64,
+    pub ei_nm2: f64,
+}
+
+/// Where the pre-sag parabola is zero.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum PresagZero {
+    /// `presag(ξ) = 4 s ξ (1 − ξ)` over the whole span.
+    Supports,
+    /// The parabola spans the first to the last dropper; the contact wire is level from the
+    /// support to the first dropper.
+    EndDroppers,
+}
+
+/// Design pre-sag of the contact wire (downward, m), at each dropper.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Presag {
+    Parabolic {
+        mid_span_m: f64,
+        zero_at: PresagZero,
+    },
+    /// Pre-sag at each dropper, in dropper order.
+    Table { values_m: Vec<f64> },
+}
+
+/// Damping of the wires' own modes (paper §2.1 uses Rayleigh α = β = 0.02; README §2.2).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Damping {
+    /// `C = αM + βK` on each wire's modal matrices.
+    Rayleigh { alpha: f64, beta: f64 },
+    /// The same damping ratio on every sine mode of each wire.
+    Modal { ratio: f64 },
+}
+
+/// Droppers: positions within a span (same in every span) and properties.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DropperCase {
+    pub positions_m: Vec<f64>,
+    /// Stiffness in tension (zero in compression; Eq. 15). Give this or `ea_n`.
+    #[serde(default)]
+    pub stiffness_n_per_m: Option<f64>,
+    /// Axial stiffness EA; each dropper then has `k = EA / length` with its static length.
+    #[serde(default)]
+    pub ea_n: Option<f64>,
+    pub clamp_mass_messenger_kg: f64,
+    pub clamp_mass_contact_kg: f64,
+    #[serde(default)]
+    pub mass_per_m_kg: f64,
+}
+
+/// Messenger support: a spring-damper to ground at each mast.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SupportCase {
+    pub stiffness_n_per_m: f64,
+    #[serde(default)]
+    pub damping_ns_per_m: f64,
+}
+
+/// Steady (registration) arm: a lumped mass with a vertical spring at each mast.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ArmCase {
+    pub mass_kg: f64,
+    pub stiffness_n_per_m: f64,
+    /// Whether the arm holds the contact wire at its design height at the support and carries
+    /// the static force there (simple catenaries). When false (stitched catenaries) the contact
+    /// wire hangs from the droppers only and the arm carries no static load.
+    #[serde(default = "yes")]
+    pub static_support: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// A pantograph, or a constant moving force (for analytic moving-load checks).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum PantographCase {
+    /// N lumped masses, head first (Eq. 16). Spring/damper `i` joins mass `i` to mass `i+1`; the
+    /// last joins the lowest mass to the roof.
+    Lumped {
+        #[serde(default)]
+        name: String,
+        /// Distance behind the leading pantograph, m (0 for the leading one).
+        #[serde(default)]
+        offset_m: f64,
+        masses_kg: Vec<f64>,
+        stiffness_n_per_m: Vec<f64>,
+        damping_ns_per_m: Vec<f64>,
+        /// Net static uplift on the lowest mass (gravity included), N.
+        uplift_n: f64,
+        /// Aerodynamic force on the head, `Σ c_i v^i` with `v` in km/h, N. Deviation from Eq. 17
+        /// (`F = 0.0097 V²`, no unit for V, 478 N at 222 km/h): a configurable polynomial whose
+        /// coefficients each preset states with their source (README §2.1).
+        #[serde(default)]
+        aero_coeffs_kmh: Vec<f64>,
+    },
+    /// A constant upward force moving along the contact wire.
+    MovingForce {
+        #[serde(default)]
+        name: String,
+        #[serde(default)]
+        offset_m: f64,
+        force_n: f64,
+    },
+}
+
+impl PantographCase {
+    /// Distance behind the leading pantograph.
+    pub fn offset_m(&self) -> f64 {
+        match self {
+            PantographCase::Lumped { offset_m, .. }
+            | PantographCase::MovingForce { offset_m, .. } => *offset_m,
+        }
+    }
+}
+
+/// Pantograph–wire contact (Eq. 19).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ContactCase {
+    pub stiffness_n_per_m: f64,
+}
+
+impl Default for ContactCase {
+    fn default() -> Self {
+        Self {
+            stiffness_n_per_m: 50_000.0,
+        }
+    }
+}
+
+/// The run: speed, where the pantographs go, the analysis section and the discretisation.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RunCase {
+    pub speed_kmh: f64,
+    /// Position of the leading pantograph at t = 0.
+    pub start_m: f64,
+    /// The run ends when the rearmost pantograph reaches this position.
+    pub end_m: f64,
+    /// Statistics are taken while a pantograph is inside `[start, end]`.
+    pub analysis_m: [f64; 2],
+    /// Modes per wire; give this or `modes_per_m`.
+    #[serde(default)]
+    pub modes: Option<usize>,
+    #[serde(default)]
+    pub modes_per_m: Option<f64>,
+    pub dt_s: f64,
+}
+
+/// A non-fatal remark about a case.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Warning(pub String);
+
+impl std::fmt::Display for Warning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl Case {
+    /// Parse a case from TOML text. Sourced fields (`{ value, source }`) are unwrapped and their
+    /// sources returned; unknown keys are errors that name the key.
+    pub fn from_toml_str(text: &str) -> Result<(Case, Provenance), CaseError> {
+        let mut value: toml::Value = toml::from_str(text)
+            .map_err(|e| CaseError::Parse(e.message().to_string() + &span_hint(text, &e)))?;
+        let mut prov = Provenance::new();
+        strip_sources(&mut value, String::new(), &mut prov)?;
+        let case: Case = serde_path_to_error::deserialize(value).map_err(|e| {
+            let path = e.path().to_string();
+            CaseError::Parse(format!("at `{}`: {}", path, e.into_inner()))
+        })?;
+        Ok((case, prov))
+    }
+
+    /// The case as TOML (plain values).
+    pub fn to_toml_string(&self) -> String {
+        toml::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// Model length, m.
+    pub fn length_m(&self) -> f64 {
+        self.catenary.spans as f64 * self.catenary.span_m
+    }
+
+    /// Train speed in m/s.
+    pub fn speed_m_s(&self) -> f64 {
+        self.run.speed_kmh / 3.6
+    }
+
+    /// Modes per wire after resolving `modes` / `modes_per_m`.
+    pub fn n_modes(&self) -> usize {
+        match (self.run.modes, self.run.modes_per_m) {
+            (Some(n), _) => n,
+            (None, Some(d)) => (d * self.length_m()).round().max(1.0) as usize,
+            (None, None) => 0,
+        }
+    }
+
+    /// Check every value; return warnings, or an error naming the field and its value.
+    pub fn validate(&self) -> Result<Vec<Warning>, CaseError> {
+        let mut w = Vec::new();
+        let c = &self.catenary;
+        finite_all(self)?;
+        if c.spans < 2 {
+            return Err(inv("catenary.spans", c.spans, "need at least 2 spans"));
+        }
+        pos("catenary.span_m", c.span_m)?;
+        pos("catenary.encumbrance_m", c.encumbrance_m)?;
+        for (name, wire) in [
+            ("contact_wire", &c.contact_wire),
+            ("messenger", &c.messenger),
+        ] {
+            pos(
+                &format!("catenary.{name}.mass_per_m_kg"),
+                wire.mass_per_m_kg,
+            )?;
+            pos(&format!("catenary.{name}.tension_n"), wire.tension_n)?;
+            nonneg(&format!("catenary.{name}.ei_nm2"), wire.ei_nm2)?;
+        }
+        let d = &c.droppers;
+        if d.positions_m.is_empty() {
+            return Err(inv(
+                "catenary.droppers.positions_m",
+                "[]",
+                "need at least one dropper per span",
+            ));
+        }
+        let mut prev = 0.0;
+        for (i, &x) in d.positions_m.iter().enumerate() {
+            if x <= 0.0 || x >= c.span_m {
+                return Err(inv(
+                    &format!("catenary.droppers.positions_m[{i}]"),
+                    x,
+                    &format!("dropper lies outside its span (0, {}) m", c.span_m),
+                ));
+            }
+            if x <= prev && i > 0 {
+                return Err(inv(
+                    &format!("catenary.droppers.positions_m[{i}]"),
+                    x,
+                    "positions must increase",
+                ));
+            }
+            prev = x;
+        }
+        match (d.stiffness_n_per_m, d.ea_n) {
+            (Some(k), None) => pos("catenary.droppers.stiffness_n_per_m", k)?,
+            (None, Some(ea)) => pos("catenary.droppers.ea_n", ea)?,
+            _ => {
+                return Err(inv(
+                    "catenary.droppers.stiffness_n_per_m",
+                    "both or neither of stiffness_n_per_m and ea_n",
+                    "give exactly one of them",
+                ))
+            }
+        }
+        nonneg(
+            "catenary.droppers.clamp_mass_messenger_kg",
+            d.clamp_mass_messenger_kg,
+        )?;
+        nonneg(
+            "catenary.droppers.clamp_mass_contact_kg",
+            d.clamp_mass_contact_kg,
+        )?;
+        nonneg("catenary.droppers.mass_per_m_kg", d.mass_per_m_kg)?;
+        match &c.presag {
+            Presag::Parabolic { mid_span_m, .. } => {
+                if mid_span_m.abs() > 0.1 * c.span_m {
+                    return Err(inv(
+                        "catenary.presag.mid_span_m",
+                        mid_span_m,
+                        "pre-sag is unrealistically large",
+                    ));
+                }
+            }
+            Presag::Table { values_m } => {
+                if values_m.len() != d.positions_m.len() {
+                    return Err(inv(
+                        "catenary.presag.values_m",
+                        format!("{} values", values_m.len()),
+                        &format!("need one value per dropper ({})", d.positions_m.len()),
+                    ));
+                }
+            }
+        }
+        match &c.damping {
+            Damping::Rayleigh { alpha, beta } => {
+                nonneg("catenary.damping.alpha", *alpha)?;
+                nonneg("catenary.damping.beta", *beta)?;
+            }
+            Damping::Modal { ratio } => {
+                nonneg("catenary.damping.ratio", *ratio)?;
+                if *ratio >= 1.0 {
+                    return Err(inv("catenary.damping.ratio", ratio, "must be below 1"));
+                }
+            }
+        }
+        nonneg(
+            "catenary.messenger_support.stiffness_n_per_m",
+            c.messenger_support.stiffness_n_per_m,
+        )?;
+        nonneg(
+            "catenary.messenger_support.damping_ns_per_m",
+            c.messenger_support.damping_ns_per_m,
+        )?;
+        nonneg("catenary.steady_arm.mass_kg", c.steady_arm.mass_kg)?;
+        nonneg(
+            "catenary.steady_arm.stiffness_n_per_m",
+            c.steady_arm.stiffness_n_per_m,
+        )?;
+        if let Some(st) = &c.stitch_wire {
+            pos("catenary.stitch_wire.length_m", st.length_m)?;
+            pos("catenary.stitch_wire.tension_n", st.tension_n)?;
+            nonneg("catenary.stitch_wire.mass_per_m_kg", st.mass_per_m_kg)?;
+            nonneg("catenary.stitch_wire.clamp_mass_kg", st.clamp_mass_kg)?;
+            if let Some(cs) = st.damping_ns_per_m {
+                nonneg("catenary.stitch_wire.damping_ns_per_m", cs)?;
+            }
+            if st.length_m >= c.span_m {
+                return Err(inv(
+                    "catenary.stitch_wire.length_m",
+                    st.length_m,
+                    "must be shorter than the span",
+                ));
+            }
+            if st.droppers.is_empty() {
+                return Err(inv(
+                    "catenary.stitch_wire.droppers",
+                    "[]",
+                    "name the droppers that hang from the stitch wire",
+                ));
+            }
+            for (j, &i) in st.droppers.iter().enumerate() {
+                let field = format!("catenary.stitch_wire.droppers[{j}]");
+                let Some(&x) = d.positions_m.get(i) else {
+                    return Err(inv(
+                        &field,
+                        i,
+                        &format!("no such dropper (there are {})", d.positions_m.len()),
+                    ));
+                };
+                let to_support = x.min(c.span_m - x);
+                if to_support >= 0.5 * st.length_m - 1e-9 {
+                    return Err(inv(
+                        &field,
+                        i,
+                        &format!("dropper at {x} m is not under a stitch wire (±{} m around the support)", 0.5 * st.length_m),
+                    ));
+                }
+            }
+            if c.steady_arm.static_support {
+                w.push(Warning(
+                    "stitched catenary with catenary.steady_arm.static_support = true: the arm, not the stitch droppers, holds the contact wire at the support".into(),
+                ));
+            }
+        }
+        pos("contact.stiffness_n_per_m", self.contact.stiffness_n_per_m)?;
+
+        if self.pantographs.is_empty() {
+            return Err(inv("pantographs", "[]", "need at least one pantograph"));
+        }
+        for (i, p) in self.pantographs.iter().enumerate() {
+            let base = format!("pantographs[{i}]");
+            nonneg(&format!("{base}.offset_m"), p.offset_m())?;
+            if let PantographCase::Lumped {
+                masses_kg,
+                stiffness_n_per_m,
+                damping_ns_per_m,
+                ..
+            } = p
+            {
+                if masses_kg.is_empty() {
+                    return Err(inv(
+                        &format!("{base}.masses_kg"),
+                        "[]",
+                        "need at least one mass",
+                    ));
+                }
+                for (j, &m) in masses_kg.iter().enumerate() {
+                    pos(&format!("{base}.masses_kg[{j}]"), m)?;
+                }
+                for (field, v) in [
+                    ("stiffness_n_per_m", stiffness_n_per_m),
+                    ("damping_ns_per_m", damping_ns_per_m),
+                ] {
+                    if v.len() != masses_kg.len() {
+                        return Err(inv(
+                            &format!("{base}.{field}"),
+                            format!("{} values", v.len()),
+                            &format!("need one value per mass ({})", masses_kg.len()),
+                        ));
+                    }
+                    for (j, &x) in v.iter().enumerate() {
+                        nonneg(&format!("{base}.{field}[{j}]"), x)?;
+                    }
+                }
+            }
+        }
+        let r = &self.run;
+        pos("run.speed_kmh", r.speed_kmh)?;
+        // The speed is checked against the wave speed of the built model (one definition, with the
+        // clamps smeared in): see `solve::Plan::check`.
+        pos("run.dt_s", r.dt_s)?;
+        if r.dt_s > 0.01 {
+            return Err(inv(
+                "run.dt_s",
+                r.dt_s,
+                "time step above 10 ms cannot resolve the 20 Hz band",
+            ));
+        }
+        match (r.modes, r.modes_per_m) {
+            (Some(_), Some(_)) => {
+                return Err(inv(
+                    "run.modes",
+                    "both modes and modes_per_m",
+                    "give only one of them",
+                ))
+            }
+            (None, None) => {
+                return Err(inv("run.modes", "missing", "give `modes` or `modes_per_m`"))
+            }
+            (Some(n), None) if n == 0 => return Err(inv("run.modes", n, "must be at least 1")),
+            (None, Some(dn)) => pos("run.modes_per_m", dn)?,
+            _ => {}
+        }
+        let n = self.n_modes();
+        if n > 200_000 {
+            return Err(inv("run.modes", n, "more than 200000 modes per wire"));
+        }
+        let l = self.length_m();
+        let max_off = self
+            .pantographs
+            .iter()
+            .map(|p| p.offset_m())
+            .fold(0.0, f64::max);
+        if r.start_m - max_off <= 0.0 || r.start_m >= l {
+            return Err(inv(
+                "run.start_m",
+                r.start_m,
+                &format!("every pantograph must start inside the model (0, {l}) m (rearmost offset {max_off} m)"),
+            ));
+        }
+        if r.end_m <= r.start_m - max_off {
+            return Err(inv(
+                "run.end_m",
+                r.end_m,
+                "must lie ahead of the rearmost pantograph's start",
+            ));
+        }
+        if r.end_m + max_off >= l {
+            return Err(inv(
+                "run.end_m",
+                r.end_m,
+                &format!("the leading pantograph would leave the model (length {l} m) before the rearmost reaches it"),
+            ));
+        }
+        let [a, b] = r.analysis_m;
+        if !(a >= 0.0 && b <= l && a < b) {
+            return Err(inv(
+                "run.analysis_m",
+                format!("[{a}, {b}]"),
+                &format!("must be an interval inside the model [0, {l}] m"),
+            ));
+        }
+        if a < r.start_m - max_off || b > r.end_m {
+            return Err(inv(
+                "run.analysis_m",
+                format!("[{a}, {b}]"),
+                &format!("every pantograph must cross the whole section: it must lie within [start_m − offset, end_m] = [{}, {}] m", r.start_m - max_off, r.end_m),
+            ));
+        }
+        Ok(w)
+    }
+}
+
+fn span_hint(text: &str, e: &toml::de::Error) -> String {
+    match e.span() {
+        Some(sp) => {
+            let line = text[..sp.start.min(text.len())].matches('\n').count() + 1;
+            format!(" (line {line})")
+        }
+        None => String::new(),
+    }
+}
+
+fn inv(field: &str, value: impl std::fmt::Display, reason: &str) -> CaseError {
+    CaseError::Invalid {
+        field: field.to_string(),
+        value: value.to_string(),
+        reason: reason.to_string(),
+    }
+}
+
+fn pos(field: &str, v: f64) -> Result<(), CaseError> {
+    if v > 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        Err(inv(field, v, "must be a finite number > 0"))
+    }
+}
+
+fn nonneg(field: &str, v: f64) -> Result<(), CaseError> {
+    if v >= 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        Err(inv(field, v, "must be a finite number ≥ 0"))
+    }
+}
+
+/// Reject NaN and infinities anywhere in the case, naming the field.
+fn finite_all(case: &Case) -> Result<(), CaseError> {
+    let v = toml::Value::try_from(case).map_err(|e| CaseError::Parse(e.to_string()))?;
+    fn walk(v: &toml::Value, path: &str) -> Result<(), CaseError> {
+        match v {
+            toml::Value::Float(f) if !f.is_finite() => Err(inv(path, f, "must be finite")),
+            toml::Value::Table(t) => {
+                for (k, x) in t {
+                    let p = if path.is_empty() {
+                        k.clone()
+                    } else {
+                        format!("{path}.{k}")
+                    };
+                    walk(x, &p)?;
+                }
+                Ok(())
+            }
+            toml::Value::Array(a) => {
+                for (i, x) in a.iter().enumerate() {
+                    walk(x, &format!("{path}[{i}]"))?;
+                }
+                Ok(())
+            }
+            _ => Ok(()),
+        }
+    }
+    walk(&v, "")
+}
+
+/// Replace every `{ value = …, source = "…" }` table by its value, recording the source.
+fn strip_sources(
+    v: &mut toml::Value,
+    path: String,
+    prov: &mut Provenance,
+) -> Result<(), CaseError> {
+    match v {
+        toml::Value::Table(t) => {
+            let is_sourced = t.contains_key("value")
+                && t.contains_key("source")
+                && t.keys()
+                    .all(|k| k == "value" || k == "source" || k == "note");
+            if is_sourced {
+                let src = match t.get("source") {
+                    Some(toml::Value::String(s)) => s.clone(),
+                    _ => {
+                        return Err(inv(
+                            &format!("{path}.source"),
+                            "non-string",
+                            "source must be a string",
+                        ))
+                    }
+                };
+                prov.insert(path.clone(), src);
+                let inner = t.remove("value").expect("checked");
+                *v = inner;
+                return Ok(());
+            }
+            for (k, x) in t.iter_mut() {
+                let p = if path.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{path}.{k}")
+                };
+                strip_sources(x, p, prov)?;
+            }
+            Ok(())
+        }
+        toml::Value::Array(a) => {
+            for (i, x) in a.iter_mut().enumerate() {
+                strip_sources(x, format!("{path}[{i}]"), prov)?;
+            }
+            Ok(())
+        }
+        _ => Ok(()),
+    }
+}
+
+/// Every numeric leaf of a TOML case text that carries no source mark (paths), for the preset
+/// provenance test.
+pub fn unsourced_fields(text: &str) -> Result<Vec<String>, CaseError> {
+    let v: toml::Value = toml::from_str(text).map_err(|e| CaseError::Parse(e.to_string()))?;
+    let mut out = Vec::new();
+    fn walk(v: &toml::Value, path: &str, out: &mut Vec<String>) {
+        match v {
+            toml::Value::Table(t) => {
+                if t.contains_key("value") && t.contains_key("source") {
+                    return;
+                }
+                for (k, x) in t {
+                    let p = if path.is_empty() {
+                        k.clone()
+                    } else {
+                        format!("{path}.{k}")
+                    };
+                    walk(x, &p, out);
+                }
+            }
+            toml::Value::Array(a) => {
+                if a.iter().all(|x| x.is_table()) {
+                    for (i, x) in a.iter().enumerate() {
+                        walk(x, &format!("{path}[{i}]"), out);
+                    }
+                } else {
+                    out.push(path.to_string());
+                }
+            }
+            toml::Value::Integer(_) | toml::Value::Float(_) | toml::Value::Boolean(_) => {
+                out.push(path.to_string())
+            }
+            _ => {}
+        }
+    }
+    walk(&v, "", &mut out);
+    Ok(out)
+}

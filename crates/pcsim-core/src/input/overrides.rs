@@ -1,0 +1,175 @@
+//! Overrides of case values by dotted path (`run.speed_kmh`, `catenary.contact_wire.tension_n`,
+//! `pantographs[1].offset_m`). The path names the field, so it carries the field's unit; the
+//! value is in that unit. Used by sweeps and the Python bindings.
+
+use crate::error::CaseError;
+use crate::input::case::Case;
+
+/// A value to put at a path.
+#[derive(Debug, Clone, PartialEq)]
+pub enum OverrideValue {
+    Number(f64),
+    Integer(i64),
+    Bool(bool),
+    Text(String),
+}
+
+impl From<f64> for OverrideValue {
+    fn from(v: f64) -> Self {
+        OverrideValue::Number(v)
+    }
+}
+
+impl From<OverrideValue> for toml::Value {
+    fn from(v: OverrideValue) -> Self {
+        match v {
+            OverrideValue::Number(x) => toml::Value::Float(x),
+            OverrideValue::Integer(i) => toml::Value::Integer(i),
+            OverrideValue::Bool(b) => toml::Value::Boolean(b),
+            OverrideValue::Text(s) => toml::Value::String(s),
+        }
+    }
+}
+
+/// One step of a path: a table key or an array index.
+enum Step<'a> {
+    Key(&'a str),
+    Index(usize),
+}
+
+fn parse_path(path: &str) -> Result<Vec<Step<'_>>, CaseError> {
+    let bad = |reason: &str| CaseError::Invalid {
+        field: path.to_string(),
+        value: String::new(),
+        reason: reason.to_string(),
+    };
+    let mut steps = Vec::new();
+    for part in path.split('.') {
+        let (key, mut rest) = match part.find('[') {
+            Some(i) => (&part[..i], &part[i..]),
+            None => (part, ""),
+        };
+        if key.is_empty() {
+            return Err(bad("empty name in the path"));
+        }
+        steps.push(Step::Key(key));
+        while let Some(r) = rest.strip_prefix('[') {
+            let end = r.find(']').ok_or_else(|| bad("unclosed `[` in the path"))?;
+            let i: usize = r[..end]
+                .parse()
+                .map_err(|_| bad("an index must be a whole number"))?;
+            steps.push(Step::Index(i));
+            rest = &r[end + 1..];
+        }
+        if !rest.is_empty() {
+            return Err(bad("unexpected text after `]`"));
+        }
+    }
+    Ok(steps)
+}
+
+/// A copy of `case` with every `(path, value)` set, validated. An unknown path, a value of the
+/// wrong type or an invalid result is an error that names the path and the value.
+pub fn with_overrides(
+    case: &Case,
+    overrides: &[(String, OverrideValue)],
+) -> Result<Case, CaseError> {
+    let mut root = toml::Value::try_from(case).map_err(|e| CaseError::Parse(e.to_string()))?;
+    for (path, value) in overrides {
+        let steps = parse_path(path)?;
+        let mut at = &mut root;
+        for (k, step) in steps.iter().enumerate() {
+            let last = k + 1 == steps.len();
+            at = match (step, at) {
+                (Step::Key(key), toml::Value::Table(t)) => {
+                    if !t.contains_key(*key) {
+                        if last {
+                            // An optional field the case leaves out (or a misspelt one: the case's
+                            // own parsing names it).
+                            t.insert(key.to_string(), toml::Value::Boolean(false));
+                        } else {
+                            return Err(CaseError::Invalid {
+                                field: path.clone(),
+                                value: format!("{value:?}"),
+                                reason: format!("the case has no `{key}` here"),
+                            });
+                        }
+                    }
+                    t.get_mut(*key).expect("present")
+                }
+                (Step::Index(i), toml::Value::Array(a)) => {
+                    let n = a.len();
+                    a.get_mut(*i).ok_or_else(|| CaseError::Invalid {
+                        field: path.clone(),
+                        value: format!("{value:?}"),
+                        reason: format!("index {i} out of range (there are {n})"),
+                    })?
+                }
+                _ => {
+                    return Err(CaseError::Invalid {
+                        field: path.clone(),
+                        value: format!("{value:?}"),
+                        reason: "the path does not lead to a value of the case".into(),
+                    })
+                }
+            };
+        }
+        *at = value.clone().into();
+    }
+    let text = toml::to_string(&root).map_err(|e| CaseError::Parse(e.to_string()))?;
+    let (out, _) = Case::from_toml_str(&text).map_err(|e| match e {
+        CaseError::Parse(m) => CaseError::Parse(format!(
+            "after the overrides {}: {m}",
+            overrides
+                .iter()
+                .map(|(p, v)| format!("{p} = {v:?}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )),
+        other => other,
+    })?;
+    out.validate()?;
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::input::presets;
+
+    #[test]
+    fn overrides_set_values_and_name_bad_paths() {
+        let (c, _) = presets::load("stitched-2018-like").unwrap();
+        let o = with_overrides(
+            &c,
+            &[
+                ("run.speed_kmh".into(), OverrideValue::Integer(300)),
+                (
+                    "catenary.contact_wire.tension_n".into(),
+                    OverrideValue::Number(21_500.0),
+                ),
+                (
+                    "pantographs[1].offset_m".into(),
+                    OverrideValue::Number(150.0),
+                ),
+            ],
+        )
+        .unwrap();
+        assert_eq!(o.run.speed_kmh, 300.0);
+        assert_eq!(o.catenary.contact_wire.tension_n, 21_500.0);
+        assert_eq!(o.pantographs[1].offset_m(), 150.0);
+        let e = with_overrides(&c, &[("run.sped_kmh".into(), 3.0.into())]).unwrap_err();
+        assert!(e.to_string().contains("sped_kmh"), "{e}");
+        let e = with_overrides(&c, &[("pantographs[7].offset_m".into(), 3.0.into())]).unwrap_err();
+        assert!(e.to_string().contains("pantographs[7]"), "{e}");
+        let e = with_overrides(
+            &c,
+            &[("catenary.contact_wire.tension_n".into(), (-1.0).into())],
+        )
+        .unwrap_err();
+        assert!(
+            e.to_string().contains("catenary.contact_wire.tension_n"),
+            "{e}"
+        );
+    }
+}

@@ -1,0 +1,49 @@
+//! Presets: TOML cases embedded in the binary, every field with its source or a `guess` mark.
+
+use crate::error::CaseError;
+use crate::input::case::{Case, Provenance};
+
+/// A named embedded case.
+#[derive(Debug, Clone, Copy)]
+pub struct Preset {
+    pub name: &'static str,
+    pub summary: &'static str,
+    pub toml: &'static str,
+}
+
+/// All presets.
+pub const PRESETS: &[Preset] = &[
+    Preset {
+        name: "en50318-2002",
+        summary: "simple catenary, 60 m spans, EN 50318:2002 reference pantograph (public candidate data, README §3.1)",
+        toml: include_str!("../../../../presets/en50318-2002.toml"),
+    },
+    Preset {
+        name: "benchmark-55m",
+        summary: "simple catenary, 55 m spans, 3-mass pantograph (probably the 2015 benchmark, README §3.2)",
+        toml: include_str!("../../../../presets/benchmark-55m.toml"),
+    },
+    Preset {
+        name: "stitched-2018-like",
+        summary: "stitched catenary, 30 x 60 m, two pantographs 200 m apart (the paper's Table 1 set-up from public data; not EN 50318:2018)",
+        toml: include_str!("../../../../presets/stitched-2018-like.toml"),
+    },
+    Preset {
+        name: "syt-7.0-9.8",
+        summary: "Swedish stitched SYT 7.0/9.8 (reconstructed; the paper's EVA case), DSA380-type pantograph, 222 km/h",
+        toml: include_str!("../../../../presets/syt-7.0-9.8.toml"),
+    },
+];
+
+/// Find a preset by name.
+pub fn find(name: &str) -> Result<&'static Preset, CaseError> {
+    PRESETS
+        .iter()
+        .find(|p| p.name == name)
+        .ok_or_else(|| CaseError::UnknownPreset(name.to_string()))
+}
+
+/// Parse a preset into a case.
+pub fn load(name: &str) -> Result<(Case, Provenance), CaseError> {
+    Case::from_toml_str(find(name)?.toml)
+}

@@ -1,0 +1,159 @@
+//! Point elements behind one interface: each kind is one file and one [`PointElement`] value
+//! holding all its instances.
+//!
+//! An element states what it attaches to ([`Attach`]), its force law ([`PointElement::add_forces`]),
+//! its stored energy and dissipation, its implicit weight if it has one, and how it restricts
+//! itself to a window. The integrator resolves every attachment to a [`Slot`] once: an index into
+//! the arrays of gathered displacements and velocities and of force accumulators. A force law
+//! reads `io.u[slot.u]` and `io.v[slot.v]` and adds to `io.f[slot.u]`; it does not know whether
+//! the slot is a point of a wire, a node or the ground.
+//!
+//! **Adding a kind:** write a file here with a struct implementing [`PointElement`], and register
+//! it in `model::build` (where a case becomes a model). Nothing else changes.
+
+pub mod contact;
+pub mod dropper;
+pub mod steady_arm;
+pub mod stitch;
+pub mod support;
+
+use crate::model::dof::Direction;
+
+/// What an element attaches to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Attach {
+    /// A fixed point of a wire's series in one direction (model coordinate `x_m`).
+    Wire {
+        wire: usize,
+        dir: Direction,
+        x_m: f64,
+    },
+    /// A node of the model (a lumped mass with its own degree of freedom, `Model::nodes`).
+    Node(usize),
+    /// The ground: zero displacement and velocity; forces on it are dropped.
+    Ground,
+    /// The point of a wire under a pantograph: it moves with the pantograph, and the height it
+    /// reads is the static profile plus the deviation.
+    Moving {
+        wire: usize,
+        dir: Direction,
+        pantograph: usize,
+    },
+    /// The contact strip (head, first mass) of a pantograph. A prescribed load has none; its
+    /// slot then reads zero.
+    Head(usize),
+}
+
+/// An attachment resolved by the integrator: the index of its displacement (and force) and of its
+/// velocity in the arrays of [`Io`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Slot {
+    pub u: u32,
+    pub v: u32,
+}
+
+/// An element's term taken implicitly in the wire's system matrix (point mass, or point damper:
+/// the integrator adds `mass` or `Δt/2 · damper` at the point).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Weight {
+    Mass(f64),
+    Damper(f64),
+}
+
+/// What the force laws read and write during a step or an energy evaluation.
+pub struct Io<'a> {
+    /// Displacements (heights for moving points), by `Slot::u`.
+    pub u: &'a [f64],
+    /// Velocities, by `Slot::v`.
+    pub v: &'a [f64],
+    /// Force accumulators (upward / positive along the direction), by `Slot::u`.
+    pub f: &'a mut [f64],
+    /// Prescribed loads per pantograph (moving forces, hardware-in-the-loop input), N.
+    pub loads: &'a [f64],
+    /// Droppers found slack in this evaluation.
+    pub slack: usize,
+}
+
+/// The window a model is restricted to: `[origin, origin + length]` in model coordinates, and the
+/// new index of each node (`None` when it falls outside).
+#[derive(Debug, Clone)]
+pub struct WindowMap {
+    pub origin_m: f64,
+    pub length_m: f64,
+    pub node_map: Vec<Option<usize>>,
+}
+
+impl WindowMap {
+    /// Strictly inside the window (the window's ends are pinned).
+    pub fn inside(&self, x: f64) -> bool {
+        x > self.origin_m + 1e-9 && x < self.origin_m + self.length_m - 1e-9
+    }
+
+    /// An attachment in window coordinates, or `None` when it falls outside.
+    pub fn map(&self, a: Attach) -> Option<Attach> {
+        match a {
+            Attach::Wire { wire, dir, x_m } => self.inside(x_m).then_some(Attach::Wire {
+                wire,
+                dir,
+                x_m: x_m - self.origin_m,
+            }),
+            Attach::Node(k) => self.node_map[k].map(Attach::Node),
+            other => Some(other),
+        }
+    }
+}
+
+/// One kind of point element, holding all its instances.
+pub trait PointElement: std::fmt::Debug + Send + Sync {
+    /// Name of the kind ("dropper", "support", …).
+    fn kind(&self) -> &'static str;
+    /// Number of instances.
+    fn len(&self) -> usize;
+    /// True when there are no instances.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// Attachments per instance (the same for every instance of a kind).
+    fn arity(&self) -> usize;
+    /// Attachment `a` of instance `i`.
+    fn attachment(&self, i: usize, a: usize) -> Attach;
+    /// Whether the force law reads the velocity at attachment `a`.
+    fn needs_velocity(&self, _a: usize) -> bool {
+        false
+    }
+    /// Stiffness of instance `i` between its attachments (or to the ground), N/m: the
+    /// integrator's explicit-stability check of nodes and pantograph heads adds these up.
+    fn stiffness(&self, _i: usize) -> f64 {
+        0.0
+    }
+    /// The implicit weight of instance `i`: (attachment index, weight).
+    fn implicit(&self, _i: usize) -> Option<(usize, Weight)> {
+        None
+    }
+    /// Add the explicit forces of every instance. `slots[i * arity + a]` is attachment `a` of
+    /// instance `i`.
+    fn add_forces(&self, slots: &[Slot], io: &mut Io);
+    /// Energy stored in every instance (J), with `io.u`/`io.v` at the state.
+    fn energy(&self, slots: &[Slot], io: &Io) -> f64;
+    /// Rate of energy dissipation of every instance (W).
+    fn dissipation(&self, _slots: &[Slot], _io: &Io) -> f64 {
+        0.0
+    }
+    /// Attachments whose displacement is monitored for the statistics (the registration points of
+    /// the steady arms give the uplift at the supports).
+    fn monitors(&self) -> Vec<Attach> {
+        Vec::new()
+    }
+    /// The instances inside a window, in window coordinates.
+    fn restrict(&self, w: &WindowMap) -> Box<dyn PointElement>;
+    /// A boxed copy.
+    fn clone_box(&self) -> Box<dyn PointElement>;
+    /// Downcast support (tests and statistics that need a kind's own data).
+    fn as_any(&self) -> &dyn std::any::Any;
+}
+
+impl Clone for Box<dyn PointElement> {
+    fn clone(&self) -> Self {
+        self.clone_box()
+    }
+}

@@ -1,0 +1,154 @@
+//! The problem: wires in sine coordinates (one series per modelled direction), point elements,
+//! nodes, pantographs and the static shape. No run settings: the speed, the start, the duration
+//! and the time step belong to `solve::Plan` and `solve::Options`.
+//!
+//! | file | what it holds |
+//! |---|---|
+//! | `basis.rs` | the sine trial functions (Eqs. 5–8) |
+//! | `dof.rs` | directions, blocks keyed by (wire, direction), basis groups |
+//! | `wire.rs` | wires, section data, energy coefficients (Eqs. 1–4), modal series (Eqs. 11–14) |
+//! | `elements/` | point elements behind one interface: dropper (Eq. 15), support, steady arm, stitch, contact (Eq. 19) |
+//! | `pantograph.rs` | lumped pantographs (Eq. 16), the aerodynamic force (Eq. 17) |
+//! | `statics.rs` | the static shape from the design geometry (paper §2.1) |
+//! | `build.rs` | a case becomes a model; a builder for hand-made models |
+//! | `window.rs` | a window of a model (the real-time catenary) |
+
+pub mod basis;
+pub mod build;
+pub mod dof;
+pub mod elements;
+pub mod pantograph;
+pub mod statics;
+pub mod window;
+pub mod wire;
+
+pub use build::{static_balance, ModelBuilder, StaticBalance};
+pub use dof::{BlockKey, Direction, Layout};
+pub use elements::{Attach, PointElement};
+pub use pantograph::{Lumped, Pantograph, PantographKind};
+pub use statics::StaticSolution;
+pub use wire::{Wire, WireRole};
+
+/// A lumped mass with its own degree of freedom (a stitch clamp with half its stitch wire).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Node {
+    /// Position along the track (model coordinates), m.
+    pub x_m: f64,
+    pub mass_kg: f64,
+    /// Direction of its motion.
+    pub dir: Direction,
+}
+
+/// The static shape the dynamics deviate from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StaticShape {
+    /// Straight wires at height 0 (analytic single-wire checks).
+    Flat,
+    Catenary(Box<StaticSolution>),
+}
+
+impl StaticShape {
+    /// Static height of a wire of role `role` at model coordinate `x`, m (0 at the contact-wire
+    /// design height at the supports).
+    pub fn height(&self, role: WireRole, x: f64) -> f64 {
+        match (self, role) {
+            (StaticShape::Flat, _) => 0.0,
+            (StaticShape::Catenary(s), WireRole::Contact) => s.contact_height(x),
+            (StaticShape::Catenary(s), _) => s.messenger_height(x),
+        }
+    }
+}
+
+/// The whole model.
+#[derive(Debug, Clone)]
+pub struct Model {
+    pub wires: Vec<Wire>,
+    /// Blocks of modal coordinates keyed by (wire, direction), derived from `wires`.
+    pub layout: Layout,
+    pub nodes: Vec<Node>,
+    /// Point elements, one value per kind, in the order their forces are evaluated.
+    pub elements: Vec<Box<dyn PointElement>>,
+    pub pantographs: Vec<Pantograph>,
+    pub statics: StaticShape,
+    /// Span length when the layout repeats every span (enables the fast point sampler).
+    pub span_m: Option<f64>,
+}
+
+impl Model {
+    /// Assemble a model; the block layout follows from the wires (directions in the order
+    /// vertical, lateral, torsional within each wire).
+    pub fn new(
+        wires: Vec<Wire>,
+        nodes: Vec<Node>,
+        elements: Vec<Box<dyn PointElement>>,
+        pantographs: Vec<Pantograph>,
+        statics: StaticShape,
+        span_m: Option<f64>,
+    ) -> Self {
+        let mut blocks = Vec::new();
+        for (wi, w) in wires.iter().enumerate() {
+            for d in Direction::ALL {
+                if w.series.get(d).is_some() {
+                    blocks.push((BlockKey { wire: wi, dir: d }, w.origin_m, w.basis.clone()));
+                }
+            }
+        }
+        Model {
+            layout: Layout::new(&blocks),
+            wires,
+            nodes,
+            elements,
+            pantographs,
+            statics,
+            span_m,
+        }
+    }
+
+    /// The first wire with role `role`.
+    pub fn wire_index(&self, role: WireRole) -> Option<usize> {
+        self.wires.iter().position(|w| w.role == role)
+    }
+
+    /// The block of the first wire with role `role` in direction `dir`.
+    pub fn block(&self, role: WireRole, dir: Direction) -> Option<usize> {
+        self.layout.find(self.wire_index(role)?, dir)
+    }
+
+    /// The modal series of block `b`.
+    pub fn series(&self, b: usize) -> &wire::ModalSeries {
+        let k = self.layout.blocks[b].key;
+        self.wires[k.wire]
+            .series
+            .get(k.dir)
+            .expect("a block exists only for a modelled direction")
+    }
+
+    /// Length of the model along the track (the furthest wire end), m.
+    pub fn length_m(&self) -> f64 {
+        self.wires
+            .iter()
+            .map(|w| w.origin_m + w.basis.length_m())
+            .fold(0.0, f64::max)
+    }
+
+    /// Modes per wire of the contact wire's vertical series (the figure reported with a run).
+    pub fn n_modes(&self) -> usize {
+        self.block(WireRole::Contact, Direction::Vertical)
+            .map_or(0, |b| self.layout.blocks[b].n_modes)
+    }
+
+    /// The element kind of type `T`, if the model has one.
+    pub fn element<T: 'static>(&self) -> Option<&T> {
+        self.elements
+            .iter()
+            .find_map(|e| e.as_any().downcast_ref::<T>())
+    }
+
+    /// Static height of wire `wire` in direction `dir` at `x` (the analytic profile), m.
+    pub fn static_height(&self, wire: usize, dir: Direction, x: f64) -> f64 {
+        match dir {
+            Direction::Vertical => self.statics.height(self.wires[wire].role, x),
+            _ => 0.0,
+        }
+    }
+}

@@ -1,0 +1,177 @@
+//! Pantographs: lumped-mass chains (Eq. 16), constant moving forces (analytic checks), and
+//! external loads (hardware in the loop). Every law of the pantograph lives here: the chain
+//! matrices, the aerodynamic force (Eq. 17), the static equilibrium, the accelerations, the energy
+//! and the dissipation.
+
+use crate::linalg::{invert_small, mat_vec};
+
+/// A lumped-mass pantograph (Eq. 16): masses head first; spring and damper `i` join mass `i` to
+/// mass `i+1`, the last ones join the lowest mass to the roof. Heights are absolute, with zero at
+/// the contact-wire height at the supports, where every spring is unstretched.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Lumped {
+    pub masses_kg: Vec<f64>,
+    pub stiffness_n_per_m: Vec<f64>,
+    pub damping_ns_per_m: Vec<f64>,
+    /// Net static uplift on the lowest mass (gravity included), N.
+    pub uplift_n: f64,
+    /// Aerodynamic force on the head, `Σ c_i v^i` with `v` in km/h, N (Eq. 17 as a configurable
+    /// polynomial; reference README §2.1).
+    pub aero_coeffs_kmh: Vec<f64>,
+}
+
+/// What runs along the contact wire.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PantographKind {
+    Lumped(Lumped),
+    /// A constant upward force on the contact wire.
+    MovingForce {
+        force_n: f64,
+    },
+    /// A force and a position given from outside at every step (hardware in the loop).
+    External,
+}
+
+/// A pantograph with its name and its place in the train.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pantograph {
+    pub name: String,
+    /// Distance behind the leading pantograph, m.
+    pub offset_m: f64,
+    pub kind: PantographKind,
+}
+
+impl Pantograph {
+    /// Number of degrees of freedom.
+    pub fn n_dof(&self) -> usize {
+        match &self.kind {
+            PantographKind::Lumped(l) => l.masses_kg.len(),
+            _ => 0,
+        }
+    }
+}
+
+/// Eq. 17 as a polynomial: the aerodynamic force `Σ c_i v^i` at `v_kmh` (Horner), N.
+pub fn aero_force_n(coeffs_kmh: &[f64], v_kmh: f64) -> f64 {
+    coeffs_kmh
+        .iter()
+        .rev()
+        .fold(0.0, |acc, ci| acc * v_kmh + ci)
+}
+
+/// Stiffness (or damping) matrix of a chain (Eq. 16's K_P and C_P): element `i` joins `i` and
+/// `i+1`, the last joins the last mass to the ground. Row-major `n × n`.
+pub fn chain_matrix(k: &[f64], n: usize) -> Vec<f64> {
+    let mut m = vec![0.0; n * n];
+    for i in 0..n {
+        if i + 1 < n {
+            m[i * n + i] += k[i];
+            m[(i + 1) * n + i + 1] += k[i];
+            m[i * n + i + 1] -= k[i];
+            m[(i + 1) * n + i] -= k[i];
+        } else {
+            m[i * n + i] += k[i];
+        }
+    }
+    m
+}
+
+/// The precomputed operators of a lumped pantograph for a time step Δt.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChainOperators {
+    pub n: usize,
+    /// Inverse of `M + Δt/2 C`, row-major.
+    pub a_inv: Vec<f64>,
+    pub k: Vec<f64>,
+    pub c: Vec<f64>,
+    /// Aerodynamic force at the run speed, N.
+    pub aero_n: f64,
+    pub uplift_n: f64,
+}
+
+impl Lumped {
+    /// Operators for time step `dt` at speed `v_kmh`; `None` when `M + Δt/2 C` is singular.
+    pub fn operators(&self, dt: f64, v_kmh: f64) -> Option<ChainOperators> {
+        let n = self.masses_kg.len();
+        let k = chain_matrix(&self.stiffness_n_per_m, n);
+        let c = chain_matrix(&self.damping_ns_per_m, n);
+        let mut a = c.iter().map(|x| 0.5 * dt * x).collect::<Vec<_>>();
+        for i in 0..n {
+            a[i * n + i] += self.masses_kg[i];
+        }
+        Some(ChainOperators {
+            n,
+            a_inv: invert_small(&a, n)?,
+            k,
+            c,
+            aero_n: aero_force_n(&self.aero_coeffs_kmh, v_kmh),
+            uplift_n: self.uplift_n,
+        })
+    }
+}
+
+impl ChainOperators {
+    /// Static equilibrium of the chain pressed on a rigid wire at height `wire_m` through a
+    /// contact spring `k_n` (the initial state): `(K + k_n e₀e₀ᵀ) y = uplift e_last + (aero +
+    /// k_n h) e₀`. `None` when the chain has no static equilibrium (a singular stiffness).
+    pub fn static_equilibrium(&self, k_n: f64, wire_m: f64) -> Option<Vec<f64>> {
+        let n = self.n;
+        let mut a = self.k.clone();
+        a[0] += k_n;
+        let mut f = vec![0.0; n];
+        f[n - 1] += self.uplift_n;
+        f[0] += self.aero_n + k_n * wire_m;
+        let inv = invert_small(&a, n)?;
+        Some(mat_vec(&inv, n, &f))
+    }
+
+    /// Eq. 16 solved for the accelerations: `(M + Δt/2 C) a = −K y − C v + (aero + f_head) e₀ +
+    /// uplift e_last`, with `f_head` the force of the wire on the head. `r` is scratch (length n).
+    #[inline]
+    pub fn accelerations(&self, y: &[f64], v: &[f64], f_head: f64, r: &mut [f64], a: &mut [f64]) {
+        let n = self.n;
+        for i in 0..n {
+            let mut s = 0.0;
+            for j in 0..n {
+                s -= self.k[i * n + j] * y[j] + self.c[i * n + j] * v[j];
+            }
+            r[i] = s;
+        }
+        r[0] += self.aero_n + f_head;
+        r[n - 1] += self.uplift_n;
+        for i in 0..n {
+            let mut s = 0.0;
+            for j in 0..n {
+                s += self.a_inv[i * n + j] * r[j];
+            }
+            a[i] = s;
+        }
+    }
+}
+
+impl Lumped {
+    /// Kinetic and spring energy of the chain (J) and the potential of its constant forces
+    /// (−F·y), at speed `v_kmh`.
+    pub fn energy(&self, y: &[f64], v: &[f64], v_kmh: f64) -> (f64, f64, f64) {
+        let n = self.masses_kg.len();
+        let (mut kin, mut pot) = (0.0, 0.0);
+        for i in 0..n {
+            kin += 0.5 * self.masses_kg[i] * v[i] * v[i];
+            let stretch = if i + 1 < n { y[i] - y[i + 1] } else { y[i] };
+            pot += 0.5 * self.stiffness_n_per_m[i] * stretch * stretch;
+        }
+        let ext = -(aero_force_n(&self.aero_coeffs_kmh, v_kmh) * y[0] + self.uplift_n * y[n - 1]);
+        (kin, pot, ext)
+    }
+
+    /// Rate of energy dissipation in the chain's dampers, W.
+    pub fn dissipation(&self, v: &[f64]) -> f64 {
+        let n = self.masses_kg.len();
+        (0..n)
+            .map(|i| {
+                let rel = if i + 1 < n { v[i] - v[i + 1] } else { v[i] };
+                self.damping_ns_per_m[i] * rel * rel
+            })
+            .sum()
+    }
+}

@@ -1,0 +1,336 @@
+//! Static shape of the catenary from its design geometry (paper §2.1: "the static shape of the
+//! catenary is obtained based on its design parameters"; README §5).
+//!
+//! The design fixes the contact-wire height at every dropper (minus the pre-sag) and, where the
+//! steady arm holds it (simple catenaries), at the supports (0). Between those nodes a tensioned wire under its own weight `w = ρA g` is a parabola
+//! (`T y'' = w`), and the kink at a node gives the point force that holds it:
+//!
+//! ```text
+//! F_node = T (s_left − s_right) + w (h_left + h_right)/2 (+ clamp weight),
+//! ```
+//!
+//! with `s` the chord slopes and `h` the segment lengths. That yields the dropper tensions at the
+//! contact wire and the steady-arm force. In a stitched catenary the stitch droppers hang from
+//! stitch elements (see [`stitch_stiffness`]) that sag under their load by `F/k`. The messenger hangs from its supports (at the
+//! encumbrance) under its weight, the dropper tensions, the dropper weights and its clamps; its
+//! shape follows from the simply supported moment diagram, `y_m = E − M(x)/T_m`. Dropper lengths
+//! are the differences of the two heights. Bending stiffness is neglected in this step: with
+//! `√(EI/T) ≈ 0.1 m` it only rounds the kinks (the modal check in the tests includes EI and stays
+//! within 1 mm of the design).
+//!
+//! The dynamic model works with deviations from this shape. The height the pantograph sees is this
+//! analytic profile plus the modal deviation, never a truncated sine series of the static shape
+//! (README §5).
+
+use crate::input::case::{CatenaryCase, Presag, PresagZero, G};
+use crate::model::basis::SineBasis;
+
+/// A span-periodic piecewise-parabolic wire profile: nodal heights, and between nodes the
+/// parabola of a tensioned wire under its weight (`T y'' = w`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Profile {
+    /// Node positions within a span, sorted, in `[0, span)`.
+    pub xs: Vec<f64>,
+    /// Heights at the nodes, m.
+    pub hs: Vec<f64>,
+    pub span_m: f64,
+    pub n_spans: usize,
+    /// Weight per metre, N/m, and tension, N.
+    pub w: f64,
+    pub t: f64,
+}
+
+impl Profile {
+    /// The segment `(x_left, h_left, x_right, h_right)` containing local coordinate `xi`.
+    fn segment(&self, xi: f64) -> (f64, f64, f64, f64) {
+        let n = self.xs.len();
+        match self.xs.iter().rposition(|&x| x <= xi) {
+            None => (
+                self.xs[n - 1] - self.span_m,
+                self.hs[n - 1],
+                self.xs[0],
+                self.hs[0],
+            ),
+            Some(j) if j + 1 < n => (self.xs[j], self.hs[j], self.xs[j + 1], self.hs[j + 1]),
+            Some(j) => (self.xs[j], self.hs[j], self.xs[0] + self.span_m, self.hs[0]),
+        }
+    }
+
+    /// Height at track position `x`.
+    pub fn height(&self, x: f64) -> f64 {
+        let s = self.span_m;
+        let k = (x / s).floor().clamp(0.0, self.n_spans as f64);
+        let xi = x - k * s;
+        let (x0, h0, x1, h1) = self.segment(xi);
+        h0 + (h1 - h0) / (x1 - x0) * (xi - x0) + self.w / (2.0 * self.t) * (xi - x0) * (xi - x1)
+    }
+
+    /// Upward point force the wire needs at each node to hold this shape:
+    /// `T (s_left − s_right) + w (h_left + h_right)/2` (the kink).
+    pub fn node_forces(&self) -> Vec<f64> {
+        let n = self.xs.len();
+        (0..n)
+            .map(|j| {
+                let (xl, hl) = if j == 0 {
+                    (self.xs[n - 1] - self.span_m, self.hs[n - 1])
+                } else {
+                    (self.xs[j - 1], self.hs[j - 1])
+                };
+                let (xr, hr) = if j + 1 == n {
+                    (self.xs[0] + self.span_m, self.hs[0])
+                } else {
+                    (self.xs[j + 1], self.hs[j + 1])
+                };
+                let (x, h) = (self.xs[j], self.hs[j]);
+                self.t * ((h - hl) / (x - xl) - (hr - h) / (xr - x)) + self.w * 0.5 * (xr - xl)
+            })
+            .collect()
+    }
+}
+
+/// Transverse stiffness of a stitch wire (tension `T`, length `L`) at a point `a` from its nearer
+/// end: `k = T L / (a (L − a))`, the point flexibility of a taut string. This is how pcsim derives
+/// the stiffness of the paper's stitch spring elements (§2.1) from the stitch-wire data.
+pub fn stitch_stiffness(tension_n: f64, length_m: f64, dist_to_support_m: f64) -> f64 {
+    let a = 0.5 * length_m - dist_to_support_m;
+    tension_n * length_m / (a * (length_m - a))
+}
+
+/// The static equilibrium of one (repeating) span.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StaticSolution {
+    pub span_m: f64,
+    pub n_spans: usize,
+    /// Contact wire: nodes at the droppers (and at the support when the steady arm holds it).
+    pub contact: Profile,
+    /// Messenger: nodes at the support and the droppers.
+    pub messenger: Profile,
+    /// Dropper positions within a span.
+    pub dropper_x_m: Vec<f64>,
+    /// Dropper tension at the contact-wire clamp, N.
+    pub dropper_force_contact_n: Vec<f64>,
+    /// Dropper tension at the upper clamp (adds the dropper's own weight), N.
+    pub dropper_force_messenger_n: Vec<f64>,
+    pub dropper_length_m: Vec<f64>,
+    /// Per dropper: the stitch element it hangs from (stiffness N/m, node mass kg, static force
+    /// in the element N), or `None` for droppers on the messenger.
+    pub stitch: Vec<Option<StitchStatic>>,
+    /// Upward force of a steady arm on the contact wire (interior supports), N.
+    pub arm_force_n: f64,
+    /// Upward force of a messenger support (interior supports), N.
+    pub support_force_n: f64,
+}
+
+/// Static data of one stitch element.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StitchStatic {
+    pub stiffness_n_per_m: f64,
+    pub node_mass_kg: f64,
+    /// Force carried by the stitch element (dropper tension at the top + node weight), N.
+    pub force_n: f64,
+}
+
+/// Contact-wire pre-sag at each dropper (positive downward), m.
+pub fn presag_at_droppers(c: &CatenaryCase) -> Vec<f64> {
+    let d = &c.droppers.positions_m;
+    match &c.presag {
+        Presag::Table { values_m } => values_m.clone(),
+        Presag::Parabolic {
+            mid_span_m,
+            zero_at,
+        } => d
+            .iter()
+            .map(|&x| match zero_at {
+                PresagZero::Supports => {
+                    let xi = x / c.span_m;
+                    4.0 * mid_span_m * xi * (1.0 - xi)
+                }
+                PresagZero::EndDroppers => {
+                    let (a, b) = (d[0], d[d.len() - 1]);
+                    if b <= a {
+                        0.0
+                    } else {
+                        let eta = (x - a) / (b - a);
+                        4.0 * mid_span_m * eta * (1.0 - eta)
+                    }
+                }
+            })
+            .collect(),
+    }
+}
+
+impl StaticSolution {
+    /// Solve the static shape of the catenary of `c`.
+    pub fn solve(c: &CatenaryCase) -> Self {
+        let s = c.span_m;
+        let d = &c.droppers.positions_m;
+        let nd = d.len();
+        let presag = presag_at_droppers(c);
+        let hold = c.steady_arm.static_support;
+        let mut xs = Vec::new();
+        let mut hs = Vec::new();
+        if hold {
+            xs.push(0.0);
+            hs.push(0.0);
+        }
+        xs.extend_from_slice(d);
+        hs.extend(presag.iter().map(|p| -p));
+        let contact = Profile {
+            xs,
+            hs,
+            span_m: s,
+            n_spans: c.spans,
+            w: c.contact_wire.mass_per_m_kg * G,
+            t: c.contact_wire.tension_n,
+        };
+        let nf = contact.node_forces();
+        let off = hold as usize;
+        let fc: Vec<f64> = (0..nd)
+            .map(|i| nf[i + off] + c.droppers.clamp_mass_contact_kg * G)
+            .collect();
+        let arm = if hold { nf[0] } else { 0.0 };
+
+        // Stitch elements.
+        let stitch: Vec<Option<(f64, f64)>> = (0..nd)
+            .map(|i| {
+                c.stitch_wire
+                    .as_ref()
+                    .filter(|st| st.droppers.contains(&i))
+                    .map(|st| {
+                        let dist = d[i].min(s - d[i]);
+                        let k = stitch_stiffness(st.tension_n, st.length_m, dist);
+                        (k, st.clamp_mass_kg + 0.5 * st.mass_per_m_kg * st.length_m)
+                    })
+            })
+            .collect();
+
+        // Messenger: iterate on dropper lengths (their weight loads the messenger).
+        let wm = c.messenger.mass_per_m_kg * G;
+        let tm = c.messenger.tension_n;
+        let mut len = vec![c.encumbrance_m; nd];
+        let mut hm = vec![c.encumbrance_m; nd];
+        let mut fm = fc.clone();
+        let mut st_force = vec![0.0; nd];
+        for _ in 0..8 {
+            fm = (0..nd)
+                .map(|i| fc[i] + c.droppers.mass_per_m_kg * G * len[i])
+                .collect();
+            let loads: Vec<f64> = (0..nd)
+                .map(|i| match stitch[i] {
+                    Some((_, m)) => {
+                        st_force[i] = fm[i] + m * G;
+                        st_force[i]
+                    }
+                    None => fm[i] + c.droppers.clamp_mass_messenger_kg * G,
+                })
+                .collect();
+            let ra = loads
+                .iter()
+                .zip(d)
+                .map(|(p, x)| p * (s - x) / s)
+                .sum::<f64>()
+                + wm * s / 2.0;
+            for (j, &x) in d.iter().enumerate() {
+                let mut m = ra * x - wm * x * x / 2.0;
+                for i in 0..nd {
+                    if d[i] < x {
+                        m -= loads[i] * (x - d[i]);
+                    }
+                }
+                hm[j] = c.encumbrance_m - m / tm;
+            }
+            for i in 0..nd {
+                let top = match stitch[i] {
+                    Some((k, _)) => hm[i] - st_force[i] / k,
+                    None => hm[i],
+                };
+                len[i] = top - contact.height(d[i]);
+            }
+        }
+        let loads_total: f64 = (0..nd)
+            .map(|i| match stitch[i] {
+                Some(_) => st_force[i],
+                None => fm[i] + c.droppers.clamp_mass_messenger_kg * G,
+            })
+            .sum();
+        let mut mxs = vec![0.0];
+        mxs.extend_from_slice(d);
+        let mut mhs = vec![c.encumbrance_m];
+        mhs.extend_from_slice(&hm);
+        let messenger = Profile {
+            xs: mxs,
+            hs: mhs,
+            span_m: s,
+            n_spans: c.spans,
+            w: wm,
+            t: tm,
+        };
+        Self {
+            span_m: s,
+            n_spans: c.spans,
+            contact,
+            messenger,
+            dropper_x_m: d.clone(),
+            dropper_force_contact_n: fc,
+            dropper_force_messenger_n: fm,
+            dropper_length_m: len,
+            stitch: (0..nd)
+                .map(|i| {
+                    stitch[i].map(|(k, m)| StitchStatic {
+                        stiffness_n_per_m: k,
+                        node_mass_kg: m,
+                        force_n: st_force[i],
+                    })
+                })
+                .collect(),
+            arm_force_n: arm,
+            support_force_n: loads_total + wm * s,
+        }
+    }
+
+    /// Static contact-wire height at track position `x` (0 at the supports' design height), m.
+    pub fn contact_height(&self, x: f64) -> f64 {
+        self.contact.height(x)
+    }
+
+    /// Static messenger height at `x`, m.
+    pub fn messenger_height(&self, x: f64) -> f64 {
+        self.messenger.height(x)
+    }
+
+    /// Messenger height at dropper `i` (within a span).
+    pub fn messenger_height_at_dropper(&self, i: usize) -> f64 {
+        self.messenger.hs[i + 1]
+    }
+}
+
+/// Static deflection of a tensioned beam over `basis` (pinned at both ends) under a uniform load
+/// `q_per_m` (N/m, upward positive) and point loads `(x, F)`, in modal coordinates:
+/// `q_k = Q_k / K_k` with the diagonal stiffness of Eq. 12 (`K_k = L/2 (T κ² + EI κ⁴)`).
+pub fn modal_static_deflection(
+    basis: &SineBasis,
+    tension_n: f64,
+    ei_nm2: f64,
+    q_per_m: f64,
+    points: &[(f64, f64)],
+) -> Vec<f64> {
+    let l = basis.length_m();
+    let n = basis.n_modes();
+    let mut row = vec![0.0; n];
+    let mut q = vec![0.0; n];
+    for i in 0..n {
+        let k = basis.wavenumber(i);
+        // ∫_0^L sin(κx) dx = (1 − cos kπ)/κ
+        let parity = if i % 2 == 0 { 2.0 } else { 0.0 };
+        q[i] = q_per_m * parity / k;
+    }
+    for &(x, f) in points {
+        basis.fill_sines(x, &mut row);
+        crate::linalg::axpy(f, &row, &mut q);
+    }
+    for (i, qi) in q.iter_mut().enumerate() {
+        let k = basis.wavenumber(i);
+        *qi /= 0.5 * l * (tension_n * k * k + ei_nm2 * k.powi(4));
+    }
+    q
+}

@@ -1,0 +1,80 @@
+//! A window of a model: the real-time catenary's own model (paper §4.2, after Facchinetti &
+//! Bruni 2012).
+
+use crate::model::basis::SineBasis;
+use crate::model::elements::contact::{ContactLaw, Contacts};
+use crate::model::elements::{PointElement, WindowMap};
+use crate::model::pantograph::{Pantograph, PantographKind};
+use crate::model::{Model, Node};
+
+impl Model {
+    /// A window `[origin, origin + length]` of this (full) model, with its own sine basis of
+    /// `n_modes` modes and the point elements and nodes that fall strictly inside it, in window
+    /// coordinates (x − origin). Every wire keeps its section, damping law and directions. `origin`
+    /// should be a whole number of spans so that the span-periodic static shape reads the same in
+    /// window coordinates. With `external`, the pantographs become [`PantographKind::External`]
+    /// (hardware in the loop); otherwise they are kept (software in the loop).
+    pub fn window(&self, origin_m: f64, length_m: f64, n_modes: usize, external: bool) -> Model {
+        let basis = SineBasis::new(length_m, n_modes);
+        let mut w = WindowMap {
+            origin_m,
+            length_m,
+            node_map: Vec::with_capacity(self.nodes.len()),
+        };
+        let mut nodes = Vec::new();
+        for n in &self.nodes {
+            if w.inside(n.x_m) {
+                w.node_map.push(Some(nodes.len()));
+                nodes.push(Node {
+                    x_m: n.x_m - origin_m,
+                    ..n.clone()
+                });
+            } else {
+                w.node_map.push(None);
+            }
+        }
+        let elements: Vec<Box<dyn PointElement>> =
+            self.elements.iter().map(|e| e.restrict(&w)).collect();
+        let wires = self
+            .wires
+            .iter()
+            .map(|wire| wire.rebased(0.0, basis.clone()))
+            .collect();
+        let m = Model::new(
+            wires,
+            nodes,
+            elements,
+            self.pantographs.clone(),
+            self.statics.clone(),
+            // The point sampler uses the periodic path only when the window is whole spans.
+            self.span_m,
+        );
+        if external {
+            m.with_external_pantographs()
+        } else {
+            m
+        }
+    }
+
+    /// The same model with every pantograph replaced by an external load (position and force
+    /// given at every step: hardware in the loop).
+    pub fn with_external_pantographs(mut self) -> Model {
+        for p in &mut self.pantographs {
+            *p = Pantograph {
+                name: p.name.clone(),
+                offset_m: 0.0,
+                kind: PantographKind::External,
+            };
+        }
+        for e in &mut self.elements {
+            if let Some(c) = e.as_any().downcast_ref::<Contacts>() {
+                let mut c = c.clone();
+                for k in &mut c.0 {
+                    k.law = ContactLaw::Prescribed;
+                }
+                *e = Box::new(c);
+            }
+        }
+        self
+    }
+}

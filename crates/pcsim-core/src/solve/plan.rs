@@ -1,0 +1,82 @@
+//! The plan of a run (speed, start, duration, analysis section) and the method's options (the
+//! time step). Both are separate from the model, which is the problem only.
+
+use crate::error::CaseError;
+use crate::input::case::{Case, Warning};
+use crate::model::{Model, WireRole};
+
+/// Where and how fast the pantographs run, and where the statistics are taken.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    /// Train speed, km/h (the unit of the aerodynamic law).
+    pub speed_kmh: f64,
+    /// Train speed, m/s.
+    pub speed_m_s: f64,
+    /// Position of the leading pantograph at t = 0 (model coordinates), m.
+    pub start_m: f64,
+    /// Simulated duration, s.
+    pub duration_s: f64,
+    /// Statistics are taken while a pantograph is inside this section (track coordinates), m.
+    pub analysis_m: [f64; 2],
+}
+
+/// Options of the integrator.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// Fixed time step, s.
+    pub dt_s: f64,
+}
+
+impl Plan {
+    /// The plan of a validated case: the run lasts until the rearmost pantograph reaches
+    /// `run.end_m`.
+    pub fn from_case(case: &Case) -> Plan {
+        let v = case.speed_m_s();
+        let max_off = case
+            .pantographs
+            .iter()
+            .map(|p| p.offset_m())
+            .fold(0.0, f64::max);
+        Plan {
+            speed_kmh: case.run.speed_kmh,
+            speed_m_s: v,
+            start_m: case.run.start_m,
+            duration_s: (case.run.end_m - (case.run.start_m - max_off)) / v,
+            analysis_m: case.run.analysis_m,
+        }
+    }
+
+    /// Number of fixed steps of length `dt` that cover the duration.
+    pub fn n_steps(&self, dt: f64) -> usize {
+        (self.duration_s / dt).ceil() as usize
+    }
+
+    /// Check the speed against the contact wire's wave speed ([`crate::model::Wire::wave_speed`],
+    /// the one definition): an error at or above it, a warning above 0.7 of it.
+    pub fn check(&self, model: &Model) -> Result<Vec<Warning>, CaseError> {
+        let mut w = Vec::new();
+        let Some(cw) = model.wire_index(WireRole::Contact) else {
+            return Ok(w);
+        };
+        let wave = model.wires[cw].wave_speed();
+        let v = self.speed_m_s;
+        if v >= wave {
+            return Err(CaseError::Invalid {
+                field: "run.speed_kmh".into(),
+                value: self.speed_kmh.to_string(),
+                reason: format!(
+                    "at or above the contact-wire wave speed √(T/ρA) = {:.1} km/h",
+                    wave * 3.6
+                ),
+            });
+        }
+        if v / wave > 0.7 {
+            w.push(Warning(format!(
+                "speed ratio v/c = {:.3} is above 0.7 (c = {:.1} km/h, clamps and droppers included in ρA): expect strong wave effects",
+                v / wave,
+                wave * 3.6
+            )));
+        }
+        Ok(w)
+    }
+}

@@ -1,0 +1,353 @@
+//! Real-time catenary: a moving window of catenary around the pantograph, stepped at a fixed rate
+//! without allocating (paper §4.2, after Facchinetti & Bruni 2012).
+//!
+//! # Method
+//! The window `[x0, x0 + W]` is a catenary model of its own, built with the same machinery as the
+//! full model (`Model::window`): a sine series over `W` with the full model's mode density, and
+//! the droppers, supports, arms and stitch elements that fall inside it. Its ends are pinned at the
+//! static shape. `x0` is a whole number of spans, so the static shape in window coordinates is
+//! always the same.
+//!
+//! When the pantograph passes `W/2 + Δ/2` (window coordinates) the window moves forward by
+//! `Δ = m·S`, `m = max(1, ⌊W / 2S⌋)` whole spans, so the pantograph stays within `Δ/2` of the
+//! centre. The new window's state is the old one projected onto the new sine basis over the
+//! overlap; the part that enters starts at the static shape (zero deviation):
+//!
+//! ```text
+//! q'_k = (2/W) ∫_0^{W−Δ} Σ_j q_j sin(κ_j (x + Δ)) sin(κ_k x) dx = Σ_j P_kj q_j,
+//! ```
+//!
+//! with `P` in closed form, computed once (the shift is always the same). The same `P` maps the
+//! velocities and accelerations; node states (stitch nodes) are carried over by position. The
+//! move is the [`WindowMover`], an observer of the one run loop. A move is a
+//! fixed `O(N²)` cost, so every step has a fixed bound on its work.
+//!
+//! # Where the error comes from
+//! - the pinned window ends reflect the waves that would travel on (the main error when the
+//!   window is shorter than the effective vibration area);
+//! - the energy behind the window's rear end is dropped at every move, and the entering part is
+//!   set to the static shape although the real wire there already moves (waves run ahead of the
+//!   pantograph);
+//! - the projection itself is exact for the modes kept, but the truncated series of a function
+//!   cut off at the overlap's end carries a small Gibbs error.
+
+use crate::error::{CaseError, SimError};
+use crate::input::case::Case;
+use crate::model::WireRole;
+use crate::solve::integrator::Integrator;
+use crate::solve::plan::Plan;
+use crate::solve::run::Observer;
+use crate::solve::state::State;
+use crate::solve::workspace::Workspace;
+use crate::solve::Setup;
+
+/// How the real-time catenary is coupled to the pantograph.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Coupling {
+    /// Software in the loop: pcsim's own pantograph model runs inside the window.
+    Sil,
+    /// Hardware in the loop: the measured contact force and pantograph position are inputs.
+    Hil,
+}
+
+/// What one step returns.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct RealtimeOutput {
+    pub time_s: f64,
+    /// Pantograph position along the track, m.
+    pub position_m: f64,
+    /// Contact-wire height at the contact point (static shape + deviation), m.
+    pub wire_height_m: f64,
+    /// Contact-wire vertical velocity at the contact point, m/s.
+    pub wire_velocity_m_s: f64,
+    /// Contact force: computed (SIL) or the input (HIL), N.
+    pub contact_force_n: f64,
+}
+
+/// `∫_0^A cos(ω x + φ) dx`.
+fn int_cos(omega: f64, phi: f64, a: f64) -> f64 {
+    if omega.abs() < 1e-12 {
+        a * phi.cos()
+    } else {
+        ((omega * a + phi).sin() - phi.sin()) / omega
+    }
+}
+
+/// The projection `P_kj` of a shift by `d` on a sine basis over `w` (row-major `n × n`).
+pub fn shift_projection(w: f64, n: usize, d: f64) -> Vec<f64> {
+    let kap = |i: usize| (i + 1) as f64 * std::f64::consts::PI / w;
+    let a = (w - d).max(0.0);
+    let mut p = vec![0.0; n * n];
+    for k in 0..n {
+        for j in 0..n {
+            let (kj, kk) = (kap(j), kap(k));
+            let phi = kj * d;
+            p[k * n + j] = (int_cos(kj - kk, phi, a) - int_cos(kj + kk, phi, a)) / w;
+        }
+    }
+    p
+}
+
+/// The observer that moves the window forward by its fixed shift when the leading pantograph
+/// passes the trigger, and carries the state over (allocation-free, fixed work).
+#[derive(Debug, Clone)]
+pub struct WindowMover {
+    shift_m: f64,
+    trigger_m: f64,
+    proj: Vec<f64>,
+    buf: Vec<f64>,
+    /// For each node after a move: the node it takes its state from.
+    node_from: Vec<Option<usize>>,
+    nbuf: Vec<f64>,
+    moves: u64,
+}
+
+impl WindowMover {
+    /// A mover for `model` (a window of length `window_m` with `n` modes per block), shifting by
+    /// `shift_m` once the leading pantograph passes `trigger_m` (window coordinates).
+    pub fn new(
+        model: &crate::model::Model,
+        window_m: f64,
+        n: usize,
+        shift_m: f64,
+        trigger_m: f64,
+    ) -> Self {
+        let xs: Vec<f64> = model.nodes.iter().map(|s| s.x_m).collect();
+        let node_from = xs
+            .iter()
+            .map(|&x| xs.iter().position(|&y| (y - (x + shift_m)).abs() < 1e-6))
+            .collect();
+        let nv = 3 * model
+            .layout
+            .groups
+            .iter()
+            .map(|g| g.blocks.len())
+            .max()
+            .unwrap_or(0);
+        WindowMover {
+            shift_m,
+            trigger_m,
+            proj: shift_projection(window_m, n, shift_m),
+            buf: vec![0.0; nv * n],
+            node_from,
+            nbuf: vec![0.0; xs.len()],
+            moves: 0,
+        }
+    }
+
+    /// Move the window forward by the fixed shift and carry the state over.
+    pub fn shift(&mut self, model: &crate::model::Model, st: &mut State) {
+        for g in 0..model.layout.groups.len() {
+            st.project_group(model, g, &self.proj, &mut self.buf);
+        }
+        let nd = &mut st.nodes;
+        for v in [&mut nd.u, &mut nd.v, &mut nd.a] {
+            for (i, from) in self.node_from.iter().enumerate() {
+                self.nbuf[i] = from.map_or(0.0, |j| v[j]);
+            }
+            v.copy_from_slice(&self.nbuf);
+        }
+        st.x0_m -= self.shift_m;
+        st.track_origin_m += self.shift_m;
+        self.moves += 1;
+    }
+}
+
+impl Observer for WindowMover {
+    fn observe(
+        &mut self,
+        integ: &Integrator,
+        st: &mut State,
+        ws: &Workspace,
+    ) -> Result<(), SimError> {
+        if ws.samples()[0].position_m > self.trigger_m {
+            self.shift(integ.model(), st);
+        }
+        Ok(())
+    }
+
+    fn moves(&self) -> u64 {
+        self.moves
+    }
+}
+
+/// The moving-window catenary with a fixed-step, allocation-free [`RealtimeCatenary::step`].
+#[derive(Debug, Clone)]
+pub struct RealtimeCatenary {
+    integ: Integrator,
+    st: State,
+    ws: Workspace,
+    mover: WindowMover,
+    coupling: Coupling,
+    window_m: f64,
+    n: usize,
+    input: (f64, f64),
+    /// The full model's run length and analysis section (track coordinates), for comparisons.
+    full_duration_s: f64,
+    analysis_m: [f64; 2],
+}
+
+impl RealtimeCatenary {
+    /// Build the window model of `case` with window length `window_m` (at the full model's mode
+    /// density), placed around the leading pantograph's start.
+    pub fn new(case: &Case, window_m: f64, coupling: Coupling) -> Result<Self, CaseError> {
+        let full = Setup::from_case(case)?;
+        let span = case.catenary.span_m;
+        let l = full.model.length_m();
+        if !(window_m.is_finite() && window_m >= 0.5 * span && window_m < l) {
+            return Err(CaseError::Invalid {
+                field: "window_m".into(),
+                value: window_m.to_string(),
+                reason: format!("the window must be at least half a span ({} m) and shorter than the model ({l} m)", 0.5 * span),
+            });
+        }
+        let density = full.model.n_modes() as f64 / l;
+        let n = ((density * window_m).round() as usize).max(1);
+        let m = ((window_m / (2.0 * span)).floor() as usize).max(1);
+        let shift_m = m as f64 * span;
+        let trigger_m = (0.5 * window_m + 0.5 * shift_m).min(window_m);
+        let lead_offset = full.model.pantographs.first().map_or(0.0, |p| p.offset_m);
+        let x_start = full.plan.start_m - lead_offset + full.plan.speed_m_s * 0.0;
+        let origin_m = span * ((x_start - 0.5 * window_m).max(0.0) / span).floor();
+        let model = full
+            .model
+            .window(origin_m, window_m, n, coupling == Coupling::Hil);
+        let plan = Plan {
+            start_m: full.plan.start_m - origin_m,
+            ..full.plan.clone()
+        };
+        let mover = WindowMover::new(&model, window_m, n, shift_m, trigger_m);
+        let integ = Integrator::new(model, &plan, full.options)?;
+        let mut st = integ.initial_state(plan.start_m);
+        st.track_origin_m = origin_m;
+        let ws = integ.workspace();
+        Ok(Self {
+            integ,
+            st,
+            ws,
+            mover,
+            coupling,
+            window_m,
+            n,
+            input: (x_start, 0.0),
+            full_duration_s: full.plan.duration_s,
+            analysis_m: full.plan.analysis_m,
+        })
+    }
+
+    /// Fixed time step, s.
+    pub fn dt_s(&self) -> f64 {
+        self.integ.dt_s()
+    }
+
+    /// Window length, m.
+    pub fn window_m(&self) -> f64 {
+        self.window_m
+    }
+
+    /// Modes per wire in the window.
+    pub fn n_modes(&self) -> usize {
+        self.n
+    }
+
+    /// Global position of the window's start, m.
+    pub fn origin_m(&self) -> f64 {
+        self.st.track_origin_m
+    }
+
+    /// Number of window moves so far.
+    pub fn moves(&self) -> usize {
+        self.mover.moves as usize
+    }
+
+    /// The full model's duration and analysis section (track coordinates).
+    pub fn full_run(&self) -> (f64, [f64; 2]) {
+        (self.full_duration_s, self.analysis_m)
+    }
+
+    /// The integrator, the state, the workspace and the mover, for the run loop.
+    pub fn parts_mut(&mut self) -> (&Integrator, &mut State, &mut Workspace, &mut WindowMover) {
+        (&self.integ, &mut self.st, &mut self.ws, &mut self.mover)
+    }
+
+    /// HIL input for the next step: the measured contact force (N, pushing the wire up) and the
+    /// pantograph position along the track (m).
+    pub fn set_input(&mut self, contact_force_n: f64, position_m: f64) {
+        self.input = (position_m, contact_force_n);
+    }
+
+    /// Advance one fixed step. Allocation-free; the work is bounded (a window move adds a fixed
+    /// `O(N²)` projection).
+    pub fn step(&mut self) -> RealtimeOutput {
+        if self.coupling == Coupling::Hil {
+            let (x, f) = self.input;
+            self.ws.set_external(0, x - self.st.track_origin_m, f);
+        }
+        self.integ.step(&mut self.st, &mut self.ws);
+        let s = self.ws.samples()[0];
+        let out = RealtimeOutput {
+            time_s: self.st.t,
+            position_m: s.position_m + self.st.track_origin_m,
+            wire_height_m: s.wire_height_m,
+            wire_velocity_m_s: s.wire_velocity_m_s,
+            contact_force_n: s.force_n,
+        };
+        // The mover never fails.
+        let _ = self.mover.observe(&self.integ, &mut self.st, &self.ws);
+        out
+    }
+}
+
+/// A saved state of a [`RealtimeCatenary`], for rolling a step back. Allocate once with
+/// [`RealtimeCatenary::snapshot`], then [`RealtimeCatenary::save`] and
+/// [`RealtimeCatenary::restore`] copy without allocating.
+#[derive(Debug, Clone)]
+pub struct Snapshot {
+    st: State,
+    moves: u64,
+    input: (f64, f64),
+}
+
+impl RealtimeCatenary {
+    /// A snapshot buffer holding the current state.
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            st: self.st.clone(),
+            moves: self.mover.moves,
+            input: self.input,
+        }
+    }
+
+    /// Copy the current state into `s` (no allocation).
+    pub fn save(&self, s: &mut Snapshot) {
+        s.st.copy_from(&self.st);
+        s.moves = self.mover.moves;
+        s.input = self.input;
+    }
+
+    /// Return to the state saved in `s` (no allocation).
+    pub fn restore(&mut self, s: &Snapshot) {
+        self.st.copy_from(&s.st);
+        self.mover.moves = s.moves;
+        self.input = s.input;
+    }
+
+    /// Static contact-wire height at a track position, m (the wire before any step).
+    pub fn static_height_at(&self, x_m: f64) -> f64 {
+        self.integ
+            .model()
+            .statics
+            .height(WireRole::Contact, x_m - self.st.track_origin_m)
+    }
+
+    /// Track position of pantograph 0 in SIL mode at the current time, m.
+    pub fn sil_position_m(&self) -> f64 {
+        self.integ.position(&self.st, 0) + self.st.track_origin_m
+    }
+
+    /// True when the state is finite and the last step's samples plausible (the wire within 2 m
+    /// of its design height).
+    pub fn state_is_sound(&self) -> bool {
+        self.st.is_finite() && self.ws.samples().iter().all(|s| s.is_sound())
+    }
+}

@@ -1,0 +1,113 @@
+//! The one run loop: steps an integrator, checks for blow-up, counts what it sees, and hands
+//! every step to its observers (the EN 50318 recorder, the energy sampler, the window mover).
+//!
+//! Blow-up: a non-finite value, a contact force above 1 MN or a contact-wire height more than 2 m
+//! from the design height (no catenary moves that far) stops the run with the time and place.
+
+use serde::Serialize;
+
+use crate::error::SimError;
+use crate::model::PantographKind;
+use crate::solve::integrator::Integrator;
+use crate::solve::state::State;
+use crate::solve::workspace::Workspace;
+
+/// What a run loop counted: the solver's statistics, snapshot-tested on the zoo so that a silent
+/// change of the algorithm shows in review.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct RunStatistics {
+    /// Time steps taken.
+    pub steps: u64,
+    /// Steps with at least one slack dropper.
+    pub steps_with_slack_dropper: u64,
+    /// The most droppers slack at once.
+    pub max_slack_droppers: u64,
+    /// Steps in which at least one pantograph lost contact (zero contact force).
+    pub steps_with_contact_loss: u64,
+    /// Moves of a real-time window (0 for a full-model run).
+    pub window_moves: u64,
+    /// Blow-up checks made (one per step on the contact samples, one every 256 steps on the
+    /// whole state).
+    pub blow_up_checks: u64,
+}
+
+/// Something that watches a run, step by step. It may change the state (a moving window
+/// carries it over to its new place).
+pub trait Observer {
+    /// Called after every step that passed the blow-up check.
+    fn observe(
+        &mut self,
+        integ: &Integrator,
+        st: &mut State,
+        ws: &Workspace,
+    ) -> Result<(), SimError>;
+
+    /// Window moves made so far (for the run statistics).
+    fn moves(&self) -> u64 {
+        0
+    }
+}
+
+/// How often the whole state is checked and progress reported, steps.
+pub const CHECK_EVERY: usize = 256;
+
+/// Step `n_steps` times. `progress(fraction)` is called every [`CHECK_EVERY`] steps; returning
+/// `false` cancels the run.
+pub fn run(
+    integ: &Integrator,
+    st: &mut State,
+    ws: &mut Workspace,
+    n_steps: usize,
+    observers: &mut [&mut dyn Observer],
+    progress: &mut dyn FnMut(f64) -> bool,
+) -> Result<RunStatistics, SimError> {
+    let mut rs = RunStatistics::default();
+    let pans = &integ.model().pantographs;
+    for step in 0..n_steps {
+        integ.step(st, ws);
+        rs.steps += 1;
+        let slack = ws.slack_droppers() as u64;
+        rs.max_slack_droppers = rs.max_slack_droppers.max(slack);
+        rs.steps_with_slack_dropper += (slack > 0) as u64;
+        if ws
+            .samples()
+            .iter()
+            .zip(pans)
+            .any(|(s, p)| matches!(p.kind, PantographKind::Lumped(_)) && s.force_n <= 0.0)
+        {
+            rs.steps_with_contact_loss += 1;
+        }
+        rs.blow_up_checks += 1;
+        for (p, s) in ws.samples().iter().enumerate() {
+            if !s.is_sound() {
+                return Err(SimError::BlowUp {
+                    time_s: st.t,
+                    position_m: s.position_m + st.track_origin_m,
+                    what: format!(
+                        "contact force {} N, wire height {} m at pantograph {}",
+                        s.force_n, s.wire_height_m, p
+                    ),
+                });
+            }
+        }
+        for o in observers.iter_mut() {
+            o.observe(integ, st, ws)?;
+        }
+        if step % CHECK_EVERY == 0 {
+            rs.blow_up_checks += 1;
+            if !st.is_finite() {
+                return Err(SimError::BlowUp {
+                    time_s: st.t,
+                    position_m: integ.position(st, 0) + st.track_origin_m,
+                    what: "non-finite state".into(),
+                });
+            }
+            if !progress(step as f64 / n_steps as f64) {
+                return Err(SimError::Cancelled);
+            }
+        }
+    }
+    progress(1.0);
+    rs.window_moves = observers.iter().map(|o| o.moves()).sum();
+    Ok(rs)
+}

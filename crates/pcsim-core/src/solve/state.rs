@@ -1,0 +1,200 @@
+//! The state of a run: modal coordinates in blocks (by `model::Layout`), node and pantograph
+//! degrees of freedom, time, and where the model sits along the track.
+
+use crate::model::Model;
+
+/// Displacements, velocities and accelerations of a set of degrees of freedom.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Dofs {
+    pub u: Vec<f64>,
+    pub v: Vec<f64>,
+    pub a: Vec<f64>,
+}
+
+impl Dofs {
+    /// `n` degrees of freedom at rest.
+    pub fn zeros(n: usize) -> Self {
+        Self {
+            u: vec![0.0; n],
+            v: vec![0.0; n],
+            a: vec![0.0; n],
+        }
+    }
+
+    /// Number of degrees of freedom.
+    pub fn len(&self) -> usize {
+        self.u.len()
+    }
+
+    /// True when empty.
+    pub fn is_empty(&self) -> bool {
+        self.u.is_empty()
+    }
+
+    fn copy_from(&mut self, o: &Dofs) {
+        self.u.copy_from_slice(&o.u);
+        self.v.copy_from_slice(&o.v);
+        self.a.copy_from_slice(&o.a);
+    }
+
+    fn is_finite(&self) -> bool {
+        self.u
+            .iter()
+            .chain(&self.v)
+            .chain(&self.a)
+            .all(|x| x.is_finite())
+    }
+}
+
+/// The state at time `t`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct State {
+    /// Time, s.
+    pub t: f64,
+    /// Position of the leading pantograph at t = 0 in model coordinates, m (a moving window
+    /// lowers it by its shift at every move).
+    pub x0_m: f64,
+    /// Track position of the model's x = 0, m (zero for a full model).
+    pub track_origin_m: f64,
+    /// Modal coordinates of every block, by `Model::layout` (`u` holds the coordinates q).
+    pub modal: Dofs,
+    /// Node degrees of freedom (deviation from the static state).
+    pub nodes: Dofs,
+    /// Pantograph degrees of freedom (absolute heights), pantograph after pantograph.
+    pub pantographs: Dofs,
+}
+
+impl State {
+    /// The state of `model` at rest with zero deviation (the pantographs' heights are set by
+    /// the integrator's initial state).
+    pub fn at_rest(model: &Model, x0_m: f64) -> Self {
+        let np: usize = model.pantographs.iter().map(|p| p.n_dof()).sum();
+        State {
+            t: 0.0,
+            x0_m,
+            track_origin_m: 0.0,
+            modal: Dofs::zeros(model.layout.len),
+            nodes: Dofs::zeros(model.nodes.len()),
+            pantographs: Dofs::zeros(np),
+        }
+    }
+
+    /// Modal coordinates of block `b`.
+    pub fn q(&self, model: &Model, b: usize) -> &[f64] {
+        &self.modal.u[model.layout.range(b)]
+    }
+
+    /// Mutable modal coordinates of block `b` (initial conditions in tests).
+    pub fn q_mut(&mut self, model: &Model, b: usize) -> &mut [f64] {
+        &mut self.modal.u[model.layout.range(b)]
+    }
+
+    /// Modal velocities of block `b`.
+    pub fn qdot(&self, model: &Model, b: usize) -> &[f64] {
+        &self.modal.v[model.layout.range(b)]
+    }
+
+    /// Mutable modal velocities of block `b`.
+    pub fn qdot_mut(&mut self, model: &Model, b: usize) -> &mut [f64] {
+        &mut self.modal.v[model.layout.range(b)]
+    }
+
+    /// Copy another state of the same model into this one, without allocating.
+    pub fn copy_from(&mut self, o: &State) {
+        self.t = o.t;
+        self.x0_m = o.x0_m;
+        self.track_origin_m = o.track_origin_m;
+        self.modal.copy_from(&o.modal);
+        self.nodes.copy_from(&o.nodes);
+        self.pantographs.copy_from(&o.pantographs);
+    }
+
+    /// Every number finite.
+    pub fn is_finite(&self) -> bool {
+        self.t.is_finite()
+            && self.modal.is_finite()
+            && self.nodes.is_finite()
+            && self.pantographs.is_finite()
+    }
+
+    /// Modal energy of the wires, ½ Σ (M_k q̇_k² + K_k q_k²) over every block, J.
+    pub fn modal_energy(&self, model: &Model) -> f64 {
+        let mut e = 0.0;
+        for b in 0..model.layout.blocks.len() {
+            let s = model.series(b);
+            let r = model.layout.range(b);
+            for (i, k) in r.enumerate() {
+                let (q, v) = (self.modal.u[k], self.modal.v[k]);
+                e += 0.5 * (s.mass[i] * v * v + s.stiffness[i] * q * q);
+            }
+        }
+        e
+    }
+
+    /// Project every modal block of basis group `g` through the row-major `n × n` matrix `p`
+    /// (`x ← P x` for q, q̇ and q̈ of each block): the state carried over when a window moves.
+    /// `buf` is scratch of at least `3 · blocks · n` values. Each row of `P` is read once for up
+    /// to six vectors.
+    pub fn project_group(&mut self, model: &Model, g: usize, p: &[f64], buf: &mut [f64]) {
+        let grp = &model.layout.groups[g];
+        let n = grp.basis.n_modes();
+        let nv = 3 * grp.blocks.len();
+        let chunks = n / 4;
+        let mut v0 = 0;
+        while v0 < nv {
+            let w = (nv - v0).min(6);
+            let xs: [&[f64]; 6] = std::array::from_fn(|i| {
+                if i < w {
+                    self.vector(model, g, v0 + i)
+                } else {
+                    &[]
+                }
+            });
+            for k in 0..n {
+                let row = &p[k * n..(k + 1) * n];
+                // Four lanes per vector (explicit partial sums, so the loop vectorises without
+                // reassociating sums behind our back).
+                let mut acc = [[0.0f64; 4]; 6];
+                for c in 0..chunks {
+                    let r = &row[4 * c..4 * c + 4];
+                    for (a, x) in acc.iter_mut().zip(xs.iter()).take(w) {
+                        let x = &x[4 * c..4 * c + 4];
+                        for l in 0..4 {
+                            a[l] += r[l] * x[l];
+                        }
+                    }
+                }
+                for (vi, (a, x)) in acc.iter().zip(xs.iter()).enumerate().take(w) {
+                    let mut sum = (a[0] + a[1]) + (a[2] + a[3]);
+                    for j in 4 * chunks..n {
+                        sum += row[j] * x[j];
+                    }
+                    buf[(v0 + vi) * n + k] = sum;
+                }
+            }
+            v0 += w;
+        }
+        for vi in 0..nv {
+            let o = model.layout.blocks[grp.blocks[vi / 3]].offset;
+            let dst = match vi % 3 {
+                0 => &mut self.modal.u[o..o + n],
+                1 => &mut self.modal.v[o..o + n],
+                _ => &mut self.modal.a[o..o + n],
+            };
+            dst.copy_from_slice(&buf[vi * n..(vi + 1) * n]);
+        }
+    }
+
+    /// Vector `vi` of group `g` for [`Self::project_group`]: block `vi / 3`, and q, q̇ or q̈.
+    #[inline]
+    fn vector(&self, model: &Model, g: usize, vi: usize) -> &[f64] {
+        let grp = &model.layout.groups[g];
+        let b = &model.layout.blocks[grp.blocks[vi / 3]];
+        let r = b.offset..b.offset + b.n_modes;
+        match vi % 3 {
+            0 => &self.modal.u[r],
+            1 => &self.modal.v[r],
+            _ => &self.modal.a[r],
+        }
+    }
+}

@@ -1,0 +1,82 @@
+//! Everything a step needs besides the state: scratch sized once up front (faer-style, nothing
+//! allocated behind the caller's back), the step's outputs (contact samples, slack droppers) and
+//! the inputs of hardware-in-the-loop pantographs.
+
+use crate::solve::implicit::ImplicitScratch;
+use crate::solve::sampler::SamplerScratch;
+
+/// What one step saw at each pantograph.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ContactSample {
+    /// Position (model coordinates), m.
+    pub position_m: f64,
+    /// Contact force (Eq. 19), N; for a prescribed load, the load itself.
+    pub force_n: f64,
+    /// Contact-wire height at the contact point (static profile + deviation), m.
+    pub wire_height_m: f64,
+    /// Contact-wire vertical velocity at the contact point, m/s.
+    pub wire_velocity_m_s: f64,
+}
+
+/// Largest plausible deviation of the contact wire from its design height, m: beyond it a run is
+/// treated as blown up (no catenary moves that far).
+pub const MAX_PLAUSIBLE_HEIGHT_M: f64 = 2.0;
+/// Largest plausible contact force, N.
+pub const MAX_PLAUSIBLE_FORCE_N: f64 = 1e6;
+
+impl ContactSample {
+    /// Finite and physically plausible (the blow-up test of every run loop).
+    pub fn is_sound(&self) -> bool {
+        self.force_n.is_finite()
+            && self.wire_height_m.is_finite()
+            && self.wire_velocity_m_s.is_finite()
+            && self.force_n.abs() < MAX_PLAUSIBLE_FORCE_N
+            && self.wire_height_m.abs() < MAX_PLAUSIBLE_HEIGHT_M
+    }
+}
+
+/// Scratch, outputs and inputs of [`crate::solve::Integrator::step`]. Make it with
+/// [`crate::solve::Integrator::workspace`].
+#[derive(Debug, Clone)]
+pub struct Workspace {
+    /// Displacements at the slots (ground, gathered wire points, nodes, heads, moving points).
+    pub(crate) u: Vec<f64>,
+    /// Velocities at the velocity slots.
+    pub(crate) vel: Vec<f64>,
+    /// Force accumulators at the slots.
+    pub(crate) f: Vec<f64>,
+    /// Sine rows of the moving points, one after the other.
+    pub(crate) rows: Vec<f64>,
+    pub(crate) scr: SamplerScratch,
+    pub(crate) imp: ImplicitScratch,
+    /// Pantograph right-hand side (length: the most degrees of freedom of a pantograph).
+    pub(crate) prhs: Vec<f64>,
+    /// Prescribed loads per pantograph, N.
+    pub(crate) loads: Vec<f64>,
+    /// Position (model coordinates, m) and upward force (N) of each external pantograph.
+    pub(crate) external: Vec<(f64, f64)>,
+    pub(crate) samples: Vec<ContactSample>,
+    pub(crate) slack: usize,
+    /// Energy evaluation: displacements and velocities at the displacement slots, forces.
+    pub(crate) eu: Vec<f64>,
+    pub(crate) ev: Vec<f64>,
+    pub(crate) ef: Vec<f64>,
+}
+
+impl Workspace {
+    /// Set the position (model coordinates, m) and the upward contact force (N) that the
+    /// external pantograph `p` applies during the next step.
+    pub fn set_external(&mut self, p: usize, x_m: f64, force_n: f64) {
+        self.external[p] = (x_m, force_n);
+    }
+
+    /// Contact samples of the last step (one per pantograph).
+    pub fn samples(&self) -> &[ContactSample] {
+        &self.samples
+    }
+
+    /// Droppers slack in the last step.
+    pub fn slack_droppers(&self) -> usize {
+        self.slack
+    }
+}
