@@ -34,14 +34,32 @@ lib.fmi2GetRealStatus.argtypes = [P, C.c_int, C.POINTER(C.c_double)]
 
 failures = []
 
+LOGGER = C.CFUNCTYPE(None, C.c_void_p, C.c_char_p, C.c_int, C.c_char_p, C.c_char_p, C.c_char_p)
+
+
+class Callbacks(C.Structure):
+    _fields_ = [("logger", LOGGER), ("allocate", C.c_void_p), ("free", C.c_void_p),
+                ("step_finished", C.c_void_p), ("env", C.c_void_p)]
+
+
+logged = []
+
+
+@LOGGER
+def log_message(env, name, status, category, fmt, msg):
+    logged.append((status, (msg or b"").decode(errors="replace")))
+
+
+CALLBACKS = Callbacks(log_message, None, None, None, None)
+
 
 def expect(what, got, want):
     if got != want:
         failures.append(f"{what}: status {got}, expected {want}")
 
 
-def new(name=b"probe"):
-    c = lib.fmi2Instantiate(name, 1, GUID, None, None, 0, 0)
+def new(name=b"probe", callbacks=None):
+    c = lib.fmi2Instantiate(name, 1, GUID, None, C.cast(C.pointer(callbacks), P) if callbacks else None, 0, 0)
     if not c:
         failures.append("instantiate returned NULL")
     return c
@@ -195,6 +213,52 @@ elif probe == "independent_instances":
         failures.append(f"case string {s[0]!r}")
     for c in (a, b, ref):
         lib.fmi2FreeInstance(c)
+elif probe == "position_outside":
+    # The SYT case starts at 60 m on an 1800 m model: -100 m and 1910 m lie outside it.
+    for pos in [-160.0, 1850.0]:
+        c = new()
+        ready(c)
+        expect("step inside", lib.fmi2DoStep(c, 0.0, 0.001, 1), OK)
+        expect("set position", set_real(c, VR["pantograph_position"], pos), OK)
+        expect(f"step at {pos + 60.0} m", lib.fmi2DoStep(c, 0.001, 0.001, 1), DISCARD)
+        expect("time unchanged", time_of(c), (OK, 0.001))
+        lib.fmi2FreeInstance(c)
+elif probe == "position_glitch":
+    # A one-sample glitch to 1700 m and back is refused and leaves no trace.
+    a, ref = new(b"a"), new(b"ref")
+    ready(a)
+    ready(ref)
+    v, t = 222.0 / 3.6, 0.0
+    for k in range(300):
+        x = v * t
+        for c in (a, ref):
+            expect("force", set_real(c, VR["contact_force"], 85.0 + 10.0 * math.sin(7.0 * t)), OK)
+            expect("position", set_real(c, VR["pantograph_position"], x), OK)
+        if k == 100:
+            expect("glitch set", set_real(a, VR["pantograph_position"], 1700.0 - 60.0), OK)
+            expect("glitch step refused", lib.fmi2DoStep(a, t, 0.001, 1), DISCARD)
+            expect("back", set_real(a, VR["pantograph_position"], x), OK)
+        for c in (a, ref):
+            expect("step", lib.fmi2DoStep(c, t, 0.001, 1), OK)
+        t = round(t + 0.001, 9)
+    ha, hr = get_real(a, VR["wire_height"])[1], get_real(ref, VR["wire_height"])[1]
+    if ha != hr:
+        failures.append(f"the refused glitch changed the response: {ha} vs {hr}")
+    lib.fmi2FreeInstance(a)
+    lib.fmi2FreeInstance(ref)
+elif probe == "discard_logged":
+    c = new(callbacks=CALLBACKS)
+    ready(c)
+    expect("set position", set_real(c, VR["pantograph_position"], -500.0), OK)
+    expect("step refused", lib.fmi2DoStep(c, 0.0, 0.001, 1), DISCARD)
+    if not any(st == DISCARD and "outside" in m for st, m in logged):
+        failures.append(f"the Discard was not logged with its reason: {logged}")
+    expect("absurd force", set_real(c, VR["contact_force"], 1e9), OK)
+    expect("position back", set_real(c, VR["pantograph_position"], 0.0), OK)
+    expect("step blows up", lib.fmi2DoStep(c, 0.0, 0.01, 1), DISCARD)
+    if not any(st == DISCARD and "rolled back" in m for st, m in logged):
+        failures.append(f"the roll-back was not logged: {logged}")
+    lib.fmi2FreeInstance(c)
 elif probe == "unknown_vr":
     c = new()
     ready(c)

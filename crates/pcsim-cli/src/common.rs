@@ -1,12 +1,23 @@
-//! What several commands share: reading a case, and running one with a progress bar.
+//! What several commands share: the global options, reading a case, overrides of case values by
+//! flags (with their units), and running a case with progress.
 
 use anyhow::{bail, Context, Result};
 use pcsim_core::analysis::record::{simulate, RunOutput};
-use pcsim_core::{presets, Case, Setup, SimError};
-use std::path::PathBuf;
+use pcsim_core::input::overrides::{with_overrides, OverrideValue};
+use pcsim_core::input::units::{parse_quantity, Dimension};
+use pcsim_core::solve::Budget;
+use pcsim_core::{presets, Case, Setup};
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::progress::bar;
+use crate::progress::{Progress, ProgressMode};
+
+/// The global options of every command.
+#[derive(Debug, Clone, Copy)]
+pub struct Ctx {
+    pub progress: ProgressMode,
+    pub budget: Budget,
+}
 
 /// Load a case from a file or a preset.
 pub fn load_case(path: Option<&PathBuf>, preset: Option<&str>) -> Result<Case> {
@@ -33,25 +44,140 @@ pub fn case_name(case: &Case) -> String {
     }
 }
 
-/// Validate and run a case with a progress bar; print its warnings. Returns the output, the
-/// wall time and the warnings.
+/// An override of a case value by a flag.
+#[derive(Debug, Clone)]
+pub struct Override {
+    /// The flag as given, e.g. `--tension 20000`.
+    pub flag: String,
+    /// How it was read, e.g. `20000 kN` (a hint follows where a bare number was taken in the
+    /// flag's default unit).
+    pub reading: String,
+    /// The case field and its value in the field's unit.
+    pub path: String,
+    pub value: f64,
+}
+
+impl Override {
+    /// `--speed`: a train speed, km/h unless a unit is given.
+    pub fn speed(text: &str) -> Result<Override> {
+        let q = parse_quantity(text, Dimension::Speed, 1.0)
+            .map_err(|e| anyhow::anyhow!("--speed {e}"))?;
+        Ok(Override {
+            flag: format!("--speed {text}"),
+            reading: format!("{} km/h", q.value),
+            path: "run.speed_kmh".into(),
+            value: q.value,
+        })
+    }
+
+    /// `--tension`: the contact-wire tension, kN unless a unit is given.
+    pub fn tension(text: &str) -> Result<Override> {
+        let q = parse_quantity(text, Dimension::Force, 1e3)
+            .map_err(|e| anyhow::anyhow!("--tension {e}"))?;
+        let reading = if q.explicit_unit {
+            format!("{} N", q.value)
+        } else {
+            format!(
+                "{} kN = {} N; a bare number is in kN, write {text}N for newtons",
+                q.value / 1e3,
+                q.value
+            )
+        };
+        Ok(Override {
+            flag: format!("--tension {text}"),
+            reading,
+            path: "catenary.contact_wire.tension_n".into(),
+            value: q.value,
+        })
+    }
+
+    /// `--dt`: the time step, s unless a unit is given.
+    pub fn dt(text: &str) -> Result<Override> {
+        let q =
+            parse_quantity(text, Dimension::Time, 1.0).map_err(|e| anyhow::anyhow!("--dt {e}"))?;
+        Ok(Override {
+            flag: format!("--dt {text}"),
+            reading: format!("{} s", q.value),
+            path: "run.dt_s".into(),
+            value: q.value,
+        })
+    }
+}
+
+/// A length flag (window lengths), m unless a unit is given.
+pub fn length(flag: &str, text: &str) -> Result<f64> {
+    Ok(parse_quantity(text, Dimension::Length, 1.0)
+        .map_err(|e| anyhow::anyhow!("{flag} {e}"))?
+        .value)
+}
+
+/// A note naming the overrides, for errors they may have caused.
+pub fn override_note(overrides: &[Override]) -> String {
+    overrides
+        .iter()
+        .map(|o| format!("{} (read as {})", o.flag, o.reading))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The case with the overrides applied (and validated); an error names the overrides.
+pub fn apply(case: &Case, overrides: &[Override]) -> Result<Case> {
+    if overrides.is_empty() {
+        return Ok(case.clone());
+    }
+    let ov: Vec<(String, OverrideValue)> = overrides
+        .iter()
+        .map(|o| (o.path.clone(), OverrideValue::Number(o.value)))
+        .collect();
+    with_overrides(case, &ov).with_context(|| format!("with {}", override_note(overrides)))
+}
+
+/// Validate a case and build its set-up within the budget; errors name the overrides that may
+/// have caused them.
+pub fn setup(case: &Case, overrides: &[Override], ctx: &Ctx) -> Result<Setup> {
+    let s = Setup::from_case_with(case, &ctx.budget);
+    if overrides.is_empty() {
+        Ok(s?)
+    } else {
+        s.with_context(|| format!("with {}", override_note(overrides)))
+    }
+}
+
+/// Validate and run a case with progress; print its warnings. Returns the output, the wall time
+/// and the warnings.
 pub fn run_with_progress(
     case: &Case,
+    overrides: &[Override],
     label: &str,
-    quiet: bool,
+    ctx: &Ctx,
 ) -> Result<(RunOutput, f64, Vec<String>)> {
-    let setup = Setup::from_case(case)?;
+    let setup = setup(case, overrides, ctx)?;
     let warnings: Vec<String> = setup.warnings.iter().map(|w| w.to_string()).collect();
     for w in &warnings {
         eprintln!("warning: {w}");
     }
-    let pb = bar(label, quiet);
+    let pb = Progress::run(label, ctx.progress);
     let t0 = Instant::now();
     let out = simulate(&setup, &mut |f| {
-        pb.set_position((f * 1000.0) as u64);
+        pb.set((f * 1000.0) as u64);
         true
     })
-    .map_err(|e: SimError| anyhow::anyhow!(e))?;
-    pb.finish_and_clear();
+    .map_err(anyhow::Error::from);
+    pb.finish();
+    let out = if overrides.is_empty() {
+        out?
+    } else {
+        out.with_context(|| format!("with {}", override_note(overrides)))?
+    };
     Ok((out, t0.elapsed().as_secs_f64(), warnings))
+}
+
+/// A file inside an output directory, for messages (no doubled separator).
+pub fn shown(dir: &Path, file: &str) -> String {
+    dir.join(file).display().to_string()
+}
+
+/// Round a time to the nanosecond (so that 11.571999999999026 prints as 11.572).
+pub fn round_ns(t: f64) -> f64 {
+    (t * 1e9).round() / 1e9
 }

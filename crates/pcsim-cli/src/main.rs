@@ -8,6 +8,10 @@ mod plot;
 mod progress;
 
 use clap::{Parser, Subcommand};
+use pcsim_core::solve::Budget;
+
+use crate::common::Ctx;
+use crate::progress::ProgressMode;
 
 /// Pantograph–catenary dynamic interaction simulator (modal superposition, EN 50318 statistics).
 #[derive(Parser)]
@@ -15,9 +19,19 @@ use clap::{Parser, Subcommand};
 struct Cli {
     #[command(subcommand)]
     command: Command,
-    /// No progress bar.
+    /// No progress output (the same as --progress none).
     #[arg(long, global = true)]
     quiet: bool,
+    /// Progress on stderr: a bar on a terminal, a plain line every 5 s otherwise (auto), or
+    /// always a bar, always plain lines, or nothing.
+    #[arg(long, global = true, value_enum, default_value = "auto")]
+    progress: ProgressMode,
+    /// Most time steps one run may take before it is refused [default: 20000000].
+    #[arg(long, global = true, value_name = "N")]
+    max_steps: Option<u64>,
+    /// Most memory one run may need before it is refused, GiB [default: 4].
+    #[arg(long, global = true, value_name = "GIB")]
+    max_memory_gb: Option<f64>,
 }
 
 #[derive(Subcommand)]
@@ -61,20 +75,45 @@ fn default_sigpipe() {
 #[cfg(not(unix))]
 fn default_sigpipe() {}
 
+/// The global options, checked.
+fn context(cli: &Cli) -> anyhow::Result<Ctx> {
+    let mut budget = Budget::default();
+    if let Some(n) = cli.max_steps {
+        if n == 0 {
+            anyhow::bail!("--max-steps 0: must be at least 1");
+        }
+        budget.max_steps = n;
+    }
+    if let Some(g) = cli.max_memory_gb {
+        if !(g.is_finite() && g > 0.0 && g <= 1e6) {
+            anyhow::bail!("--max-memory-gb {g}: must be a number of GiB in (0, 1e6]");
+        }
+        budget.max_memory_bytes = (g * (1u64 << 30) as f64) as u64;
+    }
+    Ok(Ctx {
+        progress: if cli.quiet {
+            ProgressMode::None
+        } else {
+            cli.progress
+        },
+        budget,
+    })
+}
+
 fn main() {
     default_sigpipe();
     let cli = Cli::parse();
-    let res = match cli.command {
-        Command::Run(a) => cmd::run::run(a, cli.quiet),
-        Command::Validate(a) => cmd::validate::validate(a, cli.quiet),
+    let res = context(&cli).and_then(|ctx| match cli.command {
+        Command::Run(a) => cmd::run::run(a, &ctx),
+        Command::Validate(a) => cmd::validate::validate(a, &ctx),
         Command::Presets(a) => cmd::presets::presets(a),
-        Command::Bench(a) => cmd::bench::bench(a, cli.quiet),
+        Command::Bench(a) => cmd::bench::bench(a, &ctx),
         Command::Plot(a) => cmd::plot::plot(a),
-        Command::Eva(a) => cmd::eva::eva(a, cli.quiet),
-        Command::Realtime(a) => cmd::realtime::realtime(a, cli.quiet),
+        Command::Eva(a) => cmd::eva::eva(a, &ctx),
+        Command::Realtime(a) => cmd::realtime::realtime(a, &ctx),
         Command::Fmu(a) => cmd::fmu::fmu(a),
-        Command::Hil(a) => cmd::hil::hil(a),
-    };
+        Command::Hil(a) => cmd::hil::hil(a, &ctx),
+    });
     match res {
         Ok(code) => std::process::exit(code),
         Err(e) => {

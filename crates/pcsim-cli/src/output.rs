@@ -1,12 +1,18 @@
-//! Writing run results: `summary.json` and `timeseries.csv`.
+//! Writing results: `summary.json`, `timeseries.csv`, and the manifest `pcsim.json` that every
+//! output directory carries (its kind, the version, the command's overrides), so that `pcsim plot
+//! DIR` can redraw any of them.
 
 use anyhow::{Context, Result};
 use pcsim_core::analysis::record::RunOutput;
 use pcsim_core::analysis::stats::ContactStats;
 use pcsim_core::RunStatistics;
-
 use serde::Serialize;
 use std::path::Path;
+
+use crate::common::round_ns;
+
+/// The manifest of an output directory.
+pub const MANIFEST: &str = "pcsim.json";
 
 #[derive(Serialize)]
 pub struct PantographSummary {
@@ -29,6 +35,8 @@ pub struct Summary {
     pub max_slack_droppers: usize,
     pub steps_with_slack_percent: f64,
     pub run_statistics: RunStatistics,
+    /// The flags that overrode case values, as given.
+    pub overrides: Vec<String>,
     pub warnings: Vec<String>,
     pub pantographs: Vec<PantographSummary>,
 }
@@ -38,25 +46,23 @@ impl Summary {
         case: &pcsim_core::Case,
         out: &RunOutput,
         wall_time_s: f64,
+        overrides: Vec<String>,
         warnings: Vec<String>,
     ) -> Self {
         Summary {
-            case_name: if case.meta.name.is_empty() {
-                "case".into()
-            } else {
-                case.meta.name.clone()
-            },
-            speed_kmh: out.speed_m_s * 3.6,
+            case_name: crate::common::case_name(case),
+            speed_kmh: case.run.speed_kmh,
             contact_wire_tension_n: case.catenary.contact_wire.tension_n,
             span_m: case.catenary.span_m,
-            simulated_time_s: out.simulated_time_s(),
-            wall_time_s,
+            simulated_time_s: round_ns(out.simulated_time_s()),
+            wall_time_s: (wall_time_s * 1e3).round() / 1e3,
             analysis_section_m: out.analysis_m,
             modes_per_wire: out.n_modes,
             dt_s: out.dt_s,
             max_slack_droppers: out.max_slack_droppers,
             steps_with_slack_percent: out.steps_with_slack_percent,
             run_statistics: out.run_statistics,
+            overrides,
             warnings,
             pantographs: out
                 .pantographs
@@ -70,7 +76,34 @@ impl Summary {
     }
 }
 
-/// Write `summary.json` and `timeseries.csv` into `dir` (created if needed).
+/// Write the manifest of an output directory: `{"kind": …, "pcsim_version": …}` plus `extra`.
+pub fn write_manifest(dir: &Path, kind: &str, extra: serde_json::Value) -> Result<()> {
+    let mut m = serde_json::json!({
+        "kind": kind,
+        "pcsim_version": env!("CARGO_PKG_VERSION"),
+    });
+    if let (Some(o), serde_json::Value::Object(e)) = (m.as_object_mut(), extra) {
+        o.extend(e);
+    }
+    let path = dir.join(MANIFEST);
+    std::fs::write(&path, serde_json::to_string_pretty(&m)? + "\n")
+        .with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Read the manifest of an output directory (`None` when it has none).
+pub fn read_manifest(dir: &Path) -> Result<Option<serde_json::Value>> {
+    let path = dir.join(MANIFEST);
+    if !path.exists() {
+        return Ok(None);
+    }
+    let text = std::fs::read_to_string(&path)
+        .with_context(|| format!("cannot read {}", path.display()))?;
+    Ok(Some(serde_json::from_str(&text).with_context(|| {
+        format!("{} is not valid JSON", path.display())
+    })?))
+}
+
+/// Write `summary.json`, `timeseries.csv` and the manifest into `dir` (created if needed).
 pub fn write_run(dir: &Path, out: &RunOutput, summary: &Summary) -> Result<()> {
     std::fs::create_dir_all(dir)
         .with_context(|| format!("cannot create output directory {}", dir.display()))?;
@@ -105,5 +138,5 @@ pub fn write_run(dir: &Path, out: &RunOutput, summary: &Summary) -> Result<()> {
         w.write_record(&rec)?;
     }
     w.flush()?;
-    Ok(())
+    write_manifest(dir, "run", serde_json::json!({}))
 }

@@ -5,7 +5,8 @@ use thiserror::Error;
 /// A case that cannot be parsed or whose values are invalid.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum CaseError {
-    #[error("case file: {0}")]
+    /// TOML that does not parse, or does not describe a case.
+    #[error("{0}")]
     Parse(String),
     #[error("invalid value for `{field}` = {value}: {reason}")]
     Invalid {
@@ -28,7 +29,7 @@ pub enum CaseError {
 pub enum SimError {
     #[error(transparent)]
     Case(#[from] CaseError),
-    #[error("numerical blow-up at t = {time_s:.4} s (leading pantograph at x = {position_m:.2} m): {what}; reduce run.dt_s or check stiffness values")]
+    #[error("numerical blow-up at t = {time_s:.4} s (pantograph at x = {position_m:.2} m): {what}. Usual causes: a time step too large for a stiff element (run.dt_s, or a stiffness far above the typical values), or a geometry or load the pantograph cannot follow (pre-sag, uplift, tensions); the case's warnings name values far from the typical ones")]
     BlowUp {
         time_s: f64,
         position_m: f64,

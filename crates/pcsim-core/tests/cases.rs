@@ -211,3 +211,79 @@ fn contact_spring_too_stiff_for_the_step() {
         "{e}"
     );
 }
+
+#[test]
+fn pathological_values_are_errors_naming_the_field() {
+    for (from, to, field) in [
+        (
+            "encumbrance_m = { value = 1.2",
+            "encumbrance_m = { value = 1e300",
+            "catenary.encumbrance_m",
+        ),
+        (
+            "value = [7.2, 15.0]",
+            "value = [1e300, 15.0]",
+            "pantographs[0].masses_kg[0]",
+        ),
+        (
+            "modes_per_m = { value = 1.0",
+            "modes_per_m = { value = 1e-9",
+            "run.modes_per_m",
+        ),
+        (
+            "mid_span_m = { value = 0.055",
+            "mid_span_m = { value = 5.0",
+            "catenary.presag.mid_span_m",
+        ),
+        (
+            "tension_n = { value = 20000.0",
+            "tension_n = { value = 2e7",
+            "catenary.contact_wire.tension_n",
+        ),
+    ] {
+        let e = err_of(replace(from, to));
+        assert!(e.contains(field), "{to}: {e}");
+    }
+    // modes_per_m = 1e-9 no longer becomes one mode per wire without a word.
+    let e = err_of(replace(
+        "modes_per_m = { value = 1.0",
+        "modes_per_m = { value = 1e-9",
+    ));
+    assert!(e.contains("fewer than 2 modes per span"), "{e}");
+}
+
+#[test]
+fn unusual_values_are_warnings_naming_the_field() {
+    let (mut case, _) = presets::load("en50318-2002").unwrap();
+    case.run.speed_kmh = 200.0;
+    case.catenary.contact_wire.tension_n = 80_000.0;
+    case.pantographs[0] = match case.pantographs[0].clone() {
+        pcsim_core::input::case::PantographCase::Lumped {
+            name,
+            offset_m,
+            masses_kg,
+            stiffness_n_per_m,
+            damping_ns_per_m,
+            aero_coeffs_kmh,
+            ..
+        } => pcsim_core::input::case::PantographCase::Lumped {
+            name,
+            offset_m,
+            masses_kg,
+            stiffness_n_per_m,
+            damping_ns_per_m,
+            uplift_n: 900.0,
+            aero_coeffs_kmh,
+        },
+        other => other,
+    };
+    let w = Setup::from_case(&case).unwrap().warnings;
+    let text: Vec<String> = w.iter().map(|w| w.0.clone()).collect();
+    for field in ["catenary.contact_wire.tension_n", "pantographs[0].uplift_n"] {
+        assert!(
+            text.iter()
+                .any(|t| t.contains(field) && t.contains("unusual")),
+            "{field}: {text:?}"
+        );
+    }
+}

@@ -147,9 +147,23 @@ impl Instance {
         } else {
             Coupling::Hil
         };
-        let rt = RealtimeCatenary::new(&case, self.window_m, coupling)
+        let mut rt = RealtimeCatenary::new(&case, self.window_m, coupling)
             .map_err(|e| (Status::Error, format!("cannot build the model: {e}")))?;
         self.x_start = case.run.start_m;
+        if !self.sil {
+            let x = self.x_start + self.position_in;
+            rt.check_input(self.force_in, x, f64::INFINITY)
+                .map_err(|e| {
+                    (
+                        Status::Error,
+                        format!(
+                            "initial input refused: {e} (pantograph_position = {} m from the case's start)",
+                            self.position_in
+                        ),
+                    )
+                })?;
+            rt.set_input(self.force_in, x);
+        }
         let x = if self.sil {
             rt.sil_position_m()
         } else {
@@ -283,9 +297,12 @@ impl Instance {
     }
 
     /// Advance from `t` by `h`: `t` must be the FMU's time, `h` finite, > 0 and a whole number of
-    /// internal steps (at most [`vars::MAX_INTERNAL_STEPS`]). Inputs are held over the step. A
-    /// state that becomes non-finite (or implausible: the wire more than 2 m from its design
-    /// height) is rolled back and the step returns Discard.
+    /// internal steps (at most [`vars::MAX_INTERNAL_STEPS`]). Inputs are held over the step.
+    ///
+    /// Discard (logged, nothing computed, the FMU unchanged) when the HIL position lies outside
+    /// the modelled catenary, behind the window, or moved faster than the plausible speed since
+    /// the last step; or when the state becomes non-finite or implausible (the wire more than 2 m
+    /// from its design height), in which case the step is rolled back.
     pub fn do_step(&mut self, t: f64, h: f64) -> Res<Status> {
         self.usable()?;
         match self.phase {
@@ -319,9 +336,20 @@ impl Instance {
             (Some(r), Some(s)) => (r, s),
             _ => return Err((Status::Fatal, "model missing after initialisation".into())),
         };
+        let x = self.x_start + self.position_in;
+        if !self.sil {
+            if let Err(e) = rt.check_input(self.force_in, x, h) {
+                return Err((
+                    Status::Discard,
+                    format!(
+                        "input refused at t = {now} s: {e} (pantograph_position = {} m from the case's start); the step was not taken",
+                        self.position_in
+                    ),
+                ));
+            }
+        }
         rt.save(snap);
         let mut last = self.out;
-        let x = self.x_start + self.position_in;
         for _ in 0..n as u64 {
             rt.set_input(self.force_in, x);
             last = rt.step();
@@ -332,7 +360,10 @@ impl Instance {
             && last.contact_force_n.is_finite())
         {
             rt.restore(snap);
-            return Ok(Status::Discard);
+            return Err((
+                Status::Discard,
+                format!("the state became non-finite or implausible during the step from t = {now} s (the wire more than 2 m from its design height); rolled back"),
+            ));
         }
         self.out = last;
         self.steps += n as u64;

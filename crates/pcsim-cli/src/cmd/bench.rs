@@ -7,38 +7,40 @@ use pcsim_core::input::case::PantographCase;
 use pcsim_core::{presets, Case};
 use std::time::Instant;
 
-use crate::common::run_with_progress;
+use crate::common::{apply, length, run_with_progress, Ctx, Override};
 
+/// Without `--realtime`: the full model of a preset over its whole run, on one core. With
+/// `--realtime`: the step latency of the real-time window.
 #[derive(Args)]
 pub struct BenchArgs {
-    /// Preset to time. `en50318-2002` is extended to the benchmark set-up (30 spans, two
-    /// pantographs 200 m apart).
+    /// Preset to time [default: stitched-2018-like; with --realtime: syt-7.0-9.8].
+    /// `en50318-2002` is extended to the benchmark set-up (30 spans, two pantographs 200 m apart).
     #[arg(long)]
     preset: Option<String>,
-    /// Time the real-time window step instead (default preset: syt-7.0-9.8).
+    /// Time the real-time window step instead of the full model.
     #[arg(long)]
     realtime: bool,
-    /// Window length for --realtime, m.
-    #[arg(long, default_value_t = 215.0)]
-    window: f64,
-    /// Steps to time for --realtime.
-    #[arg(long, default_value_t = 1_000_000)]
-    steps: usize,
-    /// Coupling for --realtime: hil or sil.
-    #[arg(long, default_value = "hil")]
-    coupling: String,
-    /// Train speed, km/h (default: 320 for the full model, the preset's for --realtime).
+    /// Train speed: km/h, or with a unit [default: 320 km/h; with --realtime: the preset's].
+    #[arg(long, value_name = "KM/H")]
+    speed: Option<String>,
+    /// Time step: s, or with a unit (1ms) [default: the preset's].
+    #[arg(long, value_name = "S")]
+    dt: Option<String>,
+    /// Full model only: modes per wire [default: 1200].
     #[arg(long)]
-    speed: Option<f64>,
-    /// Modes per wire (full model).
-    #[arg(long, default_value_t = 1200)]
-    modes: usize,
-    /// Spans (60 m each), for the en50318-2002 extension.
-    #[arg(long, default_value_t = 30)]
-    spans: usize,
-    /// Time step, s.
+    modes: Option<usize>,
+    /// Full model with the en50318-2002 extension only: spans of 60 m [default: 30].
     #[arg(long)]
-    dt: Option<f64>,
+    spans: Option<usize>,
+    /// --realtime only: window length, m or with a unit [default: 215 m].
+    #[arg(long, value_name = "M")]
+    window: Option<String>,
+    /// --realtime only: steps to time [default: 1000000].
+    #[arg(long)]
+    steps: Option<usize>,
+    /// --realtime only: coupling, hil or sil [default: hil].
+    #[arg(long)]
+    coupling: Option<String>,
 }
 
 /// The benchmark case: the en50318-2002 catenary over `spans` spans with two pantographs
@@ -65,28 +67,54 @@ pub fn bench_case(speed_kmh: f64, modes: usize, spans: usize, dt: Option<f64>) -
     Ok(c)
 }
 
-pub fn bench(a: BenchArgs, quiet: bool) -> Result<i32> {
+pub fn bench(a: BenchArgs, ctx: &Ctx) -> Result<i32> {
     if a.realtime {
-        return bench_realtime(&a);
+        for (flag, given) in [
+            ("--modes", a.modes.is_some()),
+            ("--spans", a.spans.is_some()),
+        ] {
+            if given {
+                bail!("{flag} applies to the full model only, not to --realtime");
+            }
+        }
+        return bench_realtime(&a, ctx);
+    }
+    for (flag, given) in [
+        ("--window", a.window.is_some()),
+        ("--steps", a.steps.is_some()),
+        ("--coupling", a.coupling.is_some()),
+    ] {
+        if given {
+            bail!("{flag} applies to --realtime only");
+        }
     }
     let preset = a
         .preset
         .clone()
         .unwrap_or_else(|| "stitched-2018-like".into());
-    let speed = a.speed.unwrap_or(320.0);
+    let mut overrides = Vec::new();
+    if let Some(v) = &a.speed {
+        overrides.push(Override::speed(v)?);
+    }
+    if let Some(dt) = &a.dt {
+        overrides.push(Override::dt(dt)?);
+    }
+    let modes = a.modes.unwrap_or(1200);
     let case = if preset == "en50318-2002" {
-        bench_case(speed, a.modes, a.spans, a.dt)?
+        bench_case(320.0, modes, a.spans.unwrap_or(30), None)?
     } else {
-        let mut c = presets::load(&preset)?.0;
-        c.run.speed_kmh = speed;
-        c.run.modes = Some(a.modes);
-        c.run.modes_per_m = None;
-        if let Some(dt) = a.dt {
-            c.run.dt_s = dt;
+        if a.spans.is_some() {
+            bail!("--spans applies to the en50318-2002 benchmark extension only (preset `{preset}` keeps its spans)");
         }
+        let mut c = presets::load(&preset)?.0;
+        c.run.speed_kmh = 320.0;
+        c.run.modes = Some(modes);
+        c.run.modes_per_m = None;
         c
     };
-    let (out, wall, _) = run_with_progress(&case, "bench", quiet)?;
+    let case = apply(&case, &overrides)?;
+    let speed = case.run.speed_kmh;
+    let (out, wall, _) = run_with_progress(&case, &overrides, "bench", ctx)?;
     let sim = out.simulated_time_s();
     println!(
         "bench `{}`: {} spans x {:.0} m, {} modes/wire, {} pantograph(s), {:.0} km/h, dt {} s",
@@ -111,27 +139,42 @@ pub fn bench(a: BenchArgs, quiet: bool) -> Result<i32> {
 }
 
 /// Step-latency distribution of the real-time window catenary on one core.
-fn bench_realtime(a: &BenchArgs) -> Result<i32> {
+fn bench_realtime(a: &BenchArgs, ctx: &Ctx) -> Result<i32> {
+    use pcsim_core::solve::budget::check_len;
     use pcsim_core::solve::realtime::{Coupling, RealtimeCatenary};
     let preset = a.preset.clone().unwrap_or_else(|| "syt-7.0-9.8".into());
     let mut case = presets::load(&preset)?.0;
     case.pantographs.truncate(1);
-    if let Some(dt) = a.dt {
-        case.run.dt_s = dt;
+    let mut overrides = Vec::new();
+    if let Some(v) = &a.speed {
+        overrides.push(Override::speed(v)?);
     }
-    let speed = a.speed.unwrap_or(case.run.speed_kmh);
-    case.run.speed_kmh = speed;
-    let coupling = match a.coupling.as_str() {
+    if let Some(dt) = &a.dt {
+        overrides.push(Override::dt(dt)?);
+    }
+    let case = apply(&case, &overrides)?;
+    let speed = case.run.speed_kmh;
+    let steps = a.steps.unwrap_or(1_000_000);
+    if steps == 0 {
+        bail!("--steps 0: time at least 1 step");
+    }
+    check_len(&ctx.budget, "--steps", steps, 2.0 * steps as f64)?;
+    let window = match &a.window {
+        Some(w) => length("--window", w)?,
+        None => 215.0,
+    };
+    let coupling = match a.coupling.as_deref().unwrap_or("hil") {
         "hil" => Coupling::Hil,
         "sil" => Coupling::Sil,
         other => bail!("--coupling `{other}`: use hil or sil"),
     };
-    let mut rt = RealtimeCatenary::new(&case, a.window, coupling)?;
+    crate::common::setup(&case, &overrides, ctx)?;
+    let mut rt = RealtimeCatenary::new(&case, window, coupling)?;
     let dt = rt.dt_s();
     let v = speed / 3.6;
     let x0 = case.run.start_m;
-    let mut ns = vec![0u64; a.steps];
-    let mut move_ns = Vec::with_capacity(a.steps / 100 + 16);
+    let mut ns = vec![0u64; steps];
+    let mut move_ns = Vec::with_capacity(steps / 100 + 16);
     let mut guard = 0.0;
     let t_all = Instant::now();
     for (k, slot) in ns.iter_mut().enumerate() {
@@ -159,11 +202,11 @@ fn bench_realtime(a: &BenchArgs) -> Result<i32> {
     };
     println!(
         "bench --realtime `{preset}`: window {} m, {} modes/wire, {:?}, dt {} s, {} steps ({} window moves), {:.0} km/h",
-        a.window,
+        window,
         rt.n_modes(),
         coupling,
         dt,
-        a.steps,
+        steps,
         rt.moves(),
         speed
     );
@@ -185,7 +228,7 @@ fn bench_realtime(a: &BenchArgs) -> Result<i32> {
     println!(
         "  real-time factor {:.0}x at the median ({} s simulated in {wall:.2} s)",
         dt / (q(0.5) * 1e-6),
-        a.steps as f64 * dt
+        steps as f64 * dt
     );
     Ok(0)
 }

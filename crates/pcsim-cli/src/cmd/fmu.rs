@@ -103,6 +103,56 @@ fn find_lib() -> Result<PathBuf> {
     bail!("libpcsim_fmu.so not found beside {}; build it with `cargo build --release` (or pass --lib PATH)", exe.display())
 }
 
+/// The FMI 2.0 entry points a co-simulation FMU's library must export (a sample that a foreign
+/// file would not have).
+const REQUIRED_SYMBOLS: &[&str] = &[
+    "fmi2GetVersion",
+    "fmi2Instantiate",
+    "fmi2FreeInstance",
+    "fmi2SetupExperiment",
+    "fmi2DoStep",
+    "fmi2GetReal",
+    "fmi2SetReal",
+];
+
+/// Check that `bytes` are a Linux shared library (ELF, type ET_DYN) naming the FMI 2.0 entry
+/// points in its symbol tables.
+pub fn check_library(path: &std::path::Path, bytes: &[u8]) -> Result<()> {
+    if bytes.len() < 64 || &bytes[..4] != b"\x7fELF" {
+        bail!(
+            "--lib {}: not an ELF shared library (the FMU needs the pcsim-fmu library, libpcsim_fmu.so)",
+            path.display()
+        );
+    }
+    let e_type = match bytes[5] {
+        1 => u16::from_le_bytes([bytes[16], bytes[17]]),
+        _ => u16::from_be_bytes([bytes[16], bytes[17]]),
+    };
+    if e_type != 3 {
+        bail!(
+            "--lib {}: an ELF file but not a shared library (e_type {e_type})",
+            path.display()
+        );
+    }
+    let missing: Vec<&str> = REQUIRED_SYMBOLS
+        .iter()
+        .copied()
+        .filter(|sym| {
+            let mut pat = sym.as_bytes().to_vec();
+            pat.push(0);
+            !bytes.windows(pat.len()).any(|w| w == pat.as_slice())
+        })
+        .collect();
+    if !missing.is_empty() {
+        bail!(
+            "--lib {}: a shared library that does not export the FMI 2.0 entry points ({} missing)",
+            path.display(),
+            missing.join(", ")
+        );
+    }
+    Ok(())
+}
+
 pub fn fmu(a: FmuArgs) -> Result<i32> {
     match a.sub {
         FmuSub::Xml => {
@@ -116,6 +166,7 @@ pub fn fmu(a: FmuArgs) -> Result<i32> {
             };
             let so =
                 std::fs::read(&lib).with_context(|| format!("cannot read {}", lib.display()))?;
+            check_library(&lib, &so)?;
             let xml = pcsim_fmu::vars::model_description().into_bytes();
             let id = pcsim_fmu::MODEL_IDENTIFIER;
             let zip = zip_stored(&[

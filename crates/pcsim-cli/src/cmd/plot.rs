@@ -1,4 +1,5 @@
-//! `pcsim plot DIR`: redraw the figures of a finished run from its files.
+//! `pcsim plot DIR`: redraw the figures of any output directory pcsim writes (a run, an EVA
+//! sweep, a merged sweep, a real-time window study) from its files.
 
 use anyhow::Result;
 use clap::Args;
@@ -6,13 +7,12 @@ use std::path::PathBuf;
 
 #[derive(Args)]
 pub struct PlotArgs {
-    /// Output directory of a finished `pcsim run`.
+    /// An output directory of `pcsim run`, `eva`, `eva merge` or `realtime`.
     dir: PathBuf,
 }
 
 pub fn plot(a: PlotArgs) -> Result<i32> {
-    let data = crate::plot::run::read_run(&a.dir)?;
-    let files = crate::plot::run::draw_all(&a.dir, &data)?;
+    let files = crate::plot::redraw(&a.dir)?;
     crate::plot::report(&files);
     Ok(0)
 }

@@ -14,8 +14,13 @@ pub struct PresetsArgs {
 pub fn presets(a: PresetsArgs) -> Result<i32> {
     match (a.action.as_deref(), a.name.as_deref()) {
         (None, _) => {
+            let w = presets::PRESETS
+                .iter()
+                .map(|p| p.name.chars().count())
+                .max()
+                .unwrap_or(0);
             for p in presets::PRESETS {
-                println!("{:<16} {}", p.name, p.summary);
+                println!("{:<w$}  {}", p.name, p.summary);
             }
         }
         (Some("show"), Some(name)) => print!("{}", presets::find(name)?.toml),

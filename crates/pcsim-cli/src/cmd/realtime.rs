@@ -7,9 +7,11 @@ use pcsim_core::analysis::filter::lowpass_zero_phase;
 use pcsim_core::analysis::stats::CUTOFF_HZ;
 use pcsim_core::analysis::studies::window_study;
 use pcsim_core::input::targets::target_value;
-use pcsim_core::Setup;
 use std::fmt::Write as _;
 use std::path::PathBuf;
+
+use crate::common::{apply, case_name, length, load_case, setup, shown, Ctx, Override};
+use crate::progress::Progress;
 
 #[derive(Args)]
 pub struct RealtimeArgs {
@@ -18,16 +20,16 @@ pub struct RealtimeArgs {
     /// Embedded preset name.
     #[arg(long)]
     preset: Option<String>,
-    /// Window lengths, m (comma-separated).
-    #[arg(long, value_delimiter = ',', required = true)]
-    window: Vec<f64>,
-    /// Train speed, km/h (default: the case's).
-    #[arg(long)]
-    speed: Option<f64>,
+    /// Window lengths, comma-separated: m, or with a unit (215m, 0.215km).
+    #[arg(long, value_delimiter = ',', required = true, value_name = "M")]
+    window: Vec<String>,
+    /// Train speed (default: the case's): km/h, or with a unit (250km/h, 69m/s).
+    #[arg(long, value_name = "KM/H")]
+    speed: Option<String>,
     /// Output directory.
     #[arg(long, default_value = "out/realtime")]
     out: PathBuf,
-    /// No plots.
+    /// No figures.
     #[arg(long)]
     no_plot: bool,
 }
@@ -43,35 +45,42 @@ fn measured(case_name: &str, speed: f64) -> Option<(f64, f64)> {
     ))
 }
 
-pub fn realtime(a: RealtimeArgs, quiet: bool) -> Result<i32> {
-    let mut case = crate::common::load_case(a.case.as_ref(), a.preset.as_deref())?;
-    if let Some(v) = a.speed {
-        case.run.speed_kmh = v;
+pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
+    let base = load_case(a.case.as_ref(), a.preset.as_deref())?;
+    let mut overrides = Vec::new();
+    if let Some(v) = &a.speed {
+        overrides.push(Override::speed(v)?);
     }
+    let mut case = apply(&base, &overrides)?;
     case.pantographs.truncate(1);
-    let setup = Setup::from_case(&case)?;
-    for w in &setup.warnings {
+    let windows: Vec<f64> = a
+        .window
+        .iter()
+        .map(|w| length("--window", w))
+        .collect::<Result<_>>()?;
+    let s = setup(&case, &overrides, ctx)?;
+    for w in &s.warnings {
         eprintln!("warning: {w}");
     }
-    let dt = setup.options.dt_s;
+    let dt = s.options.dt_s;
     std::fs::create_dir_all(&a.out)
         .with_context(|| format!("cannot create {}", a.out.display()))?;
-    let pb = crate::progress::bar("full model", quiet);
-    let study = window_study(&case, &a.window, None, &mut |f| {
-        pb.set_position((f * 1000.0) as u64);
+    let pb = Progress::run("full model", ctx.progress);
+    let study = window_study(&case, &windows, None, &mut |f| {
+        pb.set((f * 1000.0) as u64);
         true
     })?;
-    pb.finish_and_clear();
+    pb.finish();
     let full = &study.full;
     let runs = &study.windows;
     let fs = full.pantographs[0]
         .stats
         .context("the pantograph did not cross the analysis section")?;
-    let name = crate::common::case_name(&case);
+    let name = case_name(&case);
     let reference = measured(&name, case.run.speed_kmh);
-    // Table.
-    let mut table =
-        String::from("window_m,modes,moves,mean_n,std_n,mean_error_percent,std_error_percent\n");
+    let cell = |v: Option<f64>| v.map(|x| format!("{x}")).unwrap_or_default();
+    let mut table = String::from(crate::plot::realtime::HEADER);
+    table.push('\n');
     println!(
         "{name} at {} km/h, 0–20 Hz contact force over {:?} m",
         case.run.speed_kmh, case.run.analysis_m
@@ -87,25 +96,29 @@ pub fn realtime(a: RealtimeArgs, quiet: bool) -> Result<i32> {
         let (em, es) = e.context("window run did not cross the analysis section")?;
         let _ = writeln!(
             table,
-            "{},{},{},{:.4},{:.4},{:.3},{:.3}",
-            r.window_m, r.n_modes, r.moves, s.mean_n, s.std_n, em, es
+            "{},{},{},{:.4},{:.4},{:.3},{:.3},{:.4},{:.4},{},{}",
+            r.window_m,
+            r.n_modes,
+            r.moves,
+            s.mean_n,
+            s.std_n,
+            em,
+            es,
+            fs.mean_n,
+            fs.std_n,
+            cell(reference.map(|r| r.0)),
+            cell(reference.map(|r| r.1))
         );
         println!(
             "{:>10} {:>6} {:>6} {:>9.2} {:>8.2} {:>+9.2} {:>+9.2}",
             r.window_m, r.n_modes, r.moves, s.mean_n, s.std_n, em, es
         );
     }
-    let _ = writeln!(
-        table,
-        "full,{},0,{:.4},{:.4},0,0",
-        full.n_modes, fs.mean_n, fs.std_n
-    );
     println!(
         "{:>10} {:>6} {:>6} {:>9.2} {:>8.2}",
         "full", full.n_modes, "", fs.mean_n, fs.std_n
     );
     if let Some((m, s)) = reference {
-        let _ = writeln!(table, "measured,,,{m},{s},,");
         println!(
             "{:>10} {:>6} {:>6} {:>9.2} {:>8.2}   (paper §4.2)",
             "measured", "", "", m, s
@@ -138,26 +151,23 @@ pub fn realtime(a: RealtimeArgs, quiet: bool) -> Result<i32> {
         ts.push('\n');
     }
     std::fs::write(a.out.join("timeseries.csv"), ts)?;
+    crate::output::write_manifest(
+        &a.out,
+        "realtime",
+        serde_json::json!({
+            "case_name": name,
+            "speed_kmh": case.run.speed_kmh,
+            "analysis_m": case.run.analysis_m,
+            "overrides": overrides.iter().map(|o| o.flag.clone()).collect::<Vec<_>>(),
+        }),
+    )?;
     println!(
-        "wrote {}/realtime.csv and {}/timeseries.csv",
-        a.out.display(),
-        a.out.display()
+        "wrote {} and {}",
+        shown(&a.out, "realtime.csv"),
+        shown(&a.out, "timeseries.csv")
     );
     if !a.no_plot {
-        let files = crate::plot::realtime::draw_realtime(
-            &a.out,
-            &crate::plot::realtime::RealtimeFigures {
-                name: &name,
-                speed_kmh: case.run.speed_kmh,
-                analysis_m: case.run.analysis_m,
-                position_m: &full.pantographs[0].position_m[..n],
-                full_filtered_n: &ff[..n],
-                full_stats: fs,
-                windows: runs,
-                window_filtered_n: &wf,
-                measured: reference,
-            },
-        )?;
+        let files = crate::plot::redraw(&a.out)?;
         crate::plot::report(&files);
     }
     Ok(0)

@@ -4,7 +4,7 @@ use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
 
-use crate::common::{case_name, load_case, run_with_progress};
+use crate::common::{apply, case_name, load_case, run_with_progress, shown, Ctx, Override};
 use crate::output::{write_run, Summary};
 
 #[derive(Args)]
@@ -14,41 +14,44 @@ pub struct RunArgs {
     /// Embedded preset name (see `pcsim presets`).
     #[arg(long)]
     preset: Option<String>,
-    /// Override the train speed, km/h.
-    #[arg(long)]
-    speed: Option<f64>,
-    /// Override the contact-wire tension, kN.
-    #[arg(long)]
-    tension: Option<f64>,
+    /// Override the train speed: km/h, or with a unit (250km/h, 69m/s).
+    #[arg(long, value_name = "KM/H")]
+    speed: Option<String>,
+    /// Override the contact-wire tension: kN, or with a unit (20kN, 20000N).
+    #[arg(long, value_name = "KN")]
+    tension: Option<String>,
     /// Output directory.
     #[arg(long, default_value = "out")]
     out: PathBuf,
-    /// Also draw the plots (SVG and PNG) into the output directory.
+    /// Also draw the figures (SVG and PNG) into the output directory.
     #[arg(long)]
     plot: bool,
 }
 
-pub fn run(a: RunArgs, quiet: bool) -> Result<i32> {
-    let mut case = load_case(a.case.as_ref(), a.preset.as_deref())?;
-    if let Some(v) = a.speed {
-        case.run.speed_kmh = v;
+pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
+    let base = load_case(a.case.as_ref(), a.preset.as_deref())?;
+    let mut overrides = Vec::new();
+    if let Some(v) = &a.speed {
+        overrides.push(Override::speed(v)?);
     }
-    if let Some(t) = a.tension {
-        case.catenary.contact_wire.tension_n = t * 1e3;
+    if let Some(t) = &a.tension {
+        overrides.push(Override::tension(t)?);
     }
-    let (out, wall, warnings) = run_with_progress(&case, "run", quiet)?;
-    let summary = Summary::new(&case, &out, wall, warnings);
+    let case = apply(&base, &overrides)?;
+    let (out, wall, warnings) = run_with_progress(&case, &overrides, "run", ctx)?;
+    let flags = overrides.iter().map(|o| o.flag.clone()).collect();
+    let summary = Summary::new(&case, &out, wall, flags, warnings);
     write_run(&a.out, &out, &summary)?;
     if a.plot {
-        let data = crate::plot::run::PlotData::from_run(&summary, Some(case.catenary.span_m), &out);
-        let files = crate::plot::run::draw_all(&a.out, &data)?;
+        // From the files just written: exactly what `pcsim plot DIR` draws.
+        let files = crate::plot::redraw(&a.out)?;
         crate::plot::report(&files);
     }
     println!(
-        "{} at {:.0} km/h: {:.2} s simulated in {:.2} s wall ({:.1}x real time), {} modes/wire",
+        "{} at {} km/h: {} s simulated in {:.2} s wall ({:.1}x real time), {} modes/wire",
         case_name(&case),
         case.run.speed_kmh,
-        out.simulated_time_s(),
+        summary.simulated_time_s,
         wall,
         out.simulated_time_s() / wall,
         out.n_modes
@@ -63,9 +66,9 @@ pub fn run(a: RunArgs, quiet: bool) -> Result<i32> {
         }
     }
     println!(
-        "wrote {}/summary.json and {}/timeseries.csv",
-        a.out.display(),
-        a.out.display()
+        "wrote {} and {}",
+        shown(&a.out, "summary.json"),
+        shown(&a.out, "timeseries.csv")
     );
     Ok(0)
 }

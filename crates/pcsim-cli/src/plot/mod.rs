@@ -75,39 +75,113 @@ pub(crate) fn safe(name: &str) -> String {
         .collect()
 }
 
-/// One line of a generic plot.
+/// One line of a figure.
 pub struct Line {
     pub label: String,
     pub points: Vec<(f64, f64)>,
+    /// Stroke width in pixels.
+    pub width: u32,
+    /// A colour of its own (otherwise the palette's next).
+    pub colour: Option<RGBColor>,
+    /// Mark every point with a dot.
+    pub marks: bool,
 }
 
-fn line_chart<DB: DrawingBackend>(
-    root: DrawingArea<DB, Shift>,
-    title: &str,
-    xl: &str,
-    yl: &str,
-    lines: &[Line],
-    marks: bool,
-) -> Result<()> {
+impl Line {
+    /// A plain line in the palette's next colour.
+    pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
+        Line {
+            label: label.into(),
+            points,
+            width: 2,
+            colour: None,
+            marks: false,
+        }
+    }
+
+    /// The same line with a dot at every point.
+    pub fn marked(mut self) -> Self {
+        self.marks = true;
+        self
+    }
+
+    /// Marks only, no line.
+    pub fn dots(label: impl Into<String>, points: Vec<(f64, f64)>, colour: RGBColor) -> Self {
+        Line {
+            label: label.into(),
+            points,
+            width: 0,
+            colour: Some(colour),
+            marks: true,
+        }
+    }
+
+    /// The same line in a given colour and width.
+    pub fn styled(mut self, colour: RGBColor, width: u32) -> Self {
+        self.colour = Some(colour);
+        self.width = width;
+        self
+    }
+}
+
+/// A figure of lines against a common x axis.
+pub struct Figure<'a> {
+    pub title: &'a str,
+    pub x_label: &'a str,
+    pub y_label: &'a str,
+    pub lines: Vec<Line>,
+    /// Logarithmic y axis (values ≤ 0 are left out).
+    pub log_y: bool,
+    /// Vertical marks: (x, label).
+    pub vmarks: Vec<(f64, String)>,
+    /// Horizontal reference lines: (y, label).
+    pub hmarks: Vec<(f64, String)>,
+}
+
+fn figure_chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, f: &Figure) -> Result<()> {
     root.fill(&WHITE).map_err(|e| anyhow!("{e:?}"))?;
-    let x = xrange(lines.iter().flat_map(|l| l.points.iter().map(|p| p.0)));
-    let y = range(
-        lines
-            .iter()
-            .flat_map(|l| l.points.iter().map(|p| p.1))
-            .chain(std::iter::once(0.0)),
-    );
+    let ty = |y: f64| if f.log_y { y.log10() } else { y };
+    let keep = |y: f64| y.is_finite() && (!f.log_y || y > 0.0);
+    let lines: Vec<Vec<(f64, f64)>> = f
+        .lines
+        .iter()
+        .map(|l| {
+            l.points
+                .iter()
+                .filter(|p| p.0.is_finite() && keep(p.1))
+                .map(|&(x, y)| (x, ty(y)))
+                .collect()
+        })
+        .collect();
+    let xs = lines
+        .iter()
+        .flatten()
+        .map(|p| p.0)
+        .chain(f.vmarks.iter().map(|m| m.0));
+    let x = xrange(xs);
+    let ys: Vec<f64> = lines
+        .iter()
+        .flatten()
+        .map(|p| p.1)
+        .chain(f.hmarks.iter().filter(|m| keep(m.0)).map(|m| ty(m.0)))
+        .chain((!f.log_y).then_some(0.0))
+        .collect();
+    if ys.is_empty() || !x.0.is_finite() {
+        anyhow::bail!("nothing to draw in `{}`", f.title);
+    }
+    let y = range(ys.into_iter());
     let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 22))
+        .caption(f.title, ("sans-serif", 22))
         .margin(15)
         .x_label_area_size(50)
-        .y_label_area_size(75)
+        .y_label_area_size(80)
         .build_cartesian_2d(x.0..x.1, y.0..y.1)
         .map_err(|e| anyhow!("{e:?}"))?;
+    let log = f.log_y;
     chart
         .configure_mesh()
-        .x_desc(xl)
-        .y_desc(yl)
+        .x_desc(f.x_label)
+        .y_desc(f.y_label)
         .x_label_formatter(&|v| {
             if (x.1 - x.0) > 20.0 {
                 format!("{v:.0}")
@@ -115,21 +189,70 @@ fn line_chart<DB: DrawingBackend>(
                 format!("{v:.1}")
             }
         })
+        .y_label_formatter(&|v| {
+            if log {
+                format!("{:.0e}", 10f64.powf(*v))
+            } else if (y.1 - y.0) > 20.0 {
+                format!("{v:.0}")
+            } else {
+                format!("{v:.2}")
+            }
+        })
         .label_style(("sans-serif", 15))
         .axis_desc_style(("sans-serif", 17))
         .light_line_style(WHITE)
         .draw()
         .map_err(|e| anyhow!("{e:?}"))?;
-    for (i, l) in lines.iter().enumerate() {
-        let c = PALETTE[i % PALETTE.len()];
+    for (k, (xm, label)) in f.vmarks.iter().enumerate() {
+        let c = BLACK.mix(0.55);
+        let series = chart
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(*xm, y.0), (*xm, y.1)],
+                c.stroke_width(1),
+            )))
+            .map_err(|e| anyhow!("{e:?}"))?;
+        if k < 8 {
+            series
+                .label(label.clone())
+                .legend(move |(x, y)| PathElement::new(vec![(x + 10, y - 6), (x + 10, y + 6)], c));
+        }
+    }
+    for (ym, label) in &f.hmarks {
+        if !keep(*ym) {
+            continue;
+        }
+        let c = BLACK.mix(0.4);
         chart
-            .draw_series(LineSeries::new(l.points.clone(), c.stroke_width(2)))
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(x.0, ty(*ym)), (x.1, ty(*ym))],
+                c.stroke_width(1),
+            )))
+            .map_err(|e| anyhow!("{e:?}"))?
+            .label(label.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
+    }
+    for (i, (l, pts)) in f.lines.iter().zip(lines).enumerate() {
+        let c = l.colour.unwrap_or(PALETTE[i % PALETTE.len()]);
+        let w = l.width;
+        if w == 0 {
+            // Marks only.
+            chart
+                .draw_series(pts.iter().map(|&p| Circle::new(p, 5, c.filled())))
+                .map_err(|e| anyhow!("{e:?}"))?
+                .label(l.label.clone())
+                .legend(move |(x, y)| Circle::new((x + 10, y), 5, c.filled()));
+            continue;
+        }
+        chart
+            .draw_series(LineSeries::new(pts.clone(), c.stroke_width(w)))
             .map_err(|e| anyhow!("{e:?}"))?
             .label(l.label.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
-        if marks {
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(w.max(2)))
+            });
+        if l.marks {
             chart
-                .draw_series(l.points.iter().map(|&p| Circle::new(p, 4, c.filled())))
+                .draw_series(pts.iter().map(|&p| Circle::new(p, 4, c.filled())))
                 .map_err(|e| anyhow!("{e:?}"))?;
         }
     }
@@ -149,38 +272,41 @@ pub(crate) const PALETTE: [RGBColor; 8] = [
     RGBColor(23, 190, 207),
 ];
 
-/// Write a line plot as SVG and PNG; returns the two paths.
-pub fn line_plot(
-    stem: &Path,
-    title: &str,
-    xl: &str,
-    yl: &str,
-    lines: &[Line],
-    marks: bool,
-) -> Result<Vec<PathBuf>> {
+/// Write a figure as `stem.svg` and `stem.png`; returns the two paths.
+pub fn figure(stem: &Path, f: &Figure) -> Result<Vec<PathBuf>> {
     register_font();
     let size = (1200, 700);
     let svg = stem.with_extension("svg");
-    line_chart(
-        SVGBackend::new(&svg, size).into_drawing_area(),
-        title,
-        xl,
-        yl,
-        lines,
-        marks,
-    )
-    .with_context(|| format!("drawing {}", svg.display()))?;
+    figure_chart(SVGBackend::new(&svg, size).into_drawing_area(), f)
+        .with_context(|| format!("drawing {}", svg.display()))?;
     let png = stem.with_extension("png");
-    line_chart(
-        BitMapBackend::new(&png, size).into_drawing_area(),
-        title,
-        xl,
-        yl,
-        lines,
-        marks,
-    )
-    .with_context(|| format!("drawing {}", png.display()))?;
+    figure_chart(BitMapBackend::new(&png, size).into_drawing_area(), f)
+        .with_context(|| format!("drawing {}", png.display()))?;
     Ok(vec![svg, png])
+}
+
+/// Redraw the figures of an output directory from its files (its manifest says its kind; older
+/// directories are recognised by their files).
+pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
+    let kind = match crate::output::read_manifest(dir)? {
+        Some(m) => m["kind"].as_str().unwrap_or("").to_string(),
+        None if dir.join("summary.json").exists() => "run".into(),
+        None if dir.join("eva.csv").exists() => "eva".into(),
+        None if dir.join("realtime.csv").exists() => "realtime".into(),
+        None => anyhow::bail!(
+            "{} is not an output directory of pcsim (no pcsim.json, summary.json, eva.csv or realtime.csv)",
+            dir.display()
+        ),
+    };
+    match kind.as_str() {
+        "run" => run::redraw(dir),
+        "eva" => eva::redraw(dir),
+        "realtime" => realtime::redraw(dir),
+        other => anyhow::bail!(
+            "{}: pcsim.json names kind `{other}`, which has no figures",
+            dir.display()
+        ),
+    }
 }
 
 /// Print the plot files written (one line).

@@ -1,124 +1,175 @@
-//! The real-time window against the full model (the paper's Figs. 8–9): the 0–20 Hz force of each
-//! window beside the full model's, and the mean and σ against the window length.
+//! The real-time window against the full model (the paper's Figs. 8–9), drawn from the study's
+//! files (`realtime.csv`, `timeseries.csv`, `pcsim.json`): the 0–20 Hz force of each window over
+//! the full model's, the accuracy (relative error of the mean and σ) against the window length on
+//! a logarithmic axis, and the mean and σ themselves.
 
-use anyhow::Result;
-use pcsim_core::analysis::stats::ContactStats;
-use pcsim_core::analysis::studies::WindowRun;
+use anyhow::{bail, Context, Result};
+use plotters::style::RGBColor;
 use std::path::{Path, PathBuf};
 
-use super::{line_plot, Line};
+use super::{figure, Figure, Line};
 
-/// What the window figures show.
-pub struct RealtimeFigures<'a> {
-    pub name: &'a str,
-    pub speed_kmh: f64,
-    pub analysis_m: [f64; 2],
-    /// The full model's track positions and 0–20 Hz force.
-    pub position_m: &'a [f64],
-    pub full_filtered_n: &'a [f64],
-    pub full_stats: ContactStats,
-    pub windows: &'a [WindowRun],
-    /// Each window's 0–20 Hz force.
-    pub window_filtered_n: &'a [Vec<f64>],
-    /// The measured mean and σ (paper §4.2), where the case is the measured one.
-    pub measured: Option<(f64, f64)>,
+/// The header of `realtime.csv` (every column numeric; an empty cell where a value is absent).
+pub const HEADER: &str = "window_m,modes,moves,mean_n,std_n,mean_error_percent,std_error_percent,full_mean_n,full_std_n,measured_mean_n,measured_std_n";
+
+/// A CSV's header and its cells (`None` where empty or not a number).
+type Table = (Vec<String>, Vec<Vec<Option<f64>>>);
+
+fn parse_csv(path: &Path) -> Result<Table> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let mut lines = text.lines();
+    let header: Vec<String> = lines
+        .next()
+        .with_context(|| format!("{} is empty", path.display()))?
+        .split(',')
+        .map(String::from)
+        .collect();
+    let rows = lines
+        .filter(|l| !l.is_empty())
+        .map(|l| l.split(',').map(|v| v.trim().parse().ok()).collect())
+        .collect();
+    Ok((header, rows))
 }
 
-/// Draw the figures into `dir`; returns the files written.
-pub fn draw_realtime(dir: &Path, d: &RealtimeFigures) -> Result<Vec<PathBuf>> {
-    let a_out = dir;
-    let name = d.name;
-    let fs = d.full_stats;
-    let reference = d.measured;
-    let runs = d.windows;
-    let wf = d.window_filtered_n;
-    let ff = d.full_filtered_n;
-    let n = d.position_m.len();
-    let pos = d.position_m;
-    let sec = d.analysis_m;
-    let pick = |v: &[f64]| -> Vec<(f64, f64)> {
-        (0..n)
-            .filter(|&k| pos[k] >= sec[0] && pos[k] <= sec[1])
-            .map(|k| (pos[k], v[k]))
-            .step_by(2)
+/// Redraw the window study's figures.
+pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
+    let manifest = crate::output::read_manifest(dir)?.unwrap_or_default();
+    let name = manifest["case_name"].as_str().unwrap_or("case").to_string();
+    let speed = manifest["speed_kmh"].as_f64().unwrap_or(0.0);
+    let sec = [
+        manifest["analysis_m"][0]
+            .as_f64()
+            .unwrap_or(f64::NEG_INFINITY),
+        manifest["analysis_m"][1].as_f64().unwrap_or(f64::INFINITY),
+    ];
+    let (h, rows) = parse_csv(&dir.join("realtime.csv"))?;
+    if h.join(",") != HEADER {
+        bail!(
+            "{} is not a realtime.csv of this version of pcsim",
+            dir.join("realtime.csv").display()
+        );
+    }
+    if rows.is_empty() {
+        bail!(
+            "{} has no windows: nothing to plot",
+            dir.join("realtime.csv").display()
+        );
+    }
+    let col = |r: &Vec<Option<f64>>, i: usize| r.get(i).copied().flatten();
+    let (th, ts) = parse_csv(&dir.join("timeseries.csv"))?;
+    if ts.is_empty() {
+        bail!(
+            "{} has no rows: nothing to plot",
+            dir.join("timeseries.csv").display()
+        );
+    }
+    let mut files = Vec::new();
+    let pos: Vec<f64> = ts.iter().map(|r| col(r, 1).unwrap_or(f64::NAN)).collect();
+    // A 240 m excerpt from the middle of the analysis section: long enough for four spans of
+    // 60 m, short enough to see every oscillation of the two traces.
+    let (lo, hi) = if sec[0].is_finite() && sec[1].is_finite() {
+        let mid = 0.5 * (sec[0] + sec[1]);
+        let half = (0.5 * (sec[1] - sec[0])).min(120.0);
+        (mid - half, mid + half)
+    } else {
+        (f64::NEG_INFINITY, f64::INFINITY)
+    };
+    let series = |i: usize| -> Vec<(f64, f64)> {
+        ts.iter()
+            .zip(&pos)
+            .filter(|(_, &x)| x >= lo && x <= hi)
+            .filter_map(|(r, &x)| col(r, i).map(|y| (x, y)))
             .collect()
     };
-    let mut files = Vec::new();
-    for (r, w) in runs.iter().zip(wf) {
-        files.extend(line_plot(
-            &a_out.join(format!("realtime_force_{}m", r.window_m)),
-            &format!(
-                "{name}, {} km/h: contact force (0–20 Hz), window {} m vs full model",
-                d.speed_kmh, r.window_m
-            ),
-            "Position along the track [m]",
-            "Contact force [N]",
-            &[
-                Line {
-                    label: "full model".into(),
-                    points: pick(ff),
-                },
-                Line {
-                    label: format!("window {} m", r.window_m),
-                    points: pick(w),
-                },
-            ],
-            false,
+    let full = series(2);
+    for (i, head) in th.iter().enumerate().skip(3) {
+        let w = head
+            .strip_prefix("window_")
+            .and_then(|s| s.strip_suffix("m_force_filtered_n"))
+            .unwrap_or(head);
+        files.extend(figure(
+            &dir.join(format!("realtime_force_{w}m")),
+            &Figure {
+                title: &format!(
+                    "{name}, {speed} km/h: contact force (0–20 Hz), window {w} m over the full model, {lo:.0}–{hi:.0} m"
+                ),
+                x_label: "Position along the track [m]",
+                y_label: "Contact force [N]",
+                // The window's trace drawn thin over the full model's broad light trace: both
+                // stay visible where they agree.
+                lines: vec![
+                    Line::new("full model", full.clone()).styled(RGBColor(140, 185, 230), 5),
+                    Line::new(format!("window {w} m"), series(i))
+                        .styled(RGBColor(200, 30, 30), 2),
+                ],
+                log_y: false,
+                vmarks: vec![],
+                hmarks: vec![],
+            },
         )?);
     }
-    let mut sorted: Vec<&WindowRun> = runs.iter().collect();
-    sorted.sort_by(|x, y| x.window_m.total_cmp(&y.window_m));
-    let (x0, x1) = (
-        sorted.first().map_or(0.0, |r| r.window_m),
-        sorted.last().map_or(1.0, |r| r.window_m),
-    );
-    for (q, label, full_v, meas) in [
-        (
-            "mean",
-            "Mean contact force [N]",
-            fs.mean_n,
-            reference.map(|r| r.0),
-        ),
-        (
-            "std",
-            "Standard deviation [N]",
-            fs.std_n,
-            reference.map(|r| r.1),
-        ),
-    ] {
-        let mut lines = vec![
-            Line {
-                label: "window model".into(),
-                points: sorted
-                    .iter()
-                    .filter_map(|r| {
-                        r.stats
-                            .map(|s| (r.window_m, if q == "mean" { s.mean_n } else { s.std_n }))
-                    })
-                    .collect(),
-            },
-            Line {
-                label: "full model".into(),
-                points: vec![(x0, full_v), (x1, full_v)],
-            },
-        ];
-        if let Some(m) = meas {
-            lines.push(Line {
-                label: "measured (paper §4.2)".into(),
-                points: vec![(x0, m), (x1, m)],
-            });
-        }
-        files.extend(line_plot(
-            &a_out.join(format!("realtime_{q}_vs_window")),
-            &format!(
-                "{name}, {} km/h: {} of the 0–20 Hz contact force against window length",
-                d.speed_kmh,
-                if q == "mean" { "mean" } else { "σ" }
+    let mut sorted: Vec<&Vec<Option<f64>>> = rows.iter().collect();
+    sorted.sort_by(|a, b| {
+        col(a, 0)
+            .unwrap_or(0.0)
+            .total_cmp(&col(b, 0).unwrap_or(0.0))
+    });
+    let pts = |i: usize, abs: bool| -> Vec<(f64, f64)> {
+        sorted
+            .iter()
+            .filter_map(|r| {
+                let v = col(r, i)?;
+                Some((col(r, 0)?, if abs { v.abs() } else { v }))
+            })
+            .collect()
+    };
+    files.extend(figure(
+        &dir.join("realtime_error_vs_window"),
+        &Figure {
+            title: &format!(
+                "{name}, {speed} km/h: accuracy of the window against the full model (0–20 Hz force)"
             ),
-            "Window length d_e [m]",
-            label,
-            &lines,
-            true,
+            x_label: "Window length [m]",
+            y_label: "|relative error| [%] (log scale)",
+            lines: vec![
+                Line::new("mean", pts(5, true)).marked(),
+                Line::new("σ", pts(6, true)).marked(),
+            ],
+            log_y: true,
+            vmarks: vec![],
+            hmarks: vec![(1.0, "1 %".into()), (3.0, "3 %".into())],
+        },
+    )?);
+    let (x0, x1) = (
+        pts(0, false).first().map_or(0.0, |p| p.0),
+        pts(0, false).last().map_or(1.0, |p| p.0),
+    );
+    for (q, label, i, full_i, meas_i) in [
+        ("mean", "Mean contact force [N]", 3, 7, 9),
+        ("std", "Standard deviation [N]", 4, 8, 10),
+    ] {
+        let mut lines = vec![Line::new("window model", pts(i, false)).marked()];
+        if let Some(f) = col(sorted[0], full_i) {
+            lines.push(Line::new("full model", vec![(x0, f), (x1, f)]));
+        }
+        if let Some(m) = col(sorted[0], meas_i) {
+            lines.push(Line::new("measured (paper §4.2)", vec![(x0, m), (x1, m)]));
+        }
+        files.extend(figure(
+            &dir.join(format!("realtime_{q}_vs_window")),
+            &Figure {
+                title: &format!(
+                    "{name}, {speed} km/h: {} of the 0–20 Hz contact force against window length",
+                    if q == "mean" { "mean" } else { "σ" }
+                ),
+                x_label: "Window length d_e [m]",
+                y_label: label,
+                lines,
+                log_y: false,
+                vmarks: vec![],
+                hmarks: vec![],
+            },
         )?);
     }
     Ok(files)

@@ -1,14 +1,13 @@
 //! The figures of a run: the contact force of each pantograph, raw and 0–20 Hz filtered, against
-//! position (as the paper's Fig. 3), and the contact-point height.
+//! position (as the paper's Fig. 3), and the contact-point height. Drawn from the run's files
+//! (`summary.json`, `timeseries.csv`), so `--plot` and `pcsim plot DIR` draw the same.
 
 use anyhow::{anyhow, bail, Context, Result};
-use pcsim_core::analysis::record::RunOutput;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 
 use super::{legend, range, register_font, safe, xrange, Chart, COLOURS, RAW};
-use crate::output::Summary;
 
 /// One pantograph's traces.
 pub struct Trace {
@@ -25,71 +24,45 @@ pub struct PlotData {
     pub speed_kmh: f64,
     pub span_m: Option<f64>,
     pub analysis_m: [f64; 2],
+    /// The flags that overrode case values (named in the titles).
+    pub overrides: Vec<String>,
     pub traces: Vec<Trace>,
 }
 
 impl PlotData {
-    /// The plot data of a finished run.
-    pub fn from_run(summary: &Summary, span_m: Option<f64>, out: &RunOutput) -> Self {
-        PlotData {
-            case_name: summary.case_name.clone(),
-            speed_kmh: summary.speed_kmh,
-            span_m,
-            analysis_m: out.analysis_m,
-            traces: out
-                .pantographs
-                .iter()
-                .map(|p| Trace {
-                    name: p.name.clone(),
-                    position_m: p.position_m.clone(),
-                    force_n: p.force_n.clone(),
-                    force_filtered_n: p.force_filtered_n.clone(),
-                    height_m: p.wire_height_m.clone(),
-                })
-                .collect(),
-        }
-    }
-}
-
-/// Keep at most ~`max` points, preserving each bucket's minimum and maximum (peaks survive).
-fn decimate(x: &[f64], y: &[f64], max: usize) -> Vec<(f64, f64)> {
-    let n = x.len();
-    if n <= max {
-        return x.iter().copied().zip(y.iter().copied()).collect();
-    }
-    let bucket = n.div_ceil(max / 2);
-    let mut out = Vec::with_capacity(max + 2);
-    for c in (0..n).step_by(bucket) {
-        let end = (c + bucket).min(n);
-        let (mut imin, mut imax) = (c, c);
-        for i in c..end {
-            if y[i] < y[imin] {
-                imin = i;
-            }
-            if y[i] > y[imax] {
-                imax = i;
-            }
-        }
-        let (a, b) = if imin < imax {
-            (imin, imax)
+    /// The title suffix naming the overrides.
+    fn with(&self) -> String {
+        if self.overrides.is_empty() {
+            String::new()
         } else {
-            (imax, imin)
-        };
-        out.push((x[a], y[a]));
-        if b != a {
-            out.push((x[b], y[b]));
+            format!(" (with {})", self.overrides.join(", "))
         }
     }
-    out
 }
 
-/// Every k-th point, at most ~`max` (for smooth, already filtered signals).
-fn stride(x: &[f64], y: &[f64], max: usize) -> Vec<(f64, f64)> {
-    let k = x.len().div_ceil(max).max(1);
-    x.iter()
-        .copied()
-        .zip(y.iter().copied())
-        .step_by(k)
+/// Width of the plot area in pixels: one envelope column per pixel.
+const COLUMNS: usize = 1650;
+
+/// Per pixel column over `[x0, x1]`: the column's centre, the smallest, the largest and the mean
+/// of the values falling in it (empty columns are skipped).
+fn columns(x: &[f64], y: &[f64], x0: f64, x1: f64) -> Vec<(f64, f64, f64, f64)> {
+    let w = (x1 - x0) / COLUMNS as f64;
+    let mut acc = vec![(f64::INFINITY, f64::NEG_INFINITY, 0.0, 0usize); COLUMNS];
+    for (&xi, &yi) in x.iter().zip(y) {
+        if !(xi.is_finite() && yi.is_finite()) {
+            continue;
+        }
+        let c = (((xi - x0) / w).floor().max(0.0) as usize).min(COLUMNS - 1);
+        let a = &mut acc[c];
+        a.0 = a.0.min(yi);
+        a.1 = a.1.max(yi);
+        a.2 += yi;
+        a.3 += 1;
+    }
+    acc.iter()
+        .enumerate()
+        .filter(|(_, a)| a.3 > 0)
+        .map(|(c, a)| (x0 + (c as f64 + 0.5) * w, a.0, a.1, a.2 / a.3 as f64))
         .collect()
 }
 
@@ -112,7 +85,7 @@ fn span_marks<DB: DrawingBackend>(
         .map_err(|e| anyhow!("{e:?}"))?;
     if let Some(s) = d.span_m {
         let first = (x.0 / s).ceil() as i64;
-        let last = (x.1 / s).floor() as i64;
+        let last = ((x.1 / s).floor() as i64).min(first + 5000);
         chart
             .draw_series((first..=last).map(|k| {
                 PathElement::new(
@@ -171,27 +144,38 @@ fn force_chart<DB: DrawingBackend>(
             .chain(t.force_filtered_n.iter().copied()),
     );
     let title = format!(
-        "{}: contact force, {} pantograph, {:.0} km/h",
-        d.case_name, t.name, d.speed_kmh
+        "{}: contact force, {} pantograph, {} km/h{}",
+        d.case_name,
+        t.name,
+        d.speed_kmh,
+        d.with()
     );
     let mut chart = track_chart(&root, title, "Contact force [N]", x, y)?;
     span_marks(&mut chart, d, x, y)?;
+    // Both forces as min/max envelopes per pixel column (filled bands: about a dozen samples
+    // fall in one column, and a line through them would zig-zag between the extremes).
+    let band = |x_m: &[f64], y: &[f64]| -> Vec<(f64, f64)> {
+        let cols = columns(x_m, y, x.0, x.1);
+        let mut b: Vec<(f64, f64)> = cols.iter().map(|c| (c.0, c.2)).collect();
+        b.extend(cols.iter().rev().map(|c| (c.0, c.1)));
+        b
+    };
     chart
-        .draw_series(LineSeries::new(
-            decimate(&t.position_m, &t.force_n, 8000),
-            RAW.stroke_width(1),
-        ))
+        .draw_series(std::iter::once(Polygon::new(
+            band(&t.position_m, &t.force_n),
+            RAW.mix(0.8).filled(),
+        )))
         .map_err(|e| anyhow!("{e:?}"))?
-        .label("raw")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RAW.stroke_width(2)));
+        .label("raw (min–max per pixel column)")
+        .legend(|(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], RAW.filled()));
     chart
-        .draw_series(LineSeries::new(
-            stride(&t.position_m, &t.force_filtered_n, 6000),
-            COLOURS[0].stroke_width(2),
-        ))
+        .draw_series(std::iter::once(Polygon::new(
+            band(&t.position_m, &t.force_filtered_n),
+            COLOURS[0].mix(0.85).filled(),
+        )))
         .map_err(|e| anyhow!("{e:?}"))?
-        .label("0–20 Hz (zero-phase Butterworth)")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], COLOURS[0].stroke_width(2)));
+        .label("0–20 Hz, zero-phase Butterworth (min–max per pixel column)")
+        .legend(|(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], COLOURS[0].filled()));
     legend(&mut chart)?;
     root.present().map_err(|e| anyhow!("{e:?}"))?;
     Ok(())
@@ -206,8 +190,10 @@ fn height_chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, d: &PlotData) 
             .flat_map(|t| t.height_m.iter().map(|h| h * 1e3)),
     );
     let title = format!(
-        "{}: contact-point height, {:.0} km/h",
-        d.case_name, d.speed_kmh
+        "{}: contact-point height, {} km/h{}",
+        d.case_name,
+        d.speed_kmh,
+        d.with()
     );
     let mut chart = track_chart(
         &root,
@@ -220,9 +206,10 @@ fn height_chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, d: &PlotData) 
     for (i, t) in d.traces.iter().enumerate() {
         let c = COLOURS[i % COLOURS.len()];
         let mm: Vec<f64> = t.height_m.iter().map(|h| h * 1e3).collect();
+        let cols = columns(&t.position_m, &mm, x.0, x.1);
         chart
             .draw_series(LineSeries::new(
-                stride(&t.position_m, &mm, 6000),
+                cols.iter().map(|c| (c.0, c.3)),
                 c.stroke_width(2),
             ))
             .map_err(|e| anyhow!("{e:?}"))?
@@ -258,6 +245,11 @@ pub fn draw_all(dir: &Path, d: &PlotData) -> Result<Vec<PathBuf>> {
         .with_context(|| format!("drawing {}", png.display()))?;
     files.extend([svg, png]);
     Ok(files)
+}
+
+/// Redraw a run's figures from its files.
+pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
+    draw_all(dir, &read_run(dir)?)
 }
 
 /// Read a finished run's `summary.json` and `timeseries.csv` back into plot data.
@@ -327,12 +319,26 @@ pub fn read_run(dir: &Path) -> Result<PlotData> {
             t.height_m.push(v(ix[3])?);
         }
     }
+    if traces.iter().any(|t| t.position_m.is_empty()) {
+        bail!(
+            "{} has no rows: the run recorded no steps, there is nothing to plot",
+            tp.display()
+        );
+    }
     let a = &summary["analysis_section_m"];
     Ok(PlotData {
         case_name: summary["case_name"].as_str().unwrap_or("run").to_string(),
         speed_kmh: summary["speed_kmh"].as_f64().unwrap_or(0.0),
-        span_m: summary["span_m"].as_f64(),
+        span_m: summary["span_m"].as_f64().filter(|s| *s > 0.0),
         analysis_m: [a[0].as_f64().unwrap_or(0.0), a[1].as_f64().unwrap_or(0.0)],
+        overrides: summary["overrides"]
+            .as_array()
+            .map(|o| {
+                o.iter()
+                    .filter_map(|v| v.as_str().map(String::from))
+                    .collect()
+            })
+            .unwrap_or_default(),
         traces,
     })
 }

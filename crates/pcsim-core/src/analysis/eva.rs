@@ -3,6 +3,7 @@
 
 use crate::analysis::energy::{integrate, DensityGrid};
 use crate::error::SimError;
+use crate::solve::budget::{check_len, Budget};
 use crate::solve::run::{run, Observer};
 use crate::solve::{Integrator, Setup, State, Workspace};
 
@@ -24,6 +25,8 @@ pub struct EvaSettings {
     pub sample_every_s: f64,
     /// Grid intervals per mode for the density.
     pub points_per_mode: usize,
+    /// Memory limit of the energy arrays.
+    pub budget: Budget,
 }
 
 impl Default for EvaSettings {
@@ -36,6 +39,7 @@ impl Default for EvaSettings {
             snapshot_at_m: None,
             sample_every_s: 0.1,
             points_per_mode: 4,
+            budget: Budget::default(),
         }
     }
 }
@@ -229,9 +233,23 @@ pub fn run_eva(
     let dt = setup.options.dt_s;
     let n_steps = setup.n_steps();
     let every = ((s.sample_every_s / dt).round() as usize).max(1);
+    // Bounded memory: the window lengths (every Δd up to the largest window, eight arrays) and
+    // the density grid (points per mode × modes, about twenty arrays).
+    let max_window = s.max_window_m.unwrap_or(l).min(2.0 * l);
+    check_len(
+        &s.budget,
+        "eva.step_m (--step)",
+        s.step_m,
+        8.0 * max_window / s.step_m,
+    )?;
+    check_len(
+        &s.budget,
+        "eva.points_per_mode",
+        s.points_per_mode,
+        20.0 * (s.points_per_mode.max(2) * setup.model.n_modes()) as f64,
+    )?;
     let grid = DensityGrid::new(&setup.model, s.points_per_mode)?;
     let dx = grid.dx();
-    let max_window = s.max_window_m.unwrap_or(l).min(2.0 * l);
     let half = (0.5 * max_window / dx).round() as isize;
     let xi: Vec<f64> = (-half..=half).map(|i| i as f64 * dx).collect();
     let nd = (max_window / s.step_m).floor() as usize;

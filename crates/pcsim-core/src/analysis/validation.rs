@@ -16,6 +16,8 @@ pub use crate::input::targets::{target_cases, TargetCase, QUANTITIES, TARGETS_TO
 pub struct Row {
     pub quantity: String,
     pub value: f64,
+    /// Unit of the value and the range: N, mm or %.
+    pub unit: &'static str,
     pub range: [f64; 2],
     pub pass: bool,
     /// The seed paper's own value, where the targets give one.
@@ -54,6 +56,17 @@ pub fn stat_value(s: &ContactStats, q: &str) -> Option<f64> {
     })
 }
 
+/// The unit of quantity `q`.
+pub fn unit_of(q: &str) -> &'static str {
+    if q.ends_with("_mm") {
+        "mm"
+    } else if q.ends_with("_percent") {
+        "%"
+    } else {
+        "N"
+    }
+}
+
 /// Compare statistics with a target case. Values are compared after rounding to the ranges'
 /// own precision (0.1 N/mm/%); a single-value range such as `[169, 169]` gets ±0.5.
 pub fn compare(stats: &ContactStats, target: &TargetCase) -> CaseRows {
@@ -75,6 +88,7 @@ pub fn compare(stats: &ContactStats, target: &TargetCase) -> CaseRows {
             Some(Row {
                 quantity: q.clone(),
                 value: v,
+                unit: unit_of(q),
                 range: *r,
                 pass: inside(v),
                 paper_value,

@@ -255,8 +255,8 @@ impl Case {
     /// Parse a case from TOML text. Sourced fields (`{ value, source }`) are unwrapped and their
     /// sources returned; unknown keys are errors that name the key.
     pub fn from_toml_str(text: &str) -> Result<(Case, Provenance), CaseError> {
-        let mut value: toml::Value = toml::from_str(text)
-            .map_err(|e| CaseError::Parse(e.message().to_string() + &span_hint(text, &e)))?;
+        let mut value: toml::Value =
+            toml::from_str(text).map_err(|e| CaseError::Parse(parse_message(text, &e)))?;
         let mut prov = Provenance::new();
         strip_sources(&mut value, String::new(), &mut prov)?;
         let case: Case = serde_path_to_error::deserialize(value).map_err(|e| {
@@ -291,6 +291,10 @@ impl Case {
     }
 
     /// Check every value; return warnings, or an error naming the field and its value.
+    ///
+    /// Every number has plausibility bounds: outside the hard bounds it is physically
+    /// meaningless (an error), outside the soft bounds merely unusual (a warning naming the
+    /// field and the typical range). See [`bounds`].
     pub fn validate(&self) -> Result<Vec<Warning>, CaseError> {
         let mut w = Vec::new();
         let c = &self.catenary;
@@ -298,18 +302,39 @@ impl Case {
         if c.spans < 2 {
             return Err(inv("catenary.spans", c.spans, "need at least 2 spans"));
         }
-        pos("catenary.span_m", c.span_m)?;
-        pos("catenary.encumbrance_m", c.encumbrance_m)?;
+        if c.spans > 5000 {
+            return Err(inv(
+                "catenary.spans",
+                c.spans,
+                "more than 5000 spans (300 km at 60 m) is not a catenary model this tool can run",
+            ));
+        }
+        if c.spans > 200 {
+            w.push(Warning(format!(
+                "catenary.spans = {}: unusually many spans (typical: 10–60); the run's cost grows with the length",
+                c.spans
+            )));
+        }
+        check(&mut w, "catenary.span_m", c.span_m, &bounds::SPAN)?;
+        check(
+            &mut w,
+            "catenary.encumbrance_m",
+            c.encumbrance_m,
+            &bounds::ENCUMBRANCE,
+        )?;
         for (name, wire) in [
             ("contact_wire", &c.contact_wire),
             ("messenger", &c.messenger),
         ] {
-            pos(
-                &format!("catenary.{name}.mass_per_m_kg"),
+            let f = |k: &str| format!("catenary.{name}.{k}");
+            check(
+                &mut w,
+                &f("mass_per_m_kg"),
                 wire.mass_per_m_kg,
+                &bounds::WIRE_MASS,
             )?;
-            pos(&format!("catenary.{name}.tension_n"), wire.tension_n)?;
-            nonneg(&format!("catenary.{name}.ei_nm2"), wire.ei_nm2)?;
+            check(&mut w, &f("tension_n"), wire.tension_n, &bounds::TENSION)?;
+            check(&mut w, &f("ei_nm2"), wire.ei_nm2, &bounds::EI)?;
         }
         let d = &c.droppers;
         if d.positions_m.is_empty() {
@@ -338,8 +363,13 @@ impl Case {
             prev = x;
         }
         match (d.stiffness_n_per_m, d.ea_n) {
-            (Some(k), None) => pos("catenary.droppers.stiffness_n_per_m", k)?,
-            (None, Some(ea)) => pos("catenary.droppers.ea_n", ea)?,
+            (Some(k), None) => check(
+                &mut w,
+                "catenary.droppers.stiffness_n_per_m",
+                k,
+                &bounds::DROPPER_STIFFNESS,
+            )?,
+            (None, Some(ea)) => check(&mut w, "catenary.droppers.ea_n", ea, &bounds::DROPPER_EA)?,
             _ => {
                 return Err(inv(
                     "catenary.droppers.stiffness_n_per_m",
@@ -348,24 +378,40 @@ impl Case {
                 ))
             }
         }
-        nonneg(
+        check(
+            &mut w,
             "catenary.droppers.clamp_mass_messenger_kg",
             d.clamp_mass_messenger_kg,
+            &bounds::CLAMP_MASS,
         )?;
-        nonneg(
+        check(
+            &mut w,
             "catenary.droppers.clamp_mass_contact_kg",
             d.clamp_mass_contact_kg,
+            &bounds::CLAMP_MASS,
         )?;
-        nonneg("catenary.droppers.mass_per_m_kg", d.mass_per_m_kg)?;
+        check(
+            &mut w,
+            "catenary.droppers.mass_per_m_kg",
+            d.mass_per_m_kg,
+            &bounds::DROPPER_MASS,
+        )?;
+        // Pre-sag: beyond span/100 (0.6 m on 60 m) no pantograph follows the wire; typical
+        // designs stay below span/500.
+        let presag_bound = Bound {
+            hard: (-c.span_m / 100.0, c.span_m / 100.0),
+            soft: (0.0, c.span_m / 500.0),
+            unit: "m",
+            typical: "0 to span/500 (downward positive)",
+        };
         match &c.presag {
             Presag::Parabolic { mid_span_m, .. } => {
-                if mid_span_m.abs() > 0.1 * c.span_m {
-                    return Err(inv(
-                        "catenary.presag.mid_span_m",
-                        mid_span_m,
-                        "pre-sag is unrealistically large",
-                    ));
-                }
+                check(
+                    &mut w,
+                    "catenary.presag.mid_span_m",
+                    *mid_span_m,
+                    &presag_bound,
+                )?;
             }
             Presag::Table { values_m } => {
                 if values_m.len() != d.positions_m.len() {
@@ -375,40 +421,96 @@ impl Case {
                         &format!("need one value per dropper ({})", d.positions_m.len()),
                     ));
                 }
+                for (i, v) in values_m.iter().enumerate() {
+                    check(
+                        &mut w,
+                        &format!("catenary.presag.values_m[{i}]"),
+                        *v,
+                        &presag_bound,
+                    )?;
+                }
             }
         }
         match &c.damping {
             Damping::Rayleigh { alpha, beta } => {
-                nonneg("catenary.damping.alpha", *alpha)?;
-                nonneg("catenary.damping.beta", *beta)?;
+                check(
+                    &mut w,
+                    "catenary.damping.alpha",
+                    *alpha,
+                    &bounds::RAYLEIGH_ALPHA,
+                )?;
+                check(
+                    &mut w,
+                    "catenary.damping.beta",
+                    *beta,
+                    &bounds::RAYLEIGH_BETA,
+                )?;
             }
             Damping::Modal { ratio } => {
-                nonneg("catenary.damping.ratio", *ratio)?;
-                if *ratio >= 1.0 {
-                    return Err(inv("catenary.damping.ratio", ratio, "must be below 1"));
-                }
+                check(
+                    &mut w,
+                    "catenary.damping.ratio",
+                    *ratio,
+                    &bounds::MODAL_RATIO,
+                )?;
             }
         }
-        nonneg(
+        check(
+            &mut w,
             "catenary.messenger_support.stiffness_n_per_m",
             c.messenger_support.stiffness_n_per_m,
+            &bounds::SUPPORT_STIFFNESS,
         )?;
-        nonneg(
+        check(
+            &mut w,
             "catenary.messenger_support.damping_ns_per_m",
             c.messenger_support.damping_ns_per_m,
+            &bounds::SUPPORT_DAMPING,
         )?;
-        nonneg("catenary.steady_arm.mass_kg", c.steady_arm.mass_kg)?;
-        nonneg(
+        check(
+            &mut w,
+            "catenary.steady_arm.mass_kg",
+            c.steady_arm.mass_kg,
+            &bounds::ARM_MASS,
+        )?;
+        check(
+            &mut w,
             "catenary.steady_arm.stiffness_n_per_m",
             c.steady_arm.stiffness_n_per_m,
+            &bounds::SUPPORT_STIFFNESS,
         )?;
         if let Some(st) = &c.stitch_wire {
-            pos("catenary.stitch_wire.length_m", st.length_m)?;
-            pos("catenary.stitch_wire.tension_n", st.tension_n)?;
-            nonneg("catenary.stitch_wire.mass_per_m_kg", st.mass_per_m_kg)?;
-            nonneg("catenary.stitch_wire.clamp_mass_kg", st.clamp_mass_kg)?;
+            check(
+                &mut w,
+                "catenary.stitch_wire.length_m",
+                st.length_m,
+                &bounds::STITCH_LENGTH,
+            )?;
+            check(
+                &mut w,
+                "catenary.stitch_wire.tension_n",
+                st.tension_n,
+                &bounds::STITCH_TENSION,
+            )?;
+            check(
+                &mut w,
+                "catenary.stitch_wire.mass_per_m_kg",
+                st.mass_per_m_kg,
+                &bounds::DROPPER_MASS,
+            )?;
+            check(
+                &mut w,
+                "catenary.stitch_wire.clamp_mass_kg",
+                st.clamp_mass_kg,
+                &bounds::CLAMP_MASS,
+            )?;
             if let Some(cs) = st.damping_ns_per_m {
-                nonneg("catenary.stitch_wire.damping_ns_per_m", cs)?;
+                check(
+                    &mut w,
+                    "catenary.stitch_wire.damping_ns_per_m",
+                    cs,
+                    &bounds::SUPPORT_DAMPING,
+                )?;
             }
             if st.length_m >= c.span_m {
                 return Err(inv(
@@ -448,60 +550,118 @@ impl Case {
                 ));
             }
         }
-        pos("contact.stiffness_n_per_m", self.contact.stiffness_n_per_m)?;
+        check(
+            &mut w,
+            "contact.stiffness_n_per_m",
+            self.contact.stiffness_n_per_m,
+            &bounds::CONTACT_STIFFNESS,
+        )?;
 
+        let r = &self.run;
+        check(&mut w, "run.speed_kmh", r.speed_kmh, &bounds::SPEED)?;
+        // The speed is checked against the wave speed of the built model (one definition, with the
+        // clamps smeared in): see `solve::Plan::check`.
         if self.pantographs.is_empty() {
             return Err(inv("pantographs", "[]", "need at least one pantograph"));
         }
         for (i, p) in self.pantographs.iter().enumerate() {
             let base = format!("pantographs[{i}]");
-            nonneg(&format!("{base}.offset_m"), p.offset_m())?;
-            if let PantographCase::Lumped {
-                masses_kg,
-                stiffness_n_per_m,
-                damping_ns_per_m,
-                ..
-            } = p
-            {
-                if masses_kg.is_empty() {
-                    return Err(inv(
-                        &format!("{base}.masses_kg"),
-                        "[]",
-                        "need at least one mass",
-                    ));
-                }
-                for (j, &m) in masses_kg.iter().enumerate() {
-                    pos(&format!("{base}.masses_kg[{j}]"), m)?;
-                }
-                for (field, v) in [
-                    ("stiffness_n_per_m", stiffness_n_per_m),
-                    ("damping_ns_per_m", damping_ns_per_m),
-                ] {
-                    if v.len() != masses_kg.len() {
+            check(
+                &mut w,
+                &format!("{base}.offset_m"),
+                p.offset_m(),
+                &bounds::OFFSET,
+            )?;
+            match p {
+                PantographCase::Lumped {
+                    masses_kg,
+                    stiffness_n_per_m,
+                    damping_ns_per_m,
+                    uplift_n,
+                    aero_coeffs_kmh,
+                    ..
+                } => {
+                    if masses_kg.is_empty() {
                         return Err(inv(
-                            &format!("{base}.{field}"),
-                            format!("{} values", v.len()),
-                            &format!("need one value per mass ({})", masses_kg.len()),
+                            &format!("{base}.masses_kg"),
+                            "[]",
+                            "need at least one mass",
                         ));
                     }
-                    for (j, &x) in v.iter().enumerate() {
-                        nonneg(&format!("{base}.{field}[{j}]"), x)?;
+                    if masses_kg.len() > 20 {
+                        return Err(inv(
+                            &format!("{base}.masses_kg"),
+                            format!("{} masses", masses_kg.len()),
+                            "a lumped pantograph has a handful of masses (at most 20)",
+                        ));
                     }
+                    for (j, &m) in masses_kg.iter().enumerate() {
+                        check(
+                            &mut w,
+                            &format!("{base}.masses_kg[{j}]"),
+                            m,
+                            &bounds::PANTOGRAPH_MASS,
+                        )?;
+                    }
+                    for (field, v, b) in [
+                        (
+                            "stiffness_n_per_m",
+                            stiffness_n_per_m,
+                            &bounds::PANTOGRAPH_STIFFNESS,
+                        ),
+                        (
+                            "damping_ns_per_m",
+                            damping_ns_per_m,
+                            &bounds::PANTOGRAPH_DAMPING,
+                        ),
+                    ] {
+                        if v.len() != masses_kg.len() {
+                            return Err(inv(
+                                &format!("{base}.{field}"),
+                                format!("{} values", v.len()),
+                                &format!("need one value per mass ({})", masses_kg.len()),
+                            ));
+                        }
+                        for (j, &x) in v.iter().enumerate() {
+                            check(&mut w, &format!("{base}.{field}[{j}]"), x, b)?;
+                        }
+                    }
+                    check(
+                        &mut w,
+                        &format!("{base}.uplift_n"),
+                        *uplift_n,
+                        &bounds::UPLIFT,
+                    )?;
+                    if aero_coeffs_kmh.len() > 8 {
+                        return Err(inv(
+                            &format!("{base}.aero_coeffs_kmh"),
+                            format!("{} coefficients", aero_coeffs_kmh.len()),
+                            "a polynomial of degree at most 7",
+                        ));
+                    }
+                    let v = r.speed_kmh;
+                    let aero = aero_coeffs_kmh
+                        .iter()
+                        .rev()
+                        .fold(0.0, |acc, ci| acc * v + ci);
+                    check(
+                        &mut w,
+                        &format!("{base}.aero_coeffs_kmh (the force at {v} km/h, N)"),
+                        aero,
+                        &bounds::AERO,
+                    )?;
+                }
+                PantographCase::MovingForce { force_n, .. } => {
+                    check(
+                        &mut w,
+                        &format!("{base}.force_n"),
+                        *force_n,
+                        &bounds::MOVING_FORCE,
+                    )?;
                 }
             }
         }
-        let r = &self.run;
-        pos("run.speed_kmh", r.speed_kmh)?;
-        // The speed is checked against the wave speed of the built model (one definition, with the
-        // clamps smeared in): see `solve::Plan::check`.
-        pos("run.dt_s", r.dt_s)?;
-        if r.dt_s > 0.01 {
-            return Err(inv(
-                "run.dt_s",
-                r.dt_s,
-                "time step above 10 ms cannot resolve the 20 Hz band",
-            ));
-        }
+        check(&mut w, "run.dt_s", r.dt_s, &bounds::DT)?;
         match (r.modes, r.modes_per_m) {
             (Some(_), Some(_)) => {
                 return Err(inv(
@@ -517,11 +677,49 @@ impl Case {
             (None, Some(dn)) => pos("run.modes_per_m", dn)?,
             _ => {}
         }
-        let n = self.n_modes();
-        if n > 200_000 {
-            return Err(inv("run.modes", n, "more than 200000 modes per wire"));
-        }
         let l = self.length_m();
+        let field = if r.modes.is_some() {
+            "run.modes"
+        } else {
+            "run.modes_per_m"
+        };
+        let shown = |n: usize| match r.modes_per_m {
+            Some(d) if r.modes.is_none() => format!("{d} ({n} modes over {l} m)"),
+            _ => n.to_string(),
+        };
+        let raw = match (r.modes, r.modes_per_m) {
+            (Some(n), _) => n as f64,
+            (None, Some(d)) => d * l,
+            _ => 0.0,
+        };
+        if raw > 200_000.0 {
+            return Err(inv(
+                field,
+                shown(raw as usize),
+                "more than 200000 modes per wire",
+            ));
+        }
+        let n = self.n_modes();
+        // The shortest wave of the series, 2L/N, must be shorter than a span, or the series
+        // cannot even show the span-to-span shape of the catenary.
+        if (n as f64) < 2.0 * c.spans as f64 {
+            return Err(inv(
+                field,
+                shown(n),
+                &format!(
+                    "fewer than 2 modes per span ({} spans): the series cannot represent the catenary; about 1 mode per metre converges (docs/validation.md)",
+                    c.spans
+                ),
+            ));
+        }
+        if (n as f64) / l < 0.3 {
+            w.push(Warning(format!(
+                "{field} = {}: {:.2} modes per metre resolve the wires only to about {:.0} Hz; statistics converge at about 1 per metre (docs/validation.md)",
+                shown(n),
+                n as f64 / l,
+                n as f64 / l * 60.0
+            )));
+        }
         let max_off = self
             .pantographs
             .iter()
@@ -567,13 +765,139 @@ impl Case {
     }
 }
 
-fn span_hint(text: &str, e: &toml::de::Error) -> String {
+/// Plausibility bounds of a quantity: outside `hard` it is an error (physically meaningless),
+/// outside `soft` a warning (legal but unusual). A hard lower bound of 0 excludes 0 when
+/// `soft.0 > 0`.
+#[derive(Debug, Clone, Copy)]
+pub struct Bound {
+    pub hard: (f64, f64),
+    pub soft: (f64, f64),
+    pub unit: &'static str,
+    pub typical: &'static str,
+}
+
+/// The plausibility bounds of the case's quantities (SI units as the field names say).
+pub mod bounds {
+    use super::Bound;
+
+    const fn b(
+        hard: (f64, f64),
+        soft: (f64, f64),
+        unit: &'static str,
+        typical: &'static str,
+    ) -> Bound {
+        Bound {
+            hard,
+            soft,
+            unit,
+            typical,
+        }
+    }
+
+    pub const SPAN: Bound = b((1.0, 1000.0), (20.0, 100.0), "m", "27–70 m");
+    pub const ENCUMBRANCE: Bound = b((0.05, 20.0), (0.3, 3.5), "m", "0.3–2 m");
+    pub const WIRE_MASS: Bound = b((0.01, 100.0), (0.1, 5.0), "kg/m", "0.3–2 kg/m");
+    pub const TENSION: Bound = b((100.0, 1.0e6), (1000.0, 60_000.0), "N", "5–40 kN");
+    pub const EI: Bound = b((0.0, 1.0e6), (0.0, 5000.0), "N·m²", "10–300 N·m²");
+    pub const DROPPER_STIFFNESS: Bound = b((0.0, 1.0e10), (1.0e3, 1.0e7), "N/m", "1e4–1e6 N/m");
+    pub const DROPPER_EA: Bound = b((0.0, 1.0e11), (1.0e3, 1.0e8), "N", "1e5–1e7 N");
+    pub const CLAMP_MASS: Bound = b((0.0, 100.0), (0.0, 5.0), "kg", "0.1–0.5 kg");
+    pub const DROPPER_MASS: Bound = b((0.0, 20.0), (0.0, 2.0), "kg/m", "0.05–0.5 kg/m");
+    pub const RAYLEIGH_ALPHA: Bound = b((0.0, 1.0e4), (0.0, 10.0), "1/s", "0–1 1/s");
+    pub const RAYLEIGH_BETA: Bound = b((0.0, 10.0), (0.0, 0.1), "s", "0–0.02 s");
+    pub const MODAL_RATIO: Bound = b((0.0, 0.999_999), (0.0, 0.2), "", "0–0.05");
+    pub const SUPPORT_STIFFNESS: Bound = b((0.0, 1.0e11), (0.0, 1.0e8), "N/m", "1e2–1e6 N/m");
+    pub const SUPPORT_DAMPING: Bound = b((0.0, 1.0e8), (0.0, 1.0e5), "N·s/m", "0–2000 N·s/m");
+    pub const ARM_MASS: Bound = b((0.0, 1000.0), (0.0, 10.0), "kg", "0.5–3 kg");
+    pub const STITCH_LENGTH: Bound = b((0.1, 1000.0), (5.0, 30.0), "m", "12–25 m");
+    pub const STITCH_TENSION: Bound = b((10.0, 1.0e6), (300.0, 10_000.0), "N", "1–5 kN");
+    pub const CONTACT_STIFFNESS: Bound = b((100.0, 1.0e9), (1.0e4, 5.0e5), "N/m", "5e4 N/m");
+    pub const SPEED: Bound = b((0.0, 1000.0), (10.0, 400.0), "km/h", "50–350 km/h");
+    pub const OFFSET: Bound = b((0.0, 1.0e5), (0.0, 500.0), "m", "0–400 m");
+    pub const PANTOGRAPH_MASS: Bound = b((0.01, 1.0e4), (0.5, 100.0), "kg", "3–20 kg");
+    pub const PANTOGRAPH_STIFFNESS: Bound = b((0.0, 1.0e9), (0.0, 1.0e6), "N/m", "0–2e4 N/m");
+    pub const PANTOGRAPH_DAMPING: Bound = b((0.0, 1.0e7), (0.0, 1.0e4), "N·s/m", "0–200 N·s/m");
+    pub const UPLIFT: Bound = b((-1.0e4, 1.0e4), (20.0, 500.0), "N", "50–150 N");
+    pub const AERO: Bound = b((-1.0e4, 1.0e4), (-50.0, 300.0), "N", "0–100 N");
+    pub const MOVING_FORCE: Bound = b((-1.0e5, 1.0e5), (-1000.0, 1000.0), "N", "50–300 N");
+    pub const DT: Bound = b((0.0, 0.01), (1.0e-5, 2.0e-3), "s", "0.2–1 ms");
+}
+
+/// Check `v` of `field` against `b`: an error outside the hard bounds, a warning outside the
+/// soft ones.
+fn check(w: &mut Vec<Warning>, field: &str, v: f64, b: &Bound) -> Result<(), CaseError> {
+    let (lo, hi) = b.hard;
+    let unit = if b.unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {}", b.unit)
+    };
+    // A hard lower bound of 0 with a positive soft one excludes 0 itself.
+    let strict_zero = lo == 0.0 && b.soft.0 > 0.0;
+    let low_ok = if strict_zero { v > 0.0 } else { v >= lo };
+    if !v.is_finite() || !low_ok {
+        let rel = if strict_zero {
+            "> 0".to_string()
+        } else if lo == 0.0 {
+            "≥ 0".to_string()
+        } else {
+            format!("≥ {}{unit}", num(lo))
+        };
+        return Err(inv(
+            field,
+            num(v),
+            &format!("must be a finite number {rel}"),
+        ));
+    }
+    if v > hi {
+        return Err(inv(
+            field,
+            num(v),
+            &format!(
+                "physically meaningless above {}{unit} (typical: {})",
+                num(hi),
+                b.typical
+            ),
+        ));
+    }
+    if v < b.soft.0 || v > b.soft.1 {
+        w.push(Warning(format!(
+            "{field} = {}{unit} is unusual (typical: {}); check the value and its unit",
+            num(v),
+            b.typical
+        )));
+    }
+    Ok(())
+}
+
+/// A number for a message: plain where that is short, in exponent form where it is tiny or huge.
+pub fn num(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e7).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+/// A TOML error as one line: where, what, and the line it is on. TOML's own message can be empty
+/// (a key with `=` and no value): then say what is missing.
+fn parse_message(text: &str, e: &toml::de::Error) -> String {
+    let msg = e.message().trim().replace('\n', "; ");
+    let msg = if msg.is_empty() {
+        "a value is missing or incomplete here (e.g. `key =` with nothing after it)".to_string()
+    } else {
+        msg
+    };
     match e.span() {
         Some(sp) => {
-            let line = text[..sp.start.min(text.len())].matches('\n').count() + 1;
-            format!(" (line {line})")
+            let start = sp.start.min(text.len());
+            let line_no = text[..start].matches('\n').count() + 1;
+            let line_start = text[..start].rfind('\n').map_or(0, |i| i + 1);
+            let col = text[line_start..start].chars().count() + 1;
+            let line = text[line_start..].lines().next().unwrap_or("").trim_end();
+            format!("TOML error at line {line_no}, column {col}: {msg}: `{line}`")
         }
-        None => String::new(),
+        None => format!("TOML error: {msg}"),
     }
 }
 
@@ -590,14 +914,6 @@ fn pos(field: &str, v: f64) -> Result<(), CaseError> {
         Ok(())
     } else {
         Err(inv(field, v, "must be a finite number > 0"))
-    }
-}
-
-fn nonneg(field: &str, v: f64) -> Result<(), CaseError> {
-    if v >= 0.0 && v.is_finite() {
-        Ok(())
-    } else {
-        Err(inv(field, v, "must be a finite number ≥ 0"))
     }
 }
 
@@ -638,22 +954,25 @@ fn strip_sources(
 ) -> Result<(), CaseError> {
     match v {
         toml::Value::Table(t) => {
+            // `{ value = …, source = "…" }`, or `{ value = … }` alone (a value without its source
+            // yet; `note` may accompany either).
             let is_sourced = t.contains_key("value")
-                && t.contains_key("source")
                 && t.keys()
                     .all(|k| k == "value" || k == "source" || k == "note");
             if is_sourced {
-                let src = match t.get("source") {
-                    Some(toml::Value::String(s)) => s.clone(),
-                    _ => {
+                match t.get("source") {
+                    Some(toml::Value::String(s)) => {
+                        prov.insert(path.clone(), s.clone());
+                    }
+                    Some(_) => {
                         return Err(inv(
                             &format!("{path}.source"),
                             "non-string",
                             "source must be a string",
                         ))
                     }
-                };
-                prov.insert(path.clone(), src);
+                    None => {}
+                }
                 let inner = t.remove("value").expect("checked");
                 *v = inner;
                 return Ok(());

@@ -5,5 +5,6 @@ pub mod case;
 pub mod overrides;
 pub mod presets;
 pub mod targets;
+pub mod units;
 
 pub use case::{Case, Provenance, Warning, G};

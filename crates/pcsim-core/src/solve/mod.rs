@@ -12,6 +12,7 @@
 //! | `run.rs` | the run loop with observers, blow-up checks, run statistics |
 //! | `realtime.rs` | the moving-window catenary for HIL |
 
+pub mod budget;
 pub mod implicit;
 pub mod integrator;
 pub mod plan;
@@ -21,6 +22,7 @@ pub mod sampler;
 pub mod state;
 pub mod workspace;
 
+pub use budget::{Budget, Estimate};
 pub use integrator::Integrator;
 pub use plan::{Options, Plan};
 pub use run::{run, Observer, RunStatistics};
@@ -43,8 +45,17 @@ pub struct Setup {
 }
 
 impl Setup {
-    /// Validate a case and build its model, plan and options.
+    /// Validate a case and build its model, plan and options, within the default [`Budget`].
     pub fn from_case(case: &Case) -> Result<Setup, CaseError> {
+        Self::from_case_with(case, &Budget::default())
+    }
+
+    /// [`Setup::from_case`] within a given budget: the run's steps and memory are estimated
+    /// from the case before anything is built, and refused with an error naming the cause when
+    /// they exceed it.
+    pub fn from_case_with(case: &Case, budget: &Budget) -> Result<Setup, CaseError> {
+        case.validate()?;
+        budget.check(case)?;
         let (model, mut warnings) = Model::from_case(case)?;
         let plan = Plan::from_case(case);
         warnings.extend(plan.check(&model)?);

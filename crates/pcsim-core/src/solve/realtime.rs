@@ -171,6 +171,62 @@ impl Observer for WindowMover {
     }
 }
 
+/// A hardware-in-the-loop input that the window cannot take.
+#[derive(Debug, Clone, PartialEq)]
+pub enum InputError {
+    /// Not a finite number.
+    NotFinite { what: &'static str, value: f64 },
+    /// The position lies outside the modelled catenary.
+    OutsideModel { position_m: f64, length_m: f64 },
+    /// The position lies behind the window (it only moves forward).
+    BehindWindow {
+        position_m: f64,
+        window_start_m: f64,
+    },
+    /// The position moved faster than the plausible speed since the last step.
+    TooFast {
+        position_m: f64,
+        previous_m: f64,
+        speed_kmh: f64,
+        limit_kmh: f64,
+    },
+}
+
+impl std::fmt::Display for InputError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            InputError::NotFinite { what, value } => write!(f, "{what} = {value} is not finite"),
+            InputError::OutsideModel {
+                position_m,
+                length_m,
+            } => write!(
+                f,
+                "pantograph position {position_m} m lies outside the modelled catenary [0, {length_m}] m"
+            ),
+            InputError::BehindWindow {
+                position_m,
+                window_start_m,
+            } => write!(
+                f,
+                "pantograph position {position_m} m lies behind the window, which starts at {window_start_m} m and only moves forward"
+            ),
+            InputError::TooFast {
+                position_m,
+                previous_m,
+                speed_kmh,
+                limit_kmh,
+            } => write!(
+                f,
+                "pantograph position jumped from {previous_m} m to {position_m} m in one step ({speed_kmh:.0} km/h, above the plausible {limit_kmh:.0} km/h)"
+            ),
+        }
+    }
+}
+
+/// The plausible speed limit of a hardware-in-the-loop pantograph position, km/h (the fastest
+/// trains run at 350–400 km/h; records are near 575 km/h).
+pub const DEFAULT_MAX_SPEED_KMH: f64 = 600.0;
+
 /// The moving-window catenary with a fixed-step, allocation-free [`RealtimeCatenary::step`].
 #[derive(Debug, Clone)]
 pub struct RealtimeCatenary {
@@ -185,6 +241,9 @@ pub struct RealtimeCatenary {
     /// The full model's run length and analysis section (track coordinates), for comparisons.
     full_duration_s: f64,
     analysis_m: [f64; 2],
+    /// The full model's length (track coordinates), m.
+    length_m: f64,
+    max_speed_kmh: f64,
 }
 
 impl RealtimeCatenary {
@@ -232,7 +291,67 @@ impl RealtimeCatenary {
             input: (x_start, 0.0),
             full_duration_s: full.plan.duration_s,
             analysis_m: full.plan.analysis_m,
+            length_m: l,
+            max_speed_kmh: DEFAULT_MAX_SPEED_KMH,
         })
+    }
+
+    /// The plausible speed limit of hardware-in-the-loop positions, km/h.
+    pub fn set_max_speed_kmh(&mut self, v: f64) {
+        self.max_speed_kmh = v;
+    }
+
+    /// The full model's length, m: the positions a HIL input may take lie in `[0, length]`.
+    pub fn model_length_m(&self) -> f64 {
+        self.length_m
+    }
+
+    /// Check a HIL input before [`Self::set_input`]: finite, inside the modelled catenary, not
+    /// behind the window, and no faster than the plausible speed since the last input, which was
+    /// `elapsed_s` ago (one step, or one communication step of an FMU). A refused input leaves the
+    /// catenary unchanged.
+    pub fn check_input(
+        &self,
+        contact_force_n: f64,
+        position_m: f64,
+        elapsed_s: f64,
+    ) -> Result<(), InputError> {
+        if !contact_force_n.is_finite() {
+            return Err(InputError::NotFinite {
+                what: "contact force",
+                value: contact_force_n,
+            });
+        }
+        if !position_m.is_finite() {
+            return Err(InputError::NotFinite {
+                what: "pantograph position",
+                value: position_m,
+            });
+        }
+        if !(0.0..=self.length_m).contains(&position_m) {
+            return Err(InputError::OutsideModel {
+                position_m,
+                length_m: self.length_m,
+            });
+        }
+        if position_m < self.st.track_origin_m {
+            return Err(InputError::BehindWindow {
+                position_m,
+                window_start_m: self.st.track_origin_m,
+            });
+        }
+        let previous_m = self.input.0;
+        let speed_kmh = (position_m - previous_m).abs() / elapsed_s.max(self.integ.dt_s()) * 3.6;
+        // A little slack for rounding: the limit applies to the step's displacement.
+        if speed_kmh > self.max_speed_kmh * (1.0 + 1e-9) + 1e-6 {
+            return Err(InputError::TooFast {
+                position_m,
+                previous_m,
+                speed_kmh,
+                limit_kmh: self.max_speed_kmh,
+            });
+        }
+        Ok(())
     }
 
     /// Fixed time step, s.

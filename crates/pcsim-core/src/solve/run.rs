@@ -83,10 +83,7 @@ pub fn run(
                 return Err(SimError::BlowUp {
                     time_s: st.t,
                     position_m: s.position_m + st.track_origin_m,
-                    what: format!(
-                        "contact force {} N, wire height {} m at pantograph {}",
-                        s.force_n, s.wire_height_m, p
-                    ),
+                    what: s.fault(p).unwrap_or_default(),
                 });
             }
         }

@@ -25,6 +25,31 @@ pub const MAX_PLAUSIBLE_HEIGHT_M: f64 = 2.0;
 pub const MAX_PLAUSIBLE_FORCE_N: f64 = 1e6;
 
 impl ContactSample {
+    /// What is implausible about this sample, for a blow-up message (`None` when sound).
+    pub fn fault(&self, pantograph: usize) -> Option<String> {
+        if !(self.force_n.is_finite()
+            && self.wire_height_m.is_finite()
+            && self.wire_velocity_m_s.is_finite())
+        {
+            Some(format!(
+                "a non-finite value at pantograph {pantograph} (contact force {} N, wire height {} m, velocity {} m/s)",
+                self.force_n, self.wire_height_m, self.wire_velocity_m_s
+            ))
+        } else if self.wire_height_m.abs() >= MAX_PLAUSIBLE_HEIGHT_M {
+            Some(format!(
+                "the contact wire under pantograph {pantograph} is {:.3} m from its design height (more than {MAX_PLAUSIBLE_HEIGHT_M} m)",
+                self.wire_height_m
+            ))
+        } else if self.force_n.abs() >= MAX_PLAUSIBLE_FORCE_N {
+            Some(format!(
+                "the contact force at pantograph {pantograph} reached {:.3e} N (more than 1 MN)",
+                self.force_n
+            ))
+        } else {
+            None
+        }
+    }
+
     /// Finite and physically plausible (the blow-up test of every run loop).
     pub fn is_sound(&self) -> bool {
         self.force_n.is_finite()

@@ -1,0 +1,166 @@
+//! Property test: mutate the embedded presets at random (numbers set to negative, zero, tiny,
+//! huge, NaN or infinite values; lines deleted; tables duplicated; text truncated) and check that
+//! loading and validating never panic and never accept a NaN or an infinity into a run.
+//!
+//! CI runs a bounded number of cases; the documented longer run is
+//! `PCSIM_MUTATION_CASES=20000 cargo test --release -p pcsim-core --test mutations`.
+
+use pcsim_core::presets::PRESETS;
+use pcsim_core::{Case, Setup};
+use proptest::prelude::*;
+
+const REPLACEMENTS: &[&str] = &[
+    "-1.0", "0", "0.0", "-0.0", "1e-300", "1e300", "nan", "inf", "-inf", "1e-12", "1e12", "3",
+    "-5", "1e9", "\"text\"", "true",
+];
+
+#[derive(Debug, Clone)]
+enum Op {
+    /// Replace the i-th number of the text.
+    Number(usize, usize),
+    /// Delete the i-th line.
+    DeleteLine(usize),
+    /// Duplicate the i-th table (its header and body).
+    DuplicateTable(usize),
+    /// Keep only this fraction of the text.
+    Truncate(f64),
+}
+
+fn numbers(text: &str) -> Vec<(usize, usize)> {
+    let b = text.as_bytes();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < b.len() {
+        let starts = b[i].is_ascii_digit()
+            && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_'));
+        if starts {
+            let s = if i > 0 && b[i - 1] == b'-' { i - 1 } else { i };
+            let mut j = i;
+            while j < b.len()
+                && (b[j].is_ascii_digit() || matches!(b[j], b'.' | b'e' | b'E' | b'-' | b'+'))
+            {
+                j += 1;
+            }
+            out.push((s, j));
+            i = j;
+        } else {
+            i += 1;
+        }
+    }
+    out
+}
+
+fn apply(text: &str, op: &Op) -> String {
+    match *op {
+        Op::Number(i, r) => {
+            let n = numbers(text);
+            if n.is_empty() {
+                return text.to_string();
+            }
+            let (s, e) = n[i % n.len()];
+            format!(
+                "{}{}{}",
+                &text[..s],
+                REPLACEMENTS[r % REPLACEMENTS.len()],
+                &text[e..]
+            )
+        }
+        Op::DeleteLine(i) => {
+            let lines: Vec<&str> = text.lines().collect();
+            let k = i % lines.len().max(1);
+            lines
+                .iter()
+                .enumerate()
+                .filter(|(j, _)| *j != k)
+                .map(|(_, l)| *l)
+                .collect::<Vec<_>>()
+                .join("\n")
+        }
+        Op::DuplicateTable(i) => {
+            let lines: Vec<&str> = text.lines().collect();
+            let heads: Vec<usize> = (0..lines.len())
+                .filter(|&j| lines[j].starts_with('['))
+                .collect();
+            if heads.is_empty() {
+                return text.to_string();
+            }
+            let h = heads[i % heads.len()];
+            let end = heads
+                .iter()
+                .find(|&&j| j > h)
+                .copied()
+                .unwrap_or(lines.len());
+            let mut out: Vec<&str> = lines[..end].to_vec();
+            out.extend_from_slice(&lines[h..end]);
+            out.extend_from_slice(&lines[end..]);
+            out.join("\n")
+        }
+        Op::Truncate(f) => {
+            let mut k = ((text.len() as f64) * f) as usize;
+            while k > 0 && !text.is_char_boundary(k) {
+                k -= 1;
+            }
+            text[..k].to_string()
+        }
+    }
+}
+
+fn op() -> impl Strategy<Value = Op> {
+    prop_oneof![
+        6 => (any::<usize>(), any::<usize>()).prop_map(|(i, r)| Op::Number(i, r)),
+        2 => any::<usize>().prop_map(Op::DeleteLine),
+        1 => any::<usize>().prop_map(Op::DuplicateTable),
+        1 => (0.0f64..1.0).prop_map(Op::Truncate),
+    ]
+}
+
+fn all_finite(case: &Case) -> bool {
+    fn walk(v: &toml::Value) -> bool {
+        match v {
+            toml::Value::Float(f) => f.is_finite(),
+            toml::Value::Table(t) => t.values().all(walk),
+            toml::Value::Array(a) => a.iter().all(walk),
+            _ => true,
+        }
+    }
+    walk(&toml::Value::try_from(case).unwrap())
+}
+
+fn cases() -> u32 {
+    std::env::var("PCSIM_MUTATION_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(160)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(cases()))]
+
+    #[test]
+    fn mutated_presets_never_panic_and_never_run_a_nan(
+        preset in 0..PRESETS.len(),
+        ops in proptest::collection::vec(op(), 1..4),
+    ) {
+        let mut text = PRESETS[preset].toml.to_string();
+        for o in &ops {
+            text = apply(&text, o);
+        }
+        if let Ok((case, _)) = Case::from_toml_str(&text) {
+            if let Ok(setup) = Setup::from_case(&case) {
+                prop_assert!(all_finite(&case), "a non-finite value was accepted: {ops:?}");
+                prop_assert!(setup.plan.duration_s.is_finite() && setup.plan.duration_s > 0.0);
+                prop_assert!(setup.options.dt_s.is_finite() && setup.options.dt_s > 0.0);
+            }
+        }
+    }
+}
+
+#[test]
+fn the_mutator_does_mutate() {
+    let t = PRESETS[0].toml;
+    assert_ne!(apply(t, &Op::Number(3, 6)), t);
+    assert!(apply(t, &Op::Number(3, 6)).contains("nan"));
+    assert!(apply(t, &Op::DeleteLine(5)).lines().count() < t.lines().count());
+    assert!(apply(t, &Op::DuplicateTable(2)).lines().count() > t.lines().count());
+    assert!(apply(t, &Op::Truncate(0.5)).len() < t.len());
+}
