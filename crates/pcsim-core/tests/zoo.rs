@@ -1,6 +1,11 @@
 //! The zoo of small models against their golden time histories (`data/golden/zoo/`, written by
 //! `cargo run --release -p pcsim-core --example zoo_golden -- data/golden/zoo` before the core
 //! restructure), and snapshots of each model's run statistics.
+//!
+//! The restructure (issue 9) reproduced the goldens bit for bit. The speed work (issue 11)
+//! changed the arithmetic on purpose (one FFT per group of points instead of one sum per point,
+//! fused multiply-adds on x86-64-v3), so the comparison allows [`TOL`] of each column's scale:
+//! rounding, not method (a 1e-6 change of a load already fails, see the last test).
 
 use pcsim_core::zoo;
 
@@ -18,18 +23,23 @@ fn golden(name: &str) -> (Vec<String>, Vec<Vec<f64>>) {
     (cols, rows)
 }
 
-/// Every recorded value within 1e-12 of the golden one, relative to the largest magnitude in its
-/// column (the time histories pass through zero).
+/// Allowed deviation from the goldens, relative to each column's largest magnitude.
+const TOL: f64 = 1e-9;
+
+/// Every recorded value within [`TOL`] of the golden one, relative to the largest magnitude in
+/// its column (the time histories pass through zero).
 fn check(name: &str) {
     let (cols, rows) = golden(name);
     let t = zoo::trace(name).unwrap();
     assert_eq!(t.columns, cols, "{name}: columns");
     assert_eq!(t.rows.len(), rows.len(), "{name}: rows");
+    let mut worst: f64 = 0.0;
     for c in 0..cols.len() {
         let scale = rows.iter().map(|r| r[c].abs()).fold(1e-300, f64::max);
         for (k, (a, b)) in t.rows.iter().zip(&rows).enumerate() {
+            worst = worst.max((a[c] - b[c]).abs() / scale);
             assert!(
-                (a[c] - b[c]).abs() <= 1e-12 * scale,
+                (a[c] - b[c]).abs() <= TOL * scale,
                 "{name}: {} at row {k}: {} vs golden {} (scale {scale})",
                 cols[c],
                 a[c],
@@ -37,6 +47,7 @@ fn check(name: &str) {
             );
         }
     }
+    eprintln!("{name}: largest deviation {worst:.1e} of the column scale");
 }
 
 #[test]
@@ -82,7 +93,7 @@ fn the_goldens_can_tell_a_wrong_answer() {
         .zip(&rows)
         .map(|(a, b)| (a[c] - b[c]).abs())
         .fold(0.0, f64::max);
-    assert!(worst > 1e-12 * scale, "{worst} vs scale {scale}");
+    assert!(worst > TOL * scale, "{worst} vs scale {scale}");
 }
 
 #[test]

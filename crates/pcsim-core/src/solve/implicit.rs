@@ -3,16 +3,25 @@
 //! damper). `A⁻¹` is applied with the Woodbury identity,
 //! `A⁻¹ r = z − D⁻¹ Φᵀ (W⁻¹ + Φ D⁻¹ Φᵀ)⁻¹ Φ z`, `z = D⁻¹ r`, with a Cholesky factor of the small
 //! capacitance matrix computed once.
+//!
+//! Blocks whose implicit points sit at the same positions (the messenger's support dampers and
+//! the contact wire's steady-arm masses are both at the masts) are corrected together: one
+//! gather for all of them, a solve per block, and the scatter fused with the scaling by `−D⁻¹`.
 
 use crate::linalg::{cholesky_in_place, cholesky_solve, NotPositiveDefinite};
 use crate::model::basis::SineBasis;
+use crate::solve::kernels::Isa;
 use crate::solve::sampler::{PointSampler, SamplerScratch};
 
-/// The implicit point terms of one block.
+/// The implicit point terms of one or more contiguous blocks sharing their points.
 #[derive(Debug, Clone)]
 pub struct ImplicitPoints {
     sampler: PointSampler,
-    chol: Vec<f64>,
+    /// Start of the first block in the modal state, and the block length.
+    q_off: usize,
+    n: usize,
+    /// Cholesky factor of each block's capacitance matrix.
+    chol: Vec<Vec<f64>>,
     np: usize,
 }
 
@@ -25,10 +34,10 @@ pub struct ImplicitScratch {
 }
 
 impl ImplicitScratch {
-    /// Scratch for up to `np` points and `n` modes.
-    pub fn new(np: usize, n: usize) -> Self {
+    /// Scratch for up to `blocks` blocks of `np` points and `n` modes.
+    pub fn new(blocks: usize, np: usize, n: usize) -> Self {
         Self {
-            g: vec![0.0; np],
+            g: vec![0.0; blocks * np],
             y: vec![0.0; np],
             tmp: vec![0.0; n],
         }
@@ -36,43 +45,50 @@ impl ImplicitScratch {
 }
 
 impl ImplicitPoints {
-    /// `points`: (position in the basis' coordinates, weight w_j > 0); `None` when there are
-    /// none. An error when the capacitance matrix is not positive definite (it always is for
-    /// positive weights; a failure means a degenerate input, never silently clamped).
+    /// The terms of `weights.len()` contiguous blocks starting at `q_off` in the state, all over
+    /// `basis`, with their points at `xs` (basis coordinates) and per block the weights `w_j > 0`
+    /// and the diagonal `d` (`M + Δt/2 C`). An error when a capacitance matrix is not positive
+    /// definite (it always is for positive weights; a failure means a degenerate input, never
+    /// silently clamped).
     pub fn new(
         basis: &SineBasis,
         span_m: Option<f64>,
-        d: &[f64],
-        points: &[(f64, f64)],
-    ) -> Result<Option<Self>, NotPositiveDefinite> {
-        let np = points.len();
-        if np == 0 {
-            return Ok(None);
-        }
+        isa: Isa,
+        q_off: usize,
+        xs: &[f64],
+        weights: &[Vec<f64>],
+        d: &[&[f64]],
+    ) -> Result<Self, NotPositiveDefinite> {
+        let np = xs.len();
         let n = basis.n_modes();
         let mut rows = vec![vec![0.0; n]; np];
-        for (r, p) in rows.iter_mut().zip(points) {
-            basis.fill_sines(p.0, r);
+        for (r, &x) in rows.iter_mut().zip(xs) {
+            basis.fill_sines(x, r);
         }
-        let mut cap = vec![0.0; np * np];
-        for i in 0..np {
-            for j in 0..=i {
-                let mut s = 0.0;
-                for k in 0..n {
-                    s += rows[i][k] * rows[j][k] / d[k];
+        let mut chol = Vec::with_capacity(weights.len());
+        for (w, d) in weights.iter().zip(d) {
+            let mut cap = vec![0.0; np * np];
+            for i in 0..np {
+                for j in 0..=i {
+                    let mut s = 0.0;
+                    for k in 0..n {
+                        s += rows[i][k] * rows[j][k] / d[k];
+                    }
+                    cap[i * np + j] = s;
+                    cap[j * np + i] = s;
                 }
-                cap[i * np + j] = s;
-                cap[j * np + i] = s;
+                cap[i * np + i] += 1.0 / w[i];
             }
-            cap[i * np + i] += 1.0 / points[i].1;
+            cholesky_in_place(&mut cap, np)?;
+            chol.push(cap);
         }
-        cholesky_in_place(&mut cap, np)?;
-        let xs: Vec<f64> = points.iter().map(|p| p.0).collect();
-        Ok(Some(Self {
-            sampler: PointSampler::new(basis, &xs, span_m),
-            chol: cap,
+        Ok(Self {
+            sampler: PointSampler::new(basis, xs, span_m, isa),
+            q_off,
+            n,
+            chol,
             np,
-        }))
+        })
     }
 
     /// Number of points.
@@ -80,28 +96,44 @@ impl ImplicitPoints {
         self.np
     }
 
+    /// Number of blocks corrected together.
+    pub fn n_blocks(&self) -> usize {
+        self.chol.len()
+    }
+
     /// The sampler over the points (its scratch size matters to the workspace).
     pub fn sampler(&self) -> &PointSampler {
         &self.sampler
     }
 
-    /// Turn `z = D⁻¹ r` (in `a`) into `A⁻¹ r`.
+    /// Turn `z = D⁻¹ r` (in the modal accelerations `a`, the whole state vector) into `A⁻¹ r`;
+    /// `neg_d_inv` is `−D⁻¹` over the whole state.
     pub fn correct(
         &self,
         a: &mut [f64],
-        d_inv: &[f64],
+        neg_d_inv: &[f64],
         scr: &mut SamplerScratch,
         w: &mut ImplicitScratch,
     ) {
-        let np = self.np;
-        let (g, y) = (&mut w.g[..np], &mut w.y[..np]);
-        let tmp = &mut w.tmp[..a.len()];
-        self.sampler.gather(a, 1, g, scr);
-        cholesky_solve(&self.chol, np, g, y);
-        tmp.fill(0.0);
-        self.sampler.scatter_add(g, 1, tmp, scr);
-        for ((ai, di), t) in a.iter_mut().zip(d_inv).zip(tmp.iter()) {
-            *ai -= di * t;
+        let (np, n, k) = (self.np, self.n, self.chol.len());
+        let span = self.q_off..self.q_off + k * n;
+        let g = &mut w.g[..k * np];
+        self.sampler.gather(&a[span], k, g, scr);
+        for (b, l) in self.chol.iter().enumerate() {
+            let gb = &mut g[b * np..(b + 1) * np];
+            cholesky_solve(l, np, gb, &mut w.y[..np]);
+            let r = self.q_off + b * n..self.q_off + (b + 1) * n;
+            if self.sampler.is_single_group() {
+                self.sampler
+                    .scatter_scaled(gb, &mut a[r.clone()], &neg_d_inv[r], scr);
+            } else {
+                let tmp = &mut w.tmp[..n];
+                tmp.fill(0.0);
+                self.sampler.scatter_add(gb, 1, tmp, scr);
+                for ((ai, di), t) in a[r.clone()].iter_mut().zip(&neg_d_inv[r]).zip(tmp.iter()) {
+                    *ai += di * t;
+                }
+            }
         }
     }
 }

@@ -23,13 +23,13 @@
 //! of each block that has some, the nodes, the heads and the moving points.
 
 use crate::error::CaseError;
-use crate::linalg::{axpy, dot};
 use crate::model::basis::SineBasis;
 use crate::model::dof::Direction;
 use crate::model::elements::{Attach, Io, Slot, Weight};
 use crate::model::pantograph::{ChainOperators, PantographKind};
 use crate::model::Model;
 use crate::solve::implicit::{ImplicitPoints, ImplicitScratch};
+use crate::solve::kernels::{self, Isa};
 use crate::solve::plan::{Options, Plan};
 use crate::solve::sampler::{PointSampler, SamplerScratch};
 use crate::solve::state::State;
@@ -77,14 +77,17 @@ struct MovingPoint {
 pub struct Integrator {
     model: Model,
     dt: f64,
+    isa: Isa,
     speed_m_s: f64,
     speed_kmh: f64,
     /// Per pantograph: its distance behind the leading one, m.
     offsets: Vec<f64>,
-    /// Stiffness, damping and `1/(M + Δt/2 C)` of every modal coordinate, by the layout.
+    /// Stiffness, damping and `1/(M + Δt/2 C)` (and its negative) of every modal coordinate, by
+    /// the layout.
     k: Vec<f64>,
     c: Vec<f64>,
     d_inv: Vec<f64>,
+    neg_d_inv: Vec<f64>,
     groups: Vec<GroupPoints>,
     vels: Vec<VelocityPoints>,
     /// Per element kind (index into `model.elements`): its slots in a step and in an energy
@@ -102,7 +105,7 @@ pub struct Integrator {
     n_u: usize,
     n_v: usize,
     rows_len: usize,
-    implicit: Vec<(usize, ImplicitPoints)>,
+    implicit: Vec<ImplicitPoints>,
     chains: Vec<Option<ChainOperators>>,
     pan_off: Vec<usize>,
     /// Per pantograph: its moving point (for the samples).
@@ -113,7 +116,8 @@ pub struct Integrator {
     monitor_x: Vec<f64>,
     max_period_scratch: SamplerScratch,
     max_pdof: usize,
-    max_imp: (usize, usize),
+    /// Largest (blocks, points, modes) of the implicit terms, for their scratch.
+    max_imp: (usize, usize, usize),
 }
 
 const TOL_X: f64 = 1e-9;
@@ -141,6 +145,7 @@ impl Integrator {
     /// model's explicit parts.
     pub fn new(model: Model, plan: &Plan, options: Options) -> Result<Self, CaseError> {
         let dt = options.dt_s;
+        let isa = options.isa;
         check_stability(&model, dt)?;
         let lay = model.layout.clone();
         let block_of = |wire: usize, dir: Direction| -> Result<usize, CaseError> {
@@ -187,7 +192,7 @@ impl Integrator {
         let mut n_u = 1;
         let mut groups = Vec::with_capacity(ng);
         for (g, grp) in lay.groups.iter().enumerate() {
-            let sampler = PointSampler::new(&grp.basis, &gpts[g], model.span_m);
+            let sampler = PointSampler::new(&grp.basis, &gpts[g], model.span_m, isa);
             let k = grp.blocks.len();
             let npts = gpts[g].len();
             groups.push(GroupPoints {
@@ -210,7 +215,7 @@ impl Integrator {
             let bl = &lay.blocks[b];
             vel_of_block[b] = Some(vels.len());
             vels.push(VelocityPoints {
-                sampler: PointSampler::new(lay.basis(b), xs, model.span_m),
+                sampler: PointSampler::new(lay.basis(b), xs, model.span_m, isa),
                 n: bl.n_modes,
                 q_off: bl.offset,
                 v_base: n_v,
@@ -374,23 +379,52 @@ impl Integrator {
                 }
             }
         }
+        // Blocks of one basis group whose implicit points sit at the same positions are
+        // corrected together (contiguous in the state, in order); the others alone.
         let mut implicit = Vec::new();
-        for (b, pts) in imp_pts.iter().enumerate() {
-            let r = lay.range(b);
-            let imp = ImplicitPoints::new(lay.basis(b), model.span_m, &d_eff[r], pts)
-                .map_err(|e| {
-                    invalid(
-                        &format!(
-                            "implicit point terms of {}",
-                            model.wires[lay.blocks[b].key.wire].name
-                        ),
-                        format!("row {}, pivot {:e}", e.row, e.pivot),
-                        "the capacitance matrix of the point masses and dampers is not positive definite (a mass or damper that is not positive?)".into(),
-                    )
-                })?;
-            if let Some(imp) = imp {
-                implicit.push((b, imp));
+        let mut b = 0;
+        while b < lay.blocks.len() {
+            if imp_pts[b].is_empty() {
+                b += 1;
+                continue;
             }
+            let same = |x: &Vec<(f64, f64)>, y: &Vec<(f64, f64)>| {
+                x.len() == y.len() && x.iter().zip(y).all(|(p, q)| (p.0 - q.0).abs() < TOL_X)
+            };
+            let mut e = b + 1;
+            while e < lay.blocks.len()
+                && lay.blocks[e].group == lay.blocks[b].group
+                && lay.blocks[e].offset == lay.blocks[e - 1].offset + lay.blocks[e - 1].n_modes
+                && same(&imp_pts[b], &imp_pts[e])
+            {
+                e += 1;
+            }
+            let xs: Vec<f64> = imp_pts[b].iter().map(|p| p.0).collect();
+            let weights: Vec<Vec<f64>> = (b..e)
+                .map(|k| imp_pts[k].iter().map(|p| p.1).collect())
+                .collect();
+            let ds: Vec<&[f64]> = (b..e).map(|k| &d_eff[lay.range(k)]).collect();
+            let imp = ImplicitPoints::new(
+                lay.basis(b),
+                model.span_m,
+                isa,
+                lay.blocks[b].offset,
+                &xs,
+                &weights,
+                &ds,
+            )
+            .map_err(|err| {
+                invalid(
+                    &format!(
+                        "implicit point terms of {}",
+                        model.wires[lay.blocks[b].key.wire].name
+                    ),
+                    format!("row {}, pivot {:e}", err.row, err.pivot),
+                    "the capacitance matrix of the point masses and dampers is not positive definite (a mass or damper that is not positive?)".into(),
+                )
+            })?;
+            implicit.push(imp);
+            b = e;
         }
 
         // Pantographs.
@@ -442,19 +476,23 @@ impl Integrator {
             .iter()
             .map(|g| g.sampler.scratch())
             .chain(vels.iter().map(|v| v.sampler.scratch()))
-            .chain(implicit.iter().map(|(_, i)| i.sampler().scratch()))
-            .max_by_key(|s| s.len())
-            .unwrap_or_else(|| PointSampler::new(&SineBasis::new(1.0, 1), &[], None).scratch());
+            .chain(implicit.iter().map(|i| i.sampler().scratch()))
+            .fold(
+                PointSampler::new(&SineBasis::new(1.0, 1), &[], None, isa).scratch(),
+                |a, b| a.max(b),
+            );
         let max_imp = implicit
             .iter()
-            .map(|(b, i)| (i.n_points(), lay.blocks[*b].n_modes))
-            .fold((0, 0), |a, x| (a.0.max(x.0), a.1.max(x.1)));
+            .map(|i| (i.n_blocks(), i.n_points(), i.sampler().n_modes()))
+            .fold((0, 0, 0), |a, x| (a.0.max(x.0), a.1.max(x.1), a.2.max(x.2)));
         Ok(Integrator {
             offsets: model.pantographs.iter().map(|p| p.offset_m).collect(),
             dt,
+            isa,
             speed_m_s: plan.speed_m_s,
             speed_kmh: plan.speed_kmh,
             d_inv: d_eff.iter().map(|d| 1.0 / d).collect(),
+            neg_d_inv: d_eff.iter().map(|d| -1.0 / d).collect(),
             k,
             c,
             groups,
@@ -495,6 +533,11 @@ impl Integrator {
         self.dt
     }
 
+    /// Instruction set of the hot loops.
+    pub fn isa(&self) -> Isa {
+        self.isa
+    }
+
     /// Train speed, m/s.
     pub fn speed_m_s(&self) -> f64 {
         self.speed_m_s
@@ -514,7 +557,7 @@ impl Integrator {
             f: vec![0.0; self.n_u],
             rows: vec![0.0; self.rows_len],
             scr: self.max_period_scratch.clone(),
-            imp: ImplicitScratch::new(self.max_imp.0, self.max_imp.1),
+            imp: ImplicitScratch::new(self.max_imp.0, self.max_imp.1, self.max_imp.2),
             prhs: vec![0.0; self.max_pdof],
             loads: vec![0.0; np],
             external: vec![(0.0, 0.0); np],
@@ -583,16 +626,8 @@ impl Integrator {
         let dt = self.dt;
         let h = 0.5 * dt;
         let m = &self.model;
-        for ((q, v), a) in st
-            .modal
-            .u
-            .iter_mut()
-            .zip(st.modal.v.iter_mut())
-            .zip(st.modal.a.iter())
-        {
-            *v += h * a;
-            *q += dt * *v;
-        }
+        let isa = self.isa;
+        kernels::kick_drift(isa, &mut st.modal.u, &mut st.modal.v, &st.modal.a, h, dt);
         let pd = &mut st.pantographs;
         for i in 0..pd.u.len() {
             pd.v[i] += h * pd.a[i];
@@ -645,17 +680,14 @@ impl Integrator {
         }
 
         // Right-hand sides, stored in the acceleration array.
-        for ((((a, q), v), k), c) in st
-            .modal
-            .a
-            .iter_mut()
-            .zip(&st.modal.u)
-            .zip(&st.modal.v)
-            .zip(&self.k)
-            .zip(&self.c)
-        {
-            *a = -k * q - c * v;
-        }
+        kernels::modal_rhs(
+            isa,
+            &mut st.modal.a,
+            &st.modal.u,
+            &st.modal.v,
+            &self.k,
+            &self.c,
+        );
         for g in &self.groups {
             g.sampler.scatter_add(
                 &ws.f[g.u_base..g.u_base + g.k * g.npts],
@@ -675,7 +707,7 @@ impl Integrator {
             let row = &mut ws.rows[mp.row_off..mp.row_off + mp.n];
             mp.basis.fill_sines(x - mp.origin_m, row);
             ws.u[self.moving_u0 + mi] = m.static_height(mp.wire, mp.dir, x)
-                + dot(&st.modal.u[mp.q_off..mp.q_off + mp.n], row);
+                + kernels::dot(isa, &st.modal.u[mp.q_off..mp.q_off + mp.n], row);
             ws.samples[p].position_m = x;
         }
         for (p, pan) in m.pantographs.iter().enumerate() {
@@ -701,7 +733,8 @@ impl Integrator {
         }
         for (mi, mp) in self.moving.iter().enumerate() {
             let f = ws.f[self.moving_u0 + mi];
-            axpy(
+            kernels::axpy(
+                isa,
                 f,
                 &ws.rows[mp.row_off..mp.row_off + mp.n],
                 &mut st.modal.a[mp.q_off..mp.q_off + mp.n],
@@ -716,25 +749,16 @@ impl Integrator {
         }
 
         // Solve for the accelerations and finish the velocities.
-        for (a, d) in st.modal.a.iter_mut().zip(&self.d_inv) {
-            *a *= d;
+        kernels::scale(isa, &mut st.modal.a, &self.d_inv);
+        for imp in &self.implicit {
+            imp.correct(&mut st.modal.a, &self.neg_d_inv, &mut ws.scr, &mut ws.imp);
         }
-        for (b, imp) in &self.implicit {
-            let r = m.layout.range(*b);
-            imp.correct(
-                &mut st.modal.a[r.clone()],
-                &self.d_inv[r],
-                &mut ws.scr,
-                &mut ws.imp,
-            );
-        }
-        for (v, a) in st.modal.v.iter_mut().zip(&st.modal.a) {
-            *v += h * a;
-        }
+        kernels::kick(isa, &mut st.modal.v, &st.modal.a, h);
         for (p, pm) in self.pan_point.iter().enumerate() {
             if let Some(mi) = *pm {
                 let mp = &self.moving[mi];
-                ws.samples[p].wire_velocity_m_s = dot(
+                ws.samples[p].wire_velocity_m_s = kernels::dot(
+                    isa,
                     &st.modal.v[mp.q_off..mp.q_off + mp.n],
                     &ws.rows[mp.row_off..mp.row_off + mp.n],
                 );
@@ -797,8 +821,9 @@ impl Integrator {
             let row = &mut ws.rows[mp.row_off..mp.row_off + mp.n];
             mp.basis.fill_sines(x - mp.origin_m, row);
             ws.eu[self.moving_u0 + mi] = m.static_height(mp.wire, mp.dir, x)
-                + dot(&st.modal.u[mp.q_off..mp.q_off + mp.n], row);
-            ws.ev[self.moving_u0 + mi] = dot(&st.modal.v[mp.q_off..mp.q_off + mp.n], row);
+                + kernels::dot(self.isa, &st.modal.u[mp.q_off..mp.q_off + mp.n], row);
+            ws.ev[self.moving_u0 + mi] =
+                kernels::dot(self.isa, &st.modal.v[mp.q_off..mp.q_off + mp.n], row);
         }
     }
 

@@ -15,6 +15,7 @@
 pub mod budget;
 pub mod implicit;
 pub mod integrator;
+pub mod kernels;
 pub mod plan;
 pub mod realtime;
 pub mod run;
@@ -24,6 +25,7 @@ pub mod workspace;
 
 pub use budget::{Budget, Estimate};
 pub use integrator::Integrator;
+pub use kernels::Isa;
 pub use plan::{Options, Plan};
 pub use run::{run, Observer, RunStatistics};
 pub use state::State;
@@ -59,9 +61,7 @@ impl Setup {
         let (model, mut warnings) = Model::from_case(case)?;
         let plan = Plan::from_case(case);
         warnings.extend(plan.check(&model)?);
-        let options = Options {
-            dt_s: case.run.dt_s,
-        };
+        let options = Options::new(case.run.dt_s);
         integrator::check_stability(&model, options.dt_s)?;
         Ok(Setup {
             model,
@@ -83,7 +83,7 @@ impl Setup {
                 duration_s: run.duration_s,
                 analysis_m: [0.0, length],
             },
-            options: Options { dt_s: run.dt_s },
+            options: Options::new(run.dt_s),
             warnings: Vec::new(),
         }
     }

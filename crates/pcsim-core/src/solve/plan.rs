@@ -4,6 +4,7 @@
 use crate::error::CaseError;
 use crate::input::case::{Case, Warning};
 use crate::model::{Model, WireRole};
+use crate::solve::kernels::Isa;
 
 /// Where and how fast the pantographs run, and where the statistics are taken.
 #[derive(Debug, Clone, PartialEq)]
@@ -25,6 +26,19 @@ pub struct Plan {
 pub struct Options {
     /// Fixed time step, s.
     pub dt_s: f64,
+    /// Instruction set of the hot loops (default: the best of this CPU, unless
+    /// `PCSIM_PORTABLE=1`; see `solve::kernels`).
+    pub isa: Isa,
+}
+
+impl Options {
+    /// Options with time step `dt_s` and the default instruction set.
+    pub fn new(dt_s: f64) -> Self {
+        Options {
+            dt_s,
+            isa: Isa::default(),
+        }
+    }
 }
 
 impl Plan {

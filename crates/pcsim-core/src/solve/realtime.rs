@@ -117,7 +117,7 @@ impl WindowMover {
             .iter()
             .map(|&x| xs.iter().position(|&y| (y - (x + shift_m)).abs() < 1e-6))
             .collect();
-        let nv = 3 * model
+        let nv = 4 * model
             .layout
             .groups
             .iter()
@@ -135,10 +135,16 @@ impl WindowMover {
         }
     }
 
-    /// Move the window forward by the fixed shift and carry the state over.
-    pub fn shift(&mut self, model: &crate::model::Model, st: &mut State) {
+    /// Move the window forward by the fixed shift and carry the state over (`h = Δt/2`).
+    pub fn shift(
+        &mut self,
+        model: &crate::model::Model,
+        st: &mut State,
+        h: f64,
+        isa: crate::solve::kernels::Isa,
+    ) {
         for g in 0..model.layout.groups.len() {
-            st.project_group(model, g, &self.proj, &mut self.buf);
+            st.project_group(model, g, &self.proj, h, isa, &mut self.buf);
         }
         let nd = &mut st.nodes;
         for v in [&mut nd.u, &mut nd.v, &mut nd.a] {
@@ -161,7 +167,7 @@ impl Observer for WindowMover {
         ws: &Workspace,
     ) -> Result<(), SimError> {
         if ws.samples()[0].position_m > self.trigger_m {
-            self.shift(integ.model(), st);
+            self.shift(integ.model(), st, 0.5 * integ.dt_s(), integ.isa());
         }
         Ok(())
     }

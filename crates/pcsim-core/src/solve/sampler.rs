@@ -4,129 +4,129 @@
 //!
 //! # The span-periodic fast path
 //! The catenary repeats every span `S`, and the model length is `L = n_s·S`. Points that share an
-//! offset `d` inside the span sit at `x = d + sS`. With `P = 2 n_s` and `κ_k sS = 2πks/P`,
+//! offset `d` inside the span sit at `x = d + sS`. With `P = 2 n_s` and `κ_m sS = 2πms/P` (mode
+//! number `m`),
 //!
 //! ```text
-//! w(d + sS) = Σ_k q_k [sin(κ_k d) cos(2πks/P) + cos(κ_k d) sin(2πks/P)]
-//!           = Σ_{r<P} A_r cos(2π r s/P) + B_r sin(2π r s/P),
-//! A_r = Σ_{k ≡ r (mod P)} q_k sin(κ_k d),   B_r = Σ_{k ≡ r} q_k cos(κ_k d).
+//! w(d + sS) = Σ_m q_m [sin(κ_m d) cos(2πms/P) + cos(κ_m d) sin(2πms/P)]
+//!           = Re Σ_{ρ<P} (A_ρ − i B_ρ) e^{2πiρs/P},
+//! A_ρ = Σ_{m ≡ ρ (mod P)} q_m sin(κ_m d),   B_ρ = Σ_{m ≡ ρ} q_m cos(κ_m d).
 //! ```
 //!
-//! The real-DFT symmetry (`cos(2π(P−ρ)s/P) = cos(2πρs/P)`, sines change sign) folds the `P`
-//! bins into `P/2 + 1` cosine and sine terms. So one offset group costs about
-//! `4N + 2(P+2)·(points in group)` flops instead of `2N·(points in group)`: for 30 spans and
-//! 1200 modes about 7× fewer operations, in contiguous loops that vectorise. Points whose offset is shared by fewer than [`MIN_GROUP`] points use dense rows.
-//! Both paths are tested against each other. No allocation happens in `gather`/`scatter_add`.
+//! So a group of points costs one *fold* of the modes into `P` bins (`4N` multiply-adds for two
+//! blocks) and **one inverse FFT of length P for all its points** — not one `P`-term sum per
+//! point, whose cost would grow with the square of the length. Two real outputs share one complex
+//! FFT (the two blocks of a pair, or two groups of one block): the spectra are made Hermitian, so
+//! the real and imaginary parts of the transform are the two outputs. The scatter is the exact
+//! transpose: the forces of a group's points, placed at their span indices, are transformed once
+//! and unfolded onto the modes.
 //!
-//! Mirror offsets are nearly free: for `d' = S − d`, `κ_k d' = 2πk/P − κ_k d`, and the factor
-//! `e^{2πik/P}` depends on the bin only, so a mirror group's bins follow from its partner's in
-//! `O(P)`. Symmetric dropper layouts need about half the passes over the modes.
+//! Mirror offsets are nearly free: for `d' = S − d`, `κ_m d' = 2πm/P − κ_m d`, and the factor
+//! `e^{2πim/P}` depends on the bin only, so a mirror group's bins follow from its partner's in
+//! `O(P)`. Points whose offset is shared by fewer than [`MIN_GROUP`] points use dense rows. Both
+//! paths are tested against each other. No allocation happens in `gather`/`scatter_add`.
+//!
+//! Cost: `O(groups · (N + P log P))` per step, close to linear in the model's length.
 
 use std::f64::consts::PI;
+use std::sync::Arc;
 
-use crate::linalg::dot;
+use rustfft::num_complex::Complex;
+use rustfft::{Fft, FftPlanner, FftPlannerScalar};
+
 use crate::model::basis::SineBasis;
-
-/// (output index, span index) of the points of one offset group.
-type Members = Vec<(usize, usize)>;
+use crate::solve::kernels::{self, Isa};
 
 /// Smallest number of points sharing an offset for the folded path to pay off.
 pub const MIN_GROUP: usize = 4;
 
-#[derive(Debug, Clone)]
+#[derive(Clone)]
 struct Group {
     /// `sin(κ_k d)`, `cos(κ_k d)` for every mode (empty for a mirror group).
     sin_d: Vec<f64>,
     cos_d: Vec<f64>,
     /// A mirror group has offset `S − d` of the group just before it: its bins follow from that
-    /// group's bins by a phase that depends on the bin only (`κ_k S = 2π k / P`), so it costs no
-    /// pass over the modes.
+    /// group's bins by a phase that depends on the bin only.
     mirror: bool,
-    /// Output index of each member.
-    members: Vec<usize>,
-    /// Per member, `[cos(2πρs/P) for ρ in 0..H, sin(2πρs/P) for ρ in 0..H]`, `H = P/2 + 1`
-    /// (the real-DFT symmetry halves the table).
-    tab: Vec<f64>,
+    /// (output index, span index) of each member.
+    members: Vec<(usize, usize)>,
 }
 
 /// Precomputed sampler for a fixed set of points on one [`SineBasis`].
-#[derive(Debug, Clone)]
+#[derive(Clone)]
 pub struct PointSampler {
+    isa: Isa,
     n_modes: usize,
     n_points: usize,
     period: usize,
     groups: Vec<Group>,
-    /// `cos(κ_k S)`, `sin(κ_k S)` per bin.
+    /// `cos(κ_k S)`, `sin(κ_k S)` per bin (the mirror rotation).
     cs: Vec<f64>,
     sn: Vec<f64>,
+    /// The bin of each DFT index ρ: modes with index ≡ bin (mod P) have mode number ≡ ρ.
+    bin_of: Vec<usize>,
+    /// Unnormalised transform `Σ_ρ W_ρ e^{+2πiρs/P}` (an inverse FFT).
+    fft: Option<Arc<dyn Fft<f64>>>,
+    fft_scratch: usize,
     /// Dense rows `sin(κ_k x_j)` for the points outside groups: (output index, row).
     dense: Vec<(usize, Vec<f64>)>,
 }
 
-/// Scratch for [`PointSampler`]: folded bins (two vectors, primary and mirror) and the
-/// half-spectra.
+impl std::fmt::Debug for PointSampler {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PointSampler")
+            .field("n_modes", &self.n_modes)
+            .field("n_points", &self.n_points)
+            .field("period", &self.period)
+            .field("groups", &self.groups.len())
+            .field("dense", &self.dense.len())
+            .finish()
+    }
+}
+
+/// Scratch for [`PointSampler`]: bins of the current and of the last primary group, and the
+/// complex transform buffers.
 #[derive(Debug, Clone)]
 pub struct SamplerScratch {
-    /// Bins: [a, b, a2, b2] of the primary group, then the same for its mirror.
-    bins: [Vec<f64>; 8],
-    h: Vec<f64>,
-    h2: Vec<f64>,
+    /// `[a1 | b1 | a2 | b2]` of the current unit(s).
+    cur: Vec<f64>,
+    /// The same for the second unit of a single-block chunk.
+    second: Vec<f64>,
+    /// Bins of the last primary group (for its mirror).
+    prim: Vec<f64>,
+    buf: Vec<Complex<f64>>,
+    fft: Vec<Complex<f64>>,
 }
 
 impl SamplerScratch {
-    /// Length of the bin arrays.
+    /// Length of the bin arrays (the period).
     pub fn len(&self) -> usize {
-        self.bins[0].len()
+        self.buf.len()
     }
     /// True when empty.
     pub fn is_empty(&self) -> bool {
-        self.bins[0].is_empty()
+        self.buf.is_empty()
     }
-}
-
-/// Bin `r` holds the modes with index ≡ r (mod P), i.e. phase ρ = r + 1 (mod P).
-#[inline]
-fn bin(rho: usize, p: usize) -> usize {
-    if rho == 0 {
-        p - 1
-    } else {
-        rho - 1
-    }
-}
-
-/// Fold the `P` bins into the `P/2 + 1` cosine and sine terms.
-#[inline]
-fn symmetrize(a: &[f64], b: &[f64], h: &mut [f64], p: usize) {
-    let hh = p / 2 + 1;
-    h[0] = a[bin(0, p)];
-    h[hh] = 0.0;
-    for rho in 1..p / 2 {
-        h[rho] = a[bin(rho, p)] + a[bin(p - rho, p)];
-        h[hh + rho] = b[bin(rho, p)] - b[bin(p - rho, p)];
-    }
-    h[p / 2] = a[bin(p / 2, p)];
-    h[hh + p / 2] = 0.0;
-}
-
-/// The transpose of [`symmetrize`].
-#[inline]
-fn desymmetrize(h: &[f64], a: &mut [f64], b: &mut [f64], p: usize) {
-    let hh = p / 2 + 1;
-    for rho in 0..p {
-        let (m, sign) = if rho <= p / 2 {
-            (rho, 1.0)
+    /// The larger of two scratches (one scratch serves several samplers).
+    pub fn max(self, o: SamplerScratch) -> SamplerScratch {
+        if o.buf.len() > self.buf.len() || o.fft.len() > self.fft.len() {
+            SamplerScratch {
+                cur: vec![0.0; o.cur.len().max(self.cur.len())],
+                second: vec![0.0; o.second.len().max(self.second.len())],
+                prim: vec![0.0; o.prim.len().max(self.prim.len())],
+                buf: vec![Complex::new(0.0, 0.0); o.buf.len().max(self.buf.len())],
+                fft: vec![Complex::new(0.0, 0.0); o.fft.len().max(self.fft.len())],
+            }
         } else {
-            (p - rho, -1.0)
-        };
-        a[bin(rho, p)] = h[m];
-        b[bin(rho, p)] = sign * h[hh + m];
+            self
+        }
     }
 }
 
 impl PointSampler {
     /// Build a sampler for points `xs` on `basis`. `span_m` enables the periodic path when the
     /// model length is a whole number of spans; pass `None` for dense rows only.
-    pub fn new(basis: &SineBasis, xs: &[f64], span_m: Option<f64>) -> Self {
+    pub fn new(basis: &SineBasis, xs: &[f64], span_m: Option<f64>, isa: Isa) -> Self {
         let n = basis.n_modes();
         let l = basis.length_m();
         let mut groups = Vec::new();
@@ -139,10 +139,8 @@ impl PointSampler {
         let mut used = vec![false; xs.len()];
         if let (Some(ns), Some(s)) = (n_spans, span_m) {
             period = 2 * ns;
-            let hh = period / 2 + 1;
-            // Group points by their offset within a span.
             let tol = 1e-9 * l.max(1.0);
-            let mut offsets: Vec<(f64, Members)> = Vec::new();
+            let mut offsets: Vec<(f64, Vec<(usize, usize)>)> = Vec::new();
             for (j, &x) in xs.iter().enumerate() {
                 let mut sidx = (x / s).floor();
                 let mut d = x - sidx * s;
@@ -154,6 +152,9 @@ impl PointSampler {
                     d = 0.0;
                 }
                 let sidx = sidx as usize;
+                if sidx >= ns {
+                    continue;
+                }
                 match offsets.iter_mut().find(|(od, _)| (od - d).abs() < tol) {
                     Some((_, m)) => m.push((j, sidx)),
                     None => offsets.push((d, vec![(j, sidx)])),
@@ -161,7 +162,6 @@ impl PointSampler {
             }
             offsets.retain(|(_, m)| m.len() >= MIN_GROUP);
             // Order as primary, then its mirror (offset S − d) if present.
-            let mut ordered: Vec<(f64, Members, bool)> = Vec::new();
             let mut taken = vec![false; offsets.len()];
             for i in 0..offsets.len() {
                 if taken[i] {
@@ -169,40 +169,33 @@ impl PointSampler {
                 }
                 taken[i] = true;
                 let d = offsets[i].0;
-                ordered.push((d, offsets[i].1.clone(), false));
+                let mut sin_d = vec![0.0; n];
+                let mut cos_d = vec![0.0; n];
+                basis.fill_sines_cosines(d, &mut sin_d, &mut cos_d);
+                groups.push(Group {
+                    sin_d,
+                    cos_d,
+                    mirror: false,
+                    members: offsets[i].1.clone(),
+                });
                 if d > tol && (d - 0.5 * s).abs() > tol {
                     if let Some(k) = (0..offsets.len())
                         .find(|&k| !taken[k] && (offsets[k].0 - (s - d)).abs() < tol)
                     {
                         taken[k] = true;
-                        ordered.push((offsets[k].0, offsets[k].1.clone(), true));
+                        groups.push(Group {
+                            sin_d: vec![],
+                            cos_d: vec![],
+                            mirror: true,
+                            members: offsets[k].1.clone(),
+                        });
                     }
                 }
             }
-            for (d, members, mirror) in ordered {
-                let (mut sin_d, mut cos_d) = (Vec::new(), Vec::new());
-                if !mirror {
-                    sin_d = vec![0.0; n];
-                    cos_d = vec![0.0; n];
-                    basis.fill_sines_cosines(d, &mut sin_d, &mut cos_d);
-                }
-                let mut tab = Vec::with_capacity(members.len() * 2 * hh);
-                for &(j, sidx) in &members {
+            for g in &groups {
+                for &(j, _) in &g.members {
                     used[j] = true;
-                    for trig in [f64::cos, f64::sin] {
-                        for rho in 0..hh {
-                            let ph = 2.0 * PI * ((rho * sidx) % period) as f64 / period as f64;
-                            tab.push(trig(ph));
-                        }
-                    }
                 }
-                groups.push(Group {
-                    sin_d,
-                    cos_d,
-                    mirror,
-                    members: members.iter().map(|m| m.0).collect(),
-                    tab,
-                });
             }
         }
         for (j, &x) in xs.iter().enumerate() {
@@ -215,13 +208,23 @@ impl PointSampler {
         let ph = |r: usize| 2.0 * PI * ((r + 1) % period) as f64 / period as f64;
         let cs = (0..period).map(|r| ph(r).cos()).collect();
         let sn = (0..period).map(|r| ph(r).sin()).collect();
+        let bin_of = (0..period).map(|rho| (rho + period - 1) % period).collect();
+        let fft: Option<Arc<dyn Fft<f64>>> = (!groups.is_empty()).then(|| match isa {
+            Isa::Portable => FftPlannerScalar::new().plan_fft_inverse(period),
+            Isa::X86V3 => FftPlanner::new().plan_fft_inverse(period),
+        });
+        let fft_scratch = fft.as_ref().map_or(0, |f| f.get_inplace_scratch_len());
         Self {
+            isa,
             n_modes: n,
             n_points: xs.len(),
             period,
             groups,
             cs,
             sn,
+            bin_of,
+            fft,
+            fft_scratch,
             dense,
         }
     }
@@ -231,196 +234,112 @@ impl PointSampler {
         self.n_points
     }
 
+    /// Number of modes of the basis.
+    pub fn n_modes(&self) -> usize {
+        self.n_modes
+    }
+
     /// Scratch sized for this sampler.
     pub fn scratch(&self) -> SamplerScratch {
         let p = self.period;
-        let hh = 2 * (p / 2 + 1);
         SamplerScratch {
-            bins: std::array::from_fn(|_| vec![0.0; p]),
-            h: vec![0.0; hh],
-            h2: vec![0.0; hh],
+            cur: vec![0.0; 4 * p],
+            second: vec![0.0; 4 * p],
+            prim: vec![0.0; 4 * p],
+            buf: vec![Complex::new(0.0, 0.0); p],
+            fft: vec![Complex::new(0.0, 0.0); self.fft_scratch],
         }
     }
 
-    /// Mirror bins from primary bins: `A'_r = sin(κS) B_r − cos(κS) A_r`,
-    /// `B'_r = cos(κS) B_r + sin(κS) A_r`.
-    #[inline]
-    fn mirror_bins(&self, a: &[f64], b: &[f64], ma: &mut [f64], mb: &mut [f64]) {
-        for r in 0..self.period {
-            ma[r] = self.sn[r] * b[r] - self.cs[r] * a[r];
-            mb[r] = self.cs[r] * b[r] + self.sn[r] * a[r];
+    /// Number of points handled by the folded (periodic) path.
+    pub fn n_folded(&self) -> usize {
+        self.groups.iter().map(|g| g.members.len()).sum()
+    }
+
+    /// Number of offset groups that need a pass over the modes (mirrors excluded).
+    pub fn n_mode_passes(&self) -> usize {
+        self.groups.iter().filter(|g| !g.mirror).count()
+    }
+
+    /// Whether the folded path covers every point with a single group and no dense row (then
+    /// a scaled scatter can be fused, see [`Self::scatter_scaled`]).
+    pub fn is_single_group(&self) -> bool {
+        self.groups.len() == 1 && self.dense.is_empty()
+    }
+
+    /// Mirror bins from primary bins (`k` blocks of `[a | b]`, each `2P`):
+    /// `A'_r = sin(κS) B_r − cos(κS) A_r`, `B'_r = cos(κS) B_r + sin(κS) A_r`.
+    fn mirror_bins(&self, prim: &[f64], k: usize, out: &mut [f64]) {
+        let p = self.period;
+        for blk in 0..k {
+            let o = 2 * p * blk;
+            for r in 0..p {
+                let (a, b) = (prim[o + r], prim[o + p + r]);
+                out[o + r] = self.sn[r] * b - self.cs[r] * a;
+                out[o + p + r] = self.cs[r] * b + self.sn[r] * a;
+            }
         }
     }
 
     /// Add a mirror group's bins into its primary's (the transpose of [`Self::mirror_bins`]).
-    #[inline]
-    fn add_mirror_bins(&self, ma: &[f64], mb: &[f64], a: &mut [f64], b: &mut [f64]) {
-        for r in 0..self.period {
-            a[r] += -self.cs[r] * ma[r] + self.sn[r] * mb[r];
-            b[r] += self.sn[r] * ma[r] + self.cs[r] * mb[r];
+    fn add_mirror_bins(&self, mirr: &[f64], k: usize, prim: &mut [f64]) {
+        let p = self.period;
+        for blk in 0..k {
+            let o = 2 * p * blk;
+            for r in 0..p {
+                let (ma, mb) = (mirr[o + r], mirr[o + p + r]);
+                prim[o + r] += -self.cs[r] * ma + self.sn[r] * mb;
+                prim[o + p + r] += self.sn[r] * ma + self.cs[r] * mb;
+            }
         }
     }
 
-    /// `out[j] = Σ_k q_k sin(κ_k x_j)`.
-    fn gather_one(&self, q: &[f64], out: &mut [f64], sc: &mut SamplerScratch) {
-        debug_assert_eq!(q.len(), self.n_modes);
+    /// The Hermitian spectrum of two units (`x = [ax | bx]`, `y = [ay | by]`, each `2P`) packed
+    /// into one complex sequence, so that the transform's real part is unit x's output and its
+    /// imaginary part unit y's: `W_ρ = herm(A_x − iB_x)_ρ + i herm(A_y − iB_y)_ρ`.
+    fn pack(&self, x: &[f64], y: Option<&[f64]>, buf: &mut [Complex<f64>]) {
         let p = self.period;
-        let hh = p / 2 + 1;
-        let [a, b, _, _, ma, mb, _, _] = &mut sc.bins;
-        for g in &self.groups {
-            if g.mirror {
-                self.mirror_bins(a, b, ma, mb);
-                symmetrize(ma, mb, &mut sc.h, p);
-            } else {
-                fold(q, &g.sin_d, &g.cos_d, p, a, b);
-                symmetrize(a, b, &mut sc.h, p);
-            }
-            for (&j, row) in g.members.iter().zip(g.tab.chunks_exact(2 * hh)) {
-                out[j] = dot(&sc.h[..2 * hh], row);
-            }
-        }
-        for (j, row) in &self.dense {
-            out[*j] = dot(q, row);
-        }
-    }
-
-    /// `out_k += Σ_j f_j sin(κ_k x_j)`.
-    fn scatter_add_one(&self, f: &[f64], out: &mut [f64], sc: &mut SamplerScratch) {
-        debug_assert_eq!(out.len(), self.n_modes);
-        let p = self.period;
-        let hh = p / 2 + 1;
-        let [a, b, _, _, ma, mb, _, _] = &mut sc.bins;
-        for (gi, g) in self.groups.iter().enumerate() {
-            let h = &mut sc.h[..2 * hh];
-            h.fill(0.0);
-            for (&j, row) in g.members.iter().zip(g.tab.chunks_exact(2 * hh)) {
-                let fj = f[j];
-                for (hv, &t) in h.iter_mut().zip(row) {
-                    *hv += fj * t;
-                }
-            }
-            let primary = if g.mirror {
-                desymmetrize(h, ma, mb, p);
-                self.add_mirror_bins(ma, mb, a, b);
-                &self.groups[gi - 1]
-            } else {
-                desymmetrize(h, a, b, p);
-                if self.groups.get(gi + 1).is_some_and(|n| n.mirror) {
-                    continue; // unfold together with the mirror
-                }
-                g
+        let bo = &self.bin_of;
+        for rho in 0..p {
+            let neg = (p - rho) % p;
+            let (r, rn) = (bo[rho], bo[neg]);
+            let re_x = 0.5 * (x[r] + x[rn]);
+            let im_x = -0.5 * (x[p + r] - x[p + rn]);
+            let (re_y, im_y) = match y {
+                Some(y) => (0.5 * (y[r] + y[rn]), -0.5 * (y[p + r] - y[p + rn])),
+                None => (0.0, 0.0),
             };
-            unfold(a, b, &primary.sin_d, &primary.cos_d, p, out);
+            buf[rho] = Complex::new(re_x - im_y, im_x + re_y);
         }
-        for (j, row) in &self.dense {
-            let fj = f[*j];
-            if fj != 0.0 {
-                crate::linalg::axpy(fj, row, out);
+    }
+
+    /// The transpose of [`Self::pack`] for the scatter: from the transform `Y` of `F_x + i F_y`,
+    /// the bins `[C | S]` of each unit, `C_ρ + iS_ρ = Σ_s F(s) e^{2πiρs/P}`.
+    fn unpack(&self, buf: &[Complex<f64>], x: &mut [f64], y: Option<&mut [f64]>) {
+        let p = self.period;
+        let bo = &self.bin_of;
+        let mut y = y;
+        for rho in 0..p {
+            let neg = (p - rho) % p;
+            let (yr, yn) = (buf[rho], buf[neg]);
+            let r = bo[rho];
+            x[r] = 0.5 * (yr.re + yn.re);
+            x[p + r] = 0.5 * (yr.im - yn.im);
+            if let Some(y) = y.as_deref_mut() {
+                y[r] = 0.5 * (yr.im + yn.im);
+                y[p + r] = 0.5 * (yn.re - yr.re);
             }
         }
     }
 
-    /// [`Self::gather_one`] for two coefficient vectors at once (the sine tables are read once
-    /// for both).
-    fn gather_pair(
-        &self,
-        qa: &[f64],
-        qb: &[f64],
-        outa: &mut [f64],
-        outb: &mut [f64],
-        sc: &mut SamplerScratch,
-    ) {
-        let p = self.period;
-        let hh = p / 2 + 1;
-        let [a, b, a2, b2, ma, mb, ma2, mb2] = &mut sc.bins;
-        for g in &self.groups {
-            if g.mirror {
-                self.mirror_bins(a, b, ma, mb);
-                self.mirror_bins(a2, b2, ma2, mb2);
-                symmetrize(ma, mb, &mut sc.h, p);
-                symmetrize(ma2, mb2, &mut sc.h2, p);
-            } else {
-                fold_pair(
-                    qa,
-                    qb,
-                    &g.sin_d,
-                    &g.cos_d,
-                    p,
-                    [&mut a[..], &mut b[..], &mut a2[..], &mut b2[..]],
-                );
-                symmetrize(a, b, &mut sc.h, p);
-                symmetrize(a2, b2, &mut sc.h2, p);
-            }
-            for (&j, row) in g.members.iter().zip(g.tab.chunks_exact(2 * hh)) {
-                outa[j] = dot(&sc.h[..2 * hh], row);
-                outb[j] = dot(&sc.h2[..2 * hh], row);
-            }
-        }
-        for (j, row) in &self.dense {
-            outa[*j] = dot(qa, row);
-            outb[*j] = dot(qb, row);
-        }
-    }
-
-    /// [`Self::scatter_add_one`] for two force vectors at once.
-    fn scatter_add_pair(
-        &self,
-        fa: &[f64],
-        fb: &[f64],
-        outa: &mut [f64],
-        outb: &mut [f64],
-        sc: &mut SamplerScratch,
-    ) {
-        let p = self.period;
-        let hh = p / 2 + 1;
-        let [a, b, a2, b2, ma, mb, ma2, mb2] = &mut sc.bins;
-        for (gi, g) in self.groups.iter().enumerate() {
-            let (h, h2) = (&mut sc.h[..2 * hh], &mut sc.h2[..2 * hh]);
-            h.fill(0.0);
-            h2.fill(0.0);
-            for (&j, row) in g.members.iter().zip(g.tab.chunks_exact(2 * hh)) {
-                let (x, y) = (fa[j], fb[j]);
-                for ((hv, h2v), &t) in h.iter_mut().zip(h2.iter_mut()).zip(row) {
-                    *hv += x * t;
-                    *h2v += y * t;
-                }
-            }
-            let primary = if g.mirror {
-                desymmetrize(h, ma, mb, p);
-                desymmetrize(h2, ma2, mb2, p);
-                self.add_mirror_bins(ma, mb, a, b);
-                self.add_mirror_bins(ma2, mb2, a2, b2);
-                &self.groups[gi - 1]
-            } else {
-                desymmetrize(h, a, b, p);
-                desymmetrize(h2, a2, b2, p);
-                if self.groups.get(gi + 1).is_some_and(|n| n.mirror) {
-                    continue; // unfold together with the mirror
-                }
-                g
-            };
-            unfold_pair(
-                [&a[..], &b[..], &a2[..], &b2[..]],
-                &primary.sin_d,
-                &primary.cos_d,
-                p,
-                outa,
-                outb,
-            );
-        }
-        for (j, row) in &self.dense {
-            if fa[*j] != 0.0 {
-                crate::linalg::axpy(fa[*j], row, outa);
-            }
-            if fb[*j] != 0.0 {
-                crate::linalg::axpy(fb[*j], row, outb);
-            }
+    fn transform(&self, sc: &mut SamplerScratch) {
+        if let Some(f) = &self.fft {
+            f.process_with_scratch(&mut sc.buf[..self.period], &mut sc.fft[..self.fft_scratch]);
         }
     }
 
     /// Gather for `k` blocks of modal coordinates sharing this basis: `q` holds the blocks one
-    /// after the other (`k · N` values), `out` receives `k · n_points` values, block-major. Blocks
-    /// are processed in pairs (the sine tables are read once per pair), an odd last one alone.
+    /// after the other (`k · N` values), `out` receives `k · n_points` values, block-major.
     pub fn gather(&self, q: &[f64], k: usize, out: &mut [f64], sc: &mut SamplerScratch) {
         let (n, np) = (self.n_modes, self.n_points);
         let mut b = 0;
@@ -440,6 +359,84 @@ impl PointSampler {
         }
     }
 
+    /// Two blocks: one fold pass and one transform per group.
+    fn gather_pair(
+        &self,
+        q1: &[f64],
+        q2: &[f64],
+        o1: &mut [f64],
+        o2: &mut [f64],
+        sc: &mut SamplerScratch,
+    ) {
+        let p = self.period;
+        for g in &self.groups {
+            if g.mirror {
+                self.mirror_bins(&sc.prim, 2, &mut sc.cur);
+            } else {
+                kernels::fold2(
+                    self.isa,
+                    q1,
+                    q2,
+                    &g.sin_d,
+                    &g.cos_d,
+                    p,
+                    &mut sc.prim[..4 * p],
+                );
+                sc.cur[..4 * p].copy_from_slice(&sc.prim[..4 * p]);
+            }
+            let (x, y) = sc.cur[..4 * p].split_at(2 * p);
+            self.pack(x, Some(y), &mut sc.buf);
+            self.transform(sc);
+            for &(j, s) in &g.members {
+                o1[j] = sc.buf[s].re;
+                o2[j] = sc.buf[s].im;
+            }
+        }
+        for (j, row) in &self.dense {
+            let (a, b) = kernels::dot2(self.isa, row, q1, q2);
+            o1[*j] = a;
+            o2[*j] = b;
+        }
+    }
+
+    /// One block: groups two at a time share a transform.
+    fn gather_one(&self, q: &[f64], out: &mut [f64], sc: &mut SamplerScratch) {
+        let p = self.period;
+        let ng = self.groups.len();
+        let mut gi = 0;
+        while gi < ng {
+            let pair = gi + 1 < ng;
+            for (slot, g) in self.groups[gi..(gi + 2).min(ng)].iter().enumerate() {
+                let dst = if slot == 0 {
+                    &mut sc.cur
+                } else {
+                    &mut sc.second
+                };
+                if g.mirror {
+                    self.mirror_bins(&sc.prim, 1, dst);
+                } else {
+                    kernels::fold1(self.isa, q, &g.sin_d, &g.cos_d, p, &mut sc.prim[..2 * p]);
+                    dst[..2 * p].copy_from_slice(&sc.prim[..2 * p]);
+                }
+            }
+            let y = pair.then_some(&sc.second[..2 * p]);
+            self.pack(&sc.cur[..2 * p], y, &mut sc.buf);
+            self.transform(sc);
+            for &(j, s) in &self.groups[gi].members {
+                out[j] = sc.buf[s].re;
+            }
+            if pair {
+                for &(j, s) in &self.groups[gi + 1].members {
+                    out[j] = sc.buf[s].im;
+                }
+            }
+            gi += 2;
+        }
+        for (j, row) in &self.dense {
+            out[*j] = kernels::dot(self.isa, q, row);
+        }
+    }
+
     /// Scatter for `k` blocks: `out` (`k · N` values) `+=` the generalised forces of the point
     /// forces `f` (`k · n_points` values, block-major).
     pub fn scatter_add(&self, f: &[f64], k: usize, out: &mut [f64], sc: &mut SamplerScratch) {
@@ -447,7 +444,7 @@ impl PointSampler {
         let mut b = 0;
         while b + 1 < k {
             let (o1, o2) = out[b * n..(b + 2) * n].split_at_mut(n);
-            self.scatter_add_pair(
+            self.scatter_pair(
                 &f[b * np..(b + 1) * np],
                 &f[(b + 1) * np..(b + 2) * np],
                 o1,
@@ -457,201 +454,134 @@ impl PointSampler {
             b += 2;
         }
         if b < k {
-            self.scatter_add_one(&f[b * np..(b + 1) * np], &mut out[b * n..(b + 1) * n], sc);
+            self.scatter_one(
+                &f[b * np..(b + 1) * np],
+                &mut out[b * n..(b + 1) * n],
+                &[],
+                sc,
+            );
         }
     }
 
-    /// Number of points handled by the folded (periodic) path.
-    pub fn n_folded(&self) -> usize {
-        self.groups.iter().map(|g| g.members.len()).sum()
+    /// `out_k += scale_k Σ_j f_j sin(κ_k x_j)` for one block: the Woodbury correction's
+    /// `a −= D⁻¹ Φᵀ g` in one pass (with `scale = −D⁻¹`).
+    pub fn scatter_scaled(
+        &self,
+        f: &[f64],
+        out: &mut [f64],
+        scale: &[f64],
+        sc: &mut SamplerScratch,
+    ) {
+        self.scatter_one(f, out, scale, sc);
     }
 
-    /// Number of offset groups that need a pass over the modes (mirrors excluded).
-    pub fn n_mode_passes(&self) -> usize {
-        self.groups.iter().filter(|g| !g.mirror).count()
+    fn scatter_pair(
+        &self,
+        f1: &[f64],
+        f2: &[f64],
+        o1: &mut [f64],
+        o2: &mut [f64],
+        sc: &mut SamplerScratch,
+    ) {
+        let p = self.period;
+        for (gi, g) in self.groups.iter().enumerate() {
+            sc.buf.fill(Complex::new(0.0, 0.0));
+            for &(j, s) in &g.members {
+                sc.buf[s] = Complex::new(f1[j], f2[j]);
+            }
+            self.transform(sc);
+            {
+                let (x, y) = sc.cur[..4 * p].split_at_mut(2 * p);
+                self.unpack(&sc.buf, x, Some(y));
+            }
+            if g.mirror {
+                self.add_mirror_bins(&sc.cur, 2, &mut sc.prim);
+            } else {
+                sc.prim[..4 * p].copy_from_slice(&sc.cur[..4 * p]);
+                if self.groups.get(gi + 1).is_some_and(|n| n.mirror) {
+                    continue; // unfold together with the mirror
+                }
+            }
+            let prim = if g.mirror { &self.groups[gi - 1] } else { g };
+            kernels::unfold2(
+                self.isa,
+                &sc.prim[..4 * p],
+                &prim.sin_d,
+                &prim.cos_d,
+                p,
+                o1,
+                o2,
+            );
+        }
+        for (j, row) in &self.dense {
+            kernels::axpy2(self.isa, f1[*j], f2[*j], row, o1, o2);
+        }
     }
-}
 
-// The fold kernels copy with explicit element loops instead of `copy_from_slice`: the tiny
-// copies otherwise become memcpy calls in the hot loop (measured, hence the clippy allowances).
-
-/// Register block of the fold kernels.
-const BLK: usize = 8;
-
-/// `a[r] = Σ_m q[mP+r] s[mP+r]`, `b[r] = Σ_m q[mP+r] c[mP+r]`. Blocks of 8 bins stay in
-/// registers while the loop walks down the modes (no load/store of the bins per mode).
-#[inline]
-#[allow(clippy::manual_memcpy)]
-fn fold(q: &[f64], s: &[f64], c: &[f64], p: usize, a: &mut [f64], b: &mut [f64]) {
-    let n = q.len();
-    let mut r0 = 0;
-    while r0 < p {
-        let w = BLK.min(p - r0);
-        let mut acc_a = [0.0f64; BLK];
-        let mut acc_b = [0.0f64; BLK];
-        let mut base = r0;
-        if w == BLK {
-            while base + BLK <= n {
-                let (qq, ss, cc) = (
-                    &q[base..base + BLK],
-                    &s[base..base + BLK],
-                    &c[base..base + BLK],
+    fn scatter_one(&self, f: &[f64], out: &mut [f64], scale: &[f64], sc: &mut SamplerScratch) {
+        let p = self.period;
+        let ng = self.groups.len();
+        let mut gi = 0;
+        while gi < ng {
+            let pair = gi + 1 < ng;
+            sc.buf.fill(Complex::new(0.0, 0.0));
+            for &(j, s) in &self.groups[gi].members {
+                sc.buf[s].re = f[j];
+            }
+            if pair {
+                for &(j, s) in &self.groups[gi + 1].members {
+                    sc.buf[s].im = f[j];
+                }
+            }
+            self.transform(sc);
+            {
+                let y = pair.then_some(&mut sc.second[..2 * p]);
+                self.unpack(&sc.buf, &mut sc.cur[..2 * p], y);
+            }
+            for slot in 0..(if pair { 2 } else { 1 }) {
+                let g = gi + slot;
+                let bins: &[f64] = if slot == 0 {
+                    &sc.cur[..2 * p]
+                } else {
+                    &sc.second[..2 * p]
+                };
+                if self.groups[g].mirror {
+                    self.add_mirror_bins(bins, 1, &mut sc.prim);
+                } else {
+                    sc.prim[..2 * p].copy_from_slice(bins);
+                    if self.groups.get(g + 1).is_some_and(|n| n.mirror) {
+                        continue;
+                    }
+                }
+                let prim = if self.groups[g].mirror {
+                    &self.groups[g - 1]
+                } else {
+                    &self.groups[g]
+                };
+                kernels::unfold1(
+                    self.isa,
+                    &sc.prim[..2 * p],
+                    &prim.sin_d,
+                    &prim.cos_d,
+                    p,
+                    out,
+                    scale,
                 );
-                for l in 0..BLK {
-                    acc_a[l] += qq[l] * ss[l];
-                    acc_b[l] += qq[l] * cc[l];
+            }
+            gi += 2;
+        }
+        for (j, row) in &self.dense {
+            let fj = f[*j];
+            if fj != 0.0 {
+                if scale.is_empty() {
+                    kernels::axpy(self.isa, fj, row, out);
+                } else {
+                    for ((o, r), s) in out.iter_mut().zip(row).zip(scale) {
+                        *o += s * fj * r;
+                    }
                 }
-                base += p;
             }
         }
-        while base < n {
-            for l in 0..w.min(n - base) {
-                acc_a[l] += q[base + l] * s[base + l];
-                acc_b[l] += q[base + l] * c[base + l];
-            }
-            base += p;
-        }
-        for l in 0..w {
-            a[r0 + l] = acc_a[l];
-            b[r0 + l] = acc_b[l];
-        }
-        r0 += w;
-    }
-}
-
-/// `out[mP+r] += a[r] s[mP+r] + b[r] c[mP+r]`, the transpose of [`fold`].
-#[inline]
-#[allow(clippy::manual_memcpy)]
-fn unfold(a: &[f64], b: &[f64], s: &[f64], c: &[f64], p: usize, out: &mut [f64]) {
-    let n = out.len();
-    let mut r0 = 0;
-    while r0 < p {
-        let w = BLK.min(p - r0);
-        let mut base = r0;
-        if w == BLK {
-            let mut ra = [0.0f64; BLK];
-            let mut rb = [0.0f64; BLK];
-            for l in 0..BLK {
-                ra[l] = a[r0 + l];
-                rb[l] = b[r0 + l];
-            }
-            while base + BLK <= n {
-                let (oo, ss, cc) = (
-                    &mut out[base..base + BLK],
-                    &s[base..base + BLK],
-                    &c[base..base + BLK],
-                );
-                for l in 0..BLK {
-                    oo[l] += ra[l] * ss[l] + rb[l] * cc[l];
-                }
-                base += p;
-            }
-        }
-        while base < n {
-            for l in 0..w.min(n - base) {
-                out[base + l] += a[r0 + l] * s[base + l] + b[r0 + l] * c[base + l];
-            }
-            base += p;
-        }
-        r0 += w;
-    }
-}
-
-/// [`fold`] for two coefficient vectors sharing the tables: `[a, b, a2, b2]`.
-#[inline]
-#[allow(clippy::manual_memcpy)]
-fn fold_pair(qa: &[f64], qb: &[f64], s: &[f64], c: &[f64], p: usize, out: [&mut [f64]; 4]) {
-    let n = qa.len();
-    let [a, b, a2, b2] = out;
-    const W: usize = 4;
-    let mut r0 = 0;
-    while r0 < p {
-        let w = W.min(p - r0);
-        let mut acc = [[0.0f64; W]; 4];
-        let mut base = r0;
-        if w == W {
-            while base + W <= n {
-                let (x, y, ss, cc) = (
-                    &qa[base..base + W],
-                    &qb[base..base + W],
-                    &s[base..base + W],
-                    &c[base..base + W],
-                );
-                for l in 0..W {
-                    acc[0][l] += x[l] * ss[l];
-                    acc[1][l] += x[l] * cc[l];
-                    acc[2][l] += y[l] * ss[l];
-                    acc[3][l] += y[l] * cc[l];
-                }
-                base += p;
-            }
-        }
-        while base < n {
-            for l in 0..w.min(n - base) {
-                acc[0][l] += qa[base + l] * s[base + l];
-                acc[1][l] += qa[base + l] * c[base + l];
-                acc[2][l] += qb[base + l] * s[base + l];
-                acc[3][l] += qb[base + l] * c[base + l];
-            }
-            base += p;
-        }
-        for l in 0..w {
-            a[r0 + l] = acc[0][l];
-            b[r0 + l] = acc[1][l];
-            a2[r0 + l] = acc[2][l];
-            b2[r0 + l] = acc[3][l];
-        }
-        r0 += w;
-    }
-}
-
-/// [`unfold`] into two outputs sharing the tables; bins `[a, b, a2, b2]`.
-#[inline]
-#[allow(clippy::manual_memcpy)]
-fn unfold_pair(
-    bins: [&[f64]; 4],
-    s: &[f64],
-    c: &[f64],
-    p: usize,
-    outa: &mut [f64],
-    outb: &mut [f64],
-) {
-    let n = outa.len();
-    let [a, b, a2, b2] = bins;
-    const W: usize = 4;
-    let mut r0 = 0;
-    while r0 < p {
-        let w = W.min(p - r0);
-        let mut base = r0;
-        if w == W {
-            let mut r = [[0.0f64; W]; 4];
-            for l in 0..W {
-                r[0][l] = a[r0 + l];
-                r[1][l] = b[r0 + l];
-                r[2][l] = a2[r0 + l];
-                r[3][l] = b2[r0 + l];
-            }
-            while base + W <= n {
-                let (ss, cc) = (&s[base..base + W], &c[base..base + W]);
-                let oa = &mut outa[base..base + W];
-                for l in 0..W {
-                    oa[l] += r[0][l] * ss[l] + r[1][l] * cc[l];
-                }
-                let ob = &mut outb[base..base + W];
-                for l in 0..W {
-                    ob[l] += r[2][l] * ss[l] + r[3][l] * cc[l];
-                }
-                base += p;
-            }
-        }
-        while base < n {
-            for l in 0..w.min(n - base) {
-                outa[base + l] += a[r0 + l] * s[base + l] + b[r0 + l] * c[base + l];
-                outb[base + l] += a2[r0 + l] * s[base + l] + b2[r0 + l] * c[base + l];
-            }
-            base += p;
-        }
-        r0 += w;
     }
 }
 
@@ -677,60 +607,78 @@ mod tests {
     #[test]
     fn folded_path_equals_dense_path() {
         let (ns, s) = (12, 60.0);
-        for n in [700usize, 720, 1001] {
-            let basis = SineBasis::new(ns as f64 * s, n);
-            let xs = xs_periodic(ns, s);
-            let fast = PointSampler::new(&basis, &xs, Some(s));
-            let slow = PointSampler::new(&basis, &xs, None);
-            assert!(fast.n_folded() > 100);
-            // Offsets 5/55, 10.5/49.5, 17/43, 23.5/36.5 are mirror pairs: 10 groups, 6 passes.
-            assert_eq!(fast.n_mode_passes(), 6);
-            assert_eq!(slow.n_folded(), 0);
-            let q: Vec<f64> = (0..n)
-                .map(|i| ((i * 37 % 101) as f64 - 50.0) / (1.0 + i as f64))
-                .collect();
-            let (mut o1, mut o2) = (vec![0.0; xs.len()], vec![0.0; xs.len()]);
-            let (mut s1, mut s2) = (fast.scratch(), slow.scratch());
-            fast.gather(&q, 1, &mut o1, &mut s1);
-            slow.gather(&q, 1, &mut o2, &mut s2);
-            for j in 0..xs.len() {
-                assert!(
-                    (o1[j] - o2[j]).abs() < 1e-10,
-                    "gather j={j}: {} vs {}",
-                    o1[j],
-                    o2[j]
-                );
-            }
-            let f: Vec<f64> = (0..xs.len()).map(|j| ((j * 13 % 7) as f64) - 3.0).collect();
-            let (mut g1, mut g2) = (vec![0.0; n], vec![0.0; n]);
-            fast.scatter_add(&f, 1, &mut g1, &mut s1);
-            slow.scatter_add(&f, 1, &mut g2, &mut s2);
-            for k in 0..n {
-                assert!((g1[k] - g2[k]).abs() < 1e-9, "scatter k={k}");
-            }
-            // Three blocks at once (a pair, then one alone) equal three single calls.
-            let q2: Vec<f64> = q.iter().rev().copied().collect();
-            let q3: Vec<f64> = q.iter().map(|v| 0.5 * v - 1e-3).collect();
-            let qs: Vec<f64> = [&q[..], &q2[..], &q3[..]].concat();
-            let np = xs.len();
-            let mut blocks = vec![0.0; 3 * np];
-            fast.gather(&qs, 3, &mut blocks, &mut s1);
-            for (b, qb) in [&q, &q2, &q3].iter().enumerate() {
-                let mut one = vec![0.0; np];
-                fast.gather(qb, 1, &mut one, &mut s1);
-                assert_eq!(&blocks[b * np..(b + 1) * np], &one[..], "gather block {b}");
-            }
-            let f2: Vec<f64> = f.iter().map(|v| 2.0 * v + 1.0).collect();
-            let f3: Vec<f64> = f.iter().map(|v| v * v).collect();
-            let fs: Vec<f64> = [&f[..], &f2[..], &f3[..]].concat();
-            let mut out = vec![0.0; 3 * n];
-            fast.scatter_add(&fs, 3, &mut out, &mut s1);
-            for (b, fb) in [&f, &f2, &f3].iter().enumerate() {
-                let mut one = vec![0.0; n];
-                fast.scatter_add(fb, 1, &mut one, &mut s1);
+        for isa in [Isa::Portable, Isa::best_available()] {
+            for n in [700usize, 720, 1001] {
+                let basis = SineBasis::new(ns as f64 * s, n);
+                let xs = xs_periodic(ns, s);
+                let fast = PointSampler::new(&basis, &xs, Some(s), isa);
+                let slow = PointSampler::new(&basis, &xs, None, isa);
+                assert!(fast.n_folded() > 100);
+                // Offsets 5/55, 10.5/49.5, 17/43, 23.5/36.5 are mirror pairs: 10 groups, 6 passes.
+                assert_eq!(fast.n_mode_passes(), 6);
+                assert_eq!(slow.n_folded(), 0);
+                let q: Vec<f64> = (0..n)
+                    .map(|i| ((i * 37 % 101) as f64 - 50.0) / (1.0 + i as f64))
+                    .collect();
+                let (mut o1, mut o2) = (vec![0.0; xs.len()], vec![0.0; xs.len()]);
+                let (mut s1, mut s2) = (fast.scratch(), slow.scratch());
+                fast.gather(&q, 1, &mut o1, &mut s1);
+                slow.gather(&q, 1, &mut o2, &mut s2);
+                for j in 0..xs.len() {
+                    assert!(
+                        (o1[j] - o2[j]).abs() < 1e-10,
+                        "gather j={j}: {} vs {}",
+                        o1[j],
+                        o2[j]
+                    );
+                }
+                let f: Vec<f64> = (0..xs.len()).map(|j| ((j * 13 % 7) as f64) - 3.0).collect();
+                let (mut g1, mut g2) = (vec![0.0; n], vec![0.0; n]);
+                fast.scatter_add(&f, 1, &mut g1, &mut s1);
+                slow.scatter_add(&f, 1, &mut g2, &mut s2);
                 for k in 0..n {
-                    let (x, y) = (out[b * n + k], one[k]);
-                    assert!((x - y).abs() < 1e-12 * (1.0 + y.abs()), "scatter block {b}");
+                    assert!((g1[k] - g2[k]).abs() < 1e-9, "scatter k={k}");
+                }
+                // Three blocks at once (a pair, then one alone) equal three single calls.
+                let q2: Vec<f64> = q.iter().rev().copied().collect();
+                let q3: Vec<f64> = q.iter().map(|v| 0.5 * v - 1e-3).collect();
+                let qs: Vec<f64> = [&q[..], &q2[..], &q3[..]].concat();
+                let np = xs.len();
+                let mut blocks = vec![0.0; 3 * np];
+                fast.gather(&qs, 3, &mut blocks, &mut s1);
+                for (b, qb) in [&q, &q2, &q3].iter().enumerate() {
+                    let mut one = vec![0.0; np];
+                    slow.gather(qb, 1, &mut one, &mut s2);
+                    for j in 0..np {
+                        assert!(
+                            (blocks[b * np + j] - one[j]).abs() < 1e-10,
+                            "gather block {b}"
+                        );
+                    }
+                }
+                let f2: Vec<f64> = f.iter().map(|v| 2.0 * v + 1.0).collect();
+                let f3: Vec<f64> = f.iter().map(|v| v * v).collect();
+                let fs: Vec<f64> = [&f[..], &f2[..], &f3[..]].concat();
+                let mut out = vec![0.0; 3 * n];
+                fast.scatter_add(&fs, 3, &mut out, &mut s1);
+                for (b, fb) in [&f, &f2, &f3].iter().enumerate() {
+                    let mut one = vec![0.0; n];
+                    slow.scatter_add(fb, 1, &mut one, &mut s2);
+                    for k in 0..n {
+                        let (x, y) = (out[b * n + k], one[k]);
+                        assert!((x - y).abs() < 1e-9 * (1.0 + y.abs()), "scatter block {b}");
+                    }
+                }
+                // The scaled scatter: out += scale ⊙ Φᵀ f.
+                let scale: Vec<f64> = (0..n).map(|k| -1.0 / (1.0 + k as f64)).collect();
+                let mut sc_out = q.clone();
+                fast.scatter_scaled(&f, &mut sc_out, &scale, &mut s1);
+                for k in 0..n {
+                    let want = q[k] + scale[k] * g2[k];
+                    assert!(
+                        (sc_out[k] - want).abs() < 1e-9 * (1.0 + want.abs()),
+                        "scaled k={k}"
+                    );
                 }
             }
         }

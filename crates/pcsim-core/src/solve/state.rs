@@ -131,70 +131,60 @@ impl State {
         e
     }
 
-    /// Project every modal block of basis group `g` through the row-major `n × n` matrix `p`
-    /// (`x ← P x` for q, q̇ and q̈ of each block): the state carried over when a window moves.
-    /// `buf` is scratch of at least `3 · blocks · n` values. Each row of `P` is read once for up
-    /// to six vectors.
-    pub fn project_group(&mut self, model: &Model, g: usize, p: &[f64], buf: &mut [f64]) {
+    /// Project every modal block of basis group `g` through the row-major `n × n` matrix `p`:
+    /// the state carried over when a window moves. The next step's half-kicked velocity
+    /// `v½ = v + h a` is projected with the coordinates (`q ← P q`, `v ← P v½`, `a ← 0`), so that
+    /// the next step continues exactly as if v and a had been projected separately, with two
+    /// vectors per block instead of three. `buf` is scratch of at least `2 · blocks · n` values.
+    pub fn project_group(
+        &mut self,
+        model: &Model,
+        g: usize,
+        p: &[f64],
+        h: f64,
+        isa: crate::solve::kernels::Isa,
+        buf: &mut [f64],
+    ) {
         let grp = &model.layout.groups[g];
         let n = grp.basis.n_modes();
-        let nv = 3 * grp.blocks.len();
-        let chunks = n / 4;
-        let mut v0 = 0;
-        while v0 < nv {
-            let w = (nv - v0).min(6);
-            let xs: [&[f64]; 6] = std::array::from_fn(|i| {
-                if i < w {
-                    self.vector(model, g, v0 + i)
-                } else {
-                    &[]
+        for &b in &grp.blocks {
+            let o = model.layout.blocks[b].offset;
+            crate::solve::kernels::kick(
+                isa,
+                &mut self.modal.v[o..o + n],
+                &self.modal.a[o..o + n],
+                h,
+            );
+        }
+        // Two blocks at a time: four vectors per pass over P.
+        for pair in grp.blocks.chunks(2) {
+            let o0 = model.layout.blocks[pair[0]].offset;
+            match pair {
+                [_, b1] => {
+                    let o1 = model.layout.blocks[*b1].offset;
+                    let xs: [&[f64]; 4] = [
+                        &self.modal.u[o0..o0 + n],
+                        &self.modal.v[o0..o0 + n],
+                        &self.modal.u[o1..o1 + n],
+                        &self.modal.v[o1..o1 + n],
+                    ];
+                    crate::solve::kernels::project(isa, p, n, &xs, &mut buf[..4 * n]);
+                    self.modal.u[o0..o0 + n].copy_from_slice(&buf[..n]);
+                    self.modal.v[o0..o0 + n].copy_from_slice(&buf[n..2 * n]);
+                    self.modal.u[o1..o1 + n].copy_from_slice(&buf[2 * n..3 * n]);
+                    self.modal.v[o1..o1 + n].copy_from_slice(&buf[3 * n..4 * n]);
                 }
-            });
-            for k in 0..n {
-                let row = &p[k * n..(k + 1) * n];
-                // Four lanes per vector (explicit partial sums, so the loop vectorises without
-                // reassociating sums behind our back).
-                let mut acc = [[0.0f64; 4]; 6];
-                for c in 0..chunks {
-                    let r = &row[4 * c..4 * c + 4];
-                    for (a, x) in acc.iter_mut().zip(xs.iter()).take(w) {
-                        let x = &x[4 * c..4 * c + 4];
-                        for l in 0..4 {
-                            a[l] += r[l] * x[l];
-                        }
-                    }
-                }
-                for (vi, (a, x)) in acc.iter().zip(xs.iter()).enumerate().take(w) {
-                    let mut sum = (a[0] + a[1]) + (a[2] + a[3]);
-                    for j in 4 * chunks..n {
-                        sum += row[j] * x[j];
-                    }
-                    buf[(v0 + vi) * n + k] = sum;
+                _ => {
+                    let xs: [&[f64]; 2] = [&self.modal.u[o0..o0 + n], &self.modal.v[o0..o0 + n]];
+                    crate::solve::kernels::project(isa, p, n, &xs, &mut buf[..2 * n]);
+                    self.modal.u[o0..o0 + n].copy_from_slice(&buf[..n]);
+                    self.modal.v[o0..o0 + n].copy_from_slice(&buf[n..2 * n]);
                 }
             }
-            v0 += w;
         }
-        for vi in 0..nv {
-            let o = model.layout.blocks[grp.blocks[vi / 3]].offset;
-            let dst = match vi % 3 {
-                0 => &mut self.modal.u[o..o + n],
-                1 => &mut self.modal.v[o..o + n],
-                _ => &mut self.modal.a[o..o + n],
-            };
-            dst.copy_from_slice(&buf[vi * n..(vi + 1) * n]);
-        }
-    }
-
-    /// Vector `vi` of group `g` for [`Self::project_group`]: block `vi / 3`, and q, q̇ or q̈.
-    #[inline]
-    fn vector(&self, model: &Model, g: usize, vi: usize) -> &[f64] {
-        let grp = &model.layout.groups[g];
-        let b = &model.layout.blocks[grp.blocks[vi / 3]];
-        let r = b.offset..b.offset + b.n_modes;
-        match vi % 3 {
-            0 => &self.modal.u[r],
-            1 => &self.modal.v[r],
-            _ => &self.modal.a[r],
+        for &b in &grp.blocks {
+            let o = model.layout.blocks[b].offset;
+            self.modal.a[o..o + n].fill(0.0);
         }
     }
 }
