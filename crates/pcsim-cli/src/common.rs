@@ -151,10 +151,23 @@ pub fn run_with_progress(
     label: &str,
     ctx: &Ctx,
 ) -> Result<(RunOutput, f64, Vec<String>)> {
+    run_with_progress_quietly(case, overrides, label, ctx, false)
+}
+
+/// [`run_with_progress`], printing the set-up warnings unless `quiet_warnings` (a repeated run).
+pub fn run_with_progress_quietly(
+    case: &Case,
+    overrides: &[Override],
+    label: &str,
+    ctx: &Ctx,
+    quiet_warnings: bool,
+) -> Result<(RunOutput, f64, Vec<String>)> {
     let setup = setup(case, overrides, ctx)?;
     let warnings: Vec<String> = setup.warnings.iter().map(|w| w.to_string()).collect();
-    for w in &warnings {
-        eprintln!("warning: {w}");
+    if !quiet_warnings {
+        for w in &warnings {
+            eprintln!("warning: {w}");
+        }
     }
     let pb = Progress::run(label, ctx.progress);
     let t0 = Instant::now();

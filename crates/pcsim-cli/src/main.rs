@@ -32,6 +32,10 @@ struct Cli {
     /// Most memory one run may need before it is refused, GiB [default: 4].
     #[arg(long, global = true, value_name = "GIB")]
     max_memory_gb: Option<f64>,
+    /// Use the portable kernels (plain multiply and add) instead of AVX2+FMA: the same bytes on
+    /// every x86-64 machine, about 25 % slower. The same as PCSIM_PORTABLE=1.
+    #[arg(long, global = true)]
+    portable: bool,
 }
 
 #[derive(Subcommand)]
@@ -77,6 +81,9 @@ fn default_sigpipe() {}
 
 /// The global options, checked.
 fn context(cli: &Cli) -> anyhow::Result<Ctx> {
+    if cli.portable && !pcsim_core::solve::Isa::force_portable() {
+        anyhow::bail!("--portable: the kernels were chosen before the flag was read");
+    }
     let mut budget = Budget::default();
     if let Some(n) = cli.max_steps {
         if n == 0 {

@@ -32,6 +32,8 @@ pub struct Summary {
     pub analysis_section_m: [f64; 2],
     pub modes_per_wire: usize,
     pub dt_s: f64,
+    /// The kernels that ran: `portable` (the same bytes on every machine) or `x86-64-v3`.
+    pub kernels: String,
     pub max_slack_droppers: usize,
     pub steps_with_slack_percent: f64,
     pub run_statistics: RunStatistics,
@@ -59,6 +61,7 @@ impl Summary {
             analysis_section_m: out.analysis_m,
             modes_per_wire: out.n_modes,
             dt_s: out.dt_s,
+            kernels: pcsim_core::solve::Isa::detect().name().into(),
             max_slack_droppers: out.max_slack_droppers,
             steps_with_slack_percent: out.steps_with_slack_percent,
             run_statistics: out.run_statistics,

@@ -501,3 +501,91 @@ fn fmu_bundle_holds_the_generated_description_and_the_library() {
     let printed = pcsim().args(["fmu", "xml"]).output().unwrap();
     assert_eq!(String::from_utf8_lossy(&printed.stdout), xml);
 }
+
+#[test]
+fn portable_flag_names_its_kernels_and_agrees_with_the_default() {
+    let d = scratch("portable");
+    let case = short_case(&d);
+    let mut sums = Vec::new();
+    for (flags, dir) in [(vec![], "best"), (vec!["--portable"], "portable")] {
+        let out = d.join(dir);
+        let r = pcsim()
+            .args(&flags)
+            .arg("run")
+            .arg(&case)
+            .args(["--quiet", "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
+        sums.push(s);
+    }
+    assert_eq!(sums[1]["kernels"], "portable");
+    assert!(sums[0]["kernels"].is_string());
+    let (a, b) = (
+        &sums[0]["pantographs"][0]["stats"],
+        &sums[1]["pantographs"][0]["stats"],
+    );
+    for (k, v) in a.as_object().unwrap() {
+        let (x, y) = (v.as_f64().unwrap(), b[k].as_f64().unwrap());
+        assert!((x - y).abs() <= 1e-6 * x.abs().max(1e-9), "{k}: {x} vs {y}");
+    }
+}
+
+#[test]
+fn bench_repeats_and_reports_median_min_max() {
+    let r = pcsim()
+        .args([
+            "bench",
+            "--preset",
+            "en50318-2002",
+            "--spans",
+            "16",
+            "--modes",
+            "200",
+            "--repeat",
+            "3",
+            "--quiet",
+        ])
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let out = String::from_utf8_lossy(&r.stdout);
+    assert!(
+        out.contains("bench `en50318-2002`") && out.contains("3 run(s)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("median (min") && out.contains("kernels"),
+        "{out}"
+    );
+    let r = pcsim().args(["bench", "--repeat", "0"]).output().unwrap();
+    assert!(!r.status.success());
+    assert!(String::from_utf8_lossy(&r.stderr).contains("--repeat 0"));
+    let r = pcsim()
+        .args([
+            "bench",
+            "--realtime",
+            "--steps",
+            "3000",
+            "--repeat",
+            "2",
+            "--quiet",
+        ])
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let out = String::from_utf8_lossy(&r.stdout);
+    for want in [
+        "window 215 m",
+        "Hil coupling",
+        "step, p99.99",
+        "noise floor",
+        "2 run(s)",
+    ] {
+        assert!(out.contains(want), "missing `{want}` in {out}");
+    }
+}

@@ -4,7 +4,9 @@
 use pcsim_core::analysis::studies::run_window_sil;
 use pcsim_core::model::basis::SineBasis;
 use pcsim_core::presets;
-use pcsim_core::solve::realtime::{shift_projection, Coupling, RealtimeCatenary};
+use pcsim_core::solve::realtime::{
+    shift_projection, shift_projection_by_integrals, Coupling, RealtimeCatenary,
+};
 use pcsim_core::{run_case, Case};
 
 #[test]
@@ -49,6 +51,49 @@ fn projection_carries_the_shape_over_the_overlap() {
             "x={x}: {got} vs {want} (peak {peak})"
         );
     }
+}
+
+#[test]
+fn closed_form_projection_equals_its_integrals() {
+    // The Toeplitz + Hankel form used by the window against the defining integrals, over window
+    // lengths, mode counts and shifts (a shift of zero is the identity; a shift past the window
+    // leaves nothing). A sign slip in either term moves entries by O(1/n), far above the bound.
+    for &(w, n, d) in &[
+        (215.0, 143, 60.0),
+        (215.0, 143, 0.0),
+        (120.0, 40, 119.0),
+        (500.0, 301, 65.0),
+        (60.0, 7, 12.5),
+    ] {
+        let a = shift_projection(w, n, d);
+        let b = shift_projection_by_integrals(w, n, d);
+        let worst = a
+            .iter()
+            .zip(&b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            worst < 1e-11,
+            "w {w} n {n} d {d}: worst entry off by {worst:e}"
+        );
+        if d == 0.0 {
+            for k in 0..n {
+                for j in 0..n {
+                    let id = if j == k { 1.0 } else { 0.0 };
+                    assert!((a[k * n + j] - id).abs() < 1e-12);
+                }
+            }
+        }
+    }
+    // The Hankel term with the wrong sign is caught.
+    let (w, n, d) = (215.0, 30, 60.0);
+    let b = shift_projection_by_integrals(w, n, d);
+    let pi = std::f64::consts::PI;
+    let s = |m: usize| (m as f64 * pi * d / w).sin();
+    let (j, k) = (3usize, 5usize);
+    let wrong =
+        (-s(k) - s(j)) / ((j as f64 - k as f64) * pi) - (-s(k) + s(j)) / ((j + k) as f64 * pi);
+    assert!((wrong - b[(k - 1) * n + (j - 1)]).abs() > 1e-3);
 }
 
 fn syt() -> Case {

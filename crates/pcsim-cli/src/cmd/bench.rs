@@ -7,7 +7,7 @@ use pcsim_core::input::case::PantographCase;
 use pcsim_core::{presets, Case};
 use std::time::Instant;
 
-use crate::common::{apply, length, run_with_progress, Ctx, Override};
+use crate::common::{apply, length, run_with_progress_quietly, Ctx, Override};
 
 /// Without `--realtime`: the full model of a preset over its whole run, on one core. With
 /// `--realtime`: the step latency of the real-time window.
@@ -41,6 +41,22 @@ pub struct BenchArgs {
     /// --realtime only: coupling, hil or sil [default: hil].
     #[arg(long)]
     coupling: Option<String>,
+    /// Runs to time; the report gives their median, minimum and maximum.
+    #[arg(long, default_value_t = 5)]
+    repeat: usize,
+}
+
+/// Median, minimum and maximum of a non-empty list.
+fn spread(v: &[f64]) -> (f64, f64, f64) {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let n = s.len();
+    let med = if n % 2 == 1 {
+        s[n / 2]
+    } else {
+        0.5 * (s[n / 2 - 1] + s[n / 2])
+    };
+    (med, s[0], s[n - 1])
 }
 
 /// The benchmark case: the en50318-2002 catenary over `spans` spans with two pantographs
@@ -68,6 +84,9 @@ pub fn bench_case(speed_kmh: f64, modes: usize, spans: usize, dt: Option<f64>) -
 }
 
 pub fn bench(a: BenchArgs, ctx: &Ctx) -> Result<i32> {
+    if a.repeat == 0 || a.repeat > 1000 {
+        bail!("--repeat {}: time between 1 and 1000 runs", a.repeat);
+    }
     if a.realtime {
         for (flag, given) in [
             ("--modes", a.modes.is_some()),
@@ -114,28 +133,62 @@ pub fn bench(a: BenchArgs, ctx: &Ctx) -> Result<i32> {
     };
     let case = apply(&case, &overrides)?;
     let speed = case.run.speed_kmh;
-    let (out, wall, _) = run_with_progress(&case, &overrides, "bench", ctx)?;
+    let mut walls = Vec::with_capacity(a.repeat);
+    let mut last = None;
+    for i in 0..a.repeat {
+        let (out, wall, _) = run_with_progress_quietly(&case, &overrides, "bench", ctx, i > 0)?;
+        walls.push(wall);
+        last = Some(out);
+    }
+    let out = last.expect("at least one run");
     let sim = out.simulated_time_s();
+    let steps = out.time_s.len();
     println!(
-        "bench `{}`: {} spans x {:.0} m, {} modes/wire, {} pantograph(s), {:.0} km/h, dt {} s",
+        "bench `{}`: {} spans x {:.0} m, {} modes/wire, {} pantograph(s), {:.0} km/h, dt {} s, kernels {}, {} run(s) on one core",
         preset,
         case.catenary.spans,
         case.catenary.span_m,
         out.n_modes,
         out.pantographs.len(),
         speed,
-        case.run.dt_s
+        case.run.dt_s,
+        pcsim_core::solve::Isa::detect().name(),
+        a.repeat
+    );
+    let (med, lo, hi) = spread(&walls);
+    println!(
+        "  wall {med:.3} s median (min {lo:.3}, max {hi:.3}) for {sim:.2} s simulated: {:.1}x faster than real time at the median (min {:.1}x, max {:.1}x)",
+        sim / med,
+        sim / hi,
+        sim / lo
     );
     println!(
-        "  simulated {sim:.2} s in {wall:.3} s wall on one core: {:.1}x faster than real time",
-        sim / wall
-    );
-    println!(
-        "  {:.2} µs per step ({} steps)",
-        wall / out.time_s.len() as f64 * 1e6,
-        out.time_s.len()
+        "  {:.2} µs per step at the median ({steps} steps)",
+        med / steps as f64 * 1e6
     );
     Ok(0)
+}
+
+/// A fixed amount of dependent arithmetic: the noise floor's workload.
+fn spin(iters: u64) -> f64 {
+    let mut x = 1.0f64;
+    for _ in 0..iters {
+        x = std::hint::black_box(x * 0.999_999_9 + 1e-9);
+    }
+    x
+}
+
+/// Latency percentiles (µs) of a list of nanosecond timings, sorted in place.
+fn percentiles(ns: &mut [u64]) -> [f64; 4] {
+    ns.sort_unstable();
+    let q =
+        |p: f64| ns[((p * (ns.len() - 1) as f64).round() as usize).min(ns.len() - 1)] as f64 / 1e3;
+    [
+        q(0.5),
+        q(0.99),
+        q(0.9999),
+        *ns.last().unwrap_or(&0) as f64 / 1e3,
+    ]
 }
 
 /// Step-latency distribution of the real-time window catenary on one core.
@@ -169,65 +222,94 @@ fn bench_realtime(a: &BenchArgs, ctx: &Ctx) -> Result<i32> {
         other => bail!("--coupling `{other}`: use hil or sil"),
     };
     crate::common::setup(&case, &overrides, ctx)?;
-    let mut rt = RealtimeCatenary::new(&case, window, coupling)?;
-    let dt = rt.dt_s();
     let v = speed / 3.6;
     let x0 = case.run.start_m;
     let mut ns = vec![0u64; steps];
-    let mut move_ns = Vec::with_capacity(steps / 100 + 16);
-    let mut guard = 0.0;
-    let t_all = Instant::now();
-    for (k, slot) in ns.iter_mut().enumerate() {
-        let t = k as f64 * dt;
-        rt.set_input(85.0 + 15.0 * (7.3 * t).sin(), x0 + v * t);
-        let moves = rt.moves();
-        let t0 = Instant::now();
-        let o = rt.step();
-        *slot = t0.elapsed().as_nanos() as u64;
-        if rt.moves() != moves && move_ns.len() < move_ns.capacity() {
-            move_ns.push(*slot);
+    // Per run: [median, p99, p99.99, max] of all steps, then median and max of the moving steps.
+    let mut runs: Vec<[f64; 6]> = Vec::with_capacity(a.repeat);
+    let mut header = String::new();
+    let mut n_moves = 0;
+    let mut wall = 0.0;
+    for _ in 0..a.repeat {
+        let mut rt = RealtimeCatenary::new(&case, window, coupling)?;
+        let dt = rt.dt_s();
+        let mut move_ns = Vec::with_capacity(steps / 100 + 16);
+        let mut guard = 0.0;
+        let t_all = Instant::now();
+        for (k, slot) in ns.iter_mut().enumerate() {
+            let t = k as f64 * dt;
+            rt.set_input(85.0 + 15.0 * (7.3 * t).sin(), x0 + v * t);
+            let moves = rt.moves();
+            let t0 = Instant::now();
+            let o = rt.step();
+            *slot = t0.elapsed().as_nanos() as u64;
+            if rt.moves() != moves && move_ns.len() < move_ns.capacity() {
+                move_ns.push(*slot);
+            }
+            guard += o.wire_height_m;
         }
-        guard += o.wire_height_m;
-    }
-    move_ns.sort_unstable();
-    let wall = t_all.elapsed().as_secs_f64();
-    if !guard.is_finite() {
-        bail!("the real-time run produced non-finite heights");
-    }
-    let mut sorted = ns.clone();
-    sorted.sort_unstable();
-    let q = |p: f64| {
-        sorted[((p * (sorted.len() - 1) as f64).round() as usize).min(sorted.len() - 1)] as f64
-            / 1e3
-    };
-    println!(
-        "bench --realtime `{preset}`: window {} m, {} modes/wire, {:?}, dt {} s, {} steps ({} window moves), {:.0} km/h",
-        window,
-        rt.n_modes(),
-        coupling,
-        dt,
-        steps,
-        rt.moves(),
-        speed
-    );
-    println!(
-        "  step latency: median {:.2} µs, p99 {:.2} µs, p99.99 {:.2} µs, max {:.2} µs",
-        q(0.5),
-        q(0.99),
-        q(0.9999),
-        *sorted.last().unwrap_or(&0) as f64 / 1e3
-    );
-    if !move_ns.is_empty() {
-        println!(
-            "  steps that move the window: median {:.2} µs, max {:.2} µs ({} moves)",
-            move_ns[move_ns.len() / 2] as f64 / 1e3,
-            *move_ns.last().unwrap_or(&0) as f64 / 1e3,
-            move_ns.len()
+        wall = t_all.elapsed().as_secs_f64();
+        if !guard.is_finite() {
+            bail!("the real-time run produced non-finite heights");
+        }
+        let p = percentiles(&mut ns);
+        let mv = if move_ns.is_empty() {
+            [0.0; 4]
+        } else {
+            percentiles(&mut move_ns)
+        };
+        runs.push([p[0], p[1], p[2], p[3], mv[0], mv[3]]);
+        n_moves = move_ns.len();
+        header = format!(
+            "bench --realtime `{preset}`: window {} m, {} modes/wire, {:?} coupling, dt {} s, {:.0} km/h, kernels {}, {} run(s) of {} steps ({} window moves each) on one core",
+            window,
+            rt.n_modes(),
+            coupling,
+            dt,
+            speed,
+            pcsim_core::solve::Isa::detect().name(),
+            a.repeat,
+            steps,
+            rt.moves(),
         );
     }
+    println!("{header}");
+    let col = |i: usize| spread(&runs.iter().map(|r| r[i]).collect::<Vec<_>>());
+    let show = |name: &str, i: usize| {
+        let (m, lo, hi) = col(i);
+        println!("  {name:<22} {m:8.2} µs  (runs: {lo:.2} – {hi:.2})");
+    };
+    show("step, median", 0);
+    show("step, p99", 1);
+    show("step, p99.99", 2);
+    show("step, max", 3);
+    if n_moves > 0 {
+        show("moving step, median", 4);
+        show("moving step, max", 5);
+    }
+    // The machine's own noise: the same number of timings of a fixed workload as long as the
+    // median step. Its tail is what the operating system and the host add to any step.
+    let med_ns = col(0).0 * 1e3;
+    let probe = 20_000u64;
+    let t0 = Instant::now();
+    std::hint::black_box(spin(probe));
+    let per_iter = (t0.elapsed().as_nanos() as f64 / probe as f64).max(0.01);
+    let iters = ((med_ns / per_iter).round() as u64).max(1);
+    let mut floor = vec![0u64; steps];
+    for slot in floor.iter_mut() {
+        let t0 = Instant::now();
+        std::hint::black_box(spin(iters));
+        *slot = t0.elapsed().as_nanos() as u64;
+    }
+    let f = percentiles(&mut floor);
     println!(
-        "  real-time factor {:.0}x at the median ({} s simulated in {wall:.2} s)",
-        dt / (q(0.5) * 1e-6),
+        "  noise floor: a fixed workload of {:.2} µs median, timed {steps} times, has p99.99 {:.2} µs and max {:.2} µs",
+        f[0], f[2], f[3]
+    );
+    let dt = case.run.dt_s;
+    println!(
+        "  real-time factor {:.0}x at the median ({} s simulated per run; last run {wall:.2} s wall)",
+        dt / (col(0).0 * 1e-6),
         steps as f64 * dt
     );
     Ok(0)

@@ -21,11 +21,14 @@ pub enum Isa {
     X86V3,
 }
 
+/// The process-wide choice (see [`Isa::detect`]).
+static CHOICE: OnceLock<Isa> = OnceLock::new();
+
 impl Isa {
     /// The best instruction set of this CPU, unless `PCSIM_PORTABLE` is set (to anything but `0`
-    /// or an empty string). Decided once per process.
+    /// or an empty string) or [`Isa::force_portable`] was called first. Decided once per
+    /// process.
     pub fn detect() -> Isa {
-        static CHOICE: OnceLock<Isa> = OnceLock::new();
         *CHOICE.get_or_init(|| {
             let portable = std::env::var("PCSIM_PORTABLE")
                 .map(|v| !v.is_empty() && v != "0")
@@ -36,6 +39,12 @@ impl Isa {
                 Isa::best_available()
             }
         })
+    }
+
+    /// Use the portable path for the rest of the process (the `--portable` flag). Returns
+    /// false when the choice was already made otherwise.
+    pub fn force_portable() -> bool {
+        *CHOICE.get_or_init(|| Isa::Portable) == Isa::Portable
     }
 
     /// The best instruction set the CPU offers, whatever the environment says.
@@ -55,7 +64,7 @@ impl Isa {
     pub fn name(self) -> &'static str {
         match self {
             Isa::Portable => "portable",
-            Isa::X86V3 => "x86-64-v3 (AVX2+FMA)",
+            Isa::X86V3 => "x86-64-v3",
         }
     }
 }
@@ -100,62 +109,208 @@ macro_rules! kernel {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Dense products.
+// Four lanes: the unit of the reductions and blocked kernels. The portable lanes are four plain
+// `f64`s (multiply, then add); the x86-64-v3 lanes are one AVX2 register with fused
+// multiply-add. Both reduce in the same order, `(l0 + l1) + (l2 + l3)`, so the two paths differ
+// only in rounding. Written with explicit lanes because the compiler's auto-vectoriser kept the
+// reductions scalar or two-wide.
 
-#[inline(always)]
-fn dot_body<const F: bool>(a: &[f64], b: &[f64]) -> f64 {
-    let n = a.len().min(b.len());
-    let (a, b) = (&a[..n], &b[..n]);
-    let mut acc = [0.0f64; 8];
-    let mut ca = a.chunks_exact(8);
-    let mut cb = b.chunks_exact(8);
-    for (x, y) in (&mut ca).zip(&mut cb) {
-        for l in 0..8 {
-            acc[l] = mad::<F>(x[l], y[l], acc[l]);
-        }
-    }
-    let mut s = ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7]));
-    for (x, y) in ca.remainder().iter().zip(cb.remainder()) {
-        s = mad::<F>(*x, *y, s);
-    }
-    s
+/// Four `f64` lanes. Every method is `unsafe`: the pointers must be valid for four reads or
+/// writes, and the AVX2 lanes may only be used when the CPU has AVX2 and FMA.
+trait Lanes: Copy {
+    unsafe fn zero() -> Self;
+    unsafe fn load(p: *const f64) -> Self;
+    unsafe fn store(self, p: *mut f64);
+    /// `a·b + c`.
+    unsafe fn mad(a: Self, b: Self, c: Self) -> Self;
+    unsafe fn mul(a: Self, b: Self) -> Self;
+    unsafe fn add(a: Self, b: Self) -> Self;
+    /// `(l0 + l1) + (l2 + l3)`.
+    unsafe fn sum(self) -> f64;
 }
 
-kernel! {
+#[derive(Clone, Copy)]
+struct Plain([f64; 4]);
+
+impl Lanes for Plain {
+    #[inline(always)]
+    unsafe fn zero() -> Self {
+        Plain([0.0; 4])
+    }
+    #[inline(always)]
+    unsafe fn load(p: *const f64) -> Self {
+        Plain(unsafe { p.cast::<[f64; 4]>().read_unaligned() })
+    }
+    #[inline(always)]
+    unsafe fn store(self, p: *mut f64) {
+        unsafe { p.cast::<[f64; 4]>().write_unaligned(self.0) }
+    }
+    #[inline(always)]
+    unsafe fn mad(a: Self, b: Self, c: Self) -> Self {
+        Plain(std::array::from_fn(|l| a.0[l] * b.0[l] + c.0[l]))
+    }
+    #[inline(always)]
+    unsafe fn mul(a: Self, b: Self) -> Self {
+        Plain(std::array::from_fn(|l| a.0[l] * b.0[l]))
+    }
+    #[inline(always)]
+    unsafe fn add(a: Self, b: Self) -> Self {
+        Plain(std::array::from_fn(|l| a.0[l] + b.0[l]))
+    }
+    #[inline(always)]
+    unsafe fn sum(self) -> f64 {
+        (self.0[0] + self.0[1]) + (self.0[2] + self.0[3])
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+mod avx {
+    use std::arch::x86_64::*;
+
+    #[derive(Clone, Copy)]
+    pub(super) struct Avx(__m256d);
+
+    impl super::Lanes for Avx {
+        #[inline]
+        #[target_feature(enable = "avx2,fma")]
+        unsafe fn zero() -> Self {
+            Avx(_mm256_setzero_pd())
+        }
+        #[inline]
+        #[target_feature(enable = "avx2,fma")]
+        unsafe fn load(p: *const f64) -> Self {
+            Avx(unsafe { _mm256_loadu_pd(p) })
+        }
+        #[inline]
+        #[target_feature(enable = "avx2,fma")]
+        unsafe fn store(self, p: *mut f64) {
+            unsafe { _mm256_storeu_pd(p, self.0) }
+        }
+        #[inline]
+        #[target_feature(enable = "avx2,fma")]
+        unsafe fn mad(a: Self, b: Self, c: Self) -> Self {
+            Avx(_mm256_fmadd_pd(a.0, b.0, c.0))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2,fma")]
+        unsafe fn mul(a: Self, b: Self) -> Self {
+            Avx(_mm256_mul_pd(a.0, b.0))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2,fma")]
+        unsafe fn add(a: Self, b: Self) -> Self {
+            Avx(_mm256_add_pd(a.0, b.0))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2,fma")]
+        unsafe fn sum(self) -> f64 {
+            let lo = _mm256_castpd256_pd128(self.0);
+            let hi = _mm256_extractf128_pd::<1>(self.0);
+            let l01 = _mm_add_sd(lo, _mm_unpackhi_pd(lo, lo));
+            let l23 = _mm_add_sd(hi, _mm_unpackhi_pd(hi, hi));
+            _mm_cvtsd_f64(_mm_add_sd(l01, l23))
+        }
+    }
+}
+
+/// Dispatch a kernel written over [`Lanes`] to the chosen instruction set.
+macro_rules! lanes_kernel {
+    ($(#[$m:meta])* pub fn $name:ident($($arg:ident: $ty:ty),*) $(-> $ret:ty)? = $body:ident;) => {
+        $(#[$m])*
+        #[inline]
+        pub fn $name(isa: Isa, $($arg: $ty),*) $(-> $ret)? {
+            #[cfg(target_arch = "x86_64")]
+            {
+                #[target_feature(enable = "avx2,fma")]
+                unsafe fn v3($($arg: $ty),*) $(-> $ret)? {
+                    // SAFETY: the caller checked the CPU; the body checks its own bounds.
+                    unsafe { $body::<avx::Avx, true>($($arg),*) }
+                }
+                if isa == Isa::X86V3 {
+                    // SAFETY: `Isa::X86V3` is only chosen when the CPU has AVX2 and FMA.
+                    return unsafe { v3($($arg),*) };
+                }
+            }
+            let _ = isa;
+            // SAFETY: plain lanes need no CPU feature; the body checks its own bounds.
+            unsafe { $body::<Plain, false>($($arg),*) }
+        }
+    };
+}
+
+// ---------------------------------------------------------------------------------------------
+// Dense products.
+
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
+unsafe fn dot_body<S: Lanes, const F: bool>(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    let (pa, pb) = (a.as_ptr(), b.as_ptr());
+    unsafe {
+        let mut acc = [S::zero(); 4];
+        let mut i = 0;
+        while i + 16 <= n {
+            for (l, c) in acc.iter_mut().enumerate() {
+                *c = S::mad(S::load(pa.add(i + 4 * l)), S::load(pb.add(i + 4 * l)), *c);
+            }
+            i += 16;
+        }
+        while i + 4 <= n {
+            acc[0] = S::mad(S::load(pa.add(i)), S::load(pb.add(i)), acc[0]);
+            i += 4;
+        }
+        let mut s = S::add(S::add(acc[0], acc[1]), S::add(acc[2], acc[3])).sum();
+        while i < n {
+            s = mad::<F>(*pa.add(i), *pb.add(i), s);
+            i += 1;
+        }
+        s
+    }
+}
+
+lanes_kernel! {
     /// `Σ a_i b_i`.
     pub fn dot(a: &[f64], b: &[f64]) -> f64 = dot_body;
 }
 
+/// # Safety
+/// `S` must be usable on this CPU.
 #[inline(always)]
-fn dot2_body<const F: bool>(row: &[f64], x: &[f64], y: &[f64]) -> (f64, f64) {
+unsafe fn dot2_body<S: Lanes, const F: bool>(row: &[f64], x: &[f64], y: &[f64]) -> (f64, f64) {
     let n = row.len().min(x.len()).min(y.len());
-    let (row, x, y) = (&row[..n], &x[..n], &y[..n]);
-    let mut ax = [0.0f64; 4];
-    let mut ay = [0.0f64; 4];
-    let mut cr = row.chunks_exact(4);
-    let mut cx = x.chunks_exact(4);
-    let mut cy = y.chunks_exact(4);
-    for ((r, a), b) in (&mut cr).zip(&mut cx).zip(&mut cy) {
-        for l in 0..4 {
-            ax[l] = mad::<F>(r[l], a[l], ax[l]);
-            ay[l] = mad::<F>(r[l], b[l], ay[l]);
+    let (pr, px, py) = (row.as_ptr(), x.as_ptr(), y.as_ptr());
+    unsafe {
+        let mut ax = [S::zero(); 2];
+        let mut ay = [S::zero(); 2];
+        let mut i = 0;
+        while i + 8 <= n {
+            for l in 0..2 {
+                let r = S::load(pr.add(i + 4 * l));
+                ax[l] = S::mad(r, S::load(px.add(i + 4 * l)), ax[l]);
+                ay[l] = S::mad(r, S::load(py.add(i + 4 * l)), ay[l]);
+            }
+            i += 8;
         }
+        if i + 4 <= n {
+            let r = S::load(pr.add(i));
+            ax[0] = S::mad(r, S::load(px.add(i)), ax[0]);
+            ay[0] = S::mad(r, S::load(py.add(i)), ay[0]);
+            i += 4;
+        }
+        let mut sx = S::add(ax[0], ax[1]).sum();
+        let mut sy = S::add(ay[0], ay[1]).sum();
+        while i < n {
+            let r = *pr.add(i);
+            sx = mad::<F>(r, *px.add(i), sx);
+            sy = mad::<F>(r, *py.add(i), sy);
+            i += 1;
+        }
+        (sx, sy)
     }
-    let mut sx = (ax[0] + ax[1]) + (ax[2] + ax[3]);
-    let mut sy = (ay[0] + ay[1]) + (ay[2] + ay[3]);
-    for ((r, a), b) in cr
-        .remainder()
-        .iter()
-        .zip(cx.remainder())
-        .zip(cy.remainder())
-    {
-        sx = mad::<F>(*r, *a, sx);
-        sy = mad::<F>(*r, *b, sy);
-    }
-    (sx, sy)
 }
 
-kernel! {
+lanes_kernel! {
     /// `(Σ r_i x_i, Σ r_i y_i)`: two vectors against one row, read once.
     pub fn dot2(row: &[f64], x: &[f64], y: &[f64]) -> (f64, f64) = dot2_body;
 }
@@ -240,11 +395,68 @@ kernel! {
 // ---------------------------------------------------------------------------------------------
 // The folds of the span-periodic sampler (see `sampler.rs`): bins of period P.
 
-/// Register block of the fold kernels.
-const BLK: usize = 8;
+// The blocked kernels below walk down the modes in steps of P with a block of 4·NL bins held
+// in registers (NL = 2, then 1 for what is left); bins beyond a multiple of four, and the last
+// partial row of modes, are done one at a time. Pointers are offset only inside `n` (checked).
 
+/// The fold of one block of bins `r0..r0 + 4·NL` (see [`fold2`]).
+///
+/// # Safety
+/// `S` usable; `out` holds `4p` values (`2p` when `q2` is `None`); `q*`, `s`, `c` hold `n`.
 #[inline(always)]
-fn fold2_body<const F: bool>(
+#[allow(clippy::too_many_arguments)]
+unsafe fn fold_block<S: Lanes, const F: bool, const NL: usize, const TWO: bool>(
+    q1: *const f64,
+    q2: *const f64,
+    s: *const f64,
+    c: *const f64,
+    n: usize,
+    p: usize,
+    r0: usize,
+    out: *mut f64,
+) {
+    unsafe {
+        let mut acc = [[S::zero(); NL]; 4];
+        let mut base = r0;
+        while base + 4 * NL <= n {
+            for l in 0..NL {
+                let o = base + 4 * l;
+                let (ss, cc) = (S::load(s.add(o)), S::load(c.add(o)));
+                let x = S::load(q1.add(o));
+                acc[0][l] = S::mad(x, ss, acc[0][l]);
+                acc[1][l] = S::mad(x, cc, acc[1][l]);
+                if TWO {
+                    let y = S::load(q2.add(o));
+                    acc[2][l] = S::mad(y, ss, acc[2][l]);
+                    acc[3][l] = S::mad(y, cc, acc[3][l]);
+                }
+            }
+            base += p;
+        }
+        let nk = if TWO { 4 } else { 2 };
+        for (k, a) in acc.iter().enumerate().take(nk) {
+            for (l, v) in a.iter().enumerate() {
+                v.store(out.add(k * p + r0 + 4 * l));
+            }
+        }
+        for i in 0..(4 * NL).min(n.saturating_sub(base)) {
+            let (o, r) = (base + i, r0 + i);
+            let (ss, cc, x) = (*s.add(o), *c.add(o), *q1.add(o));
+            *out.add(r) = mad::<F>(x, ss, *out.add(r));
+            *out.add(p + r) = mad::<F>(x, cc, *out.add(p + r));
+            if TWO {
+                let y = *q2.add(o);
+                *out.add(2 * p + r) = mad::<F>(y, ss, *out.add(2 * p + r));
+                *out.add(3 * p + r) = mad::<F>(y, cc, *out.add(3 * p + r));
+            }
+        }
+    }
+}
+
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
+unsafe fn fold_body<S: Lanes, const F: bool, const TWO: bool>(
     q1: &[f64],
     q2: &[f64],
     s: &[f64],
@@ -252,91 +464,232 @@ fn fold2_body<const F: bool>(
     p: usize,
     out: &mut [f64],
 ) {
-    // out = [a1 | b1 | a2 | b2], each of length p.
-    let n = q1.len().min(q2.len()).min(s.len()).min(c.len());
-    let mut r0 = 0;
-    while r0 < p {
-        let w = BLK.min(p - r0);
-        let mut acc = [[0.0f64; BLK]; 4];
-        let mut base = r0;
-        if w == BLK {
-            while base + BLK <= n {
-                let x: &[f64; BLK] = q1[base..base + BLK].try_into().expect("block");
-                let y: &[f64; BLK] = q2[base..base + BLK].try_into().expect("block");
-                let ss: &[f64; BLK] = s[base..base + BLK].try_into().expect("block");
-                let cc: &[f64; BLK] = c[base..base + BLK].try_into().expect("block");
-                for l in 0..BLK {
-                    acc[0][l] = mad::<F>(x[l], ss[l], acc[0][l]);
-                    acc[1][l] = mad::<F>(x[l], cc[l], acc[1][l]);
-                    acc[2][l] = mad::<F>(y[l], ss[l], acc[2][l]);
-                    acc[3][l] = mad::<F>(y[l], cc[l], acc[3][l]);
+    let mut n = q1.len().min(s.len()).min(c.len());
+    if TWO {
+        n = n.min(q2.len());
+    }
+    let nk = if TWO { 4 } else { 2 };
+    assert!(out.len() >= nk * p && p > 0, "fold: output too short");
+    let (q1, q2, s, c, o) = (
+        q1.as_ptr(),
+        q2.as_ptr(),
+        s.as_ptr(),
+        c.as_ptr(),
+        out.as_mut_ptr(),
+    );
+    unsafe {
+        let mut r0 = 0;
+        while r0 + 8 <= p {
+            fold_block::<S, F, 2, TWO>(q1, q2, s, c, n, p, r0, o);
+            r0 += 8;
+        }
+        if r0 + 4 <= p {
+            fold_block::<S, F, 1, TWO>(q1, q2, s, c, n, p, r0, o);
+            r0 += 4;
+        }
+        for r in r0..p {
+            let mut acc = [0.0f64; 4];
+            let mut i = r;
+            while i < n {
+                let (ss, cc, x) = (*s.add(i), *c.add(i), *q1.add(i));
+                acc[0] = mad::<F>(x, ss, acc[0]);
+                acc[1] = mad::<F>(x, cc, acc[1]);
+                if TWO {
+                    let y = *q2.add(i);
+                    acc[2] = mad::<F>(y, ss, acc[2]);
+                    acc[3] = mad::<F>(y, cc, acc[3]);
                 }
-                base += p;
+                i += p;
+            }
+            for (k, a) in acc.iter().enumerate().take(nk) {
+                *o.add(k * p + r) = *a;
             }
         }
-        while base < n {
-            for l in 0..w.min(n - base) {
-                acc[0][l] = mad::<F>(q1[base + l], s[base + l], acc[0][l]);
-                acc[1][l] = mad::<F>(q1[base + l], c[base + l], acc[1][l]);
-                acc[2][l] = mad::<F>(q2[base + l], s[base + l], acc[2][l]);
-                acc[3][l] = mad::<F>(q2[base + l], c[base + l], acc[3][l]);
-            }
-            base += p;
-        }
-        for (k, a) in acc.iter().enumerate() {
-            out[k * p + r0..k * p + r0 + w].copy_from_slice(&a[..w]);
-        }
-        r0 += w;
     }
 }
 
-kernel! {
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
+unsafe fn fold2_body<S: Lanes, const F: bool>(
+    q1: &[f64],
+    q2: &[f64],
+    s: &[f64],
+    c: &[f64],
+    p: usize,
+    out: &mut [f64],
+) {
+    unsafe { fold_body::<S, F, true>(q1, q2, s, c, p, out) }
+}
+
+lanes_kernel! {
     /// The folds of two coefficient vectors sharing the tables `s = sin(κd)`, `c = cos(κd)`:
     /// `out = [a1 | b1 | a2 | b2]` with `a[r] = Σ_m q[mP+r] s[mP+r]`, `b[r] = Σ_m q[mP+r] c[mP+r]`.
     /// Blocks of 8 bins stay in registers while the loop walks down the modes.
     pub fn fold2(q1: &[f64], q2: &[f64], s: &[f64], c: &[f64], p: usize, out: &mut [f64]) = fold2_body;
 }
 
+/// # Safety
+/// `S` must be usable on this CPU.
 #[inline(always)]
-fn fold1_body<const F: bool>(q: &[f64], s: &[f64], c: &[f64], p: usize, out: &mut [f64]) {
-    let n = q.len().min(s.len()).min(c.len());
-    let mut r0 = 0;
-    while r0 < p {
-        let w = BLK.min(p - r0);
-        let mut acc = [[0.0f64; BLK]; 2];
-        let mut base = r0;
-        if w == BLK {
-            while base + BLK <= n {
-                let x: &[f64; BLK] = q[base..base + BLK].try_into().expect("block");
-                let ss: &[f64; BLK] = s[base..base + BLK].try_into().expect("block");
-                let cc: &[f64; BLK] = c[base..base + BLK].try_into().expect("block");
-                for l in 0..BLK {
-                    acc[0][l] = mad::<F>(x[l], ss[l], acc[0][l]);
-                    acc[1][l] = mad::<F>(x[l], cc[l], acc[1][l]);
-                }
-                base += p;
-            }
-        }
-        while base < n {
-            for l in 0..w.min(n - base) {
-                acc[0][l] = mad::<F>(q[base + l], s[base + l], acc[0][l]);
-                acc[1][l] = mad::<F>(q[base + l], c[base + l], acc[1][l]);
-            }
-            base += p;
-        }
-        out[r0..r0 + w].copy_from_slice(&acc[0][..w]);
-        out[p + r0..p + r0 + w].copy_from_slice(&acc[1][..w]);
-        r0 += w;
-    }
+unsafe fn fold1_body<S: Lanes, const F: bool>(
+    q: &[f64],
+    s: &[f64],
+    c: &[f64],
+    p: usize,
+    out: &mut [f64],
+) {
+    unsafe { fold_body::<S, F, false>(q, &[], s, c, p, out) }
 }
 
-kernel! {
+lanes_kernel! {
     /// [`fold2`] for one vector: `out = [a | b]`.
     pub fn fold1(q: &[f64], s: &[f64], c: &[f64], p: usize, out: &mut [f64]) = fold1_body;
 }
 
+/// The unfold of one block of bins (see [`unfold2`], [`unfold1`]): `o1[mP+r] += sc·(a1[r] s +
+/// b1[r] c)` (`sc` = 1 when `scale` is null; the unscaled form is `a s + (b c + o)`), and the
+/// same for `o2` with `a2`, `b2` when `TWO`.
+///
+/// # Safety
+/// As for [`fold_block`]; `scale` is null or holds `n` values.
 #[inline(always)]
-fn unfold2_body<const F: bool>(
+#[allow(clippy::too_many_arguments)]
+unsafe fn unfold_block<S: Lanes, const F: bool, const NL: usize, const TWO: bool>(
+    bins: *const f64,
+    s: *const f64,
+    c: *const f64,
+    scale: *const f64,
+    n: usize,
+    p: usize,
+    r0: usize,
+    o1: *mut f64,
+    o2: *mut f64,
+) {
+    unsafe {
+        let nk = if TWO { 4 } else { 2 };
+        let mut r = [[S::zero(); NL]; 4];
+        for (k, rk) in r.iter_mut().enumerate().take(nk) {
+            for (l, v) in rk.iter_mut().enumerate() {
+                *v = S::load(bins.add(k * p + r0 + 4 * l));
+            }
+        }
+        let mut base = r0;
+        while base + 4 * NL <= n {
+            for l in 0..NL {
+                let o = base + 4 * l;
+                let (ss, cc) = (S::load(s.add(o)), S::load(c.add(o)));
+                let x = S::load(o1.add(o));
+                let x = if scale.is_null() {
+                    S::mad(r[0][l], ss, S::mad(r[1][l], cc, x))
+                } else {
+                    let val = S::mad(r[0][l], ss, S::mul(r[1][l], cc));
+                    S::mad(S::load(scale.add(o)), val, x)
+                };
+                x.store(o1.add(o));
+                if TWO {
+                    let y = S::load(o2.add(o));
+                    S::mad(r[2][l], ss, S::mad(r[3][l], cc, y)).store(o2.add(o));
+                }
+            }
+            base += p;
+        }
+        for i in 0..(4 * NL).min(n.saturating_sub(base)) {
+            let (o, rr) = (base + i, r0 + i);
+            unfold_one::<F, TWO>(bins, s, c, scale, p, rr, o, o1, o2);
+        }
+    }
+}
+
+/// One mode of an unfold (the scalar form of [`unfold_block`]).
+///
+/// # Safety
+/// As for [`unfold_block`].
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+unsafe fn unfold_one<const F: bool, const TWO: bool>(
+    bins: *const f64,
+    s: *const f64,
+    c: *const f64,
+    scale: *const f64,
+    p: usize,
+    r: usize,
+    o: usize,
+    o1: *mut f64,
+    o2: *mut f64,
+) {
+    unsafe {
+        let (ss, cc) = (*s.add(o), *c.add(o));
+        let (a, b) = (*bins.add(r), *bins.add(p + r));
+        *o1.add(o) = if scale.is_null() {
+            mad::<F>(a, ss, mad::<F>(b, cc, *o1.add(o)))
+        } else {
+            mad::<F>(*scale.add(o), mad::<F>(a, ss, b * cc), *o1.add(o))
+        };
+        if TWO {
+            let (a, b) = (*bins.add(2 * p + r), *bins.add(3 * p + r));
+            *o2.add(o) = mad::<F>(a, ss, mad::<F>(b, cc, *o2.add(o)));
+        }
+    }
+}
+
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
+unsafe fn unfold_body<S: Lanes, const F: bool, const TWO: bool>(
+    bins: &[f64],
+    s: &[f64],
+    c: &[f64],
+    p: usize,
+    o1: &mut [f64],
+    o2: &mut [f64],
+    scale: &[f64],
+) {
+    let mut n = o1.len().min(s.len()).min(c.len());
+    if TWO {
+        n = n.min(o2.len());
+    }
+    if !scale.is_empty() {
+        n = n.min(scale.len());
+    }
+    let nk = if TWO { 4 } else { 2 };
+    assert!(bins.len() >= nk * p && p > 0, "unfold: bins too short");
+    let sc = if scale.is_empty() {
+        std::ptr::null()
+    } else {
+        scale.as_ptr()
+    };
+    let (bp, sp, cp, p1, p2) = (
+        bins.as_ptr(),
+        s.as_ptr(),
+        c.as_ptr(),
+        o1.as_mut_ptr(),
+        o2.as_mut_ptr(),
+    );
+    unsafe {
+        let mut r0 = 0;
+        while r0 + 8 <= p {
+            unfold_block::<S, F, 2, TWO>(bp, sp, cp, sc, n, p, r0, p1, p2);
+            r0 += 8;
+        }
+        if r0 + 4 <= p {
+            unfold_block::<S, F, 1, TWO>(bp, sp, cp, sc, n, p, r0, p1, p2);
+            r0 += 4;
+        }
+        for r in r0..p {
+            let mut o = r;
+            while o < n {
+                unfold_one::<F, TWO>(bp, sp, cp, sc, p, r, o, p1, p2);
+                o += p;
+            }
+        }
+    }
+}
+
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
+unsafe fn unfold2_body<S: Lanes, const F: bool>(
     bins: &[f64],
     s: &[f64],
     c: &[f64],
@@ -344,59 +697,19 @@ fn unfold2_body<const F: bool>(
     o1: &mut [f64],
     o2: &mut [f64],
 ) {
-    // bins = [a1 | b1 | a2 | b2]; o1[mP+r] += a1[r] s + b1[r] c, o2 likewise.
-    let n = o1.len().min(o2.len()).min(s.len()).min(c.len());
-    let mut r0 = 0;
-    while r0 < p {
-        let w = BLK.min(p - r0);
-        let mut base = r0;
-        if w == BLK {
-            let mut r = [[0.0f64; BLK]; 4];
-            for (k, rk) in r.iter_mut().enumerate() {
-                rk.copy_from_slice(&bins[k * p + r0..k * p + r0 + BLK]);
-            }
-            while base + BLK <= n {
-                let ss: &[f64; BLK] = s[base..base + BLK].try_into().expect("block");
-                let cc: &[f64; BLK] = c[base..base + BLK].try_into().expect("block");
-                let x: &mut [f64; BLK] = (&mut o1[base..base + BLK]).try_into().expect("block");
-                for l in 0..BLK {
-                    x[l] = mad::<F>(r[0][l], ss[l], mad::<F>(r[1][l], cc[l], x[l]));
-                }
-                let y: &mut [f64; BLK] = (&mut o2[base..base + BLK]).try_into().expect("block");
-                for l in 0..BLK {
-                    y[l] = mad::<F>(r[2][l], ss[l], mad::<F>(r[3][l], cc[l], y[l]));
-                }
-                base += p;
-            }
-        }
-        while base < n {
-            for l in 0..w.min(n - base) {
-                let (ss, cc) = (s[base + l], c[base + l]);
-                o1[base + l] = mad::<F>(
-                    bins[r0 + l],
-                    ss,
-                    mad::<F>(bins[p + r0 + l], cc, o1[base + l]),
-                );
-                o2[base + l] = mad::<F>(
-                    bins[2 * p + r0 + l],
-                    ss,
-                    mad::<F>(bins[3 * p + r0 + l], cc, o2[base + l]),
-                );
-            }
-            base += p;
-        }
-        r0 += w;
-    }
+    unsafe { unfold_body::<S, F, true>(bins, s, c, p, o1, o2, &[]) }
 }
 
-kernel! {
+lanes_kernel! {
     /// The transpose of [`fold2`]: `o[mP+r] += a[r] s[mP+r] + b[r] c[mP+r]` for both vectors,
     /// `bins = [a1 | b1 | a2 | b2]`.
     pub fn unfold2(bins: &[f64], s: &[f64], c: &[f64], p: usize, o1: &mut [f64], o2: &mut [f64]) = unfold2_body;
 }
 
+/// # Safety
+/// `S` must be usable on this CPU.
 #[inline(always)]
-fn unfold1_body<const F: bool>(
+unsafe fn unfold1_body<S: Lanes, const F: bool>(
     bins: &[f64],
     s: &[f64],
     c: &[f64],
@@ -404,57 +717,10 @@ fn unfold1_body<const F: bool>(
     o: &mut [f64],
     scale: &[f64],
 ) {
-    // o[mP+r] += scale[mP+r] · (a[r] s + b[r] c); an empty `scale` means 1.
-    let n = o.len().min(s.len()).min(c.len());
-    let scaled = !scale.is_empty();
-    let mut r0 = 0;
-    while r0 < p {
-        let w = BLK.min(p - r0);
-        let mut base = r0;
-        if w == BLK {
-            let mut ra = [0.0f64; BLK];
-            let mut rb = [0.0f64; BLK];
-            ra.copy_from_slice(&bins[r0..r0 + BLK]);
-            rb.copy_from_slice(&bins[p + r0..p + r0 + BLK]);
-            while base + BLK <= n {
-                let ss: &[f64; BLK] = s[base..base + BLK].try_into().expect("block");
-                let cc: &[f64; BLK] = c[base..base + BLK].try_into().expect("block");
-                let x: &mut [f64; BLK] = (&mut o[base..base + BLK]).try_into().expect("block");
-                if scaled {
-                    let sc: &[f64; BLK] = scale[base..base + BLK].try_into().expect("block");
-                    for l in 0..BLK {
-                        let val = mad::<F>(ra[l], ss[l], rb[l] * cc[l]);
-                        x[l] = mad::<F>(sc[l], val, x[l]);
-                    }
-                } else {
-                    for l in 0..BLK {
-                        x[l] = mad::<F>(ra[l], ss[l], mad::<F>(rb[l], cc[l], x[l]));
-                    }
-                }
-                base += p;
-            }
-        }
-        while base < n {
-            for l in 0..w.min(n - base) {
-                let (ss, cc) = (s[base + l], c[base + l]);
-                if scaled {
-                    let val = mad::<F>(bins[r0 + l], ss, bins[p + r0 + l] * cc);
-                    o[base + l] = mad::<F>(scale[base + l], val, o[base + l]);
-                } else {
-                    o[base + l] = mad::<F>(
-                        bins[r0 + l],
-                        ss,
-                        mad::<F>(bins[p + r0 + l], cc, o[base + l]),
-                    );
-                }
-            }
-            base += p;
-        }
-        r0 += w;
-    }
+    unsafe { unfold_body::<S, F, false>(bins, s, c, p, o, &mut [], scale) }
 }
 
-kernel! {
+lanes_kernel! {
     /// The transpose of [`fold1`], optionally scaled per mode: `o[m] += scale[m] (a[r] s[m] +
     /// b[r] c[m])` (`scale` empty: 1). The scaled form fuses the Woodbury correction
     /// `a −= D⁻¹ Φᵀ g` into the scatter.
@@ -462,39 +728,97 @@ kernel! {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The window move: a dense projection of up to four vectors.
+// The window move: a dense projection of two or four vectors.
 
+/// Two rows of `P` at a time against `NV` vectors: `2·NV` accumulators stay in registers, and
+/// each chunk of four columns costs `2 + NV` loads for `2·NV` multiply-adds.
+///
+/// # Safety
+/// `S` must be usable on this CPU.
 #[inline(always)]
-fn project_body<const F: bool>(p: &[f64], n: usize, xs: &[&[f64]], out: &mut [f64]) {
-    // out[v n + k] = Σ_j P[k n + j] x_v[j], each row of P read once for every vector.
-    let nv = xs.len().min(4);
-    let chunks = n / 4;
-    for k in 0..n {
-        let row = &p[k * n..(k + 1) * n];
-        let mut acc = [[0.0f64; 4]; 4];
-        for cidx in 0..chunks {
-            let r: &[f64; 4] = row[4 * cidx..4 * cidx + 4].try_into().expect("block");
-            for (a, x) in acc.iter_mut().zip(xs.iter()).take(nv) {
-                let x: &[f64; 4] = x[4 * cidx..4 * cidx + 4].try_into().expect("block");
-                for l in 0..4 {
-                    a[l] = mad::<F>(r[l], x[l], a[l]);
+unsafe fn project_rows<S: Lanes, const F: bool, const NV: usize>(
+    p: &[f64],
+    n: usize,
+    xs: [&[f64]; NV],
+    out: &mut [f64],
+) {
+    assert!(
+        p.len() >= n * n && out.len() >= NV * n && xs.iter().all(|x| x.len() >= n),
+        "project: operands too short"
+    );
+    let xp: [*const f64; NV] = xs.map(|x| x.as_ptr());
+    let (pp, op) = (p.as_ptr(), out.as_mut_ptr());
+    let tail = n / 4 * 4;
+    unsafe {
+        let mut k = 0;
+        while k < n {
+            let two = k + 1 < n;
+            let r0 = pp.add(k * n);
+            let r1 = if two { pp.add((k + 1) * n) } else { r0 };
+            let mut acc0 = [S::zero(); NV];
+            let mut acc1 = [S::zero(); NV];
+            let mut j = 0;
+            while j < tail {
+                let (a, b) = (S::load(r0.add(j)), S::load(r1.add(j)));
+                for v in 0..NV {
+                    let x = S::load(xp[v].add(j));
+                    acc0[v] = S::mad(a, x, acc0[v]);
+                    acc1[v] = S::mad(b, x, acc1[v]);
+                }
+                j += 4;
+            }
+            for v in 0..NV {
+                let mut s0 = acc0[v].sum();
+                let mut s1 = acc1[v].sum();
+                for j in tail..n {
+                    let x = *xp[v].add(j);
+                    s0 = mad::<F>(*r0.add(j), x, s0);
+                    s1 = mad::<F>(*r1.add(j), x, s1);
+                }
+                *op.add(v * n + k) = s0;
+                if two {
+                    *op.add(v * n + k + 1) = s1;
                 }
             }
-        }
-        for (v, (a, x)) in acc.iter().zip(xs.iter()).enumerate().take(nv) {
-            let mut sum = (a[0] + a[1]) + (a[2] + a[3]);
-            for j in 4 * chunks..n {
-                sum = mad::<F>(row[j], x[j], sum);
-            }
-            out[v * n + k] = sum;
+            k += 2;
         }
     }
 }
 
-kernel! {
-    /// `out[v] = P x_v` for up to four vectors (row-major `n × n` matrix `P`), every row of `P`
-    /// read once for all of them.
-    pub fn project(p: &[f64], n: usize, xs: &[&[f64]], out: &mut [f64]) = project_body;
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
+unsafe fn project2_body<S: Lanes, const F: bool>(
+    p: &[f64],
+    n: usize,
+    x0: &[f64],
+    x1: &[f64],
+    out: &mut [f64],
+) {
+    unsafe { project_rows::<S, F, 2>(p, n, [x0, x1], out) }
+}
+
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
+unsafe fn project4_body<S: Lanes, const F: bool>(
+    p: &[f64],
+    n: usize,
+    x: [&[f64]; 4],
+    out: &mut [f64],
+) {
+    unsafe { project_rows::<S, F, 4>(p, n, x, out) }
+}
+
+lanes_kernel! {
+    /// `out[v] = P x_v` for two vectors (row-major `n × n` matrix `P`), every row of `P` read
+    /// once for both.
+    pub fn project2(p: &[f64], n: usize, x0: &[f64], x1: &[f64], out: &mut [f64]) = project2_body;
+}
+
+lanes_kernel! {
+    /// `out[v] = P x_v` for four vectors, every row of `P` read once for all of them.
+    pub fn project4(p: &[f64], n: usize, x: [&[f64]; 4], out: &mut [f64]) = project4_body;
 }
 
 #[cfg(test)]
@@ -561,11 +885,14 @@ mod tests {
         let (x, y) = (data(n, 10), data(n, 11));
         let mut o0 = vec![0.0; 2 * n];
         let mut o1 = vec![0.0; 2 * n];
-        project(Isa::Portable, &pm, n, &[&x, &y], &mut o0);
-        project(best, &pm, n, &[&x, &y], &mut o1);
+        project2(Isa::Portable, &pm, n, &x, &y, &mut o0);
+        project2(best, &pm, n, &x, &y, &mut o1);
+        let mut o4 = vec![0.0; 4 * n];
+        project4(best, &pm, n, [&y, &x, &y, &x], &mut o4);
         for k in 0..n {
             let e: f64 = (0..n).map(|j| pm[k * n + j] * y[j]).sum();
             assert!((o0[n + k] - e).abs() < 1e-12 && (o1[n + k] - e).abs() < 1e-12);
+            assert!((o4[k] - e).abs() < 1e-12 && (o4[2 * n + k] - e).abs() < 1e-12);
         }
     }
 }

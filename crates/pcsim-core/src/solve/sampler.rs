@@ -63,8 +63,6 @@ pub struct PointSampler {
     /// `cos(κ_k S)`, `sin(κ_k S)` per bin (the mirror rotation).
     cs: Vec<f64>,
     sn: Vec<f64>,
-    /// The bin of each DFT index ρ: modes with index ≡ bin (mod P) have mode number ≡ ρ.
-    bin_of: Vec<usize>,
     /// Unnormalised transform `Σ_ρ W_ρ e^{+2πiρs/P}` (an inverse FFT).
     fft: Option<Arc<dyn Fft<f64>>>,
     fft_scratch: usize,
@@ -208,7 +206,6 @@ impl PointSampler {
         let ph = |r: usize| 2.0 * PI * ((r + 1) % period) as f64 / period as f64;
         let cs = (0..period).map(|r| ph(r).cos()).collect();
         let sn = (0..period).map(|r| ph(r).sin()).collect();
-        let bin_of = (0..period).map(|rho| (rho + period - 1) % period).collect();
         let fft: Option<Arc<dyn Fft<f64>>> = (!groups.is_empty()).then(|| match isa {
             Isa::Portable => FftPlannerScalar::new().plan_fft_inverse(period),
             Isa::X86V3 => FftPlanner::new().plan_fft_inverse(period),
@@ -222,7 +219,6 @@ impl PointSampler {
             groups,
             cs,
             sn,
-            bin_of,
             fft,
             fft_scratch,
             dense,
@@ -297,37 +293,80 @@ impl PointSampler {
     /// The Hermitian spectrum of two units (`x = [ax | bx]`, `y = [ay | by]`, each `2P`) packed
     /// into one complex sequence, so that the transform's real part is unit x's output and its
     /// imaginary part unit y's: `W_ρ = herm(A_x − iB_x)_ρ + i herm(A_y − iB_y)_ρ`.
+    ///
+    /// Bin `r` holds mode numbers `≡ r + 1 (mod P)`, so DFT index `ρ ≥ 1` reads bin `ρ − 1` and
+    /// its negative `P − ρ` reads bin `P − 1 − ρ`; `ρ = 0` reads bin `P − 1` (both ways). The
+    /// loops below walk the bins forwards and backwards at once, with no index table.
     fn pack(&self, x: &[f64], y: Option<&[f64]>, buf: &mut [Complex<f64>]) {
         let p = self.period;
-        let bo = &self.bin_of;
-        for rho in 0..p {
-            let neg = (p - rho) % p;
-            let (r, rn) = (bo[rho], bo[neg]);
-            let re_x = 0.5 * (x[r] + x[rn]);
-            let im_x = -0.5 * (x[p + r] - x[p + rn]);
-            let (re_y, im_y) = match y {
-                Some(y) => (0.5 * (y[r] + y[rn]), -0.5 * (y[p + r] - y[p + rn])),
-                None => (0.0, 0.0),
-            };
-            buf[rho] = Complex::new(re_x - im_y, im_x + re_y);
+        let (ax, bx) = (&x[..p], &x[p..2 * p]);
+        let zero = [0.0; 0];
+        let (ay, by) = match y {
+            Some(y) => (&y[..p], &y[p..2 * p]),
+            None => (&zero[..], &zero[..]),
+        };
+        let buf = &mut buf[..p];
+        let m = p - 1;
+        if ay.is_empty() {
+            buf[0] = Complex::new(ax[m], 0.0);
+            for ((w, (a, an)), (b, bn)) in buf[1..]
+                .iter_mut()
+                .zip(ax[..m].iter().zip(ax[..m].iter().rev()))
+                .zip(bx[..m].iter().zip(bx[..m].iter().rev()))
+            {
+                *w = Complex::new(0.5 * (a + an), -0.5 * (b - bn));
+            }
+        } else {
+            buf[0] = Complex::new(ax[m], ay[m]);
+            for (((w, (a, an)), (b, bn)), ((c, cn), (d, dn))) in buf[1..]
+                .iter_mut()
+                .zip(ax[..m].iter().zip(ax[..m].iter().rev()))
+                .zip(bx[..m].iter().zip(bx[..m].iter().rev()))
+                .zip(
+                    ay[..m]
+                        .iter()
+                        .zip(ay[..m].iter().rev())
+                        .zip(by[..m].iter().zip(by[..m].iter().rev())),
+                )
+            {
+                let (re_x, im_x) = (0.5 * (a + an), -0.5 * (b - bn));
+                let (re_y, im_y) = (0.5 * (c + cn), -0.5 * (d - dn));
+                *w = Complex::new(re_x - im_y, im_x + re_y);
+            }
         }
     }
 
     /// The transpose of [`Self::pack`] for the scatter: from the transform `Y` of `F_x + i F_y`,
-    /// the bins `[C | S]` of each unit, `C_ρ + iS_ρ = Σ_s F(s) e^{2πiρs/P}`.
+    /// the bins `[C | S]` of each unit, `C_ρ + iS_ρ = Σ_s F(s) e^{2πiρs/P}`. Bin `i` takes
+    /// `ρ = i + 1` and its negative `P − 1 − i`; bin `P − 1` takes `ρ = 0`.
     fn unpack(&self, buf: &[Complex<f64>], x: &mut [f64], y: Option<&mut [f64]>) {
         let p = self.period;
-        let bo = &self.bin_of;
-        let mut y = y;
-        for rho in 0..p {
-            let neg = (p - rho) % p;
-            let (yr, yn) = (buf[rho], buf[neg]);
-            let r = bo[rho];
-            x[r] = 0.5 * (yr.re + yn.re);
-            x[p + r] = 0.5 * (yr.im - yn.im);
-            if let Some(y) = y.as_deref_mut() {
-                y[r] = 0.5 * (yr.im + yn.im);
-                y[p + r] = 0.5 * (yn.re - yr.re);
+        let m = p - 1;
+        let (xa, xb) = x[..2 * p].split_at_mut(p);
+        let fw = &buf[1..p];
+        xa[m] = buf[0].re;
+        xb[m] = 0.0;
+        for (((ca, cb), yr), yn) in xa[..m]
+            .iter_mut()
+            .zip(xb[..m].iter_mut())
+            .zip(fw)
+            .zip(fw.iter().rev())
+        {
+            *ca = 0.5 * (yr.re + yn.re);
+            *cb = 0.5 * (yr.im - yn.im);
+        }
+        if let Some(y) = y {
+            let (ya, yb) = y[..2 * p].split_at_mut(p);
+            ya[m] = buf[0].im;
+            yb[m] = 0.0;
+            for (((ca, cb), yr), yn) in ya[..m]
+                .iter_mut()
+                .zip(yb[..m].iter_mut())
+                .zip(fw)
+                .zip(fw.iter().rev())
+            {
+                *ca = 0.5 * (yr.im + yn.im);
+                *cb = 0.5 * (yn.re - yr.re);
             }
         }
     }

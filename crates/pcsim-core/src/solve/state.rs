@@ -168,15 +168,21 @@ impl State {
                         &self.modal.u[o1..o1 + n],
                         &self.modal.v[o1..o1 + n],
                     ];
-                    crate::solve::kernels::project(isa, p, n, &xs, &mut buf[..4 * n]);
+                    crate::solve::kernels::project4(isa, p, n, xs, &mut buf[..4 * n]);
                     self.modal.u[o0..o0 + n].copy_from_slice(&buf[..n]);
                     self.modal.v[o0..o0 + n].copy_from_slice(&buf[n..2 * n]);
                     self.modal.u[o1..o1 + n].copy_from_slice(&buf[2 * n..3 * n]);
                     self.modal.v[o1..o1 + n].copy_from_slice(&buf[3 * n..4 * n]);
                 }
                 _ => {
-                    let xs: [&[f64]; 2] = [&self.modal.u[o0..o0 + n], &self.modal.v[o0..o0 + n]];
-                    crate::solve::kernels::project(isa, p, n, &xs, &mut buf[..2 * n]);
+                    crate::solve::kernels::project2(
+                        isa,
+                        p,
+                        n,
+                        &self.modal.u[o0..o0 + n],
+                        &self.modal.v[o0..o0 + n],
+                        &mut buf[..2 * n],
+                    );
                     self.modal.u[o0..o0 + n].copy_from_slice(&buf[..n]);
                     self.modal.v[o0..o0 + n].copy_from_slice(&buf[n..2 * n]);
                 }
