@@ -87,6 +87,18 @@ fsil = res_sil["pantograph_contact_force"][500:]
 check("SIL: contact force of pcsim's own pantograph", 60.0 < float(np.mean(fsil)) < 110.0 and float(np.std(fsil)) > 1.0,
       f"(mean {np.mean(fsil):.1f} N, σ {np.std(fsil):.1f} N over 1.5 s)")
 
+# 3b. Lateral motion (issue 12): the 3D preset's contact point zig-zags over the stagger; the
+# vertical default reports 0.
+res_3d = simulate_fmu(fmu, stop_time=2.0, step_size=dt, output_interval=dt,
+                      start_values={"sil": True, "case": "stitched-2018-like-3d"},
+                      output=["contact_lateral", "wire_height"])
+lat = res_3d["contact_lateral"][1:]
+check("3D case: contact_lateral follows the ±0.3 m stagger",
+      bool(np.all(np.isfinite(lat))) and float(np.max(np.abs(lat))) < 0.302 and float(np.ptp(lat)) > 0.2,
+      f"(range {np.min(lat):.3f} to {np.max(lat):.3f} m over 2 s)")
+res_v = simulate_fmu(fmu, stop_time=0.05, step_size=dt, output_interval=dt, output=["contact_lateral"])
+check("vertical case: contact_lateral is 0", float(np.max(np.abs(res_v["contact_lateral"]))) == 0.0)
+
 # 4. Misuse suite: each probe in its own process, on the library inside the FMU.
 with tempfile.TemporaryDirectory() as d:
     with zipfile.ZipFile(fmu) as z:

@@ -4,7 +4,8 @@
 
 use anyhow::{Context, Result};
 use pcsim_core::analysis::record::RunOutput;
-use pcsim_core::analysis::stats::ContactStats;
+use pcsim_core::analysis::stats::{ContactStats, LateralStats};
+use pcsim_core::model::wind::WindReport;
 use pcsim_core::RunStatistics;
 use serde::Serialize;
 use std::path::Path;
@@ -18,6 +19,10 @@ pub const MANIFEST: &str = "pcsim.json";
 pub struct PantographSummary {
     pub name: String,
     pub stats: Option<ContactStats>,
+    /// The contact point across the head (lateral motion modelled): flags and the wear
+    /// histogram.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lateral: Option<LateralStats>,
 }
 
 #[derive(Serialize)]
@@ -41,6 +46,9 @@ pub struct Summary {
     pub overrides: Vec<String>,
     pub warnings: Vec<String>,
     pub pantographs: Vec<PantographSummary>,
+    /// The crosswind (mean speed, spectrum, seed, turbulence intensity achieved).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wind: Option<WindReport>,
 }
 
 impl Summary {
@@ -73,8 +81,10 @@ impl Summary {
                 .map(|p| PantographSummary {
                     name: p.name.clone(),
                     stats: p.stats,
+                    lateral: p.lateral.clone(),
                 })
                 .collect(),
+            wind: out.wind.clone(),
         }
     }
 }
@@ -126,6 +136,12 @@ pub fn write_run(dir: &Path, out: &RunOutput, summary: &Summary) -> Result<()> {
         for col in ["position_m", "force_n", "force_filtered_n", "height_m"] {
             header.push(format!("{tag}_{col}"));
         }
+        if !p.lateral_m.is_empty() {
+            header.push(format!("{tag}_lateral_m"));
+            if p.head_half_width_m.is_some() {
+                header.push(format!("{tag}_head_margin_m"));
+            }
+        }
     }
     w.write_record(&header)?;
     let mut rec = Vec::with_capacity(header.len());
@@ -137,6 +153,12 @@ pub fn write_run(dir: &Path, out: &RunOutput, summary: &Summary) -> Result<()> {
             rec.push(format!("{:.4}", p.force_n[k]));
             rec.push(format!("{:.4}", p.force_filtered_n[k]));
             rec.push(format!("{:.6}", p.wire_height_m[k]));
+            if let Some(z) = p.lateral_m.get(k) {
+                rec.push(format!("{z:.6}"));
+                if let Some(h) = p.head_half_width_m {
+                    rec.push(format!("{:.6}", h - z.abs()));
+                }
+            }
         }
         w.write_record(&rec)?;
     }

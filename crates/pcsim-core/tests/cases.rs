@@ -265,6 +265,8 @@ fn unusual_values_are_warnings_naming_the_field() {
             stiffness_n_per_m,
             damping_ns_per_m,
             aero_coeffs_kmh,
+            head_half_width_m,
+            working_half_width_m,
             ..
         } => pcsim_core::input::case::PantographCase::Lumped {
             name,
@@ -274,6 +276,8 @@ fn unusual_values_are_warnings_naming_the_field() {
             damping_ns_per_m,
             uplift_n: 900.0,
             aero_coeffs_kmh,
+            head_half_width_m,
+            working_half_width_m,
         },
         other => other,
     };

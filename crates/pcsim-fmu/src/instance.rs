@@ -175,6 +175,7 @@ impl Instance {
             wire_height_m: rt.static_height_at(x),
             wire_velocity_m_s: 0.0,
             contact_force_n: self.force_in,
+            lateral_m: rt.static_lateral_at(x),
         };
         self.snap = Some(rt.snapshot());
         self.rt = Some(rt);
@@ -261,6 +262,7 @@ impl Instance {
             vars::VR_WIRE_HEIGHT => self.out.wire_height_m,
             vars::VR_WIRE_VELOCITY => self.out.wire_velocity_m_s,
             vars::VR_PANTOGRAPH_CONTACT_FORCE => self.out.contact_force_n,
+            vars::VR_CONTACT_LATERAL => self.out.lateral_m,
             vars::VR_WINDOW_LENGTH => self.window_m,
             vars::VR_STEP_SIZE => self.step_s,
             _ => return err(format!("value reference {vr} cannot be read")),

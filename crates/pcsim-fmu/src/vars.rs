@@ -40,6 +40,7 @@ pub const VR_WINDOW_LENGTH: u32 = 6;
 pub const VR_STEP_SIZE: u32 = 7;
 pub const VR_SIL: u32 = 8;
 pub const VR_CASE: u32 = 9;
+pub const VR_CONTACT_LATERAL: u32 = 10;
 
 /// Default start values.
 pub const DEFAULT_CASE: &str = "syt-7.0-9.8";
@@ -94,6 +95,15 @@ pub const VARS: &[Var] = &[
         unit: Some("N"),
         start: None,
         description: "contact force: computed by pcsim's pantograph (SIL) or the input echoed (HIL)",
+    },
+    Var {
+        name: "contact_lateral",
+        vr: VR_CONTACT_LATERAL,
+        kind: Kind::Real,
+        causality: Causality::Output,
+        unit: Some("m"),
+        start: None,
+        description: "lateral position of the contact point from the track centre line (stagger + lateral deviation; 0 for a vertical-only case)",
     },
     Var {
         name: "window_length",

@@ -38,7 +38,32 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
         overrides.push(Override::tension(t)?);
     }
     let case = apply(&base, &overrides)?;
-    let (out, wall, warnings) = run_with_progress(&case, &overrides, "run", ctx)?;
+    let (out, wall, mut warnings) = run_with_progress(&case, &overrides, "run", ctx)?;
+    // Flags of the contact point across the head (lateral motion).
+    for p in &out.pantographs {
+        if let Some(l) = &p.lateral {
+            let n = p.position_m.len().max(1);
+            if l.samples_off_head > 0 {
+                warnings.push(format!(
+                    "pantograph {}: the contact wire left the head ({} samples beyond its half-width in the analysis section; closest margin {:.0} mm)",
+                    p.name,
+                    l.samples_off_head,
+                    l.min_head_margin_mm.unwrap_or(f64::NAN)
+                ));
+            } else if l.samples_outside_working_range > 0 {
+                warnings.push(format!(
+                    "pantograph {}: the contact point left the working range in {} samples ({:.2} % of the run; largest offset {:.0} mm)",
+                    p.name,
+                    l.samples_outside_working_range,
+                    100.0 * l.samples_outside_working_range as f64 / n as f64,
+                    l.max_lateral_offset_mm
+                ));
+            }
+        }
+    }
+    for w in warnings.iter().filter(|w| w.starts_with("pantograph ")) {
+        eprintln!("warning: {w}");
+    }
     let flags = overrides.iter().map(|o| o.flag.clone()).collect();
     let summary = Summary::new(&case, &out, wall, flags, warnings);
     write_run(&a.out, &out, &summary)?;
@@ -64,6 +89,29 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
             ),
             None => println!("  {:<10} did not cross the analysis section", p.name),
         }
+        if let Some(s) = &p.stats {
+            if let (Some(lat), Some(bo)) = (s.max_lateral_offset_mm, s.max_contact_wire_blowout_mm)
+            {
+                let margin = s
+                    .min_head_margin_mm
+                    .map_or(String::new(), |m| format!("  head margin {m:.0} mm"));
+                println!(
+                    "  {:<10} lateral: max offset {lat:.0} mm{margin}  contact-wire blow-out {bo:.0} mm",
+                    ""
+                );
+            }
+        }
+    }
+    if let Some(w) = &out.wind {
+        println!(
+            "  wind {:.1} m/s at {} m, {} spectrum, seed {}, turbulence intensity {:.3} (target {:.3})",
+            w.mean_speed_m_s,
+            w.reference_height_m,
+            w.spectrum,
+            w.seed,
+            w.turbulence_intensity_achieved,
+            w.turbulence_intensity_target
+        );
     }
     println!(
         "wrote {} and {}",

@@ -16,6 +16,13 @@ pub struct Trace {
     pub force_n: Vec<f64>,
     pub force_filtered_n: Vec<f64>,
     pub height_m: Vec<f64>,
+    /// Lateral position of the contact point, m (empty without lateral motion).
+    pub lateral_m: Vec<f64>,
+    /// From summary.json (lateral motion): half-widths, and the histogram (from, bin, counts),
+    /// mm.
+    pub head_half_width_m: Option<f64>,
+    pub working_half_width_m: Option<f64>,
+    pub histogram: Option<(f64, f64, Vec<f64>)>,
 }
 
 /// Everything the plots need.
@@ -221,6 +228,114 @@ fn height_chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, d: &PlotData) 
     Ok(())
 }
 
+/// The contact point's lateral position against track position, with the head's ends and the
+/// working range (issue 12: blow-off).
+fn lateral_chart<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    d: &PlotData,
+    t: &Trace,
+) -> Result<()> {
+    root.fill(&WHITE).map_err(|e| anyhow!("{e:?}"))?;
+    let x = xrange(t.position_m.iter().copied());
+    let mm: Vec<f64> = t.lateral_m.iter().map(|z| z * 1e3).collect();
+    let marks: Vec<(f64, &str)> = [
+        (t.head_half_width_m, "end of the head"),
+        (t.working_half_width_m, "limit of the working range"),
+    ]
+    .iter()
+    .filter_map(|(w, l)| w.map(|w| (w * 1e3, *l)))
+    .collect();
+    let y = range(
+        mm.iter()
+            .copied()
+            .chain(marks.iter().flat_map(|m| [m.0, -m.0])),
+    );
+    let title = format!(
+        "{}: contact point across the head, {} pantograph, {} km/h{}",
+        d.case_name,
+        t.name,
+        d.speed_kmh,
+        d.with()
+    );
+    let mut chart = track_chart(
+        &root,
+        title,
+        "Contact point from the track centre line [mm]",
+        x,
+        y,
+    )?;
+    span_marks(&mut chart, d, x, y)?;
+    for (k, (w, label)) in marks.iter().enumerate() {
+        let c = if k == 0 { COLOURS[1] } else { COLOURS[2] };
+        chart
+            .draw_series(
+                [-1.0, 1.0]
+                    .iter()
+                    .map(|s| PathElement::new(vec![(x.0, s * w), (x.1, s * w)], c.stroke_width(2))),
+            )
+            .map_err(|e| anyhow!("{e:?}"))?
+            .label(format!("{label} (±{w:.0} mm)"))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+    }
+    let cols = columns(&t.position_m, &mm, x.0, x.1);
+    let mut band: Vec<(f64, f64)> = cols.iter().map(|c| (c.0, c.2)).collect();
+    band.extend(cols.iter().rev().map(|c| (c.0, c.1)));
+    chart
+        .draw_series(std::iter::once(Polygon::new(
+            band,
+            COLOURS[0].mix(0.85).filled(),
+        )))
+        .map_err(|e| anyhow!("{e:?}"))?
+        .label("contact point (min–max per pixel column)")
+        .legend(|(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], COLOURS[0].filled()));
+    legend(&mut chart)?;
+    root.present().map_err(|e| anyhow!("{e:?}"))?;
+    Ok(())
+}
+
+/// The wear histogram: share of the analysis section's samples per 10 mm of the strip.
+fn wear_figure(dir: &Path, d: &PlotData, t: &Trace) -> Result<Vec<PathBuf>> {
+    let Some((from, bin, counts)) = &t.histogram else {
+        return Ok(Vec::new());
+    };
+    let total: f64 = counts.iter().sum::<f64>().max(1.0);
+    let mut stairs = Vec::with_capacity(2 * counts.len());
+    for (i, c) in counts.iter().enumerate() {
+        let x0 = from + i as f64 * bin;
+        stairs.push((x0, 100.0 * c / total));
+        stairs.push((x0 + bin, 100.0 * c / total));
+    }
+    let mut vmarks = Vec::new();
+    for (w, l) in [
+        (t.working_half_width_m, "working range"),
+        (t.head_half_width_m, "end of the head"),
+    ] {
+        if let Some(w) = w {
+            vmarks.push((-w * 1e3, format!("{l} (±{:.0} mm)", w * 1e3)));
+            vmarks.push((w * 1e3, String::new()));
+        }
+    }
+    let title = format!(
+        "{}: where the contact point runs on the strip (wear), {} pantograph, {} km/h{}",
+        d.case_name,
+        t.name,
+        d.speed_kmh,
+        d.with()
+    );
+    super::figure(
+        &dir.join(format!("wear_{}", safe(&t.name))),
+        &super::Figure {
+            title: &title,
+            x_label: "Contact point from the track centre line [mm]",
+            y_label: "Share of the analysis section's samples [%]",
+            lines: vec![super::Line::new(format!("per {bin:.0} mm"), stairs)],
+            log_y: false,
+            vmarks,
+            hmarks: Vec::new(),
+        },
+    )
+}
+
 /// Draw all plots into `dir` as SVG and PNG; returns the files written.
 pub fn draw_all(dir: &Path, d: &PlotData) -> Result<Vec<PathBuf>> {
     register_font();
@@ -244,6 +359,17 @@ pub fn draw_all(dir: &Path, d: &PlotData) -> Result<Vec<PathBuf>> {
     height_chart(BitMapBackend::new(&png, size).into_drawing_area(), d)
         .with_context(|| format!("drawing {}", png.display()))?;
     files.extend([svg, png]);
+    for t in d.traces.iter().filter(|t| !t.lateral_m.is_empty()) {
+        let stem = dir.join(format!("lateral_{}", safe(&t.name)));
+        let svg = stem.with_extension("svg");
+        lateral_chart(SVGBackend::new(&svg, size).into_drawing_area(), d, t)
+            .with_context(|| format!("drawing {}", svg.display()))?;
+        let png = stem.with_extension("png");
+        lateral_chart(BitMapBackend::new(&png, size).into_drawing_area(), d, t)
+            .with_context(|| format!("drawing {}", png.display()))?;
+        files.extend([svg, png]);
+        files.extend(wear_figure(dir, d, t)?);
+    }
     Ok(files)
 }
 
@@ -284,8 +410,37 @@ pub fn read_run(dir: &Path) -> Result<PlotData> {
             force_n: vec![],
             force_filtered_n: vec![],
             height_m: vec![],
+            lateral_m: vec![],
+            head_half_width_m: None,
+            working_half_width_m: None,
+            histogram: None,
         })
         .collect();
+    let lat_idx: Vec<Option<usize>> = names.iter().map(|n| col(n, "lateral_m")).collect();
+    for (t, p) in traces.iter_mut().zip(
+        summary["pantographs"]
+            .as_array()
+            .map(|a| a.as_slice())
+            .unwrap_or(&[]),
+    ) {
+        let l = &p["lateral"];
+        if l.is_object() {
+            t.head_half_width_m = l["head_half_width_m"].as_f64();
+            t.working_half_width_m = l["working_half_width_m"].as_f64();
+            let h = &l["histogram"];
+            if let (Some(from), Some(bin), Some(counts)) = (
+                h["from_mm"].as_f64(),
+                h["bin_mm"].as_f64(),
+                h["counts"].as_array(),
+            ) {
+                t.histogram = Some((
+                    from,
+                    bin,
+                    counts.iter().filter_map(|c| c.as_f64()).collect(),
+                ));
+            }
+        }
+    }
     let idx: Vec<[usize; 4]> = names
         .iter()
         .map(|n| {
@@ -317,6 +472,22 @@ pub fn read_run(dir: &Path) -> Result<PlotData> {
             t.force_n.push(v(ix[1])?);
             t.force_filtered_n.push(v(ix[2])?);
             t.height_m.push(v(ix[3])?);
+        }
+        for (t, li) in traces.iter_mut().zip(&lat_idx) {
+            if let Some(i) = li {
+                let z = rec
+                    .get(*i)
+                    .and_then(|s| s.parse::<f64>().ok())
+                    .ok_or_else(|| {
+                        anyhow!(
+                            "{} line {}: bad number in column {}",
+                            tp.display(),
+                            line + 2,
+                            header[*i]
+                        )
+                    })?;
+                t.lateral_m.push(z);
+            }
         }
     }
     if traces.iter().any(|t| t.position_m.is_empty()) {

@@ -2,9 +2,11 @@
 //! [`simulate`], which runs a set-up through the one run loop and takes the statistics.
 
 use crate::analysis::filter::lowpass_zero_phase;
-use crate::analysis::stats::{contact_stats, ContactStats, CUTOFF_HZ};
+use crate::analysis::stats::{contact_stats, lateral_stats, ContactStats, LateralStats, CUTOFF_HZ};
 use crate::error::SimError;
 use crate::input::case::Case;
+use crate::model::wind::WindReport;
+use crate::model::Direction;
 use crate::solve::run::{run, Observer, RunStatistics};
 use crate::solve::{Integrator, Setup, State, Workspace};
 
@@ -23,6 +25,13 @@ pub struct PantographTrace {
     /// See [`ContactStats::max_uplift_at_support_mm`], m.
     pub max_uplift_at_support_m: f64,
     pub stats: Option<ContactStats>,
+    /// Lateral position of the contact point from the track's centre line, m (empty when
+    /// lateral motion is not modelled).
+    pub lateral_m: Vec<f64>,
+    /// Half-length of the head, m (when given).
+    pub head_half_width_m: Option<f64>,
+    /// The contact point across the head over the analysis section (lateral motion modelled).
+    pub lateral: Option<LateralStats>,
 }
 
 /// Everything a run produced.
@@ -40,6 +49,8 @@ pub struct RunOutput {
     pub n_modes: usize,
     /// Counters of what the run loop saw (snapshot-tested on the zoo).
     pub run_statistics: RunStatistics,
+    /// The crosswind, if any (seed, spectrum, turbulence intensity achieved).
+    pub wind: Option<WindReport>,
 }
 
 impl RunOutput {
@@ -58,7 +69,12 @@ pub struct Recorder {
     pos: Vec<Vec<f64>>,
     force: Vec<Vec<f64>>,
     height: Vec<Vec<f64>>,
+    lateral: Vec<Vec<f64>>,
     uplift: Vec<f64>,
+    /// Largest lateral deflection of the contact wire at the probes inside the section, m.
+    blowout: f64,
+    /// Whether lateral motion is recorded.
+    record_lateral: bool,
     span_m: Option<f64>,
     analysis_m: [f64; 2],
     /// Registration point of support number `j` (`round(x / span)`), by `j`.
@@ -84,12 +100,16 @@ impl Recorder {
                 }
             }
         }
+        let lateral = integ.model().has(Direction::Lateral);
         Recorder {
             time: Vec::with_capacity(n_steps),
             pos: vec![Vec::with_capacity(n_steps); np],
             force: vec![Vec::with_capacity(n_steps); np],
             height: vec![Vec::with_capacity(n_steps); np],
+            lateral: vec![Vec::with_capacity(if lateral { n_steps } else { 0 }); np],
             uplift: vec![0.0; np],
+            blowout: 0.0,
+            record_lateral: lateral,
             span_m,
             analysis_m,
             support,
@@ -104,7 +124,7 @@ impl Recorder {
         let pantographs = (0..m.pantographs.len())
             .map(|p| {
                 let filtered = lowpass_zero_phase(&self.force[p], fs, CUTOFF_HZ);
-                let stats = contact_stats(
+                let mut stats = contact_stats(
                     &self.force[p],
                     &self.pos[p],
                     &self.height[p],
@@ -112,14 +132,34 @@ impl Recorder {
                     self.analysis_m,
                     self.uplift[p],
                 );
+                let pan = &m.pantographs[p];
+                let lateral = if self.lateral[p].is_empty() {
+                    None
+                } else {
+                    lateral_stats(
+                        &self.lateral[p],
+                        &self.pos[p],
+                        self.analysis_m,
+                        pan.head_half_width_m,
+                        pan.working_half_width_m,
+                    )
+                };
+                if let (Some(s), Some(l)) = (stats.as_mut(), lateral.as_ref()) {
+                    s.max_lateral_offset_mm = Some(l.max_lateral_offset_mm);
+                    s.min_head_margin_mm = l.min_head_margin_mm;
+                    s.max_contact_wire_blowout_mm = Some(self.blowout * 1e3);
+                }
                 PantographTrace {
-                    name: m.pantographs[p].name.clone(),
+                    name: pan.name.clone(),
                     position_m: std::mem::take(&mut self.pos[p]),
                     force_n: std::mem::take(&mut self.force[p]),
                     force_filtered_n: filtered,
                     wire_height_m: std::mem::take(&mut self.height[p]),
                     max_uplift_at_support_m: self.uplift[p],
                     stats,
+                    lateral_m: std::mem::take(&mut self.lateral[p]),
+                    head_half_width_m: pan.head_half_width_m,
+                    lateral,
                 }
             })
             .collect();
@@ -134,6 +174,7 @@ impl Recorder {
                 / rs.steps.max(1) as f64,
             n_modes: m.n_modes(),
             run_statistics: rs,
+            wind: m.wind.as_ref().map(|w| w.report.clone()),
         }
     }
 }
@@ -147,10 +188,19 @@ impl Observer for Recorder {
     ) -> Result<(), SimError> {
         self.time.push(st.t);
         let origin = st.track_origin_m;
+        for (k, &x) in integ.probe_positions().iter().enumerate() {
+            let xt = x + origin;
+            if xt >= self.analysis_m[0] && xt <= self.analysis_m[1] {
+                self.blowout = self.blowout.max(integ.probe(ws, k).abs());
+            }
+        }
         for (p, s) in ws.samples().iter().enumerate() {
             self.pos[p].push(s.position_m + origin);
             self.force[p].push(s.force_n);
             self.height[p].push(s.wire_height_m);
+            if self.record_lateral {
+                self.lateral[p].push(s.lateral_m);
+            }
             if let Some(span) = self.span_m {
                 let j = (s.position_m / span).round();
                 let xs = j * span + origin;

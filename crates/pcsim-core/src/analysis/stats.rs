@@ -30,6 +30,18 @@ pub struct ContactStats {
     pub max_uplift_at_support_mm: f64,
     /// Share of samples with zero (unfiltered) contact force, %.
     pub loss_of_contact_percent: f64,
+    /// Largest distance of the contact point from the track's centre line over the analysis
+    /// section, mm (lateral motion modelled).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_lateral_offset_mm: Option<f64>,
+    /// Smallest margin from the contact point to the end of the head (`head_half_width_m −
+    /// |lateral|`) over the analysis section, mm (lateral motion and a head width given).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_head_margin_mm: Option<f64>,
+    /// Largest lateral deflection of the contact wire from its still-air static position at the
+    /// droppers and mid-spans of the analysis section over the run, mm (lateral motion).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_contact_wire_blowout_mm: Option<f64>,
 }
 
 /// Low-pass cut-off for the statistics, Hz.
@@ -87,5 +99,84 @@ pub fn contact_stats(
         contact_point_range_mm: (hmax - hmin) * 1e3,
         max_uplift_at_support_mm: max_uplift_at_support_m * 1e3,
         loss_of_contact_percent: 100.0 * lost as f64 / idx.len() as f64,
+        max_lateral_offset_mm: None,
+        min_head_margin_mm: None,
+        max_contact_wire_blowout_mm: None,
+    })
+}
+
+/// What the contact point did across the head over the analysis section (issue 12).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LateralStats {
+    /// Largest `|lateral|`, mm.
+    pub max_lateral_offset_mm: f64,
+    /// Smallest `head_half_width − |lateral|`, mm (head width given).
+    pub min_head_margin_mm: Option<f64>,
+    /// Samples with the contact point beyond the working range (`working_half_width_m`).
+    pub samples_outside_working_range: usize,
+    /// Samples with the contact point beyond the head: the wire has left the pantograph.
+    pub samples_off_head: usize,
+    /// The pantograph's half-widths used, m.
+    pub head_half_width_m: Option<f64>,
+    pub working_half_width_m: Option<f64>,
+    /// Histogram of the lateral position (the strip's wear pattern).
+    pub histogram: LateralHistogram,
+}
+
+/// A histogram of the contact point's lateral position.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LateralHistogram {
+    /// Left edge of the first bin, mm (from the track's centre line, positive to the same side
+    /// as positive stagger).
+    pub from_mm: f64,
+    pub bin_mm: f64,
+    /// Samples per bin; samples beyond the range go to the end bins.
+    pub counts: Vec<usize>,
+}
+
+/// Bin width of the lateral histogram, mm.
+pub const LATERAL_BIN_MM: f64 = 10.0;
+
+/// The lateral statistics of one pantograph over `section` (positions in track coordinates).
+pub fn lateral_stats(
+    lateral_m: &[f64],
+    position_m: &[f64],
+    section: [f64; 2],
+    head_half_width_m: Option<f64>,
+    working_half_width_m: Option<f64>,
+) -> Option<LateralStats> {
+    let idx: Vec<usize> = (0..lateral_m.len())
+        .filter(|&i| position_m[i] >= section[0] && position_m[i] <= section[1])
+        .collect();
+    if idx.is_empty() {
+        return None;
+    }
+    let max_abs = idx.iter().map(|&i| lateral_m[i].abs()).fold(0.0, f64::max);
+    let half = head_half_width_m.unwrap_or(1.0);
+    let nbins = (2.0 * half * 1e3 / LATERAL_BIN_MM).ceil().max(1.0) as usize;
+    let from_mm = -half * 1e3;
+    let mut counts = vec![0usize; nbins];
+    for &i in &idx {
+        let b = ((lateral_m[i] * 1e3 - from_mm) / LATERAL_BIN_MM).floor();
+        let b = b.clamp(0.0, (nbins - 1) as f64) as usize;
+        counts[b] += 1;
+    }
+    let count_beyond = |w: Option<f64>| {
+        w.map_or(0, |w| {
+            idx.iter().filter(|&&i| lateral_m[i].abs() > w).count()
+        })
+    };
+    Some(LateralStats {
+        max_lateral_offset_mm: max_abs * 1e3,
+        min_head_margin_mm: head_half_width_m.map(|h| (h - max_abs) * 1e3),
+        samples_outside_working_range: count_beyond(working_half_width_m),
+        samples_off_head: count_beyond(head_half_width_m),
+        head_half_width_m,
+        working_half_width_m,
+        histogram: LateralHistogram {
+            from_mm,
+            bin_mm: LATERAL_BIN_MM,
+            counts,
+        },
     })
 }

@@ -9,6 +9,9 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 use crate::error::CaseError;
+pub use crate::input::lateral::{
+    AeroCase, Dof, IceCase, LateralCase, SectionCase, Spectrum, WindCase, WindProfile,
+};
 
 /// Gravitational acceleration, m/s².
 pub const G: f64 = 9.81;
@@ -27,6 +30,9 @@ pub struct Case {
     #[serde(default)]
     pub contact: ContactCase,
     pub run: RunCase,
+    /// Crosswind (needs `lateral` in `run.dofs`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wind: Option<WindCase>,
 }
 
 /// Free-text description of a case.
@@ -58,6 +64,12 @@ pub struct CatenaryCase {
     /// Stitch wires at every support (stitched catenaries), or none.
     #[serde(default)]
     pub stitch_wire: Option<StitchCase>,
+    /// Stagger and lateral registration (needed when `lateral` is modelled).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lateral: Option<LateralCase>,
+    /// Radial ice on the wires.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ice: Option<IceCase>,
 }
 
 /// A stitch wire at each support, modelled as the paper does (§2.1): spring-damping elements on
@@ -86,6 +98,10 @@ pub struct WireCase {
     pub mass_per_m_kg: f64,
     pub tension_n: f64,
     pub ei_nm2: f64,
+    /// Diameter, lateral and torsional data and aerodynamic coefficients (lateral and torsional
+    /// motion, wind, ice).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub section: Option<SectionCase>,
 }
 
 /// Where the pre-sag parabola is zero.
@@ -186,6 +202,13 @@ pub enum PantographCase {
         /// coefficients each preset states with their source (README §2.1).
         #[serde(default)]
         aero_coeffs_kmh: Vec<f64>,
+        /// Half the length of the head (contact strip and horns), m: the wire beyond it has left
+        /// the head.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        head_half_width_m: Option<f64>,
+        /// Half the working range of the strip, m.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        working_half_width_m: Option<f64>,
     },
     /// A constant upward force moving along the contact wire.
     MovingForce {
@@ -239,6 +262,13 @@ pub struct RunCase {
     #[serde(default)]
     pub modes_per_m: Option<f64>,
     pub dt_s: f64,
+    /// The directions modelled for every wire (Eqs. 5–8): `["vertical"]` (default),
+    /// `["vertical", "lateral"]` or all three.
+    #[serde(
+        default = "crate::input::lateral::vertical_only",
+        skip_serializing_if = "crate::input::lateral::is_vertical_only"
+    )]
+    pub dofs: Vec<Dof>,
 }
 
 /// A non-fatal remark about a case.
@@ -761,6 +791,7 @@ impl Case {
                 &format!("every pantograph must cross the whole section: it must lie within [start_m − offset, end_m] = [{}, {}] m", r.start_m - max_off, r.end_m),
             ));
         }
+        crate::input::lateral::validate(self, &mut w)?;
         Ok(w)
     }
 }
@@ -825,6 +856,15 @@ pub mod bounds {
 
 /// Check `v` of `field` against `b`: an error outside the hard bounds, a warning outside the
 /// soft ones.
+pub(crate) fn check_bound(
+    w: &mut Vec<Warning>,
+    field: &str,
+    v: f64,
+    b: &Bound,
+) -> Result<(), CaseError> {
+    check(w, field, v, b)
+}
+
 fn check(w: &mut Vec<Warning>, field: &str, v: f64, b: &Bound) -> Result<(), CaseError> {
     let (lo, hi) = b.hard;
     let unit = if b.unit.is_empty() {
@@ -901,7 +941,7 @@ fn parse_message(text: &str, e: &toml::de::Error) -> String {
     }
 }
 
-fn inv(field: &str, value: impl std::fmt::Display, reason: &str) -> CaseError {
+pub(crate) fn inv(field: &str, value: impl std::fmt::Display, reason: &str) -> CaseError {
     CaseError::Invalid {
         field: field.to_string(),
         value: value.to_string(),

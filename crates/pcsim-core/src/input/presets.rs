@@ -33,6 +33,16 @@ pub const PRESETS: &[Preset] = &[
         summary: "Swedish stitched SYT 7.0/9.8 (reconstructed; the paper's EVA case), DSA380-type pantograph, 222 km/h",
         toml: include_str!("../../../../presets/syt-7.0-9.8.toml"),
     },
+    Preset {
+        name: "stitched-2018-like-3d",
+        summary: "stitched-2018-like with lateral and torsional motion, ±0.3 m stagger, lateral registration, 1600 mm heads (issue 12)",
+        toml: include_str!("../../../../presets/stitched-2018-like-3d.toml"),
+    },
+    Preset {
+        name: "stitched-2018-like-3d-crosswind",
+        summary: "stitched-2018-like-3d in a 25 m/s crosswind at 10 % turbulence (Kaimal, Davenport coherence, seeded)",
+        toml: include_str!("../../../../presets/stitched-2018-like-3d-crosswind.toml"),
+    },
 ];
 
 /// Find a preset by name.

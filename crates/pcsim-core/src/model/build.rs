@@ -2,17 +2,23 @@
 //! zoo come from [`ModelBuilder`]. This is where every element kind is registered.
 
 use crate::error::CaseError;
-use crate::input::case::{Case, Damping, PantographCase, Warning, WireCase, G};
+use crate::input::case::{
+    Case, Damping, Dof, PantographCase, Spectrum, Warning, WindProfile, WireCase, G,
+};
 use crate::model::basis::SineBasis;
 use crate::model::dof::Direction;
 use crate::model::elements::contact::{Contact, ContactLaw, Contacts};
 use crate::model::elements::dropper::{Dropper, Droppers};
+use crate::model::elements::registration::{Registration, Registrations};
 use crate::model::elements::steady_arm::{SteadyArm, SteadyArms};
 use crate::model::elements::stitch::{Stitch, Stitches};
 use crate::model::elements::support::{Support, Supports};
 use crate::model::elements::{Attach, PointElement};
+use crate::model::lateral::LateralGeometry;
 use crate::model::pantograph::{Lumped, Pantograph, PantographKind};
 use crate::model::statics::StaticSolution;
+use crate::model::wind::{mean_at_height, Profile, WindLoad, WindReport, WireWind};
+use crate::model::wind_field::{FieldSpec, SpectrumModel, WindField};
 use crate::model::wire::{Section, Wire, WireRole};
 use crate::model::{Model, Node, StaticShape};
 
@@ -20,15 +26,150 @@ use crate::model::{Model, Node, StaticShape};
 pub const MESSENGER: usize = 0;
 pub const CONTACT: usize = 1;
 
-fn section(mass_per_m_kg: f64, w: &WireCase) -> Section {
-    Section {
-        mass_per_m_kg,
-        tension_n: w.tension_n,
-        ei_vertical_nm2: w.ei_nm2,
-        ei_lateral_nm2: w.ei_nm2,
-        gj_nm2: 0.0,
-        polar_inertia_kg_m: 0.0,
+/// Mass per metre of radial ice of thickness `t` on a wire of diameter `d` (the annulus), kg/m,
+/// and its polar mass moment per metre, kg·m.
+pub fn ice_mass(density_kg_m3: f64, d: f64, t: f64) -> (f64, f64) {
+    let (r, ro) = (0.5 * d, 0.5 * d + t);
+    let pi = std::f64::consts::PI;
+    (
+        density_kg_m3 * pi * (ro * ro - r * r),
+        density_kg_m3 * 0.5 * pi * (ro.powi(4) - r.powi(4)),
+    )
+}
+
+/// The section of a wire for the dynamics: the dynamic mass per metre (clamps and ice smeared
+/// in), the vertical data, and the lateral and torsional data of `section` when given (lateral
+/// bending stiffness defaults to the vertical one; torsion data are zero when not modelled).
+fn section(mass_per_m_kg: f64, w: &WireCase, ice_polar_kg_m: f64) -> Section {
+    let mut s = Section::vertical(mass_per_m_kg, w.tension_n, w.ei_nm2);
+    if let Some(sc) = &w.section {
+        s.ei_lateral_nm2 = sc.ei_lateral_nm2.unwrap_or(w.ei_nm2);
+        s.gj_nm2 = sc.gj_nm2.unwrap_or(0.0);
+        s.polar_inertia_kg_m = sc.polar_inertia_kg_m.unwrap_or(0.0) + ice_polar_kg_m;
     }
+    s
+}
+
+/// The directions of a case.
+fn directions(case: &Case) -> Vec<Direction> {
+    Direction::ALL
+        .into_iter()
+        .filter(|d| {
+            case.run.dofs.contains(&match d {
+                Direction::Vertical => Dof::Vertical,
+                Direction::Lateral => Dof::Lateral,
+                Direction::Torsional => Dof::Torsional,
+            })
+        })
+        .collect()
+}
+
+/// Duration of a case's run, s (the rearmost pantograph from its start to `end_m`).
+fn run_duration_s(case: &Case) -> f64 {
+    let max_off = case
+        .pantographs
+        .iter()
+        .map(|p| p.offset_m())
+        .fold(0.0, f64::max);
+    (case.run.end_m - (case.run.start_m - max_off)) / case.speed_m_s().max(1e-9)
+}
+
+/// The crosswind of a case on the model's wires (messenger, contact wire): the mean wind at
+/// each wire's height, the aerodynamic coefficients, the linearised aerodynamic damping and the
+/// generated turbulence on a grid along the line.
+fn wind_load(case: &Case, diam: [f64; 2], length_m: f64) -> Option<WindLoad> {
+    let wd = case.wind.as_ref()?;
+    let c = &case.catenary;
+    let lat = c.lateral.as_ref()?;
+    let profile = match wd.profile {
+        WindProfile::Log { roughness_m } => Profile::Log { roughness_m },
+        WindProfile::Power { exponent } => Profile::Power { exponent },
+    };
+    let normal = wd.yaw_deg.to_radians().sin().abs();
+    let rho = wd.air_density_kg_m3;
+    let heights = [
+        lat.contact_wire_height_m + c.encumbrance_m,
+        lat.contact_wire_height_m,
+    ];
+    let mut wires = Vec::new();
+    for (wire, w) in [(MESSENGER, &c.messenger), (CONTACT, &c.contact_wire)] {
+        let aero = w.section.as_ref().and_then(|s| s.aero.as_ref())?;
+        let d = diam[wire];
+        let (cd, cl, cm) = aero.at(0.0);
+        let (_, dcl) = aero.slopes_at_zero();
+        let u = normal
+            * mean_at_height(
+                wd.mean_speed_m_s,
+                wd.reference_height_m,
+                heights[wire],
+                &profile,
+            );
+        wires.push(WireWind {
+            wire,
+            height_m: heights[wire],
+            mean_normal_m_s: u,
+            lateral_m: d * cd,
+            vertical_m: d * cl,
+            torsional_m2: d * d * cm,
+            damping_lateral: rho * d * cd * u,
+            damping_vertical: 0.5 * rho * d * u * (dcl + cd),
+        });
+    }
+    let sigma = wd.turbulence_intensity * wd.mean_speed_m_s;
+    let u_c = mean_at_height(
+        wd.mean_speed_m_s,
+        wd.reference_height_m,
+        lat.contact_wire_height_m,
+        &profile,
+    );
+    let n_grid = (length_m / wd.grid_m).floor() as usize;
+    let xs: Vec<f64> = (1..n_grid)
+        .map(|g| g as f64 * wd.grid_m)
+        .filter(|&x| x < length_m - 1e-9)
+        .collect();
+    let duration = run_duration_s(case) + 2.0 * wd.dt_s;
+    let spectrum = match wd.spectrum {
+        Spectrum::Kaimal { integral_length_m } => Some(SpectrumModel::Kaimal {
+            integral_length_m,
+            mean_m_s: u_c,
+        }),
+        Spectrum::Davenport => Some(SpectrumModel::Davenport {
+            reference_m_s: wd.mean_speed_m_s,
+        }),
+        Spectrum::None => None,
+    };
+    let field = match spectrum {
+        Some(sp) if sigma > 0.0 => WindField::generate(
+            &xs,
+            &FieldSpec {
+                spectrum: sp,
+                sigma_m_s: sigma,
+                mean_m_s: u_c.max(0.1),
+                coherence_decay: wd.coherence_decay,
+            },
+            wd.dt_s,
+            duration,
+            wd.seed,
+        ),
+        _ => WindField::calm(&xs, wd.dt_s),
+    };
+    let achieved = field.std_over(duration) / wd.mean_speed_m_s.max(1e-12);
+    Some(WindLoad {
+        air_density_kg_m3: rho,
+        normal_fraction: normal,
+        wires,
+        field,
+        grid_m: wd.grid_m,
+        report: WindReport {
+            mean_speed_m_s: wd.mean_speed_m_s,
+            reference_height_m: wd.reference_height_m,
+            yaw_deg: wd.yaw_deg,
+            spectrum: spectrum.map_or("none", |s| s.name()).into(),
+            seed: wd.seed,
+            turbulence_intensity_target: wd.turbulence_intensity,
+            turbulence_intensity_achieved: achieved,
+        },
+    })
 }
 
 fn default_name(name: &str, i: usize) -> String {
@@ -42,13 +183,19 @@ fn default_name(name: &str, i: usize) -> String {
 }
 
 /// The pantographs of a case, and one contact per pantograph on the contact wire.
-fn pantographs(case: &Case, contact_wire: usize) -> (Vec<Pantograph>, Contacts) {
+fn pantographs(
+    case: &Case,
+    contact_wire: usize,
+    eccentricity_m: f64,
+    twist: bool,
+) -> (Vec<Pantograph>, Contacts) {
     let mut contacts = Vec::new();
     let pans = case
         .pantographs
         .iter()
         .enumerate()
         .map(|(i, p)| {
+            let (mut head, mut working) = (None, None);
             let (name, offset_m, kind, law) = match p {
                 PantographCase::Lumped {
                     name,
@@ -58,8 +205,14 @@ fn pantographs(case: &Case, contact_wire: usize) -> (Vec<Pantograph>, Contacts) 
                     damping_ns_per_m,
                     uplift_n,
                     aero_coeffs_kmh,
+                    head_half_width_m,
+                    working_half_width_m,
                 } => (
-                    name,
+                    {
+                        head = *head_half_width_m;
+                        working = *working_half_width_m;
+                        name
+                    },
                     offset_m,
                     PantographKind::Lumped(Lumped {
                         masses_kg: masses_kg.clone(),
@@ -88,11 +241,15 @@ fn pantographs(case: &Case, contact_wire: usize) -> (Vec<Pantograph>, Contacts) 
                 wire: contact_wire,
                 dir: Direction::Vertical,
                 law,
+                eccentricity_m,
+                twist,
             });
             Pantograph {
                 name: default_name(name, i),
                 offset_m: *offset_m,
                 kind,
+                head_half_width_m: head,
+                working_half_width_m: working,
             }
         })
         .collect();
@@ -107,8 +264,29 @@ impl Model {
     /// README §5 allows (σ changes by ≤ 1 N); point masses treated explicitly would be unstable.
     /// Steady-arm masses stay point masses, solved exactly in the mass matrix.
     pub fn from_case(case: &Case) -> Result<(Model, Vec<Warning>), CaseError> {
-        let warnings = case.validate()?;
-        let c = &case.catenary;
+        let mut warnings = case.validate()?;
+        let dirs = directions(case);
+        let lateral = dirs.contains(&Direction::Lateral);
+        let torsional = dirs.contains(&Direction::Torsional);
+        // Ice: its mass joins the wires' (statics and dynamics); the design geometry is kept.
+        let mut c = case.catenary.clone();
+        let diam = |w: &WireCase| w.section.as_ref().map_or(0.0, |s| s.diameter_m);
+        let mut diameters = [diam(&c.messenger), diam(&c.contact_wire)];
+        let mut ice_polar = [0.0; 2];
+        if let Some(ice) = &c.ice {
+            for (i, t) in [(MESSENGER, ice.messenger_m), (CONTACT, ice.contact_wire_m)] {
+                let (m, j) = ice_mass(ice.density_kg_m3, diameters[i], t);
+                let w = if i == MESSENGER {
+                    &mut c.messenger
+                } else {
+                    &mut c.contact_wire
+                };
+                w.mass_per_m_kg += m;
+                ice_polar[i] = j;
+                diameters[i] += 2.0 * t;
+            }
+        }
+        let c = &c;
         let stat = StaticSolution::solve(c);
         for (i, len) in stat.dropper_length_m.iter().enumerate() {
             if !len.is_finite() || *len <= 0.05 {
@@ -130,32 +308,72 @@ impl Model {
         let n_on_messenger = nd - c.stitch_wire.as_ref().map_or(0, |st| st.droppers.len()) as f64;
         let rho_m = c.messenger.mass_per_m_kg
             + (n_on_messenger * c.droppers.clamp_mass_messenger_kg + nd * half_dropper) / c.span_m;
-        let vertical = [Direction::Vertical];
-        let wires = vec![
-            Wire::new(
+        let wind = wind_load(case, diameters, l);
+        // The linearised aerodynamic damping of the wind joins each wire's modal damping.
+        let aero = |wire: usize, dir: Direction| {
+            wind.as_ref()
+                .and_then(|wl| wl.wires.iter().find(|ww| ww.wire == wire))
+                .map_or(0.0, |ww| match dir {
+                    Direction::Lateral => ww.damping_lateral,
+                    Direction::Vertical => ww.damping_vertical,
+                    Direction::Torsional => 0.0,
+                })
+        };
+        let wires: Vec<Wire> = [
+            (
                 "messenger",
                 WireRole::Messenger,
-                0.0,
-                basis.clone(),
-                section(rho_m, &c.messenger),
-                c.damping.clone(),
-                &vertical,
+                rho_m,
+                &c.messenger,
+                MESSENGER,
             ),
-            Wire::new(
+            (
                 "contact_wire",
                 WireRole::Contact,
-                0.0,
-                basis,
-                section(rho_c, &c.contact_wire),
-                c.damping.clone(),
-                &vertical,
+                rho_c,
+                &c.contact_wire,
+                CONTACT,
             ),
-        ];
+        ]
+        .into_iter()
+        .map(|(name, role, rho, wc, i)| {
+            Wire::new(
+                name,
+                role,
+                0.0,
+                basis.clone(),
+                section(rho, wc, ice_polar[i]),
+                c.damping.clone(),
+                &dirs,
+            )
+            .with_added_damping(Direction::Lateral, aero(i, Direction::Lateral))
+            .with_added_damping(Direction::Vertical, aero(i, Direction::Vertical))
+        })
+        .collect();
+        if let Some(wl) = &wind {
+            for ww in &wl.wires {
+                if ww.damping_vertical < 0.0 {
+                    warnings.push(Warning(format!(
+                        "wind: the {} has negative vertical aerodynamic damping ({:.3} N·s/m², C_L' + C_D < 0): Den Hartog galloping is possible",
+                        wires[ww.wire].name, ww.damping_vertical
+                    )));
+                }
+            }
+        }
+        let on_dir = |wire: usize, dir: Direction, x_m: f64, modelled: bool| {
+            if modelled {
+                Attach::Wire { wire, dir, x_m }
+            } else {
+                Attach::Ground
+            }
+        };
         let on = |wire: usize, x_m: f64| Attach::Wire {
             wire,
             dir: Direction::Vertical,
             x_m,
         };
+        let lat_ecc = c.lateral.as_ref();
+        let dropper_ecc = lat_ecc.map_or(0.0, |l| l.dropper_clamp_eccentricity_m);
         let mut droppers = Vec::new();
         let mut stitches = Vec::new();
         let mut nodes = Vec::new();
@@ -199,6 +417,16 @@ impl Model {
                     preload_n: stat.dropper_force_contact_n[i],
                     top,
                     bottom: on(CONTACT, x),
+                    length_m: stat.dropper_length_m[i],
+                    top_lateral: on_dir(MESSENGER, Direction::Lateral, x, lateral),
+                    bottom_lateral: on_dir(CONTACT, Direction::Lateral, x, lateral),
+                    bottom_twist: on_dir(
+                        CONTACT,
+                        Direction::Torsional,
+                        x,
+                        torsional && dropper_ecc != 0.0,
+                    ),
+                    eccentricity_m: if torsional { dropper_ecc } else { 0.0 },
                 });
             }
         }
@@ -216,16 +444,84 @@ impl Model {
                 stiffness_n_per_m: c.steady_arm.stiffness_n_per_m,
             })
             .collect();
-        let (pans, contacts) = pantographs(case, CONTACT);
+        // Lateral registration at the inner supports (the model's ends are pinned by the sine
+        // series): the contact wire's steady arm, eccentric by e_s, and the messenger's support.
+        let mut registrations = Vec::new();
+        let mut geometry = None;
+        if let (true, Some(lc)) = (lateral, &c.lateral) {
+            let e_s = if torsional {
+                lc.steady_arm_clamp_eccentricity_m
+            } else {
+                0.0
+            };
+            for s in 1..c.spans {
+                let x = s as f64 * c.span_m;
+                let k_phi = lc.steady_arm_torsional_stiffness_nm_per_rad;
+                registrations.push(Registration {
+                    at: on_dir(CONTACT, Direction::Lateral, x, true),
+                    twist: on_dir(
+                        CONTACT,
+                        Direction::Torsional,
+                        x,
+                        torsional && (e_s != 0.0 || k_phi != 0.0),
+                    ),
+                    torsional_stiffness_nm_per_rad: if torsional { k_phi } else { 0.0 },
+                    eccentricity_m: e_s,
+                    stiffness_n_per_m: lc.steady_arm_stiffness_n_per_m,
+                    mass_kg: lc.steady_arm_mass_kg,
+                    vertical_force_n: if c.steady_arm.static_support {
+                        stat.arm_force_n
+                    } else {
+                        0.0
+                    },
+                });
+                registrations.push(Registration {
+                    at: on_dir(MESSENGER, Direction::Lateral, x, true),
+                    twist: Attach::Ground,
+                    eccentricity_m: 0.0,
+                    stiffness_n_per_m: lc.messenger_support_stiffness_n_per_m,
+                    mass_kg: 0.0,
+                    vertical_force_n: 0.0,
+                    torsional_stiffness_nm_per_rad: 0.0,
+                });
+            }
+            let mut probes: Vec<f64> = Vec::new();
+            for s in 0..c.spans {
+                let x0 = s as f64 * c.span_m;
+                probes.extend(c.droppers.positions_m.iter().map(|d| x0 + d));
+                probes.push(x0 + 0.5 * c.span_m);
+            }
+            probes.sort_by(f64::total_cmp);
+            probes.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+            geometry = Some(LateralGeometry {
+                first_support_m: 0.0,
+                span_m: c.span_m,
+                stagger_m: (0..=c.spans).map(|i| lc.stagger_at(i)).collect(),
+                contact_point_eccentricity_m: if torsional {
+                    lc.contact_point_eccentricity_m
+                } else {
+                    0.0
+                },
+                probes_m: probes,
+            });
+        }
+        let e_c = match (&c.lateral, torsional) {
+            (Some(lc), true) => lc.contact_point_eccentricity_m,
+            _ => 0.0,
+        };
+        let (pans, contacts) = pantographs(case, CONTACT, e_c, torsional && e_c != 0.0);
         // The registration of every element kind, in the order their forces are evaluated.
-        let elements: Vec<Box<dyn PointElement>> = vec![
+        let mut elements: Vec<Box<dyn PointElement>> = vec![
             Box::new(Droppers(droppers)),
             Box::new(Supports(supports)),
             Box::new(SteadyArms(arms)),
             Box::new(Stitches(stitches)),
-            Box::new(contacts),
         ];
-        let model = Model::new(
+        if !registrations.is_empty() {
+            elements.push(Box::new(Registrations(registrations)));
+        }
+        elements.push(Box::new(contacts));
+        let mut model = Model::new(
             wires,
             nodes,
             elements,
@@ -233,6 +529,8 @@ impl Model {
             StaticShape::Catenary(Box::new(stat)),
             Some(c.span_m),
         );
+        model.lateral = geometry;
+        model.wind = wind;
         Ok((model, warnings))
     }
 }
@@ -259,6 +557,9 @@ pub struct ModelBuilder {
     arms: Vec<SteadyArm>,
     pantographs: Vec<Pantograph>,
     run: BuilderRun,
+    dirs: Vec<Direction>,
+    registrations: Vec<Registration>,
+    lateral_load_n_per_m: Option<f64>,
 }
 
 impl ModelBuilder {
@@ -274,14 +575,7 @@ impl ModelBuilder {
         Self {
             length_m,
             n_modes,
-            section: Section {
-                mass_per_m_kg: mass_per_m,
-                tension_n,
-                ei_vertical_nm2: ei_nm2,
-                ei_lateral_nm2: ei_nm2,
-                gj_nm2: 0.0,
-                polar_inertia_kg_m: 0.0,
-            },
+            section: Section::vertical(mass_per_m, tension_n, ei_nm2),
             messenger: None,
             damping: Damping::Modal { ratio: 0.0 },
             arms: Vec::new(),
@@ -292,7 +586,54 @@ impl ModelBuilder {
                 duration_s: 1.0,
                 dt_s: 1e-3,
             },
+            dirs: vec![Direction::Vertical],
+            registrations: Vec::new(),
+            lateral_load_n_per_m: None,
         }
+    }
+
+    /// Model lateral motion too (the lateral bending stiffness equals the vertical one).
+    pub fn lateral(mut self) -> Self {
+        if !self.dirs.contains(&Direction::Lateral) {
+            self.dirs.push(Direction::Lateral);
+        }
+        self
+    }
+
+    /// Model torsion too, with torsional stiffness `G I_p` and polar mass moment `ρ I_p` per
+    /// metre.
+    pub fn torsion(mut self, gj_nm2: f64, polar_inertia_kg_m: f64) -> Self {
+        self.section.gj_nm2 = gj_nm2;
+        self.section.polar_inertia_kg_m = polar_inertia_kg_m;
+        if !self.dirs.contains(&Direction::Torsional) {
+            self.dirs.push(Direction::Torsional);
+        }
+        self
+    }
+
+    /// A lateral spring to ground (a registration) at `x_m` (needs [`Self::lateral`]).
+    pub fn registration(mut self, x_m: f64, stiffness_n_per_m: f64) -> Self {
+        self.registrations.push(Registration {
+            at: Attach::Wire {
+                wire: 0,
+                dir: Direction::Lateral,
+                x_m,
+            },
+            twist: Attach::Ground,
+            eccentricity_m: 0.0,
+            stiffness_n_per_m,
+            mass_kg: 0.0,
+            vertical_force_n: 0.0,
+            torsional_stiffness_nm_per_rad: 0.0,
+        });
+        self
+    }
+
+    /// A steady uniform lateral load `q` (N/m) on the wire (needs [`Self::lateral`]); the
+    /// initial state is its static deflection.
+    pub fn uniform_lateral_load(mut self, q_n_per_m: f64) -> Self {
+        self.lateral_load_n_per_m = Some(q_n_per_m);
+        self
     }
 
     /// The wire's damping law.
@@ -304,14 +645,7 @@ impl ModelBuilder {
     /// A second, uncoupled wire over the same basis (a messenger with no droppers), for checks
     /// that need more than one block.
     pub fn uncoupled_messenger(mut self, mass_per_m: f64, tension_n: f64, ei_nm2: f64) -> Self {
-        self.messenger = Some(Section {
-            mass_per_m_kg: mass_per_m,
-            tension_n,
-            ei_vertical_nm2: ei_nm2,
-            ei_lateral_nm2: ei_nm2,
-            gj_nm2: 0.0,
-            polar_inertia_kg_m: 0.0,
-        });
+        self.messenger = Some(Section::vertical(mass_per_m, tension_n, ei_nm2));
         self
     }
 
@@ -335,6 +669,8 @@ impl ModelBuilder {
             name: name.to_string(),
             offset_m: 0.0,
             kind: PantographKind::MovingForce { force_n },
+            head_half_width_m: None,
+            working_half_width_m: None,
         });
         self
     }
@@ -353,6 +689,8 @@ impl ModelBuilder {
     /// The model and its run.
     pub fn build(self) -> (Model, BuilderRun) {
         let basis = SineBasis::new(self.length_m, self.n_modes);
+        let mut dirs = self.dirs.clone();
+        dirs.sort();
         let mut wires = vec![Wire::new(
             "contact_wire",
             WireRole::Contact,
@@ -360,7 +698,7 @@ impl ModelBuilder {
             basis.clone(),
             self.section,
             self.damping.clone(),
-            &[Direction::Vertical],
+            &dirs,
         )];
         if let Some(m) = self.messenger {
             wires.push(Wire::new(
@@ -380,22 +718,28 @@ impl ModelBuilder {
                     wire: 0,
                     dir: Direction::Vertical,
                     law: ContactLaw::Prescribed,
+                    eccentricity_m: 0.0,
+                    twist: false,
                 })
                 .collect(),
         );
-        let elements: Vec<Box<dyn PointElement>> =
-            vec![Box::new(SteadyArms(self.arms)), Box::new(contacts)];
-        (
-            Model::new(
-                wires,
-                vec![],
-                elements,
-                self.pantographs,
-                StaticShape::Flat,
-                None,
-            ),
-            self.run,
-        )
+        let mut elements: Vec<Box<dyn PointElement>> = vec![Box::new(SteadyArms(self.arms))];
+        if !self.registrations.is_empty() {
+            elements.push(Box::new(Registrations(self.registrations)));
+        }
+        elements.push(Box::new(contacts));
+        let mut model = Model::new(
+            wires,
+            vec![],
+            elements,
+            self.pantographs,
+            StaticShape::Flat,
+            None,
+        );
+        model.wind = self
+            .lateral_load_n_per_m
+            .map(|q| WindLoad::uniform_lateral(0, q));
+        (model, self.run)
     }
 }
 

@@ -12,13 +12,18 @@
 //! | `statics.rs` | the static shape from the design geometry (paper §2.1) |
 //! | `build.rs` | a case becomes a model; a builder for hand-made models |
 //! | `window.rs` | a window of a model (the real-time catenary) |
+//! | `lateral.rs` | stagger: the static lateral shape (issue 12) |
+//! | `wind.rs`, `wind_field.rs` | crosswind loads and the turbulent wind field (issue 12) |
 
 pub mod basis;
 pub mod build;
 pub mod dof;
 pub mod elements;
+pub mod lateral;
 pub mod pantograph;
 pub mod statics;
+pub mod wind;
+pub mod wind_field;
 pub mod window;
 pub mod wire;
 
@@ -72,6 +77,10 @@ pub struct Model {
     pub statics: StaticShape,
     /// Span length when the layout repeats every span (enables the fast point sampler).
     pub span_m: Option<f64>,
+    /// Stagger and the lateral outputs' constants, when lateral motion is modelled.
+    pub lateral: Option<lateral::LateralGeometry>,
+    /// Crosswind, if any.
+    pub wind: Option<wind::WindLoad>,
 }
 
 impl Model {
@@ -101,6 +110,8 @@ impl Model {
             pantographs,
             statics,
             span_m,
+            lateral: None,
+            wind: None,
         }
     }
 
@@ -144,11 +155,18 @@ impl Model {
             .find_map(|e| e.as_any().downcast_ref::<T>())
     }
 
-    /// Static height of wire `wire` in direction `dir` at `x` (the analytic profile), m.
+    /// Static position of wire `wire` in direction `dir` at `x` (the analytic profile): the
+    /// height, the stagger line, or no rotation; m (rad).
     pub fn static_height(&self, wire: usize, dir: Direction, x: f64) -> f64 {
         match dir {
             Direction::Vertical => self.statics.height(self.wires[wire].role, x),
-            _ => 0.0,
+            Direction::Lateral => self.lateral.as_ref().map_or(0.0, |l| l.stagger_at(x)),
+            Direction::Torsional => 0.0,
         }
+    }
+
+    /// Whether any wire moves in direction `dir`.
+    pub fn has(&self, dir: Direction) -> bool {
+        self.layout.blocks.iter().any(|b| b.key.dir == dir)
     }
 }

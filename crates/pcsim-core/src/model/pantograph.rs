@@ -39,6 +39,9 @@ pub struct Pantograph {
     /// Distance behind the leading pantograph, m.
     pub offset_m: f64,
     pub kind: PantographKind,
+    /// Half-length of the head and half the strip's working range, m (for the lateral outputs).
+    pub head_half_width_m: Option<f64>,
+    pub working_half_width_m: Option<f64>,
 }
 
 impl Pantograph {

@@ -40,7 +40,7 @@ impl Model {
             .iter()
             .map(|wire| wire.rebased(0.0, basis.clone()))
             .collect();
-        let m = Model::new(
+        let mut m = Model::new(
             wires,
             nodes,
             elements,
@@ -49,6 +49,8 @@ impl Model {
             // The point sampler uses the periodic path only when the window is whole spans.
             self.span_m,
         );
+        m.lateral = self.lateral.as_ref().map(|l| l.window(origin_m, length_m));
+        m.wind = self.wind.as_ref().map(|w| w.window(origin_m, length_m));
         if external {
             m.with_external_pantographs()
         } else {
@@ -64,6 +66,8 @@ impl Model {
                 name: p.name.clone(),
                 offset_m: 0.0,
                 kind: PantographKind::External,
+                head_half_width_m: p.head_half_width_m,
+                working_half_width_m: p.working_half_width_m,
             };
         }
         for e in &mut self.elements {

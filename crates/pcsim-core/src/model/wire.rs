@@ -23,8 +23,7 @@ pub enum WireRole {
     Stitch,
 }
 
-/// Section data of a wire (SI units). Only the vertical data are used so far; the lateral and
-/// torsional fields are the typed slots of Eqs. 1–4 that the lateral and torsional series use.
+/// Section data of a wire (SI units): what Eqs. 1–4 need in each direction.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Section {
     /// Mass per metre in the dynamics (ρA; clamps smeared in, see `model::build`), kg/m.
@@ -39,6 +38,21 @@ pub struct Section {
     pub gj_nm2: f64,
     /// Polar mass moment per metre ρ(I_y + I_z), kg·m.
     pub polar_inertia_kg_m: f64,
+}
+
+impl Section {
+    /// A section with the vertical data only (the lateral bending stiffness equal to the
+    /// vertical one, no torsion).
+    pub fn vertical(mass_per_m_kg: f64, tension_n: f64, ei_nm2: f64) -> Self {
+        Section {
+            mass_per_m_kg,
+            tension_n,
+            ei_vertical_nm2: ei_nm2,
+            ei_lateral_nm2: ei_nm2,
+            gj_nm2: 0.0,
+            polar_inertia_kg_m: 0.0,
+        }
+    }
 }
 
 /// Per-metre coefficients of one direction of a wire in Eqs. 1–4: the kinetic energy density is
@@ -121,6 +135,9 @@ pub struct Wire {
     /// The damping law of the wire's modes.
     pub damping: Damping,
     pub series: Series,
+    /// Damping per metre added uniformly in each direction (vertical, lateral, torsional), such
+    /// as the linearised aerodynamic damping of a crosswind (`model::wind`), N·s/m² (N·m·s/m).
+    pub added_damping_per_m: [f64; 3],
 }
 
 impl Wire {
@@ -142,6 +159,7 @@ impl Wire {
             section,
             damping,
             series: Series::default(),
+            added_damping_per_m: [0.0; 3],
         };
         for &d in dirs {
             let s = ModalSeries::tensioned_beam(&w.basis, w.coefficients(d), &w.damping);
@@ -154,14 +172,14 @@ impl Wire {
         w
     }
 
-    /// The same wire over another basis (a window), with the same section, damping law and
-    /// directions.
+    /// The same wire over another basis (a window), with the same section, damping law,
+    /// added damping and directions.
     pub fn rebased(&self, origin_m: f64, basis: SineBasis) -> Self {
         let dirs: Vec<Direction> = Direction::ALL
             .into_iter()
             .filter(|&d| self.series.get(d).is_some())
             .collect();
-        Wire::new(
+        let mut w = Wire::new(
             &self.name,
             self.role,
             origin_m,
@@ -169,7 +187,33 @@ impl Wire {
             self.section.clone(),
             self.damping.clone(),
             &dirs,
-        )
+        );
+        for (i, d) in Direction::ALL.into_iter().enumerate() {
+            w = w.with_added_damping(d, self.added_damping_per_m[i]);
+        }
+        w
+    }
+
+    /// Add a uniform damping `c` per metre in direction `dir`: in sine coordinates it is
+    /// diagonal, `c L/2` on every mode (the modes are orthogonal with `∫ sin² = L/2`).
+    pub fn with_added_damping(mut self, dir: Direction, c_per_m: f64) -> Self {
+        if c_per_m == 0.0 {
+            return self;
+        }
+        let i = Direction::ALL.iter().position(|&d| d == dir).unwrap_or(0);
+        self.added_damping_per_m[i] += c_per_m;
+        let half_l = 0.5 * self.basis.length_m();
+        let s = match dir {
+            Direction::Vertical => self.series.vertical.as_mut(),
+            Direction::Lateral => self.series.lateral.as_mut(),
+            Direction::Torsional => self.series.torsional.as_mut(),
+        };
+        if let Some(s) = s {
+            for c in &mut s.damping {
+                *c += c_per_m * half_l;
+            }
+        }
+        self
     }
 
     /// Per-metre energy coefficients of direction `dir` (Eqs. 1–4; the paper's Eq. 12 pairs E I_z

@@ -67,12 +67,15 @@ pub fn estimate(case: &Case) -> Estimate {
         .map_or(0.0, |s| s.droppers.len() as f64);
     let velocity_points = spans * (1.0 + stitch);
     let implicit = spans;
-    let doubles = 60.0 * n
-        + points * (period + 2.0)
+    // Directions modelled: each adds a block per wire (the modal arrays and the gathered points
+    // grow with it; the sampler's tables are shared).
+    let dirs = case.run.dofs.len().max(1) as f64;
+    let doubles = 60.0 * n * dirs
+        + points * (period + 2.0) * dirs
         + velocity_points * (period + 2.0)
-        + 2.0 * implicit * (n + period + 2.0)
-        + 2.0 * implicit * implicit
-        + 40.0 * points;
+        + 2.0 * implicit * (n + period + 2.0) * dirs
+        + 2.0 * implicit * implicit * dirs
+        + 40.0 * points * dirs;
     let max_off = case
         .pantographs
         .iter()
@@ -83,6 +86,17 @@ pub fn estimate(case: &Case) -> Estimate {
     let simulated = distance / v;
     let steps = (simulated / case.run.dt_s).ceil();
     let np = case.pantographs.len() as f64;
+    // The generated wind: the fluctuation at every grid point over the run (a power of two of
+    // samples), and its spectra while it is made (complex, twice over).
+    let wind = case.wind.as_ref().map_or(0.0, |w| {
+        let grid = (spans * c.span_m / w.grid_m.max(1e-9)).floor().max(0.0);
+        let samples = ((simulated / w.dt_s.max(1e-12)).ceil() + 2.0)
+            .max(16.0)
+            .log2()
+            .ceil()
+            .exp2();
+        grid * samples * 3.0
+    });
     Estimate {
         steps: if steps.is_finite() && steps < u64::MAX as f64 {
             steps as u64
@@ -91,8 +105,8 @@ pub fn estimate(case: &Case) -> Estimate {
         },
         simulated_s: simulated,
         distance_m: distance,
-        model_bytes: 8.0 * doubles,
-        record_bytes: 8.0 * steps * (1.0 + 9.0 * np),
+        model_bytes: 8.0 * (doubles + wind),
+        record_bytes: 8.0 * steps * (1.0 + (9.0 + if dirs > 1.0 { 2.0 } else { 0.0 }) * np),
     }
 }
 

@@ -9,8 +9,25 @@
 //! (M + Δt/2 C) aₙ₊₁ = Q(uₙ₊₁, v½) − K uₙ₊₁ − C v½,   vₙ₊₁ = v½ + Δt/2 aₙ₊₁.
 //! ```
 //!
-//! `Q` holds the point forces of the elements (`model::elements`) and the pantographs' own
-//! springs. The wire mass matrix is diagonal plus the implicit point terms (`M = D + Φᵀ W Φ`),
+//! `Q` holds the point forces of the elements (`model::elements`), the pantographs' own springs
+//! and the crosswind (`model::wind`).
+//!
+//! # Torsion: each mode implicitly
+//! Torsional waves travel at √(G/ρ) ≈ 2.2 km/s in copper, so at the vertical mode density the
+//! highest torsional mode would need Δt ≈ 0.4 ms explicitly. The torsional series is therefore
+//! advanced per mode by the trapezoidal rule (a 2×2 map on each mode's `(q, q̇)`, computed once,
+//! [`oscillator_flow`]), split around the point forces as a kick–map–kick step:
+//!
+//! ```text
+//! v½ = vₙ + Δt/2 M⁻¹Qₙ,   (uₙ₊₁, v̂) = Φ(Δt)(uₙ, v½),   vₙ₊₁ = v̂ + Δt/2 M⁻¹Qₙ₊₁.
+//! ```
+//!
+//! The diagonal modal part is then stable for any Δt; only the point couplings (eccentric
+//! clamps, a few N·m/rad) limit the step. The exact flow of each mode was tried first and
+//! rejected: it turns the high modes by `ω Δt` (up to about 5 rad), and the kicks then resonate
+//! with the step (the impulse method's known instability). The trapezoidal map turns by less
+//! than π. The vertical and lateral series keep the scheme above, so a vertical-only model is
+//! unchanged. The wire mass matrix is diagonal plus the implicit point terms (`M = D + Φᵀ W Φ`),
 //! solved exactly with the Woodbury identity ([`crate::solve::implicit`]). Every step does the
 //! same fixed work: no iteration, no allocation. See ARCHITECTURE.md for why this scheme was
 //! chosen over ode15s.
@@ -27,7 +44,7 @@ use crate::model::basis::SineBasis;
 use crate::model::dof::Direction;
 use crate::model::elements::{Attach, Io, Slot, Weight};
 use crate::model::pantograph::{ChainOperators, PantographKind};
-use crate::model::Model;
+use crate::model::{Model, WireRole};
 use crate::solve::implicit::{ImplicitPoints, ImplicitScratch};
 use crate::solve::kernels::{self, Isa};
 use crate::solve::plan::{Options, Plan};
@@ -69,6 +86,9 @@ struct MovingPoint {
     n: usize,
     q_off: usize,
     row_off: usize,
+    /// False when an earlier moving point of the same pantograph on the same basis fills the
+    /// row (the directions of one wire share their sines).
+    fills_row: bool,
 }
 
 /// The stepper: the model and every operator a step needs, precomputed. Immutable while
@@ -118,8 +138,70 @@ pub struct Integrator {
     max_pdof: usize,
     /// Largest (blocks, points, modes) of the implicit terms, for their scratch.
     max_imp: (usize, usize, usize),
+    /// The true modal stiffness and damping (`k`, `c` above are zero on the exactly advanced
+    /// modes).
+    k_true: Vec<f64>,
+    c_true: Vec<f64>,
+    /// Contiguous ranges of the modal vector: (start, end, advanced by its exact flow).
+    segments: Vec<(usize, usize, bool)>,
+    /// The one-step flow of every mode (used on the exact ranges).
+    flow: Vec<[f64; 4]>,
+    /// Per pantograph: the contact wire's lateral (and torsional) coordinates under it.
+    pan_lateral: Vec<Option<LateralProbe>>,
+    /// Blow-out probes: displacement slots of the contact wire's lateral deviation, positions.
+    probes: Vec<usize>,
+    probe_x: Vec<f64>,
+    wind: Option<WindStep>,
+    /// The lateral springs of the static state, resolved to displacement slots.
+    static_springs: Vec<(Vec<(usize, f64)>, f64)>,
+    /// Static deflection under the mean wind (modal coordinates), the initial state's.
+    initial_modal: Option<Vec<f64>>,
 }
 
+/// The contact wire's lateral position under a pantograph, read with the sine row of the
+/// pantograph's vertical moving point.
+#[derive(Debug, Clone)]
+struct LateralProbe {
+    moving: usize,
+    wire: usize,
+    lat_off: usize,
+    tors_off: Option<usize>,
+    n: usize,
+    eccentricity_m: f64,
+}
+
+/// The crosswind's per-step work: a scatter of the grid's pressures onto every loaded wire, and
+/// the loaded blocks with their coefficients.
+#[derive(Debug, Clone)]
+struct WindStep {
+    sampler: PointSampler,
+    /// Loaded wires (one block of `n` modes each in `wind_q`), grid points.
+    k: usize,
+    n: usize,
+    ng: usize,
+    /// (wire slot in `wind_q`, block offset in the state, coefficient `d C`).
+    blocks: Vec<(usize, usize, f64)>,
+    /// The mean load's generalised "pressure" of every loaded wire, `P̄ ∫ sin(κ_k x) dx`.
+    mean: Vec<f64>,
+}
+
+/// One trapezoidal (Cayley) step over `t` of the damped oscillator `m q̈ + c q̇ + k q = 0` as a
+/// matrix on `(q, q̇)`: `(I − t/2 A)⁻¹ (I + t/2 A)` with `A = [[0, 1], [−k/m, −c/m]]`. It turns
+/// the phase plane by `2 atan(ω t / 2) < π` per step, whatever `ω t`, so the point forces kicked
+/// around it cannot meet a resonance of the step (the exact flow, turning by `ω t`, does: with
+/// torsional modes up to `ω Δt ≈ 5` the kick–flow–kick step blew up on the eccentric clamps).
+pub fn oscillator_flow(m: f64, c: f64, k: f64, t: f64) -> [f64; 4] {
+    let h = 0.5 * t;
+    let w2 = k / m;
+    let s2 = c / m; // 2σ
+    let det = 1.0 + h * s2 + h * h * w2;
+    [
+        (1.0 + h * s2 - h * h * w2) / det,
+        2.0 * h / det,
+        -2.0 * h * w2 / det,
+        (1.0 - h * s2 - h * h * w2) / det,
+    ]
+}
 const TOL_X: f64 = 1e-9;
 
 fn index_of(pts: &mut Vec<f64>, x: f64) -> usize {
@@ -182,7 +264,21 @@ impl Integrator {
             }
         }
         let monitors_at: Vec<Attach> = model.elements.iter().flat_map(|e| e.monitors()).collect();
-        for m in &monitors_at {
+        // Blow-out probes: the contact wire's lateral deviation at droppers and mid-spans.
+        let contact_wire = model.wire_index(WireRole::Contact);
+        let probe_at: Vec<Attach> = match (&model.lateral, contact_wire) {
+            (Some(lg), Some(cw)) if lay.find(cw, Direction::Lateral).is_some() => lg
+                .probes_m
+                .iter()
+                .map(|&x_m| Attach::Wire {
+                    wire: cw,
+                    dir: Direction::Lateral,
+                    x_m,
+                })
+                .collect(),
+            _ => Vec::new(),
+        };
+        for m in monitors_at.iter().chain(&probe_at) {
             if let Attach::Wire { wire, dir, x_m } = *m {
                 let b = block_of(wire, dir)?;
                 let g = lay.blocks[b].group;
@@ -299,17 +395,32 @@ impl Integrator {
                             let b = block_of(wire, dir)?;
                             let bl = &lay.blocks[b];
                             let m = moving.len();
+                            let basis = lay.basis(b).clone();
+                            let origin_m = lay.groups[bl.group].origin_m;
+                            let shared = moving.iter().find(|o: &&MovingPoint| {
+                                o.fills_row
+                                    && o.pantograph == pantograph
+                                    && o.basis == basis
+                                    && o.origin_m == origin_m
+                            });
+                            let (row_off, fills_row) = match shared {
+                                Some(o) => (o.row_off, false),
+                                None => (rows_len, true),
+                            };
+                            if fills_row {
+                                rows_len += bl.n_modes;
+                            }
                             moving.push(MovingPoint {
                                 wire,
                                 dir,
                                 pantograph,
-                                basis: lay.basis(b).clone(),
-                                origin_m: lay.groups[bl.group].origin_m,
+                                basis,
+                                origin_m,
                                 n: bl.n_modes,
                                 q_off: bl.offset,
-                                row_off: rows_len,
+                                row_off,
+                                fills_row,
                             });
-                            rows_len += bl.n_modes;
                             Slot {
                                 u: (moving_u0 + m) as u32,
                                 v: (moving_v0 + m) as u32,
@@ -333,6 +444,31 @@ impl Integrator {
                 pan_point[mp.pantograph] = Some(m);
             }
         }
+        let contact_ecc = model
+            .lateral
+            .as_ref()
+            .map_or(0.0, |l| l.contact_point_eccentricity_m);
+        let pan_lateral: Vec<Option<LateralProbe>> = pan_point
+            .iter()
+            .map(|pm| {
+                let mi = (*pm)?;
+                let mp = &moving[mi];
+                if mp.dir != Direction::Vertical {
+                    return None;
+                }
+                let lb = lay.find(mp.wire, Direction::Lateral)?;
+                Some(LateralProbe {
+                    moving: mi,
+                    wire: mp.wire,
+                    lat_off: lay.blocks[lb].offset,
+                    tors_off: lay
+                        .find(mp.wire, Direction::Torsional)
+                        .map(|t| lay.blocks[t].offset),
+                    n: mp.n,
+                    eccentricity_m: contact_ecc,
+                })
+            })
+            .collect();
         let monitors: Vec<usize> = monitors_at
             .iter()
             .filter_map(|m| match *m {
@@ -349,19 +485,75 @@ impl Integrator {
                 _ => None,
             })
             .collect();
-
-        // Modal operators.
-        let mut k = vec![0.0; lay.len];
-        let mut c = vec![0.0; lay.len];
-        let mut d_eff = vec![0.0; lay.len];
-        for b in 0..lay.blocks.len() {
-            let s = model.series(b);
-            for (i, j) in lay.range(b).enumerate() {
-                k[j] = s.stiffness[i];
-                c[j] = s.damping[i];
-                d_eff[j] = s.mass[i] + 0.5 * dt * s.damping[i];
+        let mut probes = Vec::with_capacity(probe_at.len());
+        let mut probe_x = Vec::with_capacity(probe_at.len());
+        for p in &probe_at {
+            if let Attach::Wire { wire, dir, x_m } = *p {
+                probes.push(wire_slot(wire, dir, x_m, false).u as usize);
+                probe_x.push(x_m);
             }
         }
+        // The lateral springs of the static state (for the static deflection under wind).
+        let mut springs = Vec::new();
+        for e in &model.elements {
+            e.static_springs(&mut springs);
+        }
+        let mut static_springs = Vec::with_capacity(springs.len());
+        for sp in &springs {
+            let mut terms = Vec::with_capacity(sp.terms.len());
+            for &(a, w) in &sp.terms {
+                match a {
+                    Attach::Wire { wire, dir, x_m } => {
+                        block_of(wire, dir)?;
+                        terms.push((wire_slot(wire, dir, x_m, false).u as usize, w));
+                    }
+                    Attach::Ground => {}
+                    _ => return Err(invalid(
+                        "model",
+                        format!("{a:?}"),
+                        "a lateral spring of the static state attaches to a node or a pantograph"
+                            .into(),
+                    )),
+                }
+            }
+            static_springs.push((terms, sp.stiffness_n_per_m));
+        }
+
+        // Modal operators. Torsional blocks are advanced by their exact flow: their stiffness
+        // and damping leave the explicit right-hand side.
+        let mut k = vec![0.0; lay.len];
+        let mut c = vec![0.0; lay.len];
+        let mut k_true = vec![0.0; lay.len];
+        let mut c_true = vec![0.0; lay.len];
+        let mut d_eff = vec![0.0; lay.len];
+        let mut flow = vec![[1.0, 0.0, 0.0, 1.0]; lay.len];
+        let mut segments: Vec<(usize, usize, bool)> = Vec::new();
+        for b in 0..lay.blocks.len() {
+            let s = model.series(b);
+            let exact = lay.blocks[b].key.dir == Direction::Torsional;
+            let r = lay.range(b);
+            for (i, j) in r.clone().enumerate() {
+                k_true[j] = s.stiffness[i];
+                c_true[j] = s.damping[i];
+                if exact {
+                    flow[j] = oscillator_flow(s.mass[i], s.damping[i], s.stiffness[i], dt);
+                    d_eff[j] = s.mass[i];
+                } else {
+                    k[j] = s.stiffness[i];
+                    c[j] = s.damping[i];
+                    d_eff[j] = s.mass[i] + 0.5 * dt * s.damping[i];
+                }
+            }
+            segments.push((r.start, r.end, exact));
+        }
+        segments.sort_unstable_by_key(|sg| sg.0);
+        segments.dedup_by(|next, prev| {
+            let merge = prev.1 == next.0 && prev.2 == next.2;
+            if merge {
+                prev.1 = next.1;
+            }
+            merge
+        });
         // Implicit point terms per block, in element order.
         let mut imp_pts: Vec<Vec<(f64, f64)>> = vec![Vec::new(); lay.blocks.len()];
         for e in &model.elements {
@@ -466,6 +658,60 @@ impl Integrator {
                 _ => chains.push(None),
             }
         }
+        // Crosswind: one scatter of the grid's pressures onto every loaded wire (they share one
+        // sine basis), then each loaded block takes its coefficient's share.
+        let wind = match &model.wind {
+            None => None,
+            Some(wl) => {
+                let first = wl
+                    .wires
+                    .first()
+                    .ok_or_else(|| invalid("wind", "no wire", "the wind loads no wire".into()))?;
+                let b0 = block_of(first.wire, Direction::Vertical)?;
+                let g0 = lay.blocks[b0].group;
+                let basis = lay.basis(b0).clone();
+                let origin = lay.groups[g0].origin_m;
+                let mut blocks = Vec::new();
+                for (slot, ww) in wl.wires.iter().enumerate() {
+                    let bv = block_of(ww.wire, Direction::Vertical)?;
+                    if lay.blocks[bv].group != g0 {
+                        return Err(invalid(
+                            "wind",
+                            &model.wires[ww.wire].name,
+                            "every wire under wind must share one sine basis".into(),
+                        ));
+                    }
+                    for (dir, coef) in [
+                        (Direction::Vertical, ww.vertical_m),
+                        (Direction::Lateral, ww.lateral_m),
+                        (Direction::Torsional, ww.torsional_m2),
+                    ] {
+                        if let (Some(b), true) = (lay.find(ww.wire, dir), coef != 0.0) {
+                            blocks.push((slot, lay.blocks[b].offset, coef));
+                        }
+                    }
+                }
+                let n = basis.n_modes();
+                let k = wl.wires.len();
+                let xs: Vec<f64> = wl.field.x_m.iter().map(|x| x - origin).collect();
+                let mut mean = vec![0.0; k * n];
+                for slot in 0..k {
+                    let p0 = wl.mean_pressure(slot);
+                    for j in 0..n {
+                        let odd = if j % 2 == 0 { 2.0 } else { 0.0 };
+                        mean[slot * n + j] = p0 * odd / basis.wavenumber(j);
+                    }
+                }
+                Some(WindStep {
+                    sampler: PointSampler::new(&basis, &xs, model.span_m, isa),
+                    k,
+                    n,
+                    ng: xs.len(),
+                    blocks,
+                    mean,
+                })
+            }
+        };
         let max_pdof = model
             .pantographs
             .iter()
@@ -477,6 +723,7 @@ impl Integrator {
             .map(|g| g.sampler.scratch())
             .chain(vels.iter().map(|v| v.sampler.scratch()))
             .chain(implicit.iter().map(|i| i.sampler().scratch()))
+            .chain(wind.iter().map(|w| w.sampler.scratch()))
             .fold(
                 PointSampler::new(&SineBasis::new(1.0, 1), &[], None, isa).scratch(),
                 |a, b| a.max(b),
@@ -485,7 +732,7 @@ impl Integrator {
             .iter()
             .map(|i| (i.n_blocks(), i.n_points(), i.sampler().n_modes()))
             .fold((0, 0, 0), |a, x| (a.0.max(x.0), a.1.max(x.1), a.2.max(x.2)));
-        Ok(Integrator {
+        Ok::<Integrator, CaseError>(Integrator {
             offsets: model.pantographs.iter().map(|p| p.offset_m).collect(),
             dt,
             isa,
@@ -519,7 +766,21 @@ impl Integrator {
             max_period_scratch: scratch,
             max_pdof,
             max_imp,
+            k_true,
+            c_true,
+            segments,
+            flow,
+            pan_lateral,
+            probes,
+            probe_x,
+            wind,
+            static_springs,
+            initial_modal: None,
             model,
+        })
+        .and_then(|mut integ: Integrator| {
+            integ.initial_modal = integ.static_wind_deflection()?;
+            Ok(integ)
         })
     }
 
@@ -566,6 +827,8 @@ impl Integrator {
             eu: vec![0.0; self.n_u],
             ev: vec![0.0; self.n_u],
             ef: vec![0.0; self.n_u],
+            wind_p: vec![0.0; self.wind.as_ref().map_or(0, |w| w.k * w.ng)],
+            wind_q: vec![0.0; self.wind.as_ref().map_or(0, |w| w.k * w.n)],
         }
     }
 
@@ -574,7 +837,150 @@ impl Integrator {
     pub fn initial_state(&self, start_m: f64) -> State {
         let mut st = State::at_rest(&self.model, start_m);
         st.pantographs.u.copy_from_slice(&self.initial_py);
+        if let Some(q) = &self.initial_modal {
+            st.modal.u.copy_from_slice(q);
+        }
         st
+    }
+
+    /// The static deflection of the lateral and torsional series under the mean wind (the
+    /// drag and the moment), with the linear springs of the static state
+    /// ([`crate::model::elements::StaticSpring`]): `(K + Σ k g gᵀ) q = Q̄`, solved by conjugate
+    /// gradients preconditioned with the modal stiffness, with the step's own gather and
+    /// scatter. The pendulums are linearised about the still-air state (`f0/L`); their
+    /// second-order vertical stretch `k δ²/2L` is left to the dynamics. `None` without wind.
+    fn static_wind_deflection(&self) -> Result<Option<Vec<f64>>, CaseError> {
+        let Some(w) = &self.wind else {
+            return Ok(None);
+        };
+        let lay = &self.model.layout;
+        let n_all = lay.len;
+        let mut mask = vec![false; n_all];
+        for b in 0..lay.blocks.len() {
+            if lay.blocks[b].key.dir != Direction::Vertical {
+                mask[lay.range(b)].fill(true);
+            }
+        }
+        let mut rhs = vec![0.0; n_all];
+        for &(slot, off, coef) in &w.blocks {
+            if mask[off] {
+                for j in 0..w.n {
+                    rhs[off + j] += coef * w.mean[slot * w.n + j];
+                }
+            }
+        }
+        let bnorm = rhs.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if bnorm == 0.0 {
+            return Ok(None);
+        }
+        let mut ws = self.workspace();
+        let apply = |x: &[f64], y: &mut [f64], ws: &mut Workspace| {
+            for g in &self.groups {
+                g.sampler.gather(
+                    &x[g.q_off..g.q_off + g.k * g.n],
+                    g.k,
+                    &mut ws.u[g.u_base..g.u_base + g.k * g.npts],
+                    &mut ws.scr,
+                );
+            }
+            ws.f.fill(0.0);
+            for (terms, kk) in &self.static_springs {
+                let d: f64 = terms.iter().map(|&(sl, wt)| wt * ws.u[sl]).sum();
+                for &(sl, wt) in terms {
+                    ws.f[sl] += kk * d * wt;
+                }
+            }
+            for (yi, (xi, ki)) in y.iter_mut().zip(x.iter().zip(&self.k_true)) {
+                *yi = ki * xi;
+            }
+            for g in &self.groups {
+                g.sampler.scatter_add(
+                    &ws.f[g.u_base..g.u_base + g.k * g.npts],
+                    g.k,
+                    &mut y[g.q_off..g.q_off + g.k * g.n],
+                    &mut ws.scr,
+                );
+            }
+            for (yi, m) in y.iter_mut().zip(&mask) {
+                if !m {
+                    *yi = 0.0;
+                }
+            }
+        };
+        let precond = |r: &[f64], z: &mut [f64]| {
+            for ((zi, ri), (ki, m)) in z.iter_mut().zip(r).zip(self.k_true.iter().zip(&mask)) {
+                *zi = if *m && *ki > 0.0 { ri / ki } else { 0.0 };
+            }
+        };
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        let mut x = vec![0.0; n_all];
+        let mut r = rhs.clone();
+        let mut z = vec![0.0; n_all];
+        precond(&r, &mut z);
+        let mut p = z.clone();
+        let mut ap = vec![0.0; n_all];
+        let mut rz = dot(&r, &z);
+        let max_iter = 20 * n_all.max(100);
+        for _ in 0..max_iter {
+            apply(&p, &mut ap, &mut ws);
+            let pap = dot(&p, &ap);
+            if pap.is_nan() || pap <= 0.0 {
+                break;
+            }
+            let alpha = rz / pap;
+            for i in 0..n_all {
+                x[i] += alpha * p[i];
+                r[i] -= alpha * ap[i];
+            }
+            if dot(&r, &r).sqrt() <= 1e-12 * bnorm {
+                return Ok(Some(x));
+            }
+            precond(&r, &mut z);
+            let rz_new = dot(&r, &z);
+            let beta = rz_new / rz;
+            rz = rz_new;
+            for i in 0..n_all {
+                p[i] = z[i] + beta * p[i];
+            }
+        }
+        Err(invalid(
+            "wind",
+            "the static deflection",
+            format!(
+                "the static lateral solve under the mean wind did not converge (residual {:.2e} of the load): a lateral spring of zero or negative stiffness?",
+                dot(&r, &r).sqrt() / bnorm
+            ),
+        ))
+    }
+
+    /// Power of the crosswind on the wires at the state (after a step: the step's load and
+    /// the state's velocities), W.
+    pub fn wind_power(&self, st: &State, ws: &Workspace) -> f64 {
+        let Some(w) = &self.wind else {
+            return 0.0;
+        };
+        w.blocks
+            .iter()
+            .map(|&(slot, off, coef)| {
+                coef * kernels::dot(
+                    self.isa,
+                    &ws.wind_q[slot * w.n..(slot + 1) * w.n],
+                    &st.modal.v[off..off + w.n],
+                )
+            })
+            .sum()
+    }
+
+    /// Positions (model coordinates) of the blow-out probes of the contact wire's lateral
+    /// deviation, m.
+    pub fn probe_positions(&self) -> &[f64] {
+        &self.probe_x
+    }
+
+    /// Lateral deviation of the contact wire at probe `k` after the last step, m.
+    #[inline]
+    pub fn probe(&self, ws: &Workspace, k: usize) -> f64 {
+        ws.u[self.probes[k]]
     }
 
     /// Position of pantograph `p` at the state's time (model coordinates), m.
@@ -627,7 +1033,19 @@ impl Integrator {
         let h = 0.5 * dt;
         let m = &self.model;
         let isa = self.isa;
-        kernels::kick_drift(isa, &mut st.modal.u, &mut st.modal.v, &st.modal.a, h, dt);
+        for &(a, b, exact) in &self.segments {
+            let (q, v, acc) = (
+                &mut st.modal.u[a..b],
+                &mut st.modal.v[a..b],
+                &st.modal.a[a..b],
+            );
+            if exact {
+                kernels::kick(isa, v, acc, h);
+                kernels::flow(isa, q, v, &self.flow[a..b]);
+            } else {
+                kernels::kick_drift(isa, q, v, acc, h, dt);
+            }
+        }
         let pd = &mut st.pantographs;
         for i in 0..pd.u.len() {
             pd.v[i] += h * pd.a[i];
@@ -697,6 +1115,29 @@ impl Integrator {
             );
         }
 
+        // Crosswind: the grid's pressures (fluctuation about the mean, which is projected
+        // exactly), one scatter onto every loaded wire, each block its share.
+        if let (Some(w), Some(wl)) = (&self.wind, &m.wind) {
+            for slot in 0..w.k {
+                let p0 = wl.mean_pressure(slot);
+                for g in 0..w.ng {
+                    ws.wind_p[slot * w.ng + g] =
+                        (wl.pressure(slot, wl.field.at(g, st.t)) - p0) * wl.grid_m;
+                }
+            }
+            ws.wind_q.copy_from_slice(&w.mean);
+            w.sampler
+                .scatter_add(&ws.wind_p, w.k, &mut ws.wind_q, &mut ws.scr);
+            for &(slot, off, coef) in &w.blocks {
+                kernels::axpy(
+                    isa,
+                    coef,
+                    &ws.wind_q[slot * w.n..(slot + 1) * w.n],
+                    &mut st.modal.a[off..off + w.n],
+                );
+            }
+        }
+
         // Moving points (contacts, Eq. 19): rows, heights, forces.
         for (mi, mp) in self.moving.iter().enumerate() {
             let p = mp.pantograph;
@@ -705,7 +1146,9 @@ impl Integrator {
                 _ => self.position(st, p),
             };
             let row = &mut ws.rows[mp.row_off..mp.row_off + mp.n];
-            mp.basis.fill_sines(x - mp.origin_m, row);
+            if mp.fills_row {
+                mp.basis.fill_sines(x - mp.origin_m, row);
+            }
             ws.u[self.moving_u0 + mi] = m.static_height(mp.wire, mp.dir, x)
                 + kernels::dot(isa, &st.modal.u[mp.q_off..mp.q_off + mp.n], row);
             ws.samples[p].position_m = x;
@@ -745,6 +1188,19 @@ impl Integrator {
                 ws.samples[p].force_n = ws.f[self.moving_u0 + mi];
                 ws.samples[p].wire_height_m = ws.u[self.moving_u0 + mi];
                 ws.samples[p].wire_velocity_m_s = 0.0;
+            }
+        }
+        for (p, lp) in self.pan_lateral.iter().enumerate() {
+            if let Some(lp) = lp {
+                let mp = &self.moving[lp.moving];
+                let row = &ws.rows[mp.row_off..mp.row_off + mp.n];
+                let x = ws.samples[p].position_m;
+                let mut z = m.static_height(lp.wire, Direction::Lateral, x)
+                    + kernels::dot(isa, &st.modal.u[lp.lat_off..lp.lat_off + lp.n], row);
+                if let Some(t) = lp.tors_off {
+                    z -= lp.eccentricity_m * kernels::dot(isa, &st.modal.u[t..t + lp.n], row);
+                }
+                ws.samples[p].lateral_m = z;
             }
         }
 
@@ -819,7 +1275,9 @@ impl Integrator {
                 _ => self.position(st, p),
             };
             let row = &mut ws.rows[mp.row_off..mp.row_off + mp.n];
-            mp.basis.fill_sines(x - mp.origin_m, row);
+            if mp.fills_row {
+                mp.basis.fill_sines(x - mp.origin_m, row);
+            }
             ws.eu[self.moving_u0 + mi] = m.static_height(mp.wire, mp.dir, x)
                 + kernels::dot(self.isa, &st.modal.u[mp.q_off..mp.q_off + mp.n], row);
             ws.ev[self.moving_u0 + mi] =
@@ -833,9 +1291,9 @@ impl Integrator {
         &self.energy_slots[e]
     }
 
-    /// Modal damping of every coordinate (by the layout).
+    /// Modal damping of every coordinate (by the layout), aerodynamic damping included.
     pub(crate) fn modal_damping(&self) -> &[f64] {
-        &self.c
+        &self.c_true
     }
 }
 
@@ -859,6 +1317,9 @@ pub fn check_stability(model: &Model, dt: f64) -> Result<(), CaseError> {
     let dt_field = |reason: String| invalid("run.dt_s", dt, reason);
     // Every block's highest mode.
     for b in 0..model.layout.blocks.len() {
+        if model.layout.blocks[b].key.dir == Direction::Torsional {
+            continue; // advanced by its exact flow: stable for any Δt
+        }
         let s = model.series(b);
         let Some(last) = s.stiffness.len().checked_sub(1) else {
             continue;

@@ -392,6 +392,21 @@ kernel! {
     pub fn kick(v: &mut [f64], a: &[f64], h: f64) = kick_body;
 }
 
+#[inline(always)]
+fn flow_body<const F: bool>(q: &mut [f64], v: &mut [f64], m: &[[f64; 4]]) {
+    for ((qi, vi), c) in q.iter_mut().zip(v.iter_mut()).zip(m) {
+        let (q0, v0) = (*qi, *vi);
+        *qi = mad::<F>(c[0], q0, c[1] * v0);
+        *vi = mad::<F>(c[2], q0, c[3] * v0);
+    }
+}
+
+kernel! {
+    /// `(q, v) ← Φ (q, v)` per mode with `Φ = [[m0, m1], [m2, m3]]`: the exact flow of each
+    /// damped modal oscillator over one step (the torsional series, see `integrator`).
+    pub fn flow(q: &mut [f64], v: &mut [f64], m: &[[f64; 4]]) = flow_body;
+}
+
 // ---------------------------------------------------------------------------------------------
 // The folds of the span-periodic sampler (see `sampler.rs`): bins of period P.
 

@@ -62,6 +62,9 @@ pub struct RealtimeOutput {
     pub wire_velocity_m_s: f64,
     /// Contact force: computed (SIL) or the input (HIL), N.
     pub contact_force_n: f64,
+    /// Lateral position of the contact point from the track's centre line, m (0 without
+    /// lateral motion).
+    pub lateral_m: f64,
 }
 
 /// `∫_0^A cos(ω x + φ) dx`.
@@ -289,6 +292,13 @@ impl RealtimeCatenary {
     /// Build the window model of `case` with window length `window_m` (at the full model's mode
     /// density), placed around the leading pantograph's start.
     pub fn new(case: &Case, window_m: f64, coupling: Coupling) -> Result<Self, CaseError> {
+        if case.wind.is_some() {
+            return Err(CaseError::Invalid {
+                field: "wind".into(),
+                value: "given".into(),
+                reason: "the real-time window does not carry a crosswind (its turbulence is generated for the full model's run); remove [wind] for the window".into(),
+            });
+        }
         let full = Setup::from_case(case)?;
         let span = case.catenary.span_m;
         let l = full.model.length_m();
@@ -449,6 +459,7 @@ impl RealtimeCatenary {
             wire_height_m: s.wire_height_m,
             wire_velocity_m_s: s.wire_velocity_m_s,
             contact_force_n: s.force_n,
+            lateral_m: s.lateral_m,
         };
         // The mover never fails.
         let _ = self.mover.observe(&self.integ, &mut self.st, &self.ws);
@@ -490,7 +501,16 @@ impl RealtimeCatenary {
         self.input = s.input;
     }
 
-    /// Static contact-wire height at a track position, m (the wire before any step).
+    /// Static lateral position (stagger) of the contact wire at a track position, m.
+    pub fn static_lateral_at(&self, x_m: f64) -> f64 {
+        self.integ
+            .model()
+            .lateral
+            .as_ref()
+            .map_or(0.0, |l| l.stagger_at(x_m - self.st.track_origin_m))
+    }
+
+    /// Static contact-wire height at track position `x_m`, m.
     pub fn static_height_at(&self, x_m: f64) -> f64 {
         self.integ
             .model()

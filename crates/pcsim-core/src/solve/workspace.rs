@@ -16,6 +16,10 @@ pub struct ContactSample {
     pub wire_height_m: f64,
     /// Contact-wire vertical velocity at the contact point, m/s.
     pub wire_velocity_m_s: f64,
+    /// Lateral position of the contact point from the track's centre line, m (0 when lateral
+    /// motion is not modelled): the stagger, the contact wire's lateral deviation, and its
+    /// rotation times the depth of the contact point below its axis.
+    pub lateral_m: f64,
 }
 
 /// Largest plausible deviation of the contact wire from its design height, m: beyond it a run is
@@ -29,11 +33,17 @@ impl ContactSample {
     pub fn fault(&self, pantograph: usize) -> Option<String> {
         if !(self.force_n.is_finite()
             && self.wire_height_m.is_finite()
-            && self.wire_velocity_m_s.is_finite())
+            && self.wire_velocity_m_s.is_finite()
+            && self.lateral_m.is_finite())
         {
             Some(format!(
-                "a non-finite value at pantograph {pantograph} (contact force {} N, wire height {} m, velocity {} m/s)",
-                self.force_n, self.wire_height_m, self.wire_velocity_m_s
+                "a non-finite value at pantograph {pantograph} (contact force {} N, wire height {} m, velocity {} m/s, lateral position {} m)",
+                self.force_n, self.wire_height_m, self.wire_velocity_m_s, self.lateral_m
+            ))
+        } else if self.lateral_m.abs() >= MAX_PLAUSIBLE_HEIGHT_M {
+            Some(format!(
+                "the contact point under pantograph {pantograph} is {:.3} m from the track's centre line (more than {MAX_PLAUSIBLE_HEIGHT_M} m)",
+                self.lateral_m
             ))
         } else if self.wire_height_m.abs() >= MAX_PLAUSIBLE_HEIGHT_M {
             Some(format!(
@@ -57,6 +67,7 @@ impl ContactSample {
             && self.wire_velocity_m_s.is_finite()
             && self.force_n.abs() < MAX_PLAUSIBLE_FORCE_N
             && self.wire_height_m.abs() < MAX_PLAUSIBLE_HEIGHT_M
+            && self.lateral_m.abs() < MAX_PLAUSIBLE_HEIGHT_M
     }
 }
 
@@ -86,6 +97,10 @@ pub struct Workspace {
     pub(crate) eu: Vec<f64>,
     pub(crate) ev: Vec<f64>,
     pub(crate) ef: Vec<f64>,
+    /// Crosswind: the grid's pressures and their generalised forces per loaded wire (one
+    /// block of modes per wire), the mean included.
+    pub(crate) wind_p: Vec<f64>,
+    pub(crate) wind_q: Vec<f64>,
 }
 
 impl Workspace {

@@ -2,6 +2,12 @@
 //! pantograph and contact wire, at the point under the pantograph. A prescribed load (a constant
 //! moving force, or the measured force of a hardware-in-the-loop rig) takes its place where the
 //! pantograph is not modelled.
+//!
+//! With torsion modelled, the contact point (the running face) lies `e_c` below the wire's axis:
+//! a rotation φ lifts it by `e_c φ²/2`, so the penetration is `d = y_head − y_wire − e_c φ²/2`
+//! and the contact force twists the wire with `F e_c φ` (it pushes up below the axis: the
+//! moment turns the wire further, a negative torsional stiffness `−F e_c`). Its lateral position
+//! `z − e_c φ` is an output (`solve::Integrator`).
 
 use super::{Attach, Io, PointElement, Slot, WindowMap};
 use crate::model::dof::Direction;
@@ -22,6 +28,11 @@ pub struct Contact {
     pub wire: usize,
     pub dir: Direction,
     pub law: ContactLaw,
+    /// Depth of the contact point below the wire's axis, m (used when the wire's rotation is
+    /// modelled: `twist`).
+    pub eccentricity_m: f64,
+    /// Whether the wire's rotation under the pantograph enters (torsion modelled).
+    pub twist: bool,
 }
 
 /// Eq. 19: contact force of a penalty spring of stiffness `k_n` at penetration `d_r` (strip
@@ -53,18 +64,23 @@ impl PointElement for Contacts {
         self.0.len()
     }
     fn arity(&self) -> usize {
-        2
+        3
     }
     fn attachment(&self, i: usize, a: usize) -> Attach {
         let c = &self.0[i];
-        if a == 0 {
-            Attach::Moving {
+        match a {
+            0 => Attach::Moving {
                 wire: c.wire,
                 dir: c.dir,
                 pantograph: c.pantograph,
-            }
-        } else {
-            Attach::Head(c.pantograph)
+            },
+            1 => Attach::Head(c.pantograph),
+            _ if c.twist => Attach::Moving {
+                wire: c.wire,
+                dir: Direction::Torsional,
+                pantograph: c.pantograph,
+            },
+            _ => Attach::Ground,
         }
     }
     fn stiffness(&self, i: usize) -> f64 {
@@ -74,24 +90,28 @@ impl PointElement for Contacts {
         }
     }
     fn add_forces(&self, slots: &[Slot], io: &mut Io) {
-        for (i, c) in self.0.iter().enumerate() {
-            let (w, h) = (slots[2 * i].u as usize, slots[2 * i + 1].u as usize);
+        for (c, s) in self.0.iter().zip(slots.chunks_exact(3)) {
+            let (w, h, t) = (s[0].u as usize, s[1].u as usize, s[2].u as usize);
+            let phi = io.u[t];
+            let lift = 0.5 * c.eccentricity_m * phi * phi;
             let f = match c.law {
                 ContactLaw::Penalty { stiffness_n_per_m } => {
-                    penalty_force(stiffness_n_per_m, io.u[h] - io.u[w])
+                    penalty_force(stiffness_n_per_m, io.u[h] - io.u[w] - lift)
                 }
                 ContactLaw::Prescribed => io.loads[c.pantograph],
             };
             io.f[w] += f;
             io.f[h] += -f;
+            io.f[t] += f * c.eccentricity_m * phi;
         }
     }
     fn energy(&self, slots: &[Slot], io: &Io) -> f64 {
         let mut e = 0.0;
-        for (i, c) in self.0.iter().enumerate() {
+        for (c, s) in self.0.iter().zip(slots.chunks_exact(3)) {
             if let ContactLaw::Penalty { stiffness_n_per_m } = c.law {
-                let (w, h) = (slots[2 * i].u as usize, slots[2 * i + 1].u as usize);
-                e += penalty_energy(stiffness_n_per_m, io.u[h] - io.u[w]);
+                let (w, h, t) = (s[0].u as usize, s[1].u as usize, s[2].u as usize);
+                let lift = 0.5 * c.eccentricity_m * io.u[t] * io.u[t];
+                e += penalty_energy(stiffness_n_per_m, io.u[h] - io.u[w] - lift);
             }
         }
         e

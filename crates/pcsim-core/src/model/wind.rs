@@ -1,0 +1,155 @@
+//! Crosswind on the wires (issue 12, the paper's "future work"): quasi-steady loads per unit
+//! length from the wind normal to the track.
+//!
+//! With the normal wind `U_n + u'_n(x, t)` (mean from the height profile, turbulence from
+//! `wind_field`) and a wire of diameter `d` (ice included) the loads per unit length are
+//!
+//! ```text
+//! lateral  F_z = ½ρ d C_D(0) (U_n + u'_n)|U_n + u'_n| − c_z ż,        c_z = ρ d C_D(0) U_n
+//! vertical F_y = ½ρ d C_L(0) (U_n + u'_n)|U_n + u'_n| − c_y ẏ,        c_y = ½ρ d U_n (C_L'(0) + C_D(0))
+//! moment   M   = ½ρ d² C_M(0) (U_n + u'_n)|U_n + u'_n|
+//! ```
+//!
+//! The wire's own motion enters through the relative velocity, linearised about the mean wind:
+//! the lateral aerodynamic damping `c_z` and the vertical one `c_y` (Den Hartog's: negative when
+//! `C_L' + C_D < 0`, galloping). Both are uniform along the wire, so in sine coordinates they are
+//! diagonal: they add `c L/2` to each mode's damping and cost nothing per step — the series is
+//! loaded by projection, not point by point. The fluctuating part is applied on a grid of points
+//! (one scatter per step for all wires); the mean part is projected exactly once. The torsional
+//! aerodynamic damping and the dependence of the coefficients on the wire's rotation are left
+//! out (documented in docs/validation.md).
+
+use crate::model::wind_field::{SpectrumModel, WindField};
+
+/// The wind on one wire.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WireWind {
+    pub wire: usize,
+    /// Height above the rail, m.
+    pub height_m: f64,
+    /// Mean wind normal to the track at the wire's height, m/s.
+    pub mean_normal_m_s: f64,
+    /// Per-length load coefficients on `½ρ V|V|`: lateral `d C_D`, vertical `d C_L`, torsional
+    /// `d² C_M` (ice included in `d`).
+    pub lateral_m: f64,
+    pub vertical_m: f64,
+    pub torsional_m2: f64,
+    /// Linearised aerodynamic damping per metre, lateral and vertical, N·s/m².
+    pub damping_lateral: f64,
+    pub damping_vertical: f64,
+}
+
+/// The crosswind of a model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WindLoad {
+    pub air_density_kg_m3: f64,
+    /// `sin(yaw)`: the part of the wind (and its fluctuation) normal to the track.
+    pub normal_fraction: f64,
+    pub wires: Vec<WireWind>,
+    /// Along-wind fluctuation on the grid (model coordinates).
+    pub field: WindField,
+    /// Length of line each grid point stands for, m.
+    pub grid_m: f64,
+    /// What summary.json reports.
+    pub report: WindReport,
+}
+
+/// The wind's description in the outputs.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct WindReport {
+    pub mean_speed_m_s: f64,
+    pub reference_height_m: f64,
+    pub yaw_deg: f64,
+    pub spectrum: String,
+    pub seed: u64,
+    pub turbulence_intensity_target: f64,
+    /// σ of the generated fluctuation over the run, divided by the mean at the reference height.
+    pub turbulence_intensity_achieved: f64,
+}
+
+impl WindLoad {
+    /// `½ρ V|V|` for the normal wind `V = U_n + u'_n` on wire `w` with the along-wind fluctuation
+    /// `u'`, N/m² (the common factor of the three loads).
+    #[inline]
+    pub fn pressure(&self, w: usize, u_prime: f64) -> f64 {
+        let v = self.wires[w].mean_normal_m_s + self.normal_fraction * u_prime;
+        0.5 * self.air_density_kg_m3 * v * v.abs()
+    }
+
+    /// The mean of [`Self::pressure`] at `u' = 0`.
+    pub fn mean_pressure(&self, w: usize) -> f64 {
+        self.pressure(w, 0.0)
+    }
+
+    /// The same load in a window starting at `origin_m` (grid points inside it only).
+    pub fn window(&self, origin_m: f64, length_m: f64) -> Self {
+        let keep: Vec<usize> = (0..self.field.x_m.len())
+            .filter(|&j| {
+                let x = self.field.x_m[j];
+                x > origin_m && x < origin_m + length_m
+            })
+            .collect();
+        let mut u = Vec::with_capacity(keep.len() * self.field.n_t);
+        for &j in &keep {
+            u.extend_from_slice(self.field.series(j));
+        }
+        Self {
+            field: WindField {
+                x_m: keep.iter().map(|&j| self.field.x_m[j] - origin_m).collect(),
+                u,
+                ..self.field.clone()
+            },
+            ..self.clone()
+        }
+    }
+}
+
+impl WindLoad {
+    /// A steady uniform lateral load `q` (N/m) on wire `wire`, with no turbulence and no
+    /// aerodynamic damping: the analytic checks' load.
+    pub fn uniform_lateral(wire: usize, q_n_per_m: f64) -> Self {
+        Self {
+            air_density_kg_m3: 2.0,
+            normal_fraction: 1.0,
+            wires: vec![WireWind {
+                wire,
+                height_m: 0.0,
+                mean_normal_m_s: q_n_per_m.signum() * q_n_per_m.abs().sqrt(),
+                lateral_m: 1.0,
+                vertical_m: 0.0,
+                torsional_m2: 0.0,
+                damping_lateral: 0.0,
+                damping_vertical: 0.0,
+            }],
+            field: WindField::calm(&[], 1.0),
+            grid_m: 1.0,
+            report: WindReport {
+                mean_speed_m_s: 0.0,
+                reference_height_m: 0.0,
+                yaw_deg: 90.0,
+                spectrum: "none".into(),
+                seed: 0,
+                turbulence_intensity_target: 0.0,
+                turbulence_intensity_achieved: 0.0,
+            },
+        }
+    }
+}
+
+/// Mean wind speed at height `z` from the reference speed (log or power law).
+pub fn mean_at_height(u_ref: f64, z_ref: f64, z: f64, profile: &Profile) -> f64 {
+    match *profile {
+        Profile::Log { roughness_m } => u_ref * (z / roughness_m).ln() / (z_ref / roughness_m).ln(),
+        Profile::Power { exponent } => u_ref * (z / z_ref).powf(exponent),
+    }
+}
+
+/// The mean-wind profile (model side of `input::lateral::WindProfile`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Profile {
+    Log { roughness_m: f64 },
+    Power { exponent: f64 },
+}
+
+/// The spectrum to generate, or none (mean wind only).
+pub type Turbulence = Option<SpectrumModel>;
