@@ -577,3 +577,34 @@ fn steady_crosswind_blow_off_lies_between_the_design_formulas() {
         assert!((m - mean).abs() < 0.01 * mean);
     }
 }
+
+#[test]
+fn ice_adds_its_annulus_mass_and_widens_the_wire_for_drag() {
+    use pcsim_core::input::case::IceCase;
+    use pcsim_core::model::build::ice_mass;
+    // 10 mm of glaze (900 kg/m³) on a 12.4 mm wire: ρ π ((d/2 + t)² − (d/2)²) = 0.6334 kg/m.
+    let (m, _) = ice_mass(900.0, 0.0124, 0.010);
+    let pi = std::f64::consts::PI;
+    assert!((m - 900.0 * pi * (0.0162f64.powi(2) - 0.0062f64.powi(2))).abs() < 1e-12);
+    assert!((m - 0.6334).abs() < 1e-3);
+    let mut case = presets::load("stitched-2018-like-3d-crosswind").unwrap().0;
+    case.wind.as_mut().unwrap().turbulence_intensity = 0.0;
+    let bare = Setup::from_case(&case).unwrap();
+    case.catenary.ice = Some(IceCase {
+        density_kg_m3: 900.0,
+        contact_wire_m: 0.010,
+        messenger_m: 0.010,
+    });
+    let iced = Setup::from_case(&case).unwrap();
+    let cw = |s: &Setup| s.model.wires[1].section.mass_per_m_kg;
+    // (the dropper masses smeared into the wire move a little with the iced statics' dropper
+    // lengths)
+    assert!(
+        (cw(&iced) - cw(&bare) - m).abs() < 0.005 * m,
+        "{} vs {m}",
+        cw(&iced) - cw(&bare)
+    );
+    // Drag on the iced diameter: 32.4 / 12.4 mm.
+    let drag = |s: &Setup| s.model.wind.as_ref().unwrap().wires[1].lateral_m;
+    assert!((drag(&iced) / drag(&bare) - 0.0324 / 0.0124).abs() < 1e-9);
+}

@@ -90,3 +90,49 @@ fn full_model_steps_and_energy_evaluations_allocate_nothing() {
     assert!(check.is_finite() && check > 0.0);
     assert_eq!(after - before, 0, "{} allocations", after - before);
 }
+
+#[test]
+fn three_direction_steps_with_wind_allocate_nothing() {
+    // Lateral and torsional blocks, 3D droppers, registrations, the contact's twist and the
+    // crosswind's per-step scatter.
+    let (mut case, _) = presets::load("stitched-2018-like-3d-crosswind").unwrap();
+    case.catenary.spans = 8;
+    case.pantographs.truncate(1);
+    case.run.start_m = 150.0;
+    case.run.end_m = 300.0;
+    case.run.analysis_m = [150.0, 300.0];
+    case.run.modes = Some(240);
+    let setup = pcsim_core::solve::Setup::from_case(&case).unwrap();
+    let mut s = Stepper::new(&setup).unwrap();
+    let before = allocs();
+    let mut check = 0.0;
+    for _ in 0..1_000 {
+        s.step();
+        check += s.ws.samples()[0].lateral_m + s.integ.wind_power(&s.state, &s.ws);
+    }
+    let after = allocs();
+    assert!(check.is_finite() && check != 0.0);
+    assert_eq!(after - before, 0, "{} allocations", after - before);
+}
+
+#[test]
+fn the_real_time_window_steps_with_lateral_motion_allocate_nothing() {
+    let (case, _) = presets::load("stitched-2018-like-3d").unwrap();
+    let mut rt = RealtimeCatenary::new(&case, 240.0, Coupling::Sil).unwrap();
+    let before = allocs();
+    let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+    for _ in 0..6_000 {
+        let o = rt.step();
+        lo = lo.min(o.lateral_m);
+        hi = hi.max(o.lateral_m);
+    }
+    let after = allocs();
+    assert_eq!(after - before, 0, "{} allocations", after - before);
+    assert!(
+        rt.moves() >= 2,
+        "the window must move ({} moves)",
+        rt.moves()
+    );
+    // The contact point zig-zags over the ±0.3 m stagger in the moving window too.
+    assert!(hi < 0.302 && lo > -0.302 && hi - lo > 0.5, "{lo} … {hi}");
+}
