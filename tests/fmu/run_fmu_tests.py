@@ -99,6 +99,24 @@ check("3D case: contact_lateral follows the ±0.3 m stagger",
 res_v = simulate_fmu(fmu, stop_time=0.05, step_size=dt, output_interval=dt, output=["contact_lateral"])
 check("vertical case: contact_lateral is 0", float(np.max(np.abs(res_v["contact_lateral"]))) == 0.0)
 
+# 3c. Irregularity (issue 13): a 10 mm sine on the contact wire from a CSV file moves the wire
+# the pantograph sees by that much (HIL with a constant force, 3 s from the start).
+with tempfile.TemporaryDirectory() as d:
+    prof = os.path.join(d, "irregularity.csv")
+    with open(prof, "w") as f:
+        f.write("position_m,deviation_m\n")
+        for i in range(0, 3601):
+            x = 0.5 * i
+            f.write(f"{x},{0.010 * np.sin(2 * np.pi * x / 20.0)}\n")
+    sig = np.zeros(len(t), dtype=[("time", np.float64), ("contact_force", np.float64), ("pantograph_position", np.float64)])
+    sig["time"], sig["contact_force"], sig["pantograph_position"] = t, 90.0, position
+    plain = simulate_fmu(fmu, stop_time=3.0, step_size=dt, output_interval=dt, input=sig, output=["wire_height"])
+    rough = simulate_fmu(fmu, stop_time=3.0, step_size=dt, output_interval=dt, input=sig, output=["wire_height"],
+                         start_values={"irregularity_file": prof})
+    diff = rough["wire_height"] - plain["wire_height"]
+    check("irregularity_file: the wire height carries the 10 mm profile",
+          0.0095 < float(np.max(np.abs(diff))) < 0.0105, f"(largest difference {np.max(np.abs(diff)) * 1e3:.2f} mm)")
+
 # 4. Misuse suite: each probe in its own process, on the library inside the FMU.
 with tempfile.TemporaryDirectory() as d:
     with zipfile.ZipFile(fmu) as z:

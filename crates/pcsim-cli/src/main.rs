@@ -6,6 +6,7 @@ mod common;
 mod output;
 mod plot;
 mod progress;
+mod sweep_dir;
 
 use clap::{Parser, Subcommand};
 use pcsim_core::solve::Budget;
@@ -59,6 +60,10 @@ enum Command {
     Fmu(cmd::fmu::FmuArgs),
     /// Replay a contact-force/position file through the real-time catenary (HIL, Rust reference).
     Hil(cmd::hil::HilArgs),
+    /// How long must the real-time window be? The shortest window that matches the full model
+    /// within tolerances, over speeds and tensions, beside the energy-based lengths; `window
+    /// merge DIR…` joins shards.
+    Window(cmd::window::WindowArgs),
 }
 
 /// Restore the default SIGPIPE action so that `pcsim … | head` ends quietly instead of panicking
@@ -120,6 +125,7 @@ fn main() {
         Command::Realtime(a) => cmd::realtime::realtime(a, &ctx),
         Command::Fmu(a) => cmd::fmu::fmu(a),
         Command::Hil(a) => cmd::hil::hil(a, &ctx),
+        Command::Window(a) => cmd::window::window(a, &ctx),
     });
     match res {
         Ok(code) => std::process::exit(code),

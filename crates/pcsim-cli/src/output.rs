@@ -5,6 +5,7 @@
 use anyhow::{Context, Result};
 use pcsim_core::analysis::record::RunOutput;
 use pcsim_core::analysis::stats::{ContactStats, LateralStats};
+use pcsim_core::model::irregularity::IrregularityReport;
 use pcsim_core::model::wind::WindReport;
 use pcsim_core::RunStatistics;
 use serde::Serialize;
@@ -49,6 +50,9 @@ pub struct Summary {
     /// The crosswind (mean speed, spectrum, seed, turbulence intensity achieved).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub wind: Option<WindReport>,
+    /// The contact-wire irregularity's sources (kind, seed, RMS target and achieved).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub irregularity: Vec<IrregularityReport>,
 }
 
 impl Summary {
@@ -85,6 +89,7 @@ impl Summary {
                 })
                 .collect(),
             wind: out.wind.clone(),
+            irregularity: out.irregularity.clone(),
         }
     }
 }

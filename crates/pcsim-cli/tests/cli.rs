@@ -589,3 +589,175 @@ fn bench_repeats_and_reports_median_min_max() {
         assert!(out.contains(want), "missing `{want}` in {out}");
     }
 }
+
+/// A short SYT case with a random irregularity (6 spans would be too short for the window: the
+/// preset over its first 900 m).
+fn short_irregular(dir: &std::path::Path) -> PathBuf {
+    let (mut c, _) = pcsim_core::presets::load("syt-7.0-9.8").unwrap();
+    c.run.end_m = 700.0;
+    c.run.analysis_m = [420.0, 700.0];
+    c.irregularity = vec![pcsim_core::input::case::IrregularityCase::Psd {
+        rms_m: 0.004,
+        min_wavelength_m: 2.0,
+        max_wavelength_m: 60.0,
+        exponent: 2.0,
+        table: None,
+        seed: 5,
+    }];
+    let p = dir.join("irregular.toml");
+    std::fs::write(&p, c.to_toml_string()).unwrap();
+    p
+}
+
+#[test]
+fn monte_carlo_run_gives_the_same_bytes_with_one_or_two_jobs() {
+    let d = scratch("mc");
+    let case = short_irregular(&d);
+    let mut outs = Vec::new();
+    for jobs in ["1", "2"] {
+        let out = d.join(format!("mc{jobs}"));
+        let r = pcsim()
+            .arg("run")
+            .arg(&case)
+            .args(["--seeds", "3", "--jobs", jobs, "--quiet", "--plot", "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        outs.push(std::fs::read(out.join("montecarlo.csv")).unwrap());
+        assert!(out.join("montecarlo_std_leading.png").exists());
+        let js: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("montecarlo.json")).unwrap())
+                .unwrap();
+        let s = &js["statistics"]["leading"]["std_n"];
+        assert_eq!(s["n"], 3);
+        assert!(s["ci95_low"].as_f64().unwrap() <= s["mean"].as_f64().unwrap());
+        assert_eq!(js["irregularity"][0]["seed"], 5);
+    }
+    assert_eq!(outs[0], outs[1]);
+    // A case without a random input has nothing to vary.
+    let r = pcsim()
+        .args([
+            "run",
+            "--preset",
+            "syt-7.0-9.8",
+            "--seeds",
+            "3",
+            "--quiet",
+            "--out",
+        ])
+        .arg(d.join("none"))
+        .output()
+        .unwrap();
+    assert!(!r.status.success());
+    assert!(String::from_utf8_lossy(&r.stderr).contains("no seeded random input"));
+}
+
+#[test]
+fn run_reads_an_irregularity_file_and_reports_it() {
+    let d = scratch("irrfile");
+    let case = short_case(&d);
+    let f = d.join("profile.csv");
+    let mut text = String::from("position_m,deviation_m\n");
+    for i in 0..=360 {
+        let x = i as f64;
+        text += &format!("{x},{}\n", 0.005 * (x / 10.0).sin());
+    }
+    std::fs::write(&f, text).unwrap();
+    let out = d.join("o");
+    let r = pcsim()
+        .arg("run")
+        .arg(&case)
+        .arg("--irregularity")
+        .arg(&f)
+        .args(["--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["irregularity"][0]["kind"], "table");
+    let rms = s["irregularity"][0]["rms_achieved_m"].as_f64().unwrap();
+    assert!(rms > 0.003 && rms < 0.0036, "{rms}");
+    // A bad row names the file and the line.
+    std::fs::write(&f, "position_m,deviation_m\n0,0\n1,abc\n").unwrap();
+    let r = pcsim()
+        .arg("run")
+        .arg(&case)
+        .arg("--irregularity")
+        .arg(&f)
+        .args(["--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(!r.status.success());
+    let e = String::from_utf8_lossy(&r.stderr);
+    assert!(e.contains("profile.csv") && e.contains("line 3"), "{e}");
+}
+
+#[test]
+fn window_shards_merge_to_the_unsharded_result() {
+    let d = scratch("window");
+    let args = [
+        "window",
+        "--preset",
+        "syt-7.0-9.8",
+        "--speed",
+        "160,222",
+        "--max-window",
+        "260",
+        "--coarse",
+        "40",
+        "--resolution",
+        "5",
+        "--quiet",
+        "--no-plot",
+        "--out",
+    ];
+    let full = d.join("full");
+    let r = pcsim().args(args).arg(&full).output().unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let csv = std::fs::read_to_string(full.join("window.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 3, "{csv}");
+    assert!(
+        std::fs::read_to_string(full.join("fit.csv"))
+            .unwrap()
+            .lines()
+            .count()
+            > 10
+    );
+    for i in 0..2 {
+        let r = pcsim()
+            .args(args)
+            .arg(d.join(format!("s{i}")))
+            .args(["--shard", &format!("{i}/2")])
+            .output()
+            .unwrap();
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    }
+    let merged = d.join("merged");
+    let r = pcsim()
+        .args(["window", "merge"])
+        .arg(d.join("s0"))
+        .arg(d.join("s1"))
+        .args(["--no-plot", "--out"])
+        .arg(&merged)
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    for f in ["window.csv", "fit.csv"] {
+        assert_eq!(
+            std::fs::read(full.join(f)).unwrap(),
+            std::fs::read(merged.join(f)).unwrap(),
+            "{f} of the merge differs"
+        );
+    }
+    // Tolerances are flags with their unit.
+    let r = pcsim()
+        .args(["window", "--preset", "syt-7.0-9.8", "--sigma-tol=0%"])
+        .output()
+        .unwrap();
+    assert!(!r.status.success());
+    assert!(String::from_utf8_lossy(&r.stderr).contains("--sigma-tol"));
+}

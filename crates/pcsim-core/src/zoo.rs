@@ -78,7 +78,9 @@ pub fn one_span() -> Setup {
     c.run.end_m = 115.0;
     c.run.analysis_m = [65.0, 115.0];
     let full = Setup::from_case(&c).expect("zoo case is valid");
-    let model = full.model.window(60.0, 60.0, 60, false);
+    let mut model = full.model.window(60.0, 60.0, 60, false);
+    // A model of its own: its positions are its own coordinates (no track behind it).
+    model.track_origin_m = 0.0;
     Setup {
         model,
         plan: Plan {

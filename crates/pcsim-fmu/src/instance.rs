@@ -39,6 +39,7 @@ pub struct Instance {
     pub name: String,
     phase: Phase,
     case: String,
+    irregularity_file: String,
     window_m: f64,
     step_s: f64,
     sil: bool,
@@ -58,6 +59,7 @@ impl Instance {
             name: name.to_string(),
             phase: Phase::Instantiated,
             case: vars::DEFAULT_CASE.to_string(),
+            irregularity_file: String::new(),
             window_m: vars::DEFAULT_WINDOW_M,
             step_s: vars::DEFAULT_STEP_S,
             sil: false,
@@ -142,6 +144,21 @@ impl Instance {
             .map_err(|e| (Status::Error, format!("parameter `case`: {e}")))?;
         case.pantographs.truncate(1);
         case.run.dt_s = self.step_s;
+        if !self.irregularity_file.is_empty() {
+            let text = std::fs::read_to_string(&self.irregularity_file).map_err(|e| {
+                (
+                    Status::Error,
+                    format!(
+                        "parameter `irregularity_file` = {:?}: cannot read it: {e}",
+                        self.irregularity_file
+                    ),
+                )
+            })?;
+            let ir =
+                pcsim_core::input::case::IrregularityCase::from_csv(&text, &self.irregularity_file)
+                    .map_err(|e| (Status::Error, format!("parameter `irregularity_file`: {e}")))?;
+            case.irregularity.push(ir);
+        }
         let coupling = if self.sil {
             Coupling::Sil
         } else {
@@ -287,6 +304,10 @@ impl Instance {
         self.usable()?;
         let var = Self::var(vr, Kind::String)?;
         self.check_param_settable(var.name)?;
+        if vr == vars::VR_IRREGULARITY_FILE {
+            self.irregularity_file = v.to_string();
+            return Ok(());
+        }
         presets::find(v).map_err(|e| (Status::Error, format!("`case` = {v:?}: {e}")))?;
         self.case = v.to_string();
         Ok(())
@@ -295,7 +316,11 @@ impl Instance {
     pub fn get_string(&self, vr: u32) -> Res<&str> {
         let var = Self::var(vr, Kind::String)?;
         self.check_readable(var)?;
-        Ok(&self.case)
+        Ok(if vr == vars::VR_IRREGULARITY_FILE {
+            &self.irregularity_file
+        } else {
+            &self.case
+        })
     }
 
     /// Advance from `t` by `h`: `t` must be the FMU's time, `h` finite, > 0 and a whole number of

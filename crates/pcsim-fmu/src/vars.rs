@@ -41,6 +41,7 @@ pub const VR_STEP_SIZE: u32 = 7;
 pub const VR_SIL: u32 = 8;
 pub const VR_CASE: u32 = 9;
 pub const VR_CONTACT_LATERAL: u32 = 10;
+pub const VR_IRREGULARITY_FILE: u32 = 11;
 
 /// Default start values.
 pub const DEFAULT_CASE: &str = "syt-7.0-9.8";
@@ -140,6 +141,15 @@ pub const VARS: &[Var] = &[
         unit: None,
         start: Some(DEFAULT_CASE),
         description: "pcsim preset name (see `pcsim presets`)",
+    },
+    Var {
+        name: "irregularity_file",
+        vr: VR_IRREGULARITY_FILE,
+        kind: Kind::String,
+        causality: Causality::Parameter,
+        unit: None,
+        start: Some(""),
+        description: "contact-wire irregularity profile: a CSV file of position_m,deviation_m rows after a header (empty: none)",
     },
 ];
 

@@ -4,14 +4,15 @@
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
 use pcsim_core::analysis::eva::{run_eva, EvaOutput, EvaRow, EvaSettings};
-use pcsim_core::analysis::sweep::{merge_rows, parallel_map, parse_damping, Grid, Job, Shard};
+use pcsim_core::analysis::sweep::{parallel_map, parse_damping, Grid, Job, Shard};
 use pcsim_core::input::units::{parse_quantity, Dimension};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::common::{apply, load_case, shown, Ctx, Override};
-use crate::output::{read_manifest, write_manifest};
+use crate::output::write_manifest;
 use crate::progress::Progress;
+use crate::sweep_dir::{fnv1a64, merge, SweepKind};
 
 #[derive(Args)]
 #[command(args_conflicts_with_subcommands = true)]
@@ -60,6 +61,10 @@ pub struct EvaArgs {
     /// No figures.
     #[arg(long)]
     no_plot: bool,
+    /// Monte Carlo: run every grid point for N realisations of the case's random inputs
+    /// (irregularity, turbulent wind: seeds offset by 0..N) and write montecarlo.csv.
+    #[arg(long, value_name = "N")]
+    seeds: Option<usize>,
 }
 
 #[derive(Subcommand)]
@@ -117,19 +122,30 @@ fn write_case_files(dir: &Path, job: &Job, o: &EvaOutput) -> Result<()> {
     Ok(())
 }
 
-/// FNV-1a 64-bit hash, for sweep fingerprints.
-pub fn fnv1a64(data: &[u8]) -> String {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for &b in data {
-        h ^= b as u64;
-        h = h.wrapping_mul(0x0100_0000_01b3);
-    }
-    format!("{h:016x}")
-}
+/// The eva sweep directory.
+pub const EVA: SweepKind = SweepKind {
+    kind: "eva",
+    csv: "eva.csv",
+    header: EvaRow::HEADER,
+    columns: COLUMNS,
+    finish: |dir| {
+        crate::sweep_dir::write_montecarlo(
+            dir,
+            "eva.csv",
+            &["speed_kmh", "tension_kn", "damping"],
+            &[
+                "eva_step_m",
+                "eva_fraction_m",
+                "eva_step_max_m",
+                "eva_fraction_max_m",
+            ],
+        )
+    },
+};
 
 pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
     if let Some(EvaSub::Merge { dirs, out, no_plot }) = a.sub {
-        return merge(&dirs, &out, no_plot);
+        return merge(&EVA, &dirs, &out, no_plot);
     }
     let base = load_case(a.case.as_ref(), a.preset.as_deref())?;
     let dampings = a
@@ -176,7 +192,8 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
         .collect::<Result<_>>()?;
     // Every grid point is checked up front, with the flags named on error.
     let base = apply(&base, &[])?;
-    let grid = Grid::new(base.clone(), speeds, tensions, dampings);
+    let n_seeds = crate::common::seeds_flag(a.seeds, &base)?;
+    let grid = Grid::new(base.clone(), speeds, tensions, dampings).with_seeds(n_seeds);
     let jobs = grid.jobs().with_context(|| {
         let mut o: Vec<Override> = Vec::new();
         if !a.speed.is_empty() {
@@ -210,7 +227,7 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
     let mut desc = base.to_toml_string();
     let _ = write!(
         desc,
-        "\n[sweep]\nspeeds = {:?}\ntensions = {:?}\ndampings = {:?}\nstep = {}\ntol = {}\nfraction = {}\nmax_window = {:?}\nsnapshot_at = {:?}\npoints_per_mode = {}\nsample_every = {}\nshards = {}\nversion = {}\n",
+        "\n[sweep]\nspeeds = {:?}\ntensions = {:?}\ndampings = {:?}\nstep = {}\ntol = {}\nfraction = {}\nmax_window = {:?}\nsnapshot_at = {:?}\npoints_per_mode = {}\nsample_every = {}\nshards = {}\nseeds = {}\nversion = {}\n",
         grid.speeds_kmh,
         grid.tensions_n,
         grid.dampings.iter().map(pcsim_core::analysis::sweep::damping_label).collect::<Vec<_>>(),
@@ -222,6 +239,7 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
         settings.points_per_mode,
         settings.sample_every_s,
         shard.count,
+        n_seeds,
         env!("CARGO_PKG_VERSION")
     );
     let fingerprint = fnv1a64(desc.as_bytes());
@@ -247,7 +265,10 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
     let rows: Vec<EvaRow> = mine
         .iter()
         .zip(&done)
-        .map(|(j, o)| EvaRow::new(j.index, j.speed_kmh, j.tension_n / 1e3, &j.damping, o))
+        .map(|(j, o)| EvaRow {
+            seed_offset: j.seed_offset,
+            ..EvaRow::new(j.index, j.speed_kmh, j.tension_n / 1e3, &j.damping, o)
+        })
         .collect();
     let mut csv = String::from(EvaRow::HEADER);
     csv.push('\n');
@@ -256,6 +277,9 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
         csv.push('\n');
     }
     std::fs::write(a.out.join("eva.csv"), &csv)?;
+    if shard == Shard::ALL {
+        (EVA.finish)(&a.out)?;
+    }
     write_manifest(
         &a.out,
         "eva",
@@ -314,195 +338,5 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
         let files = crate::plot::redraw(&a.out)?;
         crate::plot::report(&files);
     }
-    Ok(0)
-}
-
-/// A shard directory, read for the merge.
-struct ShardDir {
-    dir: PathBuf,
-    fingerprint: String,
-    cases: usize,
-    shard: (usize, usize),
-    rows: Vec<(usize, String)>,
-}
-
-fn read_shard(d: &Path) -> Result<ShardDir> {
-    let m = read_manifest(d)?.with_context(|| {
-        format!(
-            "{} is not a shard of an EVA sweep (no pcsim.json; made by an older pcsim?)",
-            d.display()
-        )
-    })?;
-    if m["kind"] != "eva" {
-        bail!(
-            "{} is not an EVA sweep (pcsim.json kind {})",
-            d.display(),
-            m["kind"]
-        );
-    }
-    let p = d.join("eva.csv");
-    let text =
-        std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
-    let mut lines = text.lines();
-    if lines.next() != Some(EvaRow::HEADER) {
-        bail!(
-            "{} is not an eva.csv of this version of pcsim (header differs)",
-            p.display()
-        );
-    }
-    let mut rows = Vec::new();
-    for l in lines.filter(|l| !l.is_empty()) {
-        let idx: usize = l
-            .split(',')
-            .next()
-            .and_then(|s| s.parse().ok())
-            .with_context(|| format!("{}: bad row `{l}`", p.display()))?;
-        rows.push((idx, l.to_string()));
-    }
-    let num = |v: &serde_json::Value, what: &str| -> Result<usize> {
-        v.as_u64()
-            .map(|x| x as usize)
-            .with_context(|| format!("{}: pcsim.json lacks `{what}`", d.display()))
-    };
-    Ok(ShardDir {
-        dir: d.to_path_buf(),
-        fingerprint: m["fingerprint"].as_str().unwrap_or_default().to_string(),
-        cases: num(&m["cases"], "cases")?,
-        shard: (num(&m["shard"][0], "shard")?, num(&m["shard"][1], "shard")?),
-        rows,
-    })
-}
-
-/// Join the shards of one sweep: every shard exactly once, all with one fingerprint; the result
-/// is built beside the output and moved into place only when complete, so a failed merge leaves
-/// nothing behind and never writes into a shard.
-fn merge(dirs: &[PathBuf], out: &Path, no_plot: bool) -> Result<i32> {
-    let shards: Vec<ShardDir> = dirs.iter().map(|d| read_shard(d)).collect::<Result<_>>()?;
-    let first = &shards[0];
-    for s in &shards[1..] {
-        if s.shard.1 != first.shard.1 {
-            bail!(
-                "shard {}/{} ({}) cannot be merged with shard {}/{} ({}): they split the sweep differently",
-                s.shard.0,
-                s.shard.1,
-                s.dir.display(),
-                first.shard.0,
-                first.shard.1,
-                first.dir.display()
-            );
-        }
-        if s.fingerprint != first.fingerprint {
-            bail!(
-                "{} and {} are shards of different sweeps (another case, grid, --step, --tol, --fraction or other option)",
-                first.dir.display(),
-                s.dir.display()
-            );
-        }
-    }
-    let n = first.shard.1;
-    let mut seen = vec![None; n];
-    for s in &shards {
-        if let Some(prev) = seen[s.shard.0].replace(&s.dir) {
-            bail!(
-                "shard {}/{n} is given twice ({} and {})",
-                s.shard.0,
-                prev.display(),
-                s.dir.display()
-            );
-        }
-    }
-    if let Some(k) = seen.iter().position(|s| s.is_none()) {
-        bail!("shard {k}/{n} of the sweep is missing");
-    }
-    let rows = merge_rows(shards.iter().flat_map(|s| s.rows.clone()).collect())?;
-    if rows.len() != first.cases {
-        bail!(
-            "the shards hold {} of the sweep's {} cases",
-            rows.len(),
-            first.cases
-        );
-    }
-    // Never write into an input.
-    let canon = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
-    let out_abs = if out.exists() {
-        canon(out)
-    } else {
-        let parent = out.parent().filter(|p| !p.as_os_str().is_empty());
-        let parent = parent.map(canon).unwrap_or_else(|| canon(Path::new(".")));
-        parent.join(out.file_name().unwrap_or_default())
-    };
-    for s in &shards {
-        let d = canon(&s.dir);
-        if out_abs.starts_with(&d) || d.starts_with(&out_abs) {
-            bail!(
-                "--out {} would write into the shard {}: choose another directory",
-                out.display(),
-                s.dir.display()
-            );
-        }
-    }
-    if out.exists()
-        && read_manifest(out).ok().flatten().is_none()
-        && out.read_dir()?.next().is_some()
-    {
-        bail!(
-            "--out {} exists and is not an output of pcsim: choose another directory",
-            out.display()
-        );
-    }
-    let partial = out_abs.with_file_name(format!(
-        "{}.partial-{}",
-        out_abs.file_name().unwrap_or_default().to_string_lossy(),
-        std::process::id()
-    ));
-    let result = (|| -> Result<()> {
-        std::fs::create_dir_all(partial.join("cases"))?;
-        for s in &shards {
-            let cdir = s.dir.join("cases");
-            if cdir.is_dir() {
-                for e in std::fs::read_dir(&cdir)? {
-                    let e = e?;
-                    std::fs::copy(e.path(), partial.join("cases").join(e.file_name()))?;
-                }
-            }
-        }
-        let mut csv = String::from(EvaRow::HEADER);
-        csv.push('\n');
-        for (_, r) in &rows {
-            csv.push_str(r);
-            csv.push('\n');
-        }
-        std::fs::write(partial.join("eva.csv"), csv)?;
-        write_manifest(
-            &partial,
-            "eva",
-            serde_json::json!({
-                "fingerprint": first.fingerprint,
-                "cases": first.cases,
-                "shard": [0, 1],
-                "merged_from_shards": n,
-                "cases_in_shard": rows.iter().map(|r| r.0).collect::<Vec<_>>(),
-                "columns": COLUMNS,
-            }),
-        )?;
-        if !no_plot {
-            crate::plot::redraw(&partial)?;
-        }
-        if out.exists() {
-            std::fs::remove_dir_all(out)?;
-        }
-        std::fs::rename(&partial, out)?;
-        Ok(())
-    })();
-    if let Err(e) = result {
-        let _ = std::fs::remove_dir_all(&partial);
-        return Err(e.context(format!("merging into {}", out.display())));
-    }
-    println!(
-        "merged {} cases from {} shards into {}",
-        rows.len(),
-        dirs.len(),
-        shown(out, "eva.csv")
-    );
     Ok(0)
 }

@@ -26,6 +26,17 @@ pub struct RunArgs {
     /// Also draw the figures (SVG and PNG) into the output directory.
     #[arg(long)]
     plot: bool,
+    /// Add a contact-wire irregularity profile from a CSV file (`position_m,deviation_m`, m; a
+    /// header line first), on top of the case's own sources.
+    #[arg(long, value_name = "FILE")]
+    irregularity: Option<PathBuf>,
+    /// Monte Carlo: N realisations of the case's random inputs (seeds offset by 0..N), run in
+    /// parallel; writes montecarlo.csv, montecarlo.json and histograms instead of one run.
+    #[arg(long, value_name = "N")]
+    seeds: Option<usize>,
+    /// Worker threads for --seeds, at least 1 [default: all cores].
+    #[arg(long)]
+    jobs: Option<usize>,
 }
 
 pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
@@ -37,7 +48,22 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
     if let Some(t) = &a.tension {
         overrides.push(Override::tension(t)?);
     }
-    let case = apply(&base, &overrides)?;
+    let mut case = apply(&base, &overrides)?;
+    if let Some(f) = &a.irregularity {
+        case.irregularity
+            .push(crate::common::read_irregularity_csv(f)?);
+        case.validate()
+            .map_err(|e| anyhow::anyhow!("{e} (with --irregularity {})", f.display()))?;
+    }
+    if a.jobs == Some(0) {
+        anyhow::bail!("--jobs 0: give at least 1 worker (leave it out to use every core)");
+    }
+    if a.seeds.is_some() {
+        let n = crate::common::seeds_flag(a.seeds, &case)?;
+        return crate::cmd::montecarlo::run_seeds(
+            &case, &overrides, n, a.jobs, &a.out, a.plot, ctx,
+        );
+    }
     let (out, wall, mut warnings) = run_with_progress(&case, &overrides, "run", ctx)?;
     // Flags of the contact point across the head (lateral motion).
     for p in &out.pantographs {
@@ -101,6 +127,16 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
                 );
             }
         }
+    }
+    for r in &out.irregularity {
+        println!(
+            "  irregularity {}{}: RMS {:.2} mm{}",
+            r.kind,
+            r.seed.map_or(String::new(), |s| format!(" (seed {s})")),
+            r.rms_achieved_m * 1e3,
+            r.rms_target_m
+                .map_or(String::new(), |t| format!(" (target {:.2} mm)", t * 1e3))
+        );
     }
     if let Some(w) = &out.wind {
         println!(

@@ -77,6 +77,9 @@ fn read_sweep(dir: &Path) -> Result<Vec<Case>> {
         let index: usize = f[0]
             .parse()
             .with_context(|| format!("{}: `{l}`", p.display()))?;
+        if f.get(15).is_some_and(|s| *s != "0") {
+            continue; // another realisation of a Monte Carlo sweep (montecarlo.csv holds them)
+        }
         let find = |suffix: &str| -> Result<PathBuf> {
             let prefix = format!("case{index:04}_");
             entries

@@ -4,8 +4,10 @@
 //! the full model, Figs. 8–9). This file holds the house style they share.
 
 pub mod eva;
+pub mod montecarlo;
 pub mod realtime;
 pub mod run;
+pub mod window;
 
 use anyhow::{anyhow, Context, Result};
 use plotters::coord::Shift;
@@ -302,6 +304,8 @@ pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
         "run" => run::redraw(dir),
         "eva" => eva::redraw(dir),
         "realtime" => realtime::redraw(dir),
+        "montecarlo" => montecarlo::redraw(dir),
+        "window" => window::redraw(dir),
         other => anyhow::bail!(
             "{}: pcsim.json names kind `{other}`, which has no figures",
             dir.display()

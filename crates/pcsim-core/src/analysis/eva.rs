@@ -331,11 +331,13 @@ pub struct EvaRow {
     pub eva_fraction_max_m: Option<f64>,
     pub eva_step_mean_m: Option<f64>,
     pub eva_fraction_mean_m: Option<f64>,
+    /// Seed offset of the realisation (Monte Carlo over the case's random inputs; 0 for one).
+    pub seed_offset: u64,
 }
 
 impl EvaRow {
     /// The CSV header of `eva.csv`.
-    pub const HEADER: &'static str = "index,speed_kmh,tension_kn,damping,step_m,tolerance_j,fraction,eva_step_m,eva_fraction_m,converged_energy_j,total_energy_j,eva_step_max_m,eva_fraction_max_m,eva_step_mean_m,eva_fraction_mean_m";
+    pub const HEADER: &'static str = "index,speed_kmh,tension_kn,damping,step_m,tolerance_j,fraction,eva_step_m,eva_fraction_m,converged_energy_j,total_energy_j,eva_step_max_m,eva_fraction_max_m,eva_step_mean_m,eva_fraction_mean_m,seed_offset";
 
     /// The row of case `index` of a sweep.
     pub fn new(
@@ -362,6 +364,7 @@ impl EvaRow {
             eva_fraction_max_m: o.max.eva_fraction_m,
             eva_step_mean_m: o.mean.eva_step_m,
             eva_fraction_mean_m: o.mean.eva_fraction_m,
+            seed_offset: 0,
         }
     }
 
@@ -370,7 +373,7 @@ impl EvaRow {
     pub fn to_csv(&self) -> String {
         let opt = |v: Option<f64>| v.map(|x| format!("{x:.3}")).unwrap_or_default();
         format!(
-            "{},{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{},{}",
             self.index,
             self.speed_kmh,
             self.tension_kn,
@@ -388,6 +391,7 @@ impl EvaRow {
             opt(self.eva_fraction_max_m),
             opt(self.eva_step_mean_m),
             opt(self.eva_fraction_mean_m),
+            self.seed_offset,
         )
     }
 }

@@ -11,12 +11,16 @@
 //! | `validation.rs` | which cases, which targets, the validation table |
 //! | `sweep.rs` | grids of cases, shards, parallel execution, merge |
 //! | `studies.rs` | the real-time window against the full model |
+//! | `window_length.rs` | the accuracy-based window length and the energy criteria's fit |
+//! | `montecarlo.rs` | realisations over seeds and their spread |
 
 pub mod energy;
 pub mod eva;
 pub mod filter;
+pub mod montecarlo;
 pub mod record;
 pub mod stats;
 pub mod studies;
 pub mod sweep;
 pub mod validation;
+pub mod window_length;

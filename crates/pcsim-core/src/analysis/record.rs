@@ -5,6 +5,7 @@ use crate::analysis::filter::lowpass_zero_phase;
 use crate::analysis::stats::{contact_stats, lateral_stats, ContactStats, LateralStats, CUTOFF_HZ};
 use crate::error::SimError;
 use crate::input::case::Case;
+use crate::model::irregularity::IrregularityReport;
 use crate::model::wind::WindReport;
 use crate::model::Direction;
 use crate::solve::run::{run, Observer, RunStatistics};
@@ -51,6 +52,8 @@ pub struct RunOutput {
     pub run_statistics: RunStatistics,
     /// The crosswind, if any (seed, spectrum, turbulence intensity achieved).
     pub wind: Option<WindReport>,
+    /// The contact-wire irregularity's sources (seeds, RMS achieved).
+    pub irregularity: Vec<IrregularityReport>,
 }
 
 impl RunOutput {
@@ -175,6 +178,10 @@ impl Recorder {
             n_modes: m.n_modes(),
             run_statistics: rs,
             wind: m.wind.as_ref().map(|w| w.report.clone()),
+            irregularity: m
+                .irregularity
+                .as_ref()
+                .map_or_else(Vec::new, |r| r.reports.clone()),
         }
     }
 }

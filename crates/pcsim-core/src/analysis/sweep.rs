@@ -92,13 +92,15 @@ impl Shard {
     }
 }
 
-/// A grid of cases: every damping × tension × speed (speed fastest).
+/// A grid of cases: every seed × damping × tension × speed (speed fastest).
 #[derive(Debug, Clone)]
 pub struct Grid {
     pub base: Case,
     pub speeds_kmh: Vec<f64>,
     pub tensions_n: Vec<f64>,
     pub dampings: Vec<Damping>,
+    /// Seed offsets of the realisations (Monte Carlo; `[0]` for one).
+    pub seeds: Vec<u64>,
 }
 
 /// One case of a grid.
@@ -109,6 +111,8 @@ pub struct Job {
     /// Contact-wire tension, N.
     pub tension_n: f64,
     pub damping: String,
+    /// Seed offset of the realisation (every seed of the case's random inputs plus this).
+    pub seed_offset: u64,
     pub case: Case,
 }
 
@@ -140,33 +144,47 @@ impl Grid {
             speeds_kmh,
             tensions_n,
             dampings,
+            seeds: vec![0],
         }
+    }
+
+    /// `n` realisations of every grid point (seed offsets 0..n, outermost).
+    pub fn with_seeds(mut self, n: usize) -> Self {
+        self.seeds = (0..n.max(1) as u64).collect();
+        self
     }
 
     /// Every case of the grid, each validated up front (a bad grid point fails before any work
     /// is done; the error names the case).
     pub fn jobs(&self) -> Result<Vec<Job>, CaseError> {
         let mut jobs = Vec::new();
-        for d in &self.dampings {
-            let label = damping_label(d);
-            for &t in &self.tensions_n {
-                for &v in &self.speeds_kmh {
-                    let index = jobs.len();
-                    let mut c = self.base.clone();
-                    c.run.speed_kmh = v;
-                    c.catenary.contact_wire.tension_n = t;
-                    c.catenary.damping = d.clone();
-                    Setup::from_case(&c).map_err(|e| CaseError::InCase {
-                        case: format!("case {index} ({v} km/h, {} kN, {label})", t / 1e3),
-                        source: Box::new(e),
-                    })?;
-                    jobs.push(Job {
-                        index,
-                        speed_kmh: v,
-                        tension_n: t,
-                        damping: label.clone(),
-                        case: c,
-                    });
+        for &k in &self.seeds {
+            for d in &self.dampings {
+                let label = damping_label(d);
+                for &t in &self.tensions_n {
+                    for &v in &self.speeds_kmh {
+                        let index = jobs.len();
+                        let mut c = self.base.with_seed_offset(k);
+                        c.run.speed_kmh = v;
+                        c.catenary.contact_wire.tension_n = t;
+                        c.catenary.damping = d.clone();
+                        if k == 0 {
+                            // The realisations differ in their seeds only: check each grid
+                            // point once.
+                            Setup::from_case(&c).map_err(|e| CaseError::InCase {
+                                case: format!("case {index} ({v} km/h, {} kN, {label})", t / 1e3),
+                                source: Box::new(e),
+                            })?;
+                        }
+                        jobs.push(Job {
+                            index,
+                            speed_kmh: v,
+                            tension_n: t,
+                            damping: label.clone(),
+                            seed_offset: k,
+                            case: c,
+                        });
+                    }
                 }
             }
         }

@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 use crate::error::CaseError;
+pub use crate::input::irregularity::{IrregularityCase, PsdTable};
 pub use crate::input::lateral::{
     AeroCase, Dof, IceCase, LateralCase, SectionCase, Spectrum, WindCase, WindProfile,
 };
@@ -33,6 +34,9 @@ pub struct Case {
     /// Crosswind (needs `lateral` in `run.dofs`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wind: Option<WindCase>,
+    /// Contact-wire irregularity: sources that add up.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub irregularity: Vec<IrregularityCase>,
 }
 
 /// Free-text description of a case.
@@ -304,6 +308,28 @@ impl Case {
     /// Model length, m.
     pub fn length_m(&self) -> f64 {
         self.catenary.spans as f64 * self.catenary.span_m
+    }
+
+    /// The case of realisation `k` of a Monte Carlo study: every seed (irregularity, wind)
+    /// offset by `k`.
+    pub fn with_seed_offset(&self, k: u64) -> Case {
+        let mut c = self.clone();
+        for ir in &mut c.irregularity {
+            *ir = ir.with_seed_offset(k);
+        }
+        if let Some(w) = c.wind.as_mut() {
+            w.seed = w.seed.wrapping_add(k);
+        }
+        c
+    }
+
+    /// Whether the case has a seeded random input (a Monte Carlo study varies it).
+    pub fn is_random(&self) -> bool {
+        self.irregularity.iter().any(|i| i.seed().is_some())
+            || self
+                .wind
+                .as_ref()
+                .is_some_and(|w| w.turbulence_intensity > 0.0)
     }
 
     /// Train speed in m/s.
@@ -792,6 +818,7 @@ impl Case {
             ));
         }
         crate::input::lateral::validate(self, &mut w)?;
+        crate::input::irregularity::validate(self, &mut w)?;
         Ok(w)
     }
 }

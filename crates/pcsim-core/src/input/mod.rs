@@ -2,6 +2,7 @@
 //! validation targets. The bottom layer: it imports nothing else from the crate.
 
 pub mod case;
+pub mod irregularity;
 pub mod lateral;
 pub mod overrides;
 pub mod presets;

@@ -14,6 +14,7 @@ use crate::model::elements::steady_arm::{SteadyArm, SteadyArms};
 use crate::model::elements::stitch::{Stitch, Stitches};
 use crate::model::elements::support::{Support, Supports};
 use crate::model::elements::{Attach, PointElement};
+use crate::model::irregularity::IrregularityProfile;
 use crate::model::lateral::LateralGeometry;
 use crate::model::pantograph::{Lumped, Pantograph, PantographKind};
 use crate::model::statics::StaticSolution;
@@ -531,6 +532,14 @@ impl Model {
         );
         model.lateral = geometry;
         model.wind = wind;
+        if !case.irregularity.is_empty() {
+            model.irregularity = Some(IrregularityProfile::build(
+                &case.irregularity,
+                l,
+                c.span_m,
+                &c.droppers.positions_m,
+            ));
+        }
         Ok((model, warnings))
     }
 }

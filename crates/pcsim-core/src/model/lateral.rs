@@ -10,7 +10,7 @@
 /// The stagger polyline and the lateral constants the run's outputs need.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LateralGeometry {
-    /// Model coordinate of support 0, m (negative in a window that starts after it).
+    /// Track position of support 0, m.
     pub first_support_m: f64,
     pub span_m: f64,
     /// Stagger at supports 0, 1, 2, … (the last repeats beyond), m.
@@ -18,14 +18,14 @@ pub struct LateralGeometry {
     /// Depth of the contact point below the contact wire's axis, m: the contact point's lateral
     /// position is `z − e_c φ`.
     pub contact_point_eccentricity_m: f64,
-    /// Positions (model coordinates) where the contact wire's lateral deviation is monitored for
-    /// the blow-out: droppers and mid-spans.
+    /// Positions (model coordinates: a window's own) where the contact wire's lateral deviation
+    /// is monitored for the blow-out: droppers and mid-spans.
     pub probes_m: Vec<f64>,
 }
 
 impl LateralGeometry {
-    /// Static lateral position of the wires at `x` (model coordinates), m: the straight line
-    /// between the staggers of the neighbouring supports.
+    /// Static lateral position of the wires at track position `x`, m: the straight line between
+    /// the staggers of the neighbouring supports.
     pub fn stagger_at(&self, x: f64) -> f64 {
         let n = self.stagger_m.len();
         if n == 0 {
@@ -43,11 +43,10 @@ impl LateralGeometry {
         self.stagger_m[i] + t * (self.stagger_m[i + 1] - self.stagger_m[i])
     }
 
-    /// The same geometry in the coordinates of a window starting at `origin_m`, keeping the
-    /// probes inside `(origin, origin + length)`.
+    /// The same geometry for a window starting at track position `origin_m`: the stagger stays in
+    /// track coordinates, the probes inside `(origin, origin + length)` move to the window's.
     pub fn window(&self, origin_m: f64, length_m: f64) -> Self {
         Self {
-            first_support_m: self.first_support_m - origin_m,
             probes_m: self
                 .probes_m
                 .iter()

@@ -19,6 +19,7 @@ pub mod basis;
 pub mod build;
 pub mod dof;
 pub mod elements;
+pub mod irregularity;
 pub mod lateral;
 pub mod pantograph;
 pub mod statics;
@@ -81,6 +82,13 @@ pub struct Model {
     pub lateral: Option<lateral::LateralGeometry>,
     /// Crosswind, if any.
     pub wind: Option<wind::WindLoad>,
+    /// Contact-wire irregularity, if any (added to the contact wire's static height), in track
+    /// coordinates.
+    pub irregularity: Option<irregularity::IrregularityProfile>,
+    /// Track position of the model's x = 0 when it is built, m (0 for a full model; a window's
+    /// origin). Stagger and irregularity are kept in track coordinates, because a window moves
+    /// by whole spans but they need not repeat every span.
+    pub track_origin_m: f64,
 }
 
 impl Model {
@@ -112,6 +120,8 @@ impl Model {
             span_m,
             lateral: None,
             wind: None,
+            irregularity: None,
+            track_origin_m: 0.0,
         }
     }
 
@@ -155,12 +165,21 @@ impl Model {
             .find_map(|e| e.as_any().downcast_ref::<T>())
     }
 
-    /// Static position of wire `wire` in direction `dir` at `x` (the analytic profile): the
-    /// height, the stagger line, or no rotation; m (rad).
-    pub fn static_height(&self, wire: usize, dir: Direction, x: f64) -> f64 {
+    /// Static position of wire `wire` in direction `dir` at model coordinate `x` when the model's
+    /// x = 0 lies at track position `track_origin_m` (the state's): the design height (with the
+    /// contact wire's irregularity), the stagger line, or no rotation; m (rad).
+    pub fn static_height(&self, wire: usize, dir: Direction, x: f64, track_origin_m: f64) -> f64 {
+        let xt = x + track_origin_m;
         match dir {
-            Direction::Vertical => self.statics.height(self.wires[wire].role, x),
-            Direction::Lateral => self.lateral.as_ref().map_or(0.0, |l| l.stagger_at(x)),
+            Direction::Vertical => {
+                let role = self.wires[wire].role;
+                let h = self.statics.height(role, x);
+                match (&self.irregularity, role) {
+                    (Some(ir), WireRole::Contact) => h + ir.at(xt),
+                    _ => h,
+                }
+            }
+            Direction::Lateral => self.lateral.as_ref().map_or(0.0, |l| l.stagger_at(xt)),
             Direction::Torsional => 0.0,
         }
     }

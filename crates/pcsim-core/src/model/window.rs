@@ -49,8 +49,12 @@ impl Model {
             // The point sampler uses the periodic path only when the window is whole spans.
             self.span_m,
         );
+        // Stagger and irregularity stay in track coordinates (`Model::static_height` adds the
+        // state's origin); the lateral probes move to the window's coordinates.
+        m.track_origin_m = self.track_origin_m + origin_m;
         m.lateral = self.lateral.as_ref().map(|l| l.window(origin_m, length_m));
         m.wind = self.wind.as_ref().map(|w| w.window(origin_m, length_m));
+        m.irregularity = self.irregularity.clone();
         if external {
             m.with_external_pantographs()
         } else {

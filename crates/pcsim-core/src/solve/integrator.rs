@@ -641,7 +641,7 @@ impl Integrator {
                     let h = match pan_point[p] {
                         Some(m) => {
                             let mp = &moving[m];
-                            model.static_height(mp.wire, mp.dir, x)
+                            model.static_height(mp.wire, mp.dir, x, model.track_origin_m)
                         }
                         None => 0.0,
                     };
@@ -1149,7 +1149,7 @@ impl Integrator {
             if mp.fills_row {
                 mp.basis.fill_sines(x - mp.origin_m, row);
             }
-            ws.u[self.moving_u0 + mi] = m.static_height(mp.wire, mp.dir, x)
+            ws.u[self.moving_u0 + mi] = m.static_height(mp.wire, mp.dir, x, st.track_origin_m)
                 + kernels::dot(isa, &st.modal.u[mp.q_off..mp.q_off + mp.n], row);
             ws.samples[p].position_m = x;
         }
@@ -1195,7 +1195,7 @@ impl Integrator {
                 let mp = &self.moving[lp.moving];
                 let row = &ws.rows[mp.row_off..mp.row_off + mp.n];
                 let x = ws.samples[p].position_m;
-                let mut z = m.static_height(lp.wire, Direction::Lateral, x)
+                let mut z = m.static_height(lp.wire, Direction::Lateral, x, st.track_origin_m)
                     + kernels::dot(isa, &st.modal.u[lp.lat_off..lp.lat_off + lp.n], row);
                 if let Some(t) = lp.tors_off {
                     z -= lp.eccentricity_m * kernels::dot(isa, &st.modal.u[t..t + lp.n], row);
@@ -1278,7 +1278,7 @@ impl Integrator {
             if mp.fills_row {
                 mp.basis.fill_sines(x - mp.origin_m, row);
             }
-            ws.eu[self.moving_u0 + mi] = m.static_height(mp.wire, mp.dir, x)
+            ws.eu[self.moving_u0 + mi] = m.static_height(mp.wire, mp.dir, x, st.track_origin_m)
                 + kernels::dot(self.isa, &st.modal.u[mp.q_off..mp.q_off + mp.n], row);
             ws.ev[self.moving_u0 + mi] =
                 kernels::dot(self.isa, &st.modal.v[mp.q_off..mp.q_off + mp.n], row);

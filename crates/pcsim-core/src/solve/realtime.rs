@@ -507,15 +507,21 @@ impl RealtimeCatenary {
             .model()
             .lateral
             .as_ref()
-            .map_or(0.0, |l| l.stagger_at(x_m - self.st.track_origin_m))
+            .map_or(0.0, |l| l.stagger_at(x_m))
     }
 
-    /// Static contact-wire height at track position `x_m`, m.
+    /// Static contact-wire height at track position `x_m` (irregularity included), m.
     pub fn static_height_at(&self, x_m: f64) -> f64 {
-        self.integ
-            .model()
-            .statics
-            .height(WireRole::Contact, x_m - self.st.track_origin_m)
+        let m = self.integ.model();
+        match m.wire_index(WireRole::Contact) {
+            Some(w) => m.static_height(
+                w,
+                crate::model::Direction::Vertical,
+                x_m - self.st.track_origin_m,
+                self.st.track_origin_m,
+            ),
+            None => 0.0,
+        }
     }
 
     /// Track position of pantograph 0 in SIL mode at the current time, m.

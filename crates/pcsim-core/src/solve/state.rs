@@ -72,7 +72,7 @@ impl State {
         State {
             t: 0.0,
             x0_m,
-            track_origin_m: 0.0,
+            track_origin_m: model.track_origin_m,
             modal: Dofs::zeros(model.layout.len),
             nodes: Dofs::zeros(model.nodes.len()),
             pantographs: Dofs::zeros(np),

@@ -1,0 +1,140 @@
+//! `pcsim run --seeds N`: a Monte Carlo study of one case over the seeds of its random inputs
+//! (the core's `analysis::montecarlo`): `montecarlo.csv` (one row per realisation),
+//! `montecarlo.json` (the spread of each statistic: mean, standard deviation, 95 % confidence
+//! interval of the mean) and histograms of σ and of the minimum force.
+
+use anyhow::{Context, Result};
+use pcsim_core::analysis::montecarlo::{monte_carlo, stat_of, Spread, MC_STATS};
+use pcsim_core::Case;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::common::{shown, Ctx, Override};
+use crate::output::write_manifest;
+use crate::progress::Progress;
+
+pub fn run_seeds(
+    case: &Case,
+    overrides: &[Override],
+    n: usize,
+    jobs: Option<usize>,
+    out: &Path,
+    plot: bool,
+    ctx: &Ctx,
+) -> Result<i32> {
+    crate::common::setup(case, overrides, ctx)?;
+    let pb = Progress::new(
+        "montecarlo",
+        n as u64,
+        ctx.progress,
+        "montecarlo [{bar:40}] {pos}/{len} realisations {elapsed_precise} eta {eta}",
+    );
+    let real = monte_carlo(case, n, jobs, &ctx.budget, &|| pb.inc())?;
+    pb.finish();
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    let names: Vec<String> = real[0]
+        .output
+        .pantographs
+        .iter()
+        .map(|p| p.name.clone())
+        .collect();
+    // One row per realisation.
+    let mut csv = String::from("realisation,seed_offset,seeds,irregularity_rms_m");
+    for nm in &names {
+        for s in MC_STATS {
+            let _ = write!(csv, ",{nm}_{s}");
+        }
+    }
+    csv.push('\n');
+    for r in &real {
+        let c = case.with_seed_offset(r.seed_offset);
+        let mut seeds: Vec<String> = c
+            .irregularity
+            .iter()
+            .enumerate()
+            .filter_map(|(i, ir)| ir.seed().map(|s| format!("irregularity[{i}]={s}")))
+            .collect();
+        if let Some(w) = &c.wind {
+            seeds.push(format!("wind={}", w.seed));
+        }
+        let rms: f64 = r
+            .output
+            .irregularity
+            .iter()
+            .map(|x| x.rms_achieved_m.powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let _ = write!(
+            csv,
+            "{},{},{},{:.6e}",
+            r.seed_offset,
+            r.seed_offset,
+            seeds.join(" "),
+            rms
+        );
+        for p in 0..names.len() {
+            for s in MC_STATS {
+                let v = stat_of(&r.output, p, s);
+                if v.is_finite() {
+                    let _ = write!(csv, ",{v:.6}");
+                } else {
+                    csv.push(',');
+                }
+            }
+        }
+        csv.push('\n');
+    }
+    std::fs::write(out.join("montecarlo.csv"), csv)?;
+    // The spread of each statistic.
+    let mut stats = serde_json::Map::new();
+    for (p, nm) in names.iter().enumerate() {
+        let mut m = serde_json::Map::new();
+        for s in MC_STATS {
+            let v: Vec<f64> = real.iter().map(|r| stat_of(&r.output, p, s)).collect();
+            m.insert(s.to_string(), serde_json::to_value(Spread::of(&v))?);
+        }
+        stats.insert(nm.clone(), serde_json::Value::Object(m));
+    }
+    let summary = serde_json::json!({
+        "case_name": crate::common::case_name(case),
+        "speed_kmh": case.run.speed_kmh,
+        "realisations": n,
+        "seed_offsets": [0, n - 1],
+        "overrides": overrides.iter().map(|o| o.flag.clone()).collect::<Vec<_>>(),
+        "irregularity": real[0].output.irregularity,
+        "wind": real[0].output.wind,
+        "statistics": stats,
+        "note": "spread over the realisations: mean, standard deviation (N-1), 95 % confidence interval of the mean (Student's t), min, max",
+    });
+    std::fs::write(
+        out.join("montecarlo.json"),
+        serde_json::to_string_pretty(&summary)? + "\n",
+    )?;
+    write_manifest(out, "montecarlo", serde_json::json!({ "realisations": n }))?;
+    println!(
+        "{}: {n} realisations at {} km/h",
+        crate::common::case_name(case),
+        case.run.speed_kmh
+    );
+    for (p, nm) in names.iter().enumerate() {
+        for s in ["std_n", "actual_min_n", "loss_of_contact_percent"] {
+            let v: Vec<f64> = real.iter().map(|r| stat_of(&r.output, p, s)).collect();
+            if let Some(sp) = Spread::of(&v) {
+                println!(
+                    "  {nm:<10} {s:<24} mean {:8.3}  std {:7.3}  95 % CI [{:.3}, {:.3}]  range [{:.3}, {:.3}]",
+                    sp.mean, sp.std, sp.ci95_low, sp.ci95_high, sp.min, sp.max
+                );
+            }
+        }
+    }
+    println!(
+        "wrote {} and {}",
+        shown(out, "montecarlo.csv"),
+        shown(out, "montecarlo.json")
+    );
+    if plot {
+        let files = crate::plot::redraw(out)?;
+        crate::plot::report(&files);
+    }
+    Ok(0)
+}

@@ -1,0 +1,408 @@
+//! `pcsim window`: the accuracy-based length of the real-time window over a grid of speeds and
+//! tensions (issue 13), beside the energy-based EVA lengths and the energy criterion that
+//! predicts it best. Runs on the sweep engine: jobs, shards, merge, fingerprints, seeds.
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, Subcommand};
+use pcsim_core::analysis::eva::{run_eva, EvaSettings};
+use pcsim_core::analysis::sweep::{parallel_map, Grid, Job, Shard};
+use pcsim_core::analysis::window_length::{
+    accuracy_length, fit_criteria, EnergyCurves, SearchSettings, Tolerances,
+};
+use pcsim_core::input::units::{parse_quantity, Dimension};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use crate::common::{apply, load_case, shown, Ctx};
+use crate::output::write_manifest;
+use crate::progress::Progress;
+use crate::sweep_dir::{fnv1a64, merge, write_montecarlo, SweepKind};
+
+#[derive(Args)]
+#[command(args_conflicts_with_subcommands = true)]
+pub struct WindowArgs {
+    #[command(subcommand)]
+    sub: Option<WindowSub>,
+    /// Case file (TOML). Give this or --preset.
+    case: Option<PathBuf>,
+    /// Embedded preset name.
+    #[arg(long)]
+    preset: Option<String>,
+    /// Speeds, comma-separated: km/h, or with a unit. Default: the case's speed.
+    #[arg(long, value_delimiter = ',', value_name = "KM/H")]
+    speed: Vec<String>,
+    /// Contact-wire tensions, comma-separated: kN, or with a unit. Default: the case's.
+    #[arg(long, value_delimiter = ',', value_name = "KN")]
+    tension: Vec<String>,
+    /// Tolerance on the mean of the 0–20 Hz force against the full model, % (`1%` or `1`).
+    #[arg(long, default_value = "1%", value_name = "PCT")]
+    mean_tol: String,
+    /// Tolerance on σ of the 0–20 Hz force, %.
+    #[arg(long, default_value = "3%", value_name = "PCT")]
+    sigma_tol: String,
+    /// Tolerance on the actual maximum of the 0–20 Hz force, %.
+    #[arg(long, default_value = "5%", value_name = "PCT")]
+    max_tol: String,
+    /// Shortest window searched, m [default: half a span].
+    #[arg(long, value_name = "M")]
+    min_window: Option<String>,
+    /// Longest window searched, m: the length found is one that this and every window between
+    /// match [default: 400 m].
+    #[arg(long, value_name = "M")]
+    max_window: Option<String>,
+    /// Step of the coarse scan, m.
+    #[arg(long, default_value = "20", value_name = "M")]
+    coarse: String,
+    /// Resolution of the refinement, m.
+    #[arg(long, default_value = "1", value_name = "M")]
+    resolution: String,
+    /// Output directory.
+    #[arg(long, default_value = "out/window")]
+    out: PathBuf,
+    /// Worker threads, at least 1 [default: all cores].
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Run only the cases with index ≡ I (mod N), as `I/N`.
+    #[arg(long)]
+    shard: Option<String>,
+    /// Monte Carlo: N realisations of the case's random inputs per grid point.
+    #[arg(long, value_name = "N")]
+    seeds: Option<usize>,
+    /// No figures.
+    #[arg(long)]
+    no_plot: bool,
+}
+
+#[derive(Subcommand)]
+enum WindowSub {
+    /// Join the shards of one window sweep into one directory (and fit the criteria again).
+    Merge {
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        #[arg(long, default_value = "out/window")]
+        out: PathBuf,
+        #[arg(long)]
+        no_plot: bool,
+    },
+}
+
+/// The header of `window.csv`.
+pub const HEADER: &str = "index,seed_offset,speed_kmh,tension_kn,damping,length_m,mean_err_pct,sigma_err_pct,max_err_pct,windows_run,eva_step_m,eva_fraction_m,eva_step_max_m,eva_fraction_max_m,eva_step_mean_m,eva_fraction_mean_m,snapshot_total_j,max_total_j,mean_total_j";
+
+const COLUMNS: &str = "length_m: the accuracy-based window length (empty: not reached within --max-window); *_err_pct: the errors of that window against the full model; eva_*: the energy-based lengths of `pcsim eva` (snapshot, maximum over the passage, time average; step criterion Δd = 1 m, 0.01 J; fraction 0.99); *_total_j: the energies the fraction criteria refer to";
+
+/// The window sweep directory.
+pub const WINDOW: SweepKind = SweepKind {
+    kind: "window",
+    csv: "window.csv",
+    header: HEADER,
+    columns: COLUMNS,
+    finish,
+};
+
+fn stem(job_index: usize, speed: f64, tension_kn: f64) -> String {
+    format!("case{job_index:04}_v{speed}_t{tension_kn}")
+}
+
+fn pct(flag: &str, s: &str) -> Result<f64> {
+    let t = s.trim().trim_end_matches('%').trim();
+    let v: f64 = t
+        .parse()
+        .map_err(|_| anyhow::anyhow!("{flag} `{s}`: give a percentage, e.g. 3% or 3"))?;
+    if !(v.is_finite() && v > 0.0 && v < 1000.0) {
+        bail!("{flag} {s}: must be a percentage in (0, 1000)");
+    }
+    Ok(v)
+}
+
+fn metres(flag: &str, s: &str) -> Result<f64> {
+    crate::common::length(flag, s)
+}
+
+pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
+    if let Some(WindowSub::Merge { dirs, out, no_plot }) = a.sub {
+        return merge(&WINDOW, &dirs, &out, no_plot);
+    }
+    let base = load_case(a.case.as_ref(), a.preset.as_deref())?;
+    let base = apply(&base, &[])?;
+    let tol = Tolerances {
+        mean_pct: pct("--mean-tol", &a.mean_tol)?,
+        sigma_pct: pct("--sigma-tol", &a.sigma_tol)?,
+        max_pct: pct("--max-tol", &a.max_tol)?,
+    };
+    let search = SearchSettings {
+        min_m: match &a.min_window {
+            Some(s) => metres("--min-window", s)?,
+            None => 0.5 * base.catenary.span_m,
+        },
+        max_m: match &a.max_window {
+            Some(s) => metres("--max-window", s)?,
+            None => 400.0,
+        },
+        coarse_m: metres("--coarse", &a.coarse)?,
+        resolution_m: metres("--resolution", &a.resolution)?,
+    };
+    search.check()?;
+    if search.max_m >= base.length_m() {
+        bail!(
+            "--max-window {} m: must be shorter than the model ({} m)",
+            search.max_m,
+            base.length_m()
+        );
+    }
+    if a.jobs == Some(0) {
+        bail!("--jobs 0: give at least 1 worker (leave it out to use every core)");
+    }
+    let shard = match &a.shard {
+        None => Shard::ALL,
+        Some(s) => Shard::parse(s)?,
+    };
+    let speeds: Vec<f64> = a
+        .speed
+        .iter()
+        .map(|s| {
+            Ok(parse_quantity(s, Dimension::Speed, 1.0)
+                .map_err(|e| anyhow::anyhow!("--speed {e}"))?
+                .value)
+        })
+        .collect::<Result<_>>()?;
+    let tensions: Vec<f64> = a
+        .tension
+        .iter()
+        .map(|s| {
+            Ok(parse_quantity(s, Dimension::Force, 1e3)
+                .map_err(|e| anyhow::anyhow!("--tension {e}"))?
+                .value)
+        })
+        .collect::<Result<_>>()?;
+    let n_seeds = crate::common::seeds_flag(a.seeds, &base)?;
+    let mut single = base.clone();
+    single.pantographs.truncate(1);
+    let grid = Grid::new(single.clone(), speeds, tensions, Vec::new()).with_seeds(n_seeds);
+    let jobs = grid.jobs().context("in the window sweep")?;
+    let mut desc = single.to_toml_string();
+    let _ = write!(
+        desc,
+        "\n[window]\nspeeds = {:?}\ntensions = {:?}\ntol = {:?}\nsearch = {:?}\nseeds = {n_seeds}\nshards = {}\nversion = {}\n",
+        grid.speeds_kmh,
+        grid.tensions_n,
+        tol,
+        search,
+        shard.count,
+        env!("CARGO_PKG_VERSION")
+    );
+    let fingerprint = fnv1a64(desc.as_bytes());
+    let mine: Vec<&Job> = jobs.iter().filter(|j| shard.contains(j.index)).collect();
+    std::fs::create_dir_all(a.out.join("cases"))
+        .with_context(|| format!("cannot create {}", a.out.display()))?;
+    let pb = Progress::new(
+        "window",
+        mine.len() as u64,
+        ctx.progress,
+        "window [{bar:40}] {pos}/{len} cases {elapsed_precise} eta {eta}",
+    );
+    let eva_settings = EvaSettings {
+        budget: ctx.budget,
+        ..EvaSettings::default()
+    };
+    let results = parallel_map(&mine, a.jobs, |job| {
+        let (r, _) = accuracy_length(&job.case, &search, &tol, &ctx.budget)
+            .map_err(|e| anyhow::anyhow!("case {}: {e}", job.index))?;
+        let setup = pcsim_core::Setup::from_case_with(&job.case, &ctx.budget)?;
+        let eva = run_eva(&setup, &eva_settings, &mut |_| true)
+            .map_err(|e| anyhow::anyhow!("case {} (energies): {e}", job.index))?;
+        let st = stem(job.index, job.speed_kmh, job.tension_n / 1e3);
+        let mut errs = String::from("window_m,mean_err_pct,sigma_err_pct,max_err_pct\n");
+        for e in &r.evaluated {
+            let _ = writeln!(
+                errs,
+                "{},{:.6},{:.6},{:.6}",
+                e.window_m, e.mean_pct, e.sigma_pct, e.max_pct
+            );
+        }
+        std::fs::write(a.out.join("cases").join(format!("{st}_errors.csv")), errs)?;
+        let c = EnergyCurves::of(&eva);
+        let mut en = String::from("window_m,snapshot_j,max_j,mean_j\n");
+        for i in 0..c.window_m.len() {
+            let _ = writeln!(
+                en,
+                "{},{:.9e},{:.9e},{:.9e}",
+                c.window_m[i], c.snapshot_j[i], c.max_j[i], c.mean_j[i]
+            );
+        }
+        std::fs::write(a.out.join("cases").join(format!("{st}_energy.csv")), en)?;
+        let at = r
+            .length_m
+            .and_then(|l| r.evaluated.iter().find(|e| (e.window_m - l).abs() < 1e-9));
+        let opt = |v: Option<f64>| v.map(|x| format!("{x:.3}")).unwrap_or_default();
+        let row = format!(
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.9e},{:.9e},{:.9e}",
+            job.index,
+            job.seed_offset,
+            job.speed_kmh,
+            job.tension_n / 1e3,
+            job.damping,
+            opt(r.length_m),
+            opt(at.map(|e| e.mean_pct)),
+            opt(at.map(|e| e.sigma_pct)),
+            opt(at.map(|e| e.max_pct)),
+            r.evaluated.len(),
+            opt(eva.snapshot.eva_step_m),
+            opt(eva.snapshot.eva_fraction_m),
+            opt(eva.max.eva_step_m),
+            opt(eva.max.eva_fraction_m),
+            opt(eva.mean.eva_step_m),
+            opt(eva.mean.eva_fraction_m),
+            c.snapshot_total_j,
+            c.max_total_j,
+            c.mean_total_j
+        );
+        pb.inc();
+        Ok::<_, anyhow::Error>(row)
+    });
+    pb.finish();
+    let rows: Vec<String> = results.into_iter().collect::<Result<_>>()?;
+    let mut csv = String::from(HEADER);
+    csv.push('\n');
+    for r in &rows {
+        csv.push_str(r);
+        csv.push('\n');
+    }
+    std::fs::write(a.out.join("window.csv"), &csv)?;
+    write_manifest(
+        &a.out,
+        "window",
+        serde_json::json!({
+            "fingerprint": fingerprint,
+            "cases": jobs.len(),
+            "shard": [shard.index, shard.count],
+            "cases_in_shard": mine.iter().map(|j| j.index).collect::<Vec<_>>(),
+            "columns": COLUMNS,
+            "tolerances_pct": tol,
+            "search_m": search,
+        }),
+    )?;
+    println!(
+        "accuracy-based window length (mean ±{}%, σ ±{}%, max ±{}% of the full model; {}–{} m, coarse {} m, resolution {} m)",
+        tol.mean_pct, tol.sigma_pct, tol.max_pct, search.min_m, search.max_m, search.coarse_m, search.resolution_m
+    );
+    println!(
+        "{:>6} {:>6} {:>5} {:>12} {:>14} {:>14} {:>14}",
+        "km/h", "kN", "seed", "length [m]", "EVA step [m]", "EVA 99% [m]", "EVA 99% max"
+    );
+    for r in &rows {
+        let f: Vec<&str> = r.split(',').collect();
+        let show = |s: &str| {
+            if s.is_empty() {
+                "—".to_string()
+            } else {
+                s.to_string()
+            }
+        };
+        println!(
+            "{:>6} {:>6} {:>5} {:>12} {:>14} {:>14} {:>14}",
+            f[2],
+            f[3],
+            f[1],
+            show(f[5]),
+            show(f[10]),
+            show(f[11]),
+            show(f[13])
+        );
+    }
+    if shard == Shard::ALL {
+        finish(&a.out)?;
+        if let Ok(fit) = std::fs::read_to_string(a.out.join("fit.csv")) {
+            if let Some(best) = fit.lines().nth(1) {
+                let f: Vec<&str> = best.split(',').collect();
+                println!(
+                    "best energy criterion over the grid: {} (RMS error {} m, largest {} m, {} cases, {} misses)",
+                    f[0], f[1], f[2], f[3], f[4]
+                );
+            }
+        }
+    }
+    println!(
+        "wrote {} and {}",
+        shown(&a.out, "window.csv"),
+        shown(&a.out, "fit.csv")
+    );
+    if !a.no_plot && shard == Shard::ALL {
+        let files = crate::plot::redraw(&a.out)?;
+        crate::plot::report(&files);
+    }
+    Ok(0)
+}
+
+/// Read a case's energy curves back, with the totals of its row.
+fn read_curves(dir: &Path, stem: &str, totals: [f64; 3]) -> Result<EnergyCurves> {
+    let p = dir.join("cases").join(format!("{stem}_energy.csv"));
+    let text =
+        std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
+    let mut c = EnergyCurves {
+        window_m: vec![],
+        snapshot_j: vec![],
+        max_j: vec![],
+        mean_j: vec![],
+        snapshot_total_j: totals[0],
+        max_total_j: totals[1],
+        mean_total_j: totals[2],
+    };
+    for (i, l) in text.lines().enumerate().skip(1) {
+        let v: Vec<f64> = l
+            .split(',')
+            .map(|s| s.parse::<f64>())
+            .collect::<Result<_, _>>()
+            .with_context(|| format!("{} line {}", p.display(), i + 1))?;
+        if v.len() < 4 {
+            bail!("{} line {}: need 4 columns", p.display(), i + 1);
+        }
+        c.window_m.push(v[0]);
+        c.snapshot_j.push(v[1]);
+        c.max_j.push(v[2]);
+        c.mean_j.push(v[3]);
+    }
+    Ok(c)
+}
+
+/// Over the whole grid (after a run or a merge): the fit of every energy criterion against the
+/// accuracy-based lengths (`fit.csv`, best first), and the Monte Carlo summary with seeds.
+fn finish(dir: &Path) -> Result<()> {
+    let p = dir.join("window.csv");
+    let text =
+        std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
+    let mut cases = Vec::new();
+    for l in text.lines().skip(1).filter(|l| !l.is_empty()) {
+        let f: Vec<&str> = l.split(',').collect();
+        if f.len() < 19 {
+            bail!("{}: bad row `{l}`", p.display());
+        }
+        let num = |i: usize| -> Result<f64> {
+            f[i].parse()
+                .with_context(|| format!("{}: column {i} of `{l}`", p.display()))
+        };
+        let index: usize = f[0]
+            .parse()
+            .with_context(|| format!("{}: `{l}`", p.display()))?;
+        let st = stem(index, num(2)?, num(3)?);
+        let curves = read_curves(dir, &st, [num(16)?, num(17)?, num(18)?])?;
+        cases.push((f[5].parse::<f64>().ok(), curves));
+    }
+    let refs: Vec<(Option<f64>, &EnergyCurves)> = cases.iter().map(|(a, c)| (*a, c)).collect();
+    let fits = fit_criteria(&refs);
+    let mut out = String::from("criterion,rms_error_m,max_error_m,cases,misses\n");
+    for f in &fits {
+        let _ = writeln!(
+            out,
+            "{},{:.3},{:.3},{},{}",
+            f.criterion, f.rms_error_m, f.max_error_m, f.cases, f.misses
+        );
+    }
+    std::fs::write(dir.join("fit.csv"), out)?;
+    write_montecarlo(
+        dir,
+        "window.csv",
+        &["speed_kmh", "tension_kn"],
+        &["length_m", "eva_step_m", "eva_fraction_m"],
+    )
+}

@@ -1,0 +1,294 @@
+//! Sweep output directories (`eva`, `window`): one CSV row per case, per-case files in `cases/`,
+//! a manifest with the sweep's fingerprint, and a merge of shards that refuses shards of
+//! different sweeps, never writes into a shard and leaves nothing behind when it fails.
+
+use anyhow::{bail, Context, Result};
+use pcsim_core::analysis::sweep::merge_rows;
+use std::path::{Path, PathBuf};
+
+use crate::common::shown;
+use crate::output::{read_manifest, write_manifest};
+
+/// What a kind of sweep directory holds.
+pub struct SweepKind {
+    /// The manifest's kind.
+    pub kind: &'static str,
+    /// The per-case CSV and its header.
+    pub csv: &'static str,
+    pub header: &'static str,
+    /// What the columns mean (written into the manifest).
+    pub columns: &'static str,
+    /// Work on a merged directory before it is moved into place (summaries over all cases).
+    pub finish: fn(&Path) -> Result<()>,
+}
+
+/// FNV-1a 64-bit hash, for sweep fingerprints.
+pub fn fnv1a64(data: &[u8]) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in data {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    format!("{h:016x}")
+}
+
+/// A shard directory, read for the merge.
+struct ShardDir {
+    dir: PathBuf,
+    fingerprint: String,
+    cases: usize,
+    shard: (usize, usize),
+    rows: Vec<(usize, String)>,
+}
+
+fn read_shard(k: &SweepKind, d: &Path) -> Result<ShardDir> {
+    let m = read_manifest(d)?.with_context(|| {
+        format!(
+            "{} is not a shard of a {} sweep (no pcsim.json; made by an older pcsim?)",
+            d.display(),
+            k.kind
+        )
+    })?;
+    if m["kind"] != k.kind {
+        bail!(
+            "{} is not a {} sweep (pcsim.json kind {})",
+            d.display(),
+            k.kind,
+            m["kind"]
+        );
+    }
+    let p = d.join(k.csv);
+    let text =
+        std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
+    let mut lines = text.lines();
+    if lines.next() != Some(k.header) {
+        bail!(
+            "{} is not a {} of this version of pcsim (header differs)",
+            p.display(),
+            k.csv
+        );
+    }
+    let mut rows = Vec::new();
+    for l in lines.filter(|l| !l.is_empty()) {
+        let idx: usize = l
+            .split(',')
+            .next()
+            .and_then(|s| s.parse().ok())
+            .with_context(|| format!("{}: bad row `{l}`", p.display()))?;
+        rows.push((idx, l.to_string()));
+    }
+    let num = |v: &serde_json::Value, what: &str| -> Result<usize> {
+        v.as_u64()
+            .map(|x| x as usize)
+            .with_context(|| format!("{}: pcsim.json lacks `{what}`", d.display()))
+    };
+    Ok(ShardDir {
+        dir: d.to_path_buf(),
+        fingerprint: m["fingerprint"].as_str().unwrap_or_default().to_string(),
+        cases: num(&m["cases"], "cases")?,
+        shard: (num(&m["shard"][0], "shard")?, num(&m["shard"][1], "shard")?),
+        rows,
+    })
+}
+
+/// Join the shards of one sweep: every shard exactly once, all with one fingerprint; the result
+/// is built beside the output and moved into place only when complete, so a failed merge leaves
+/// nothing behind and never writes into a shard.
+pub fn merge(k: &SweepKind, dirs: &[PathBuf], out: &Path, no_plot: bool) -> Result<i32> {
+    let shards: Vec<ShardDir> = dirs
+        .iter()
+        .map(|d| read_shard(k, d))
+        .collect::<Result<_>>()?;
+    let first = &shards[0];
+    for s in &shards[1..] {
+        if s.shard.1 != first.shard.1 {
+            bail!(
+                "shard {}/{} ({}) cannot be merged with shard {}/{} ({}): they split the sweep differently",
+                s.shard.0,
+                s.shard.1,
+                s.dir.display(),
+                first.shard.0,
+                first.shard.1,
+                first.dir.display()
+            );
+        }
+        if s.fingerprint != first.fingerprint {
+            bail!(
+                "{} and {} are shards of different sweeps (another case, grid, seeds or option)",
+                first.dir.display(),
+                s.dir.display()
+            );
+        }
+    }
+    let n = first.shard.1;
+    let mut seen = vec![None; n];
+    for s in &shards {
+        if let Some(prev) = seen[s.shard.0].replace(&s.dir) {
+            bail!(
+                "shard {}/{n} is given twice ({} and {})",
+                s.shard.0,
+                prev.display(),
+                s.dir.display()
+            );
+        }
+    }
+    if let Some(k) = seen.iter().position(|s| s.is_none()) {
+        bail!("shard {k}/{n} of the sweep is missing");
+    }
+    let rows = merge_rows(shards.iter().flat_map(|s| s.rows.clone()).collect())?;
+    if rows.len() != first.cases {
+        bail!(
+            "the shards hold {} of the sweep's {} cases",
+            rows.len(),
+            first.cases
+        );
+    }
+    // Never write into an input.
+    let canon = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
+    let out_abs = if out.exists() {
+        canon(out)
+    } else {
+        let parent = out.parent().filter(|p| !p.as_os_str().is_empty());
+        let parent = parent.map(canon).unwrap_or_else(|| canon(Path::new(".")));
+        parent.join(out.file_name().unwrap_or_default())
+    };
+    for s in &shards {
+        let d = canon(&s.dir);
+        if out_abs.starts_with(&d) || d.starts_with(&out_abs) {
+            bail!(
+                "--out {} would write into the shard {}: choose another directory",
+                out.display(),
+                s.dir.display()
+            );
+        }
+    }
+    if out.exists()
+        && read_manifest(out).ok().flatten().is_none()
+        && out.read_dir()?.next().is_some()
+    {
+        bail!(
+            "--out {} exists and is not an output of pcsim: choose another directory",
+            out.display()
+        );
+    }
+    let partial = out_abs.with_file_name(format!(
+        "{}.partial-{}",
+        out_abs.file_name().unwrap_or_default().to_string_lossy(),
+        std::process::id()
+    ));
+    let result = (|| -> Result<()> {
+        std::fs::create_dir_all(partial.join("cases"))?;
+        for s in &shards {
+            let cdir = s.dir.join("cases");
+            if cdir.is_dir() {
+                for e in std::fs::read_dir(&cdir)? {
+                    let e = e?;
+                    std::fs::copy(e.path(), partial.join("cases").join(e.file_name()))?;
+                }
+            }
+        }
+        let mut csv = String::from(k.header);
+        csv.push('\n');
+        for (_, r) in &rows {
+            csv.push_str(r);
+            csv.push('\n');
+        }
+        std::fs::write(partial.join(k.csv), csv)?;
+        write_manifest(
+            &partial,
+            k.kind,
+            serde_json::json!({
+                "fingerprint": first.fingerprint,
+                "cases": first.cases,
+                "shard": [0, 1],
+                "merged_from_shards": n,
+                "cases_in_shard": rows.iter().map(|r| r.0).collect::<Vec<_>>(),
+                "columns": k.columns,
+            }),
+        )?;
+        (k.finish)(&partial)?;
+        if !no_plot {
+            crate::plot::redraw(&partial)?;
+        }
+        if out.exists() {
+            std::fs::remove_dir_all(out)?;
+        }
+        std::fs::rename(&partial, out)?;
+        Ok(())
+    })();
+    if let Err(e) = result {
+        let _ = std::fs::remove_dir_all(&partial);
+        return Err(e.context(format!("merging into {}", out.display())));
+    }
+    println!(
+        "merged {} cases from {} shards into {}",
+        rows.len(),
+        dirs.len(),
+        shown(out, k.csv)
+    );
+    Ok(0)
+}
+
+/// Monte Carlo summary of a sweep with seeds: `montecarlo.csv` with, per grid point (the
+/// `group` columns), the number of realisations and the mean, standard deviation and 95 %
+/// confidence interval of each `values` column (empty cells are realisations where the value was
+/// not reached; they are counted in `n_missing_<column>`). Does nothing for a single realisation.
+pub fn write_montecarlo(dir: &Path, csv: &str, group: &[&str], values: &[&str]) -> Result<()> {
+    use pcsim_core::analysis::montecarlo::Spread;
+    let p = dir.join(csv);
+    let text =
+        std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .with_context(|| format!("{} has no column {name}", p.display()))
+    };
+    let seed_col = col("seed_offset")?;
+    let gcols: Vec<usize> = group.iter().map(|g| col(g)).collect::<Result<_>>()?;
+    let vcols: Vec<usize> = values.iter().map(|v| col(v)).collect::<Result<_>>()?;
+    let rows: Vec<Vec<&str>> = lines
+        .filter(|l| !l.is_empty())
+        .map(|l| l.split(',').collect())
+        .collect();
+    if rows.iter().all(|r| r.get(seed_col) == Some(&"0")) {
+        return Ok(());
+    }
+    let mut keys: Vec<Vec<String>> = Vec::new();
+    for r in &rows {
+        let k: Vec<String> = gcols.iter().map(|&c| r[c].to_string()).collect();
+        if !keys.contains(&k) {
+            keys.push(k);
+        }
+    }
+    let mut out = group.join(",") + ",n";
+    for v in values {
+        out += &format!(",{v}_mean,{v}_std,{v}_ci95_low,{v}_ci95_high,n_missing_{v}");
+    }
+    out.push('\n');
+    for k in &keys {
+        let members: Vec<&Vec<&str>> = rows
+            .iter()
+            .filter(|r| gcols.iter().zip(k).all(|(&c, v)| r[c] == v))
+            .collect();
+        out += &format!("{},{}", k.join(","), members.len());
+        for &c in &vcols {
+            let vals: Vec<f64> = members.iter().filter_map(|r| r[c].parse().ok()).collect();
+            let missing = members.len() - vals.len();
+            match Spread::of(&vals) {
+                Some(s) => {
+                    out += &format!(
+                        ",{:.4},{:.4},{:.4},{:.4},{missing}",
+                        s.mean, s.std, s.ci95_low, s.ci95_high
+                    )
+                }
+                None => out += &format!(",,,,,{missing}"),
+            }
+        }
+        out.push('\n');
+    }
+    std::fs::write(dir.join("montecarlo.csv"), out)
+        .with_context(|| format!("cannot write {}", dir.join("montecarlo.csv").display()))
+}
