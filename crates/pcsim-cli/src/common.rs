@@ -35,14 +35,7 @@ pub fn load_case(path: Option<&PathBuf>, preset: Option<&str>) -> Result<Case> {
     }
 }
 
-/// The name a case reports itself with.
-pub fn case_name(case: &Case) -> String {
-    if case.meta.name.is_empty() {
-        "case".to_string()
-    } else {
-        case.meta.name.clone()
-    }
-}
+pub use pcsim_core::analysis::report::case_name;
 
 /// An override of a case value by a flag.
 #[derive(Debug, Clone)]
@@ -188,11 +181,6 @@ pub fn run_with_progress_quietly(
 /// A file inside an output directory, for messages (no doubled separator).
 pub fn shown(dir: &Path, file: &str) -> String {
     dir.join(file).display().to_string()
-}
-
-/// Round a time to the nanosecond (so that 11.571999999999026 prints as 11.572).
-pub fn round_ns(t: f64) -> f64 {
-    (t * 1e9).round() / 1e9
 }
 
 /// The number of realisations of `--seeds N` (1 without the flag): at least 1, at most

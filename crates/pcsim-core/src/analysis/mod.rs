@@ -13,12 +13,14 @@
 //! | `studies.rs` | the real-time window against the full model |
 //! | `window_length.rs` | the accuracy-based window length and the energy criteria's fit |
 //! | `montecarlo.rs` | realisations over seeds and their spread |
+//! | `report.rs` | what a run reports: the summary and the time-series columns |
 
 pub mod energy;
 pub mod eva;
 pub mod filter;
 pub mod montecarlo;
 pub mod record;
+pub mod report;
 pub mod stats;
 pub mod studies;
 pub mod sweep;

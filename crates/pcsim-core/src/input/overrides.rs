@@ -12,6 +12,8 @@ pub enum OverrideValue {
     Integer(i64),
     Bool(bool),
     Text(String),
+    /// A list of numbers (`run.analysis_m`, `catenary.droppers.positions_m`).
+    Numbers(Vec<f64>),
 }
 
 impl From<f64> for OverrideValue {
@@ -27,6 +29,9 @@ impl From<OverrideValue> for toml::Value {
             OverrideValue::Integer(i) => toml::Value::Integer(i),
             OverrideValue::Bool(b) => toml::Value::Boolean(b),
             OverrideValue::Text(s) => toml::Value::String(s),
+            OverrideValue::Numbers(v) => {
+                toml::Value::Array(v.into_iter().map(toml::Value::Float).collect())
+            }
         }
     }
 }

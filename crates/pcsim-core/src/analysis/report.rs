@@ -1,0 +1,150 @@
+//! What a run reports: the summary (`summary.json` of the CLI, `Result.summary` in Python) and
+//! the time-series columns (`timeseries.csv`, `Result.timeseries`), defined once here so that
+//! every front end writes the same content.
+
+use serde::Serialize;
+
+use crate::analysis::record::RunOutput;
+use crate::analysis::stats::{ContactStats, LateralStats};
+use crate::input::case::Case;
+use crate::model::irregularity::IrregularityReport;
+use crate::model::wind::WindReport;
+use crate::solve::run::RunStatistics;
+
+/// A time rounded to the nanosecond (so that 19.113 s reads as such).
+pub fn round_ns(t: f64) -> f64 {
+    (t * 1e9).round() / 1e9
+}
+
+/// The name a case reports itself with (`meta.name`, or `case`).
+pub fn case_name(case: &Case) -> String {
+    if case.meta.name.is_empty() {
+        "case".to_string()
+    } else {
+        case.meta.name.clone()
+    }
+}
+
+#[derive(Serialize)]
+pub struct PantographSummary {
+    pub name: String,
+    pub stats: Option<ContactStats>,
+    /// The contact point across the head (lateral motion modelled): flags and the wear
+    /// histogram.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lateral: Option<LateralStats>,
+}
+
+#[derive(Serialize)]
+pub struct RunSummary {
+    pub case_name: String,
+    pub speed_kmh: f64,
+    /// Contact-wire tension used, N.
+    pub contact_wire_tension_n: f64,
+    pub span_m: f64,
+    pub simulated_time_s: f64,
+    pub wall_time_s: f64,
+    pub analysis_section_m: [f64; 2],
+    pub modes_per_wire: usize,
+    pub dt_s: f64,
+    /// The kernels that ran: `portable` (the same bytes on every machine) or `x86-64-v3`.
+    pub kernels: String,
+    pub max_slack_droppers: usize,
+    pub steps_with_slack_percent: f64,
+    pub run_statistics: RunStatistics,
+    /// The flags that overrode case values, as given.
+    pub overrides: Vec<String>,
+    pub warnings: Vec<String>,
+    pub pantographs: Vec<PantographSummary>,
+    /// The crosswind (mean speed, spectrum, seed, turbulence intensity achieved).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wind: Option<WindReport>,
+    /// The contact-wire irregularity's sources (kind, seed, RMS target and achieved).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub irregularity: Vec<IrregularityReport>,
+}
+
+impl RunSummary {
+    pub fn new(
+        case: &Case,
+        out: &RunOutput,
+        wall_time_s: f64,
+        overrides: Vec<String>,
+        warnings: Vec<String>,
+    ) -> Self {
+        RunSummary {
+            case_name: case_name(case),
+            speed_kmh: case.run.speed_kmh,
+            contact_wire_tension_n: case.catenary.contact_wire.tension_n,
+            span_m: case.catenary.span_m,
+            simulated_time_s: round_ns(out.simulated_time_s()),
+            wall_time_s: (wall_time_s * 1e3).round() / 1e3,
+            analysis_section_m: out.analysis_m,
+            modes_per_wire: out.n_modes,
+            dt_s: out.dt_s,
+            kernels: crate::solve::Isa::detect().name().into(),
+            max_slack_droppers: out.max_slack_droppers,
+            steps_with_slack_percent: out.steps_with_slack_percent,
+            run_statistics: out.run_statistics,
+            overrides,
+            warnings,
+            pantographs: out
+                .pantographs
+                .iter()
+                .map(|p| PantographSummary {
+                    name: p.name.clone(),
+                    stats: p.stats,
+                    lateral: p.lateral.clone(),
+                })
+                .collect(),
+            wind: out.wind.clone(),
+            irregularity: out.irregularity.clone(),
+        }
+    }
+}
+
+/// One column of the time series: its name, its values and the decimals it is written with.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Column {
+    pub name: String,
+    pub values: Vec<f64>,
+    pub decimals: usize,
+}
+
+/// The time-series columns of a run: the time, then per pantograph its position, raw and
+/// 20 Hz-filtered contact force, contact-wire height, and with lateral motion the contact
+/// point's lateral position and head margin.
+pub fn timeseries_columns(out: &RunOutput) -> Vec<Column> {
+    let col = |name: String, values: Vec<f64>, decimals: usize| Column {
+        name,
+        values,
+        decimals,
+    };
+    let mut cols = vec![col("time_s".into(), out.time_s.clone(), 6)];
+    for (i, p) in out.pantographs.iter().enumerate() {
+        let tag = if p.name.is_empty() {
+            format!("p{i}")
+        } else {
+            p.name.clone()
+        };
+        cols.push(col(format!("{tag}_position_m"), p.position_m.clone(), 4));
+        cols.push(col(format!("{tag}_force_n"), p.force_n.clone(), 4));
+        cols.push(col(
+            format!("{tag}_force_filtered_n"),
+            p.force_filtered_n.clone(),
+            4,
+        ));
+        cols.push(col(format!("{tag}_height_m"), p.wire_height_m.clone(), 6));
+        if !p.lateral_m.is_empty() {
+            cols.push(col(format!("{tag}_lateral_m"), p.lateral_m.clone(), 6));
+            if let Some(h) = p.head_half_width_m {
+                cols.push(col(
+                    format!("{tag}_head_margin_m"),
+                    p.lateral_m.iter().map(|z| h - z.abs()).collect(),
+                    6,
+                ));
+            }
+        }
+    }
+    cols
+}

@@ -1,0 +1,119 @@
+"""pcsim: pantograph–catenary dynamic interaction (modal catenary model, EN 50318 statistics,
+energy distribution and EVA, the real-time window for HIL).
+
+A thin layer over the Rust core: every run releases the interpreter, so threads run in
+parallel. Units are SI as the names say (``speed_kmh`` in km/h where the name says so).
+
+    import pcsim
+    case = pcsim.Case.preset("en50318-2002")
+    case = case.with_overrides({"run.speed_kmh": 300, "catenary.contact_wire.tension_n": 21000.0})
+    res = pcsim.run(case)
+    res.summary["pantographs"][0]["stats"]["std_n"]     # N
+    res.timeseries["leading_force_filtered_n"]          # numpy array, N
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any, Dict, List, Optional, Sequence, Tuple
+
+import numpy as np
+
+from . import _pcsim
+from ._pcsim import Case, RealtimeCatenary
+
+__version__ = _pcsim.__version__
+
+__all__ = [
+    "Case",
+    "Result",
+    "RealtimeCatenary",
+    "run",
+    "sweep",
+    "eva",
+    "validate",
+    "presets",
+]
+
+
+class Result:
+    """One run.
+
+    ``summary``: a dict with the content of the CLI's ``summary.json`` (the EN 50318 statistics
+    per pantograph in ``summary["pantographs"][i]["stats"]``, forces in N, lengths in mm where
+    the key says so). ``timeseries``: a dict of numpy arrays keyed as the columns of
+    ``timeseries.csv`` (``time_s``, ``<pantograph>_position_m``, ``_force_n``,
+    ``_force_filtered_n``, ``_height_m``, and with lateral motion ``_lateral_m``,
+    ``_head_margin_m``). Picklable (plain data), so it crosses to and from Dask workers.
+    """
+
+    __slots__ = ("summary", "timeseries")
+
+    def __init__(self, summary: Dict[str, Any], timeseries: Dict[str, np.ndarray]):
+        self.summary = summary
+        self.timeseries = timeseries
+
+    @classmethod
+    def _from_native(cls, handed: Tuple[str, List[Tuple[str, np.ndarray]]]) -> "Result":
+        summary_json, columns = handed
+        return cls(json.loads(summary_json), dict(columns))
+
+    def __getstate__(self):
+        return (self.summary, self.timeseries)
+
+    def __setstate__(self, state):
+        self.summary, self.timeseries = state
+
+    def __repr__(self) -> str:
+        return "Result({!r}, {} km/h, {} steps)".format(
+            self.summary.get("case_name"),
+            self.summary.get("speed_kmh"),
+            len(self.timeseries.get("time_s", [])),
+        )
+
+
+def run(case: Case) -> Result:
+    """Simulate one case (single-threaded, the interpreter released) and take its statistics."""
+    return Result._from_native(_pcsim.run(case))
+
+
+def sweep(cases: Sequence[Case], client: Any = None, jobs: Optional[int] = None) -> List[Result]:
+    """Run many cases and return their results in case order.
+
+    Without ``client``: a local thread pool of ``jobs`` threads (all cores by default). With a
+    ``dask.distributed.Client``: the cases are mapped over its workers, each case
+    single-threaded on its worker; the numbers are the same as a local run's and the CLI's (the
+    runs are deterministic)."""
+    cases = list(cases)
+    if client is None:
+        return [Result._from_native(h) for h in _pcsim.run_many(cases, jobs)]
+    futures = client.map(run, cases, pure=False)
+    return client.gather(futures)
+
+
+def eva(
+    case: Case,
+    speeds_kmh: Sequence[float],
+    tensions_n: Sequence[float],
+    step_m: float = 1.0,
+    tolerance_j: float = 0.01,
+    fraction: float = 0.99,
+    jobs: Optional[int] = None,
+) -> List[Dict[str, Any]]:
+    """Energy distribution and EVA length over speeds (km/h) × contact-wire tensions (N): one
+    dict per case with the columns of the CLI's ``eva.csv`` (lengths in m, energies in J; None
+    where a criterion was not reached)."""
+    return json.loads(
+        _pcsim.eva(case, list(speeds_kmh), list(tensions_n), step_m, tolerance_j, fraction, jobs)
+    )
+
+
+def validate(name: str = "en50318-2002", jobs: Optional[int] = None) -> Dict[str, Any]:
+    """A validation (``en50318-2002`` or ``seed-table1``): the report of ``pcsim validate
+    --json`` (value against range per row, with its unit)."""
+    return json.loads(_pcsim.validate(name, jobs))
+
+
+def presets() -> List[str]:
+    """The names of the embedded presets."""
+    return list(_pcsim.presets_list())

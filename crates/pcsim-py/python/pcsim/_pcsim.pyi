@@ -1,0 +1,46 @@
+"""Type stubs of the native module (units as the names say)."""
+
+from typing import Dict, List, Optional, Tuple, Union
+
+import numpy as np
+
+__version__: str
+
+class Case:
+    """A case: catenary, pantographs and run. Picklable by its TOML text."""
+
+    @staticmethod
+    def preset(name: str) -> "Case": ...
+    @staticmethod
+    def from_toml(text: str) -> "Case": ...
+    @staticmethod
+    def from_file(path: str) -> "Case": ...
+    def with_overrides(self, overrides: Dict[str, Union[float, int, bool, str]]) -> "Case":
+        """Values by dotted path, each in its field's unit (``run.speed_kmh``: km/h,
+        ``catenary.contact_wire.tension_n``: N). Raises ValueError naming the field."""
+    def get(self, path: str) -> object:
+        """The value at a dotted path (``"run.start_m"``), in its field's unit."""
+    def to_toml(self) -> str: ...
+    def validate(self) -> List[str]:
+        """The warnings; raises ValueError naming the field and value of an error."""
+
+class RealtimeCatenary:
+    """The moving-window catenary (HIL: force and position in, height and velocity out)."""
+
+    def __init__(self, case: Case, window_m: float = 215.0, coupling: str = "hil") -> None: ...
+    def step(self, force_n: float, position_m: float) -> Tuple[float, float]:
+        """One fixed step: contact force (N, up) and track position (m) in; contact-wire
+        height (m) and vertical velocity (m/s) at the contact point out."""
+    @property
+    def dt_s(self) -> float: ...
+    @property
+    def moves(self) -> int: ...
+    @property
+    def n_modes(self) -> int: ...
+
+def run(case: Case) -> Tuple[str, List[Tuple[str, np.ndarray]]]: ...
+def run_many(cases: List[Case], jobs: Optional[int] = None) -> List[Tuple[str, List[Tuple[str, np.ndarray]]]]: ...
+def eva(case: Case, speeds_kmh: List[float], tensions_n: List[float], step_m: float = 1.0,
+        tolerance_j: float = 0.01, fraction: float = 0.99, jobs: Optional[int] = None) -> str: ...
+def validate(name: str, jobs: Optional[int] = None) -> str: ...
+def presets_list() -> List[str]: ...

@@ -1,0 +1,354 @@
+//! The native half of the Python package `pcsim` (the Python half is `python/pcsim`): a thin
+//! layer over the core's orchestration. Every run releases the interpreter (`Python::detach`),
+//! summaries and tables cross as the JSON the CLI writes, time series as numpy arrays handed
+//! over once. Errors of the core become `ValueError` with the core's message (naming the field).
+
+use numpy::IntoPyArray;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList, PyTuple};
+
+use pcsim_core::analysis::eva::{run_eva, EvaRow, EvaSettings};
+use pcsim_core::analysis::record::{simulate, RunOutput};
+use pcsim_core::analysis::report::{timeseries_columns, RunSummary};
+use pcsim_core::analysis::sweep::{parallel_map, Grid};
+use pcsim_core::analysis::validation::ValidationPlan;
+use pcsim_core::input::overrides::{with_overrides, OverrideValue};
+use pcsim_core::solve::realtime::{Coupling, RealtimeCatenary as CoreRealtime};
+use pcsim_core::{presets, Setup};
+
+fn err(e: impl std::fmt::Display) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
+/// A case: a catenary, its pantographs and a run (TOML, SI units as the field names say).
+#[pyclass(module = "pcsim._pcsim", frozen)]
+#[derive(Clone)]
+struct Case {
+    inner: pcsim_core::Case,
+}
+
+#[pymethods]
+impl Case {
+    /// An embedded preset by name (see `presets()`).
+    #[staticmethod]
+    fn preset(name: &str) -> PyResult<Case> {
+        Ok(Case {
+            inner: presets::load(name).map_err(err)?.0,
+        })
+    }
+
+    /// A case from TOML text (values plain or `{ value, source }`).
+    #[staticmethod]
+    fn from_toml(text: &str) -> PyResult<Case> {
+        Ok(Case {
+            inner: pcsim_core::Case::from_toml_str(text).map_err(err)?.0,
+        })
+    }
+
+    /// A case from a TOML file.
+    #[staticmethod]
+    fn from_file(path: std::path::PathBuf) -> PyResult<Case> {
+        let text = std::fs::read_to_string(&path)
+            .map_err(|e| err(format!("case file {}: {e}", path.display())))?;
+        Self::from_toml(&text).map_err(|e| err(format!("case file {}: {e}", path.display())))
+    }
+
+    /// The case with values replaced by dotted path, each in the field's own unit:
+    /// `{"run.speed_kmh": 300, "catenary.contact_wire.tension_n": 21000.0}`.
+    fn with_overrides(&self, overrides: &Bound<'_, PyDict>) -> PyResult<Case> {
+        let mut list = Vec::with_capacity(overrides.len());
+        for (k, v) in overrides.iter() {
+            let path: String = k.extract()?;
+            let value = if let Ok(b) = v.extract::<bool>() {
+                OverrideValue::Bool(b)
+            } else if let Ok(i) = v.extract::<i64>() {
+                OverrideValue::Integer(i)
+            } else if let Ok(x) = v.extract::<f64>() {
+                OverrideValue::Number(x)
+            } else if let Ok(s) = v.extract::<String>() {
+                OverrideValue::Text(s)
+            } else if let Ok(l) = v.extract::<Vec<f64>>() {
+                OverrideValue::Numbers(l)
+            } else {
+                return Err(err(format!(
+                    "override `{path}`: give a number, a bool, a string or a list of numbers"
+                )));
+            };
+            list.push((path, value));
+        }
+        let inner = with_overrides(&self.inner, &list).map_err(err)?;
+        inner.validate().map_err(err)?;
+        Ok(Case { inner })
+    }
+
+    /// The value at a dotted path (`"run.start_m"`, `"pantographs[0].masses_kg"`), in the
+    /// field's unit; `ValueError` if there is none.
+    fn get<'py>(&self, py: Python<'py>, path: &str) -> PyResult<Bound<'py, PyAny>> {
+        let root: toml::Value = toml::Value::try_from(&self.inner).map_err(err)?;
+        let mut v = &root;
+        for part in path.split('.') {
+            let (key, idx) = match part.find('[') {
+                Some(i) => (&part[..i], Some(&part[i..])),
+                None => (part, None),
+            };
+            v = v
+                .get(key)
+                .ok_or_else(|| err(format!("`{path}`: the case has no `{key}`")))?;
+            let mut rest = idx.unwrap_or("");
+            while let Some(r) = rest.strip_prefix('[') {
+                let end = r
+                    .find(']')
+                    .ok_or_else(|| err(format!("`{path}`: unclosed `[`")))?;
+                let i: usize = r[..end]
+                    .parse()
+                    .map_err(|_| err(format!("`{path}`: an index must be a whole number")))?;
+                v = v
+                    .get(i)
+                    .ok_or_else(|| err(format!("`{path}`: index {i} is out of range")))?;
+                rest = &r[end + 1..];
+            }
+        }
+        to_py(py, v)
+    }
+
+    /// The case as TOML text (plain values).
+    fn to_toml(&self) -> String {
+        self.inner.to_toml_string()
+    }
+
+    /// Check every value: the warnings, or a `ValueError` naming the field and value.
+    fn validate(&self) -> PyResult<Vec<String>> {
+        Ok(self
+            .inner
+            .validate()
+            .map_err(err)?
+            .into_iter()
+            .map(|w| w.0)
+            .collect())
+    }
+
+    /// Pickling: by the TOML text.
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
+        let py = slf.py();
+        let ctor = py.get_type::<Case>().getattr("from_toml")?;
+        let args = PyTuple::new(py, [slf.get().inner.to_toml_string()])?;
+        PyTuple::new(py, [ctor.into_any(), args.into_any()])
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Case({:?}, {} km/h)",
+            pcsim_core::analysis::report::case_name(&self.inner),
+            self.inner.run.speed_kmh
+        )
+    }
+}
+
+fn to_py<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, PyAny>> {
+    Ok(match v {
+        toml::Value::Float(x) => x.into_pyobject(py)?.into_any(),
+        toml::Value::Integer(i) => i.into_pyobject(py)?.into_any(),
+        toml::Value::Boolean(b) => b.into_pyobject(py)?.to_owned().into_any(),
+        toml::Value::String(s) => s.into_pyobject(py)?.into_any(),
+        toml::Value::Array(a) => {
+            let l = PyList::empty(py);
+            for x in a {
+                l.append(to_py(py, x)?)?;
+            }
+            l.into_any()
+        }
+        toml::Value::Table(t) => {
+            let d = PyDict::new(py);
+            for (k, x) in t {
+                d.set_item(k, to_py(py, x)?)?;
+            }
+            d.into_any()
+        }
+        toml::Value::Datetime(d) => d.to_string().into_pyobject(py)?.into_any(),
+    })
+}
+
+/// A run handed to Python: the summary as JSON text and the time-series columns.
+fn hand_over<'py>(
+    py: Python<'py>,
+    out: &RunOutput,
+    case: &pcsim_core::Case,
+    wall_s: f64,
+    warnings: Vec<String>,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let summary = RunSummary::new(case, out, wall_s, Vec::new(), warnings);
+    let json = serde_json::to_string(&summary).map_err(err)?;
+    let cols = PyList::empty(py);
+    for c in timeseries_columns(out) {
+        cols.append((c.name, c.values.into_pyarray(py)))?;
+    }
+    PyTuple::new(py, [json.into_pyobject(py)?.into_any(), cols.into_any()])
+}
+
+fn run_core(case: &pcsim_core::Case) -> Result<(RunOutput, f64, Vec<String>), String> {
+    let setup = Setup::from_case(case).map_err(|e| e.to_string())?;
+    let warnings = setup.warnings.iter().map(|w| w.0.clone()).collect();
+    let t0 = std::time::Instant::now();
+    let out = simulate(&setup, &mut |_| true).map_err(|e| e.to_string())?;
+    Ok((out, t0.elapsed().as_secs_f64(), warnings))
+}
+
+/// Run one case (the interpreter is released meanwhile): `(summary_json, [(column, array)])`.
+#[pyfunction]
+fn run<'py>(py: Python<'py>, case: &Case) -> PyResult<Bound<'py, PyTuple>> {
+    let c = case.inner.clone();
+    let (out, wall, warnings) = py.detach(move || run_core(&c)).map_err(err)?;
+    hand_over(py, &out, &case.inner, wall, warnings)
+}
+
+/// Run several cases on up to `jobs` threads (all cores by default), in order.
+#[pyfunction]
+#[pyo3(signature = (cases, jobs=None))]
+fn run_many<'py>(
+    py: Python<'py>,
+    cases: Vec<Case>,
+    jobs: Option<usize>,
+) -> PyResult<Bound<'py, PyList>> {
+    let inner: Vec<pcsim_core::Case> = cases.iter().map(|c| c.inner.clone()).collect();
+    let outs = py.detach(move || parallel_map(&inner, jobs, run_core));
+    let list = PyList::empty(py);
+    for (o, c) in outs.into_iter().zip(&cases) {
+        let (out, wall, w) = o.map_err(err)?;
+        list.append(hand_over(py, &out, &c.inner, wall, w)?)?;
+    }
+    Ok(list)
+}
+
+/// EVA over speeds (km/h) × tensions (N): the rows of `eva.csv` as JSON text.
+#[pyfunction]
+#[pyo3(signature = (case, speeds_kmh, tensions_n, step_m=1.0, tolerance_j=0.01, fraction=0.99, jobs=None))]
+#[allow(clippy::too_many_arguments)]
+fn eva(
+    py: Python<'_>,
+    case: &Case,
+    speeds_kmh: Vec<f64>,
+    tensions_n: Vec<f64>,
+    step_m: f64,
+    tolerance_j: f64,
+    fraction: f64,
+    jobs: Option<usize>,
+) -> PyResult<String> {
+    let base = case.inner.clone();
+    let rows = py.detach(move || -> Result<Vec<EvaRow>, String> {
+        let grid = Grid::new(base, speeds_kmh, tensions_n, Vec::new());
+        let jobs_list = grid.jobs().map_err(|e| e.to_string())?;
+        let settings = EvaSettings {
+            step_m,
+            tolerance_j,
+            fraction,
+            ..EvaSettings::default()
+        };
+        parallel_map(&jobs_list, jobs, |j| {
+            let setup = Setup::from_case(&j.case).map_err(|e| e.to_string())?;
+            let o = run_eva(&setup, &settings, &mut |_| true).map_err(|e| e.to_string())?;
+            Ok(EvaRow::new(
+                j.index,
+                j.speed_kmh,
+                j.tension_n / 1e3,
+                &j.damping,
+                &o,
+            ))
+        })
+        .into_iter()
+        .collect()
+    });
+    serde_json::to_string(&rows.map_err(err)?).map_err(err)
+}
+
+/// A validation (`en50318-2002` or `seed-table1`): the report of `pcsim validate --json`.
+#[pyfunction]
+#[pyo3(signature = (name, jobs=None))]
+fn validate(py: Python<'_>, name: &str, jobs: Option<usize>) -> PyResult<String> {
+    let plan = ValidationPlan::new(name).map_err(err)?;
+    let report = py.detach(move || -> Result<String, String> {
+        let runs: Vec<RunOutput> = parallel_map(&plan.cases, jobs, |c| run_core(c).map(|r| r.0))
+            .into_iter()
+            .collect::<Result<_, _>>()?;
+        let report = plan.assemble(&runs).map_err(|e| e.to_string())?;
+        serde_json::to_string(&report).map_err(|e| e.to_string())
+    });
+    report.map_err(err)
+}
+
+/// The names of the embedded presets.
+#[pyfunction]
+fn presets_list() -> Vec<String> {
+    presets::PRESETS
+        .iter()
+        .map(|p| p.name.to_string())
+        .collect()
+}
+
+/// The moving-window catenary for hardware in the loop (`coupling="hil"`: the measured contact
+/// force and position are inputs) or software in the loop (`"sil"`: pcsim's pantograph).
+#[pyclass(module = "pcsim._pcsim")]
+struct RealtimeCatenary {
+    inner: CoreRealtime,
+}
+
+#[pymethods]
+impl RealtimeCatenary {
+    #[new]
+    #[pyo3(signature = (case, window_m=215.0, coupling="hil"))]
+    fn new(case: &Case, window_m: f64, coupling: &str) -> PyResult<Self> {
+        let coupling = match coupling {
+            "hil" => Coupling::Hil,
+            "sil" => Coupling::Sil,
+            other => return Err(err(format!("coupling `{other}`: use \"hil\" or \"sil\""))),
+        };
+        let mut c = case.inner.clone();
+        c.pantographs.truncate(1);
+        Ok(Self {
+            inner: CoreRealtime::new(&c, window_m, coupling).map_err(err)?,
+        })
+    }
+
+    /// One fixed step with the contact force (N, pushing the wire up) and the pantograph's
+    /// track position (m); returns the contact-wire height (m) and vertical velocity (m/s) at
+    /// the contact point. A position or force the window cannot take raises `ValueError`.
+    fn step(&mut self, force_n: f64, position_m: f64) -> PyResult<(f64, f64)> {
+        self.inner
+            .check_input(force_n, position_m, self.inner.dt_s())
+            .map_err(err)?;
+        self.inner.set_input(force_n, position_m);
+        let o = self.inner.step();
+        Ok((o.wire_height_m, o.wire_velocity_m_s))
+    }
+
+    /// The fixed time step, s.
+    #[getter]
+    fn dt_s(&self) -> f64 {
+        self.inner.dt_s()
+    }
+
+    /// Window moves so far.
+    #[getter]
+    fn moves(&self) -> usize {
+        self.inner.moves()
+    }
+
+    /// Modes per wire in the window.
+    #[getter]
+    fn n_modes(&self) -> usize {
+        self.inner.n_modes()
+    }
+}
+
+#[pymodule]
+fn _pcsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Case>()?;
+    m.add_class::<RealtimeCatenary>()?;
+    m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(run_many, m)?)?;
+    m.add_function(wrap_pyfunction!(eva, m)?)?;
+    m.add_function(wrap_pyfunction!(validate, m)?)?;
+    m.add_function(wrap_pyfunction!(presets_list, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,161 @@
+"""Tests of the Python package (run by .ci/run with the package built in a venv).
+
+PCSIM is the path of the `pcsim` executable of the same build (the CLI)."""
+
+import csv
+import json
+import os
+import pickle
+import subprocess
+import tempfile
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import pcsim
+
+PCSIM = os.environ.get("PCSIM", "pcsim")
+
+
+def short_case(speed=250.0):
+    case = pcsim.Case.preset("en50318-2002")
+    return case.with_overrides({"run.speed_kmh": speed, "catenary.spans": 8, "run.start_m": 60.0,
+                                "run.end_m": 400.0, "run.analysis_m": [120.0, 360.0]})
+
+
+def cli_run(case, out):
+    with tempfile.NamedTemporaryFile("w", suffix=".toml", delete=False) as f:
+        f.write(case.to_toml())
+        path = f.name
+    try:
+        subprocess.run([PCSIM, "run", path, "--quiet", "--out", out], check=True, stdout=subprocess.DEVNULL)
+    finally:
+        os.unlink(path)
+    with open(os.path.join(out, "summary.json")) as f:
+        summary = json.load(f)
+    with open(os.path.join(out, "timeseries.csv")) as f:
+        rows = list(csv.reader(f))
+    return summary, rows
+
+
+def test_run_equals_the_cli_exactly(tmp_path):
+    case = short_case()
+    res = pcsim.run(case)
+    summary, rows = cli_run(case, str(tmp_path / "cli"))
+    # Statistics: the same floats (JSON round-trips f64 exactly).
+    assert res.summary["pantographs"] == summary["pantographs"]
+    assert res.summary["run_statistics"] == summary["run_statistics"]
+    for k in ("speed_kmh", "simulated_time_s", "modes_per_wire", "dt_s", "analysis_section_m"):
+        assert res.summary[k] == summary[k], k
+    # Time series: the same columns, and the arrays written as the CLI writes them give its bytes.
+    header = rows[0]
+    assert list(res.timeseries.keys()) == header
+    decimals = {name: (6 if name == "time_s" or name.endswith(("_height_m", "_lateral_m", "_margin_m")) else 4)
+                for name in header}
+    for j, name in enumerate(header):
+        arr = res.timeseries[name]
+        assert isinstance(arr, np.ndarray) and arr.dtype == np.float64
+        assert len(arr) == len(rows) - 1
+        assert [f"{v:.{decimals[name]}f}" for v in arr] == [r[j] for r in rows[1:]], name
+
+
+def test_errors_are_value_errors_naming_the_field():
+    case = pcsim.Case.preset("en50318-2002")
+    with pytest.raises(ValueError, match="catenary.contact_wire.tension_n"):
+        case.with_overrides({"catenary.contact_wire.tension_n": -5.0})
+    with pytest.raises(ValueError, match="no_such"):
+        case.with_overrides({"run.no_such": 1.0})
+    with pytest.raises(ValueError):
+        pcsim.Case.preset("no-such-preset")
+    with pytest.raises(ValueError, match="speed_kmh"):
+        pcsim.Case.from_toml(case.to_toml().replace("speed_kmh = 250.0", "speed_kmh = -1.0")).validate()
+
+
+def test_a_case_pickles_by_its_toml():
+    case = short_case(280.0)
+    back = pickle.loads(pickle.dumps(case))
+    assert back.to_toml() == case.to_toml()
+    res = pcsim.run(case)
+    res2 = pickle.loads(pickle.dumps(res))
+    assert res2.summary == res.summary
+    assert np.array_equal(res2.timeseries["leading_force_n"], res.timeseries["leading_force_n"])
+
+
+def test_the_gil_is_released_during_a_run():
+    case = pcsim.Case.preset("en50318-2002")
+    t0 = time.perf_counter()
+    pcsim.run(case)
+    one = time.perf_counter() - t0
+    ts = [threading.Thread(target=pcsim.run, args=(case,)) for _ in range(2)]
+    t0 = time.perf_counter()
+    for t in ts:
+        t.start()
+    for t in ts:
+        t.join()
+    two = time.perf_counter() - t0
+    # Two runs on two threads overlap: well under twice one run (the machine has 2 cores).
+    assert two < 1.6 * one, f"two threads {two:.2f} s, one run {one:.2f} s"
+
+
+def test_sweep_locally_equals_single_runs():
+    cases = [short_case(v) for v in (200.0, 250.0, 300.0)]
+    res = pcsim.sweep(cases)
+    for c, r in zip(cases, res):
+        single = pcsim.run(c)
+        assert r.summary["pantographs"] == single.summary["pantographs"]
+
+
+def test_dask_local_cluster_gives_the_clis_sweep(tmp_path):
+    import distributed
+    cases = [short_case(v) for v in (200.0, 300.0)]
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        res = pcsim.sweep(cases, client=client)
+    for i, (c, r) in enumerate(zip(cases, res)):
+        summary, _ = cli_run(c, str(tmp_path / f"c{i}"))
+        assert r.summary["pantographs"] == summary["pantographs"]
+        assert r.summary["run_statistics"] == summary["run_statistics"]
+
+
+def test_eva_rows_match_the_cli(tmp_path):
+    case = pcsim.Case.preset("syt-7.0-9.8")
+    rows = pcsim.eva(case, speeds_kmh=[150, 222], tensions_n=[9800.0])
+    assert [r["speed_kmh"] for r in rows] == [150, 222]
+    with tempfile.NamedTemporaryFile("w", suffix=".toml", delete=False) as f:
+        f.write(case.to_toml())
+        path = f.name
+    out = str(tmp_path / "eva")
+    subprocess.run([PCSIM, "eva", path, "--speed", "150,222", "--tension", "9800N", "--quiet", "--no-plot",
+                    "--out", out], check=True, stdout=subprocess.DEVNULL)
+    os.unlink(path)
+    with open(os.path.join(out, "eva.csv")) as f:
+        cli = list(csv.DictReader(f))
+    for r, c in zip(rows, cli):
+        for k in ("eva_step_m", "eva_fraction_m", "eva_step_max_m"):
+            want = float(c[k]) if c[k] else None
+            got = r[k]
+            assert (got is None and want is None) or round(got, 3) == want, k
+
+
+def test_validate_reports_rows_with_units():
+    report = pcsim.validate("en50318-2002")
+    rows = [r for c in report["cases"] for r in c["rows"]]
+    assert len(rows) == 16 and all("unit" in r and "pass" in r for r in rows)
+
+
+def test_realtime_catenary_steps_like_the_hil_reference():
+    case = pcsim.Case.preset("syt-7.0-9.8")
+    rt = pcsim.RealtimeCatenary(case, window_m=215.0, coupling="hil")
+    v = case.get("run.speed_kmh") / 3.6
+    x0 = case.get("run.start_m")
+    heights = []
+    for k in range(2000):
+        t = k * rt.dt_s
+        h, vel = rt.step(90.0 + 10.0 * np.sin(7.0 * t), x0 + v * t)
+        heights.append(h)
+    assert np.all(np.isfinite(heights)) and np.ptp(heights) > 1e-3
+    assert rt.moves >= 1
+    with pytest.raises(ValueError, match="position"):
+        rt.step(90.0, float("nan"))
