@@ -131,6 +131,12 @@ with tempfile.TemporaryDirectory() as d:
         crashed = r.returncode < 0
         check(f"misuse probe {p}", r.returncode == 0,
               ("(host crashed: signal %d)" % -r.returncode) if crashed else r.stdout.strip().splitlines()[-1] if r.stdout.strip() else r.stderr[-300:])
+    # The FMI 3.0 entry points of the same library.
+    for p in ["wrong_state", "pointers", "panic_is_fatal", "states"]:
+        r = subprocess.run([sys.executable, os.path.join(here, "probe3.py"), so, p], capture_output=True, text=True)
+        crashed = r.returncode < 0
+        check(f"FMI 3.0 misuse probe {p}", r.returncode == 0,
+              ("(host crashed: signal %d)" % -r.returncode) if crashed else (r.stdout + r.stderr).strip()[-300:])
 
 print(f"fmu: {passed} passed, {failed} failed")
 sys.exit(1 if failed else 0)

@@ -1,4 +1,5 @@
-//! The FMI 2.0 co-simulation C ABI: 34 entry points over [`crate::instance::Instance`].
+//! The FMI 2.0 co-simulation C ABI: 34 entry points over [`crate::instance::Instance`], FMU
+//! states (get, set, free, serialise) included.
 //!
 //! Every entry point runs under `catch_unwind` (a panic gives `fmi2Fatal` and marks the instance
 //! failed; the host survives). Component pointers are checked against a registry of live
@@ -11,24 +12,25 @@
     clippy::not_unsafe_ptr_arg_deref
 )]
 
-use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
-use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::sync::Mutex;
+use std::ffi::{c_char, c_int, c_uint, c_void, CStr};
+use std::panic::catch_unwind;
 
-use crate::instance::{Instance, Phase, Res, Status};
+use crate::host::{
+    host_str, ok, register, slice, slice_mut, unregister, unsupported, with, Component, Logger,
+};
+use crate::instance::{Instance, Phase, Status};
 
 type Fmi2Status = c_int;
 type Fmi2Component = *mut c_void;
 type Fmi2ValueReference = c_uint;
 type Fmi2String = *const c_char;
 type Fmi2Boolean = c_int;
-type Logger =
-    unsafe extern "C" fn(*mut c_void, Fmi2String, Fmi2Status, Fmi2String, Fmi2String, ...);
+type Logger2 = crate::host::Logger2;
 
 /// `fmi2CallbackFunctions`.
 #[repr(C)]
 pub struct CallbackFunctions {
-    logger: Option<Logger>,
+    logger: Option<Logger2>,
     allocate_memory: Option<unsafe extern "C" fn(usize, usize) -> *mut c_void>,
     free_memory: Option<unsafe extern "C" fn(*mut c_void)>,
     step_finished: Option<unsafe extern "C" fn(*mut c_void, Fmi2Status)>,
@@ -37,106 +39,8 @@ pub struct CallbackFunctions {
 
 #[cfg(test)]
 const OK: Fmi2Status = 0;
-const ERROR: Fmi2Status = 3;
-const FATAL: Fmi2Status = 4;
-
-/// The FMI wrapper around an instance: the host's logger and the string buffers.
-struct Component {
-    inst: Instance,
-    logger: Option<Logger>,
-    env: usize,
-    name_c: CString,
-    strings: Vec<CString>,
-    string_ptrs: Vec<*const c_char>,
-}
-
-/// Addresses of live components.
-static LIVE: Mutex<Vec<usize>> = Mutex::new(Vec::new());
-
-fn live() -> std::sync::MutexGuard<'static, Vec<usize>> {
-    LIVE.lock().unwrap_or_else(|e| e.into_inner())
-}
-
-fn is_live(c: Fmi2Component) -> bool {
-    !c.is_null() && live().contains(&(c as usize))
-}
-
-impl Component {
-    fn log(&self, status: Status, msg: &str) {
-        if let Some(logger) = self.logger {
-            let category: &CStr = if status >= Status::Error {
-                c"logStatusError"
-            } else {
-                c"logAll"
-            };
-            let msg = CString::new(msg.replace('\0', " ")).unwrap_or_default();
-            // The message goes through "%s" so that '%' in it is never a format directive.
-            unsafe {
-                logger(
-                    self.env as *mut c_void,
-                    self.name_c.as_ptr(),
-                    status as c_int,
-                    category.as_ptr(),
-                    c"%s".as_ptr(),
-                    msg.as_ptr(),
-                )
-            };
-        }
-    }
-}
-
-/// Run `f` on the live component `c` under `catch_unwind`.
-fn with(c: Fmi2Component, f: impl FnOnce(&mut Component) -> Res<Status>) -> Fmi2Status {
-    if !is_live(c) {
-        return ERROR;
-    }
-    let comp = c as *mut Component;
-    match catch_unwind(AssertUnwindSafe(|| f(unsafe { &mut *comp }))) {
-        Ok(Ok(s)) => s as c_int,
-        Ok(Err((s, msg))) => {
-            let comp = unsafe { &mut *comp };
-            comp.log(s, &msg);
-            if s == Status::Fatal {
-                comp.inst.fail();
-            }
-            s as c_int
-        }
-        Err(_) => {
-            let comp = unsafe { &mut *comp };
-            comp.inst.fail();
-            comp.log(
-                Status::Fatal,
-                "internal error (panic caught); the instance is unusable",
-            );
-            FATAL
-        }
-    }
-}
-
-fn ok(r: Res) -> Res<Status> {
-    r.map(|_| Status::Ok)
-}
-
-/// Slices from host arrays; NULL with n > 0 is an error.
-unsafe fn slice<'a, T>(p: *const T, n: usize) -> Res<&'a [T]> {
-    if n == 0 {
-        return Ok(&[]);
-    }
-    if p.is_null() {
-        return Err((Status::Error, "NULL array".into()));
-    }
-    Ok(unsafe { std::slice::from_raw_parts(p, n) })
-}
-
-unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Res<&'a mut [T]> {
-    if n == 0 {
-        return Ok(&mut []);
-    }
-    if p.is_null() {
-        return Err((Status::Error, "NULL array".into()));
-    }
-    Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
-}
+#[cfg(test)]
+const ERROR: Fmi2Status = crate::host::ERROR;
 
 #[no_mangle]
 pub extern "C" fn fmi2GetTypesPlatform() -> Fmi2String {
@@ -194,31 +98,18 @@ pub extern "C" fn fmi2Instantiate(
                 )
             }
         };
-        let comp = Box::new(Component {
-            name_c: CString::new(name.replace('\0', " ")).unwrap_or_default(),
-            inst: Instance::new(&name),
-            logger,
-            env,
-            strings: Vec::new(),
-            string_ptrs: Vec::new(),
-        });
-        let p = Box::into_raw(comp);
-        live().push(p as usize);
-        p as Fmi2Component
+        let logger = match logger {
+            Some(l) => Logger::V2(l),
+            None => Logger::None,
+        };
+        register(Component::new(Instance::new(&name), &name, logger, env))
     });
     r.unwrap_or(std::ptr::null_mut())
 }
 
 #[no_mangle]
 pub extern "C" fn fmi2FreeInstance(c: Fmi2Component) {
-    let _ = catch_unwind(|| {
-        let mut l = live();
-        if let Some(i) = l.iter().position(|&p| p == c as usize) {
-            l.swap_remove(i);
-            drop(l);
-            drop(unsafe { Box::from_raw(c as *mut Component) });
-        }
-    });
+    let _ = catch_unwind(|| unregister(c));
 }
 
 #[no_mangle]
@@ -313,15 +204,11 @@ pub extern "C" fn fmi2GetString(
 ) -> Fmi2Status {
     with(c, |k| {
         let (vr, value) = unsafe { (slice(vr, n)?, slice_mut(value, n)?) };
-        // Owned by the component until its next call: never dangling.
-        k.strings.clear();
-        for v in vr {
-            let s = k.inst.get_string(*v)?;
-            k.strings.push(CString::new(s).unwrap_or_default());
-        }
-        k.string_ptrs.clear();
-        k.string_ptrs.extend(k.strings.iter().map(|s| s.as_ptr()));
-        value.copy_from_slice(&k.string_ptrs);
+        let strings = vr
+            .iter()
+            .map(|v| k.inst.get_string(*v).map(str::to_string))
+            .collect::<Result<Vec<_>, _>>()?;
+        value.copy_from_slice(k.hold_strings(strings));
         Ok(Status::Ok)
     })
 }
@@ -395,69 +282,82 @@ pub extern "C" fn fmi2SetString(
     with(c, |k| {
         let (vr, value) = unsafe { (slice(vr, n)?, slice(value, n)?) };
         for (v, x) in vr.iter().zip(value) {
-            if x.is_null() {
-                return Err((Status::Error, "NULL string".into()));
-            }
-            let s = unsafe { CStr::from_ptr(*x) }.to_string_lossy().into_owned();
-            k.inst.set_string(*v, &s)?;
+            k.inst.set_string(*v, &host_str(*x)?)?;
         }
         Ok(Status::Ok)
     })
 }
 
-fn unsupported(c: Fmi2Component, what: &str) -> Fmi2Status {
-    with(c, |_| {
-        Err((
-            Status::Error,
-            format!(
-                "{what} is not supported by this FMU (see modelDescription.xml capability flags)"
-            ),
-        ))
+#[no_mangle]
+pub extern "C" fn fmi2GetFMUstate(c: Fmi2Component, s: *mut *mut c_void) -> Fmi2Status {
+    with(c, |k| ok(k.get_state(s)))
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2SetFMUstate(c: Fmi2Component, s: *mut c_void) -> Fmi2Status {
+    with(c, |k| {
+        let p = k.own_state(s)?;
+        ok(k.inst.set_state(unsafe { &*p }))
     })
 }
 
 #[no_mangle]
-pub extern "C" fn fmi2GetFMUstate(c: Fmi2Component, _s: *mut *mut c_void) -> Fmi2Status {
-    unsupported(c, "fmi2GetFMUstate")
-}
-
-#[no_mangle]
-pub extern "C" fn fmi2SetFMUstate(c: Fmi2Component, _s: *mut c_void) -> Fmi2Status {
-    unsupported(c, "fmi2SetFMUstate")
-}
-
-#[no_mangle]
-pub extern "C" fn fmi2FreeFMUstate(c: Fmi2Component, _s: *mut *mut c_void) -> Fmi2Status {
-    unsupported(c, "fmi2FreeFMUstate")
+pub extern "C" fn fmi2FreeFMUstate(c: Fmi2Component, s: *mut *mut c_void) -> Fmi2Status {
+    with(c, |k| {
+        if s.is_null() {
+            return Err((Status::Error, "NULL state pointer".into()));
+        }
+        k.free_state(unsafe { *s })?;
+        unsafe { *s = std::ptr::null_mut() };
+        Ok(Status::Ok)
+    })
 }
 
 #[no_mangle]
 pub extern "C" fn fmi2SerializedFMUstateSize(
     c: Fmi2Component,
-    _s: *mut c_void,
-    _size: *mut usize,
+    s: *mut c_void,
+    size: *mut usize,
 ) -> Fmi2Status {
-    unsupported(c, "fmi2SerializedFMUstateSize")
+    with(c, |k| {
+        let n = k.serialize_state(s)?.len();
+        let size = unsafe { slice_mut(size, 1)? };
+        size[0] = n;
+        Ok(Status::Ok)
+    })
 }
 
 #[no_mangle]
 pub extern "C" fn fmi2SerializeFMUstate(
     c: Fmi2Component,
-    _s: *mut c_void,
-    _b: *mut u8,
-    _n: usize,
+    s: *mut c_void,
+    b: *mut u8,
+    n: usize,
 ) -> Fmi2Status {
-    unsupported(c, "fmi2SerializeFMUstate")
+    with(c, |k| {
+        let bytes = k.serialize_state(s)?;
+        if bytes.len() != n {
+            return Err((
+                Status::Error,
+                format!("buffer of {n} bytes for a state of {} bytes", bytes.len()),
+            ));
+        }
+        unsafe { slice_mut(b, n)? }.copy_from_slice(&bytes);
+        Ok(Status::Ok)
+    })
 }
 
 #[no_mangle]
 pub extern "C" fn fmi2DeSerializeFMUstate(
     c: Fmi2Component,
-    _b: *const u8,
-    _n: usize,
-    _s: *mut *mut c_void,
+    b: *const u8,
+    n: usize,
+    s: *mut *mut c_void,
 ) -> Fmi2Status {
-    unsupported(c, "fmi2DeSerializeFMUstate")
+    with(c, |k| {
+        let bytes = unsafe { slice(b, n)? };
+        ok(k.deserialize_state(bytes, s))
+    })
 }
 
 #[no_mangle]
@@ -573,6 +473,7 @@ pub extern "C" fn fmi2GetStringStatus(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::ffi::CString;
 
     #[test]
     fn registry_refuses_null_foreign_and_freed_pointers() {

@@ -34,6 +34,34 @@ fn err<T>(msg: impl Into<String>) -> Res<T> {
     Err((Status::Error, msg.into()))
 }
 
+/// A saved FMU state (`fmi2GetFMUstate`, `fmi3GetFMUState`): everything `do_step` reads and
+/// writes, so that a restored instance continues bit for bit, and the fingerprint of the
+/// configuration it belongs to.
+#[derive(Debug, Clone)]
+pub struct FmuState {
+    snap: Snapshot,
+    steps: u64,
+    start_time: f64,
+    force_in: f64,
+    position_in: f64,
+    out: RealtimeOutput,
+    terminated: bool,
+    fingerprint: u64,
+}
+
+/// The serialised form: a magic, a version, the configuration's fingerprint, then the state.
+const STATE_MAGIC: &[u8; 8] = b"PCSIMFMU";
+const STATE_VERSION: u64 = 1;
+
+fn fnv1a64(data: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in data {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    h
+}
+
 /// One FMU instance. No global state: two instances share nothing.
 pub struct Instance {
     pub name: String,
@@ -51,6 +79,8 @@ pub struct Instance {
     steps: u64,
     x_start: f64,
     out: RealtimeOutput,
+    /// The configuration's fingerprint (set when the model is built).
+    fingerprint: u64,
 }
 
 impl Instance {
@@ -71,7 +101,152 @@ impl Instance {
             steps: 0,
             x_start: 0.0,
             out: RealtimeOutput::default(),
+            fingerprint: 0,
         }
+    }
+
+    /// The state, for `fmi2GetFMUstate` / `fmi3GetFMUState` (after initialisation).
+    pub fn get_state(&self) -> Res<FmuState> {
+        self.usable()?;
+        let rt = self.rt.as_ref().ok_or((
+            Status::Error,
+            "the FMU state exists only after initialisation".to_string(),
+        ))?;
+        Ok(FmuState {
+            snap: rt.snapshot(),
+            steps: self.steps,
+            start_time: self.start_time,
+            force_in: self.force_in,
+            position_in: self.position_in,
+            out: self.out,
+            terminated: self.phase == Phase::Terminated,
+            fingerprint: self.fingerprint,
+        })
+    }
+
+    /// Copy the state into `s` without allocating (a `fmi*GetFMUState` on an existing state).
+    pub fn get_state_into(&self, s: &mut FmuState) -> Res {
+        self.usable()?;
+        let rt = self.rt.as_ref().ok_or((
+            Status::Error,
+            "the FMU state exists only after initialisation".to_string(),
+        ))?;
+        if s.fingerprint != self.fingerprint {
+            *s = self.get_state()?;
+            return Ok(());
+        }
+        rt.save(&mut s.snap);
+        s.steps = self.steps;
+        s.start_time = self.start_time;
+        s.force_in = self.force_in;
+        s.position_in = self.position_in;
+        s.out = self.out;
+        s.terminated = self.phase == Phase::Terminated;
+        Ok(())
+    }
+
+    /// Return to a saved state of this configuration.
+    pub fn set_state(&mut self, s: &FmuState) -> Res {
+        self.usable()?;
+        if s.fingerprint != self.fingerprint {
+            return err("the FMU state belongs to another configuration (case, window, step, coupling or pcsim version)");
+        }
+        let rt = self.rt.as_mut().ok_or((
+            Status::Error,
+            "set the FMU state after initialisation".to_string(),
+        ))?;
+        rt.restore(&s.snap);
+        self.steps = s.steps;
+        self.start_time = s.start_time;
+        self.force_in = s.force_in;
+        self.position_in = s.position_in;
+        self.out = s.out;
+        self.phase = if s.terminated {
+            Phase::Terminated
+        } else {
+            Phase::Stepping
+        };
+        Ok(())
+    }
+
+    /// The serialised state: `PCSIMFMU`, the format version, the fingerprint, then the numbers.
+    pub fn serialize_state(s: &FmuState) -> Vec<u8> {
+        let mut b = Vec::new();
+        b.extend_from_slice(STATE_MAGIC);
+        b.extend_from_slice(&STATE_VERSION.to_le_bytes());
+        b.extend_from_slice(&s.fingerprint.to_le_bytes());
+        s.snap.write_bytes(&mut b);
+        b.extend_from_slice(&s.steps.to_le_bytes());
+        for x in [
+            s.start_time,
+            s.force_in,
+            s.position_in,
+            s.out.time_s,
+            s.out.position_m,
+            s.out.wire_height_m,
+            s.out.wire_velocity_m_s,
+            s.out.contact_force_n,
+            s.out.lateral_m,
+        ] {
+            b.extend_from_slice(&x.to_le_bytes());
+        }
+        b.push(s.terminated as u8);
+        b
+    }
+
+    /// A state read back from [`Self::serialize_state`]'s bytes: refused with an error when it
+    /// was written by another format version, for another configuration, or is damaged.
+    pub fn deserialize_state(&self, bytes: &[u8]) -> Res<FmuState> {
+        use pcsim_core::solve::state::ByteReader;
+        self.usable()?;
+        let rt = self.rt.as_ref().ok_or((
+            Status::Error,
+            "de-serialise an FMU state after initialisation (the model must exist)".to_string(),
+        ))?;
+        let bad = |m: String| (Status::Error, format!("serialised FMU state refused: {m}"));
+        let mut r = ByteReader::new(bytes);
+        if r.bytes(8).map_err(bad)? != STATE_MAGIC {
+            return Err(bad("not a pcsim FMU state".into()));
+        }
+        let v = r.u64().map_err(bad)?;
+        if v != STATE_VERSION {
+            return Err(bad(format!(
+                "format version {v}, this FMU reads version {STATE_VERSION}"
+            )));
+        }
+        let fp = r.u64().map_err(bad)?;
+        if fp != self.fingerprint {
+            return Err(bad(
+                "it belongs to another configuration (case, window, step, coupling or pcsim version)".into(),
+            ));
+        }
+        let snap = rt.snapshot_from_bytes(&mut r).map_err(bad)?;
+        let steps = r.u64().map_err(bad)?;
+        let mut f = [0.0; 9];
+        for x in f.iter_mut() {
+            *x = r.f64().map_err(bad)?;
+        }
+        let terminated = r.bytes(1).map_err(bad)?[0] != 0;
+        if !r.is_done() {
+            return Err(bad("trailing bytes".into()));
+        }
+        Ok(FmuState {
+            snap,
+            steps,
+            start_time: f[0],
+            force_in: f[1],
+            position_in: f[2],
+            out: RealtimeOutput {
+                time_s: f[3],
+                position_m: f[4],
+                wire_height_m: f[5],
+                wire_velocity_m_s: f[6],
+                contact_force_n: f[7],
+                lateral_m: f[8],
+            },
+            terminated,
+            fingerprint: fp,
+        })
     }
 
     pub fn phase(&self) -> Phase {
@@ -166,6 +341,18 @@ impl Instance {
         };
         let mut rt = RealtimeCatenary::new(&case, self.window_m, coupling)
             .map_err(|e| (Status::Error, format!("cannot build the model: {e}")))?;
+        self.fingerprint = fnv1a64(
+            format!(
+                "{}|{}|{:e}|{:e}|{}|{}",
+                env!("CARGO_PKG_VERSION"),
+                case.to_toml_string(),
+                self.window_m,
+                self.step_s,
+                self.sil,
+                self.case
+            )
+            .as_bytes(),
+        );
         self.x_start = case.run.start_m;
         if !self.sil {
             let x = self.x_start + self.position_in;

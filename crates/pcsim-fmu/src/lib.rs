@@ -17,6 +17,8 @@ pub mod instance;
 pub mod vars;
 
 mod fmi2;
+mod fmi3;
+mod host;
 
 /// The model identifier (the shared library's base name inside the FMU).
 pub const MODEL_IDENTIFIER: &str = "pcsim_fmu";

@@ -31,6 +31,8 @@ pub struct Var {
     pub description: &'static str,
 }
 
+/// The independent variable of the FMI 3.0 description (time, s).
+pub const VR_TIME: u32 = 0;
 pub const VR_CONTACT_FORCE: u32 = 1;
 pub const VR_PANTOGRAPH_POSITION: u32 = 2;
 pub const VR_WIRE_HEIGHT: u32 = 3;
@@ -177,7 +179,7 @@ pub fn model_description() -> String {
     );
     let _ = writeln!(
         x,
-        r#"  <CoSimulation modelIdentifier="{}" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="false" canRunAsynchronuously="false" canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="false" canSerializeFMUstate="false" providesDirectionalDerivative="false"/>"#,
+        r#"  <CoSimulation modelIdentifier="{}" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="false" canRunAsynchronuously="false" canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="true" canSerializeFMUstate="true" providesDirectionalDerivative="false"/>"#,
         crate::MODEL_IDENTIFIER
     );
     x.push_str("  <UnitDefinitions>\n");
@@ -239,6 +241,81 @@ pub fn model_description() -> String {
     x
 }
 
+/// The FMI 3.0 `modelDescription.xml`, generated from the same [`VARS`].
+pub fn model_description_v3() -> String {
+    let mut x = String::new();
+    let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
+    let _ = writeln!(
+        x,
+        r#"<fmiModelDescription fmiVersion="3.0" modelName="pcsim real-time catenary" instantiationToken="{}" description="Moving-window pantograph-catenary model (pcsim)" generationTool="pcsim {}" variableNamingConvention="flat">"#,
+        crate::GUID,
+        env!("CARGO_PKG_VERSION")
+    );
+    let _ = writeln!(
+        x,
+        r#"  <CoSimulation modelIdentifier="{}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUState="true" canSerializeFMUState="true" canBeInstantiatedOnlyOncePerProcess="false" providesDirectionalDerivatives="false" providesAdjointDerivatives="false" hasEventMode="false" canReturnEarlyAfterIntermediateUpdate="false" providesIntermediateUpdate="false"/>"#,
+        crate::MODEL_IDENTIFIER
+    );
+    x.push_str("  <UnitDefinitions>\n");
+    x.push_str("    <Unit name=\"N\"><BaseUnit kg=\"1\" m=\"1\" s=\"-2\"/></Unit>\n");
+    x.push_str("    <Unit name=\"m\"><BaseUnit m=\"1\"/></Unit>\n");
+    x.push_str("    <Unit name=\"m/s\"><BaseUnit m=\"1\" s=\"-1\"/></Unit>\n");
+    x.push_str("    <Unit name=\"s\"><BaseUnit s=\"1\"/></Unit>\n");
+    x.push_str("  </UnitDefinitions>\n");
+    let _ = writeln!(
+        x,
+        r#"  <DefaultExperiment startTime="0" stopTime="10" stepSize="{DEFAULT_STEP_S}"/>"#
+    );
+    x.push_str("  <ModelVariables>\n");
+    let _ = writeln!(
+        x,
+        r#"    <Float64 name="time" valueReference="{VR_TIME}" description="simulation time" causality="independent" variability="continuous" unit="s"/>"#
+    );
+    for v in VARS {
+        let (causality, variability, initial) = match v.causality {
+            Causality::Input => ("input", "continuous", None),
+            Causality::Output => ("output", "continuous", Some("calculated")),
+            Causality::Parameter => ("parameter", "fixed", Some("exact")),
+        };
+        let (tag, variability) = match v.kind {
+            Kind::Real => ("Float64", variability),
+            Kind::Boolean => ("Boolean", "fixed"),
+            Kind::String => ("String", "fixed"),
+        };
+        let _ = write!(
+            x,
+            r#"    <{tag} name="{}" valueReference="{}" description="{}" causality="{causality}" variability="{variability}""#,
+            v.name,
+            v.vr,
+            esc(v.description)
+        );
+        if let Some(i) = initial {
+            let _ = write!(x, r#" initial="{i}""#);
+        }
+        if let Some(u) = v.unit {
+            let _ = write!(x, r#" unit="{u}""#);
+        }
+        match (v.kind, v.start) {
+            (Kind::String, Some(s)) => {
+                let _ = writeln!(x, r#"><Start value="{}"/></String>"#, esc(s));
+            }
+            (_, Some(s)) => {
+                let _ = writeln!(x, r#" start="{}"/>"#, esc(s));
+            }
+            (_, None) => x.push_str("/>\n"),
+        }
+    }
+    x.push_str("  </ModelVariables>\n  <ModelStructure>\n");
+    for v in VARS.iter().filter(|v| v.causality == Causality::Output) {
+        let _ = writeln!(x, r#"    <Output valueReference="{}"/>"#, v.vr);
+    }
+    for v in VARS.iter().filter(|v| v.causality == Causality::Output) {
+        let _ = writeln!(x, r#"    <InitialUnknown valueReference="{}"/>"#, v.vr);
+    }
+    x.push_str("  </ModelStructure>\n</fmiModelDescription>\n");
+    x
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -262,5 +339,20 @@ mod tests {
         }
         assert_eq!(xml.matches("<ScalarVariable ").count(), VARS.len());
         assert!(xml.contains(crate::GUID) && xml.contains(r#"modelIdentifier="pcsim_fmu""#));
+        let x3 = model_description_v3();
+        for v in VARS {
+            assert!(
+                x3.contains(&format!(r#"name="{}" valueReference="{}""#, v.name, v.vr)),
+                "FMI 3.0: {}",
+                v.name
+            );
+        }
+        // Value references are unique across all variables in FMI 3.0.
+        for (i, v) in VARS.iter().enumerate() {
+            assert!(VARS.iter().skip(i + 1).all(|w| w.vr != v.vr), "vr {}", v.vr);
+        }
+        assert!(
+            x3.contains(r#"instantiationToken=""#) && x3.contains("canSerializeFMUState=\"true\"")
+        );
     }
 }

@@ -1,4 +1,5 @@
-//! `pcsim fmu build`: bundle the FMI 2.0 FMU; `pcsim fmu xml`: print its model description.
+//! `pcsim fmu build`: bundle the FMI 2.0 and FMI 3.0 FMUs (one library exports both ABIs);
+//! `pcsim fmu xml`: print a model description.
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
@@ -12,7 +13,8 @@ pub struct FmuArgs {
 
 #[derive(Subcommand)]
 enum FmuSub {
-    /// Bundle `pcsim_fmu.fmu` (modelDescription.xml + binaries/linux64/pcsim_fmu.so).
+    /// Bundle `pcsim_fmu.fmu` (FMI 2.0: modelDescription.xml + binaries/linux64/pcsim_fmu.so)
+    /// and `pcsim_fmu_fmi3.fmu` (FMI 3.0: binaries/x86_64-linux/pcsim_fmu.so).
     Build {
         /// Output directory.
         #[arg(long, default_value = "out/fmu")]
@@ -20,9 +22,16 @@ enum FmuSub {
         /// The shared library (default: libpcsim_fmu.so built beside this executable).
         #[arg(long)]
         lib: Option<PathBuf>,
+        /// Which FMI version: 2, 3 or both.
+        #[arg(long, default_value = "both")]
+        fmi_version: String,
     },
     /// Print the generated modelDescription.xml.
-    Xml,
+    Xml {
+        /// Which FMI version: 2 or 3.
+        #[arg(long, default_value = "2")]
+        fmi_version: String,
+    },
 }
 
 /// CRC-32 (IEEE) for the zip container.
@@ -113,6 +122,10 @@ const REQUIRED_SYMBOLS: &[&str] = &[
     "fmi2DoStep",
     "fmi2GetReal",
     "fmi2SetReal",
+    "fmi3InstantiateCoSimulation",
+    "fmi3DoStep",
+    "fmi3GetFloat64",
+    "fmi3SerializeFMUState",
 ];
 
 /// Check that `bytes` are a Linux shared library (ELF, type ET_DYN) naming the FMI 2.0 entry
@@ -145,7 +158,7 @@ pub fn check_library(path: &std::path::Path, bytes: &[u8]) -> Result<()> {
         .collect();
     if !missing.is_empty() {
         bail!(
-            "--lib {}: a shared library that does not export the FMI 2.0 entry points ({} missing)",
+            "--lib {}: a shared library that does not export the FMI 2.0 and 3.0 entry points ({} missing)",
             path.display(),
             missing.join(", ")
         );
@@ -155,11 +168,25 @@ pub fn check_library(path: &std::path::Path, bytes: &[u8]) -> Result<()> {
 
 pub fn fmu(a: FmuArgs) -> Result<i32> {
     match a.sub {
-        FmuSub::Xml => {
-            print!("{}", pcsim_fmu::vars::model_description());
+        FmuSub::Xml { fmi_version } => {
+            match fmi_version.as_str() {
+                "2" => print!("{}", pcsim_fmu::vars::model_description()),
+                "3" => print!("{}", pcsim_fmu::vars::model_description_v3()),
+                other => bail!("--fmi-version {other}: use 2 or 3"),
+            }
             Ok(0)
         }
-        FmuSub::Build { out, lib } => {
+        FmuSub::Build {
+            out,
+            lib,
+            fmi_version,
+        } => {
+            let versions: &[u8] = match fmi_version.as_str() {
+                "2" => &[2],
+                "3" => &[3],
+                "both" => &[2, 3],
+                other => bail!("--fmi-version {other}: use 2, 3 or both"),
+            };
             let lib = match lib {
                 Some(l) => l,
                 None => find_lib()?,
@@ -167,22 +194,33 @@ pub fn fmu(a: FmuArgs) -> Result<i32> {
             let so =
                 std::fs::read(&lib).with_context(|| format!("cannot read {}", lib.display()))?;
             check_library(&lib, &so)?;
-            let xml = pcsim_fmu::vars::model_description().into_bytes();
-            let id = pcsim_fmu::MODEL_IDENTIFIER;
-            let zip = zip_stored(&[
-                ("modelDescription.xml", xml),
-                (&format!("binaries/linux64/{id}.so"), so),
-            ]);
             std::fs::create_dir_all(&out)
                 .with_context(|| format!("cannot create {}", out.display()))?;
-            let path = out.join(format!("{id}.fmu"));
-            std::fs::write(&path, zip)
-                .with_context(|| format!("cannot write {}", path.display()))?;
-            println!(
-                "wrote {} (FMI 2.0 co-simulation, linux64, from {})",
-                path.display(),
-                lib.display()
-            );
+            let id = pcsim_fmu::MODEL_IDENTIFIER;
+            for &v in versions {
+                let (xml, platform, file, label) = match v {
+                    2 => (
+                        pcsim_fmu::vars::model_description(),
+                        "linux64",
+                        format!("{id}.fmu"),
+                        "FMI 2.0 co-simulation, linux64",
+                    ),
+                    _ => (
+                        pcsim_fmu::vars::model_description_v3(),
+                        "x86_64-linux",
+                        format!("{id}_fmi3.fmu"),
+                        "FMI 3.0 co-simulation, x86_64-linux",
+                    ),
+                };
+                let zip = zip_stored(&[
+                    ("modelDescription.xml", xml.into_bytes()),
+                    (&format!("binaries/{platform}/{id}.so"), so.clone()),
+                ]);
+                let path = out.join(file);
+                std::fs::write(&path, zip)
+                    .with_context(|| format!("cannot write {}", path.display()))?;
+                println!("wrote {} ({label}, from {})", path.display(), lib.display());
+            }
             Ok(0)
         }
     }

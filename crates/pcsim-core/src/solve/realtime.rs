@@ -285,6 +285,8 @@ pub struct RealtimeCatenary {
     analysis_m: [f64; 2],
     /// The full model's length (track coordinates), m.
     length_m: f64,
+    /// Track position of the leading pantograph at the start (the case's), m.
+    start_m: f64,
     max_speed_kmh: f64,
 }
 
@@ -338,6 +340,7 @@ impl RealtimeCatenary {
             window_m,
             n,
             input: (x_start, 0.0),
+            start_m: x_start,
             full_duration_s: full.plan.duration_s,
             analysis_m: full.plan.analysis_m,
             length_m: l,
@@ -418,6 +421,11 @@ impl RealtimeCatenary {
         self.n
     }
 
+    /// Track position of the leading pantograph at the start (the first HIL input's), m.
+    pub fn start_position_m(&self) -> f64 {
+        self.start_m
+    }
+
     /// Global position of the window's start, m.
     pub fn origin_m(&self) -> f64 {
         self.st.track_origin_m
@@ -477,6 +485,16 @@ pub struct Snapshot {
     input: (f64, f64),
 }
 
+impl Snapshot {
+    /// Append the snapshot to `out` (the state, the window moves, the last input).
+    pub fn write_bytes(&self, out: &mut Vec<u8>) {
+        self.st.write_bytes(out);
+        out.extend_from_slice(&self.moves.to_le_bytes());
+        out.extend_from_slice(&self.input.0.to_le_bytes());
+        out.extend_from_slice(&self.input.1.to_le_bytes());
+    }
+}
+
 impl RealtimeCatenary {
     /// A snapshot buffer holding the current state.
     pub fn snapshot(&self) -> Snapshot {
@@ -499,6 +517,22 @@ impl RealtimeCatenary {
         self.st.copy_from(&s.st);
         self.mover.moves = s.moves;
         self.input = s.input;
+    }
+
+    /// A snapshot read from bytes written by [`Snapshot::write_bytes`] for this window (the same
+    /// case, window length and step); an error says what does not match.
+    pub fn snapshot_from_bytes(
+        &self,
+        r: &mut crate::solve::state::ByteReader,
+    ) -> Result<Snapshot, String> {
+        let mut s = self.snapshot();
+        s.st.read_bytes(r)?;
+        s.moves = r.u64()?;
+        s.input = (r.f64()?, r.f64()?);
+        if !(s.st.x0_m.is_finite() && s.st.t.is_finite() && s.input.0.is_finite()) {
+            return Err("the serialised state holds non-finite numbers".into());
+        }
+        Ok(s)
     }
 
     /// Static lateral position (stagger) of the contact wire at a track position, m.

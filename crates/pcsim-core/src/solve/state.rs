@@ -44,6 +44,62 @@ impl Dofs {
             .chain(&self.a)
             .all(|x| x.is_finite())
     }
+
+    fn write(&self, out: &mut Vec<u8>) {
+        out.extend_from_slice(&(self.u.len() as u64).to_le_bytes());
+        for x in self.u.iter().chain(&self.v).chain(&self.a) {
+            out.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+
+    fn read(&mut self, r: &mut ByteReader) -> Result<(), String> {
+        let n = r.u64()? as usize;
+        if n != self.u.len() {
+            return Err(format!(
+                "{n} degrees of freedom where the model has {}",
+                self.u.len()
+            ));
+        }
+        for v in [&mut self.u, &mut self.v, &mut self.a] {
+            for x in v.iter_mut() {
+                *x = r.f64()?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Reads little-endian numbers from a byte slice, refusing to read past its end.
+pub struct ByteReader<'a> {
+    bytes: &'a [u8],
+}
+
+impl<'a> ByteReader<'a> {
+    pub fn new(bytes: &'a [u8]) -> Self {
+        Self { bytes }
+    }
+    fn take(&mut self, n: usize) -> Result<&'a [u8], String> {
+        if self.bytes.len() < n {
+            return Err("the serialised state is truncated".into());
+        }
+        let (a, b) = self.bytes.split_at(n);
+        self.bytes = b;
+        Ok(a)
+    }
+    pub fn u64(&mut self) -> Result<u64, String> {
+        let b = self.take(8)?;
+        Ok(u64::from_le_bytes(b.try_into().expect("8 bytes")))
+    }
+    pub fn f64(&mut self) -> Result<f64, String> {
+        Ok(f64::from_bits(self.u64()?))
+    }
+    pub fn bytes(&mut self, n: usize) -> Result<&'a [u8], String> {
+        self.take(n)
+    }
+    /// Whether every byte was read.
+    pub fn is_done(&self) -> bool {
+        self.bytes.is_empty()
+    }
 }
 
 /// The state at time `t`.
@@ -65,6 +121,32 @@ pub struct State {
 }
 
 impl State {
+    /// Append the state to `out` (little-endian, with the sizes of its parts).
+    pub fn write_bytes(&self, out: &mut Vec<u8>) {
+        for x in [self.t, self.x0_m, self.track_origin_m] {
+            out.extend_from_slice(&x.to_le_bytes());
+        }
+        self.modal.write(out);
+        self.nodes.write(out);
+        self.pantographs.write(out);
+    }
+
+    /// Read a state written by [`Self::write_bytes`] into this one, which must have the same
+    /// sizes (the same model); an error says what does not match.
+    pub fn read_bytes(&mut self, r: &mut ByteReader) -> Result<(), String> {
+        self.t = r.f64()?;
+        self.x0_m = r.f64()?;
+        self.track_origin_m = r.f64()?;
+        self.modal
+            .read(r)
+            .map_err(|e| format!("modal coordinates: {e}"))?;
+        self.nodes.read(r).map_err(|e| format!("nodes: {e}"))?;
+        self.pantographs
+            .read(r)
+            .map_err(|e| format!("pantographs: {e}"))?;
+        Ok(())
+    }
+
     /// The state of `model` at rest with zero deviation (the pantographs' heights are set by
     /// the integrator's initial state).
     pub fn at_rest(model: &Model, x0_m: f64) -> Self {

@@ -1,0 +1,173 @@
+//! The C API under load: thousands of instantiations without memory growth, independent
+//! handles in threads, save and restore bit for bit, refused inputs and states.
+
+use pcsim_capi::*;
+use std::ffi::CString;
+
+fn new(window: f64) -> *mut PcsimRt {
+    let name = CString::new("syt-7.0-9.8").unwrap();
+    let mut err = [0i8; 256];
+    let h = unsafe { pcsim_rt_new(name.as_ptr(), 0, window, err.as_mut_ptr(), err.len()) };
+    assert!(!h.is_null());
+    h
+}
+
+/// Step `n` times with a varying force from step `k0`; the last height and velocity.
+fn run(h: *mut PcsimRt, k0: usize, n: usize) -> (f64, f64) {
+    run_phase(h, k0, n, 0.0)
+}
+
+fn run_phase(h: *mut PcsimRt, k0: usize, n: usize, phase: f64) -> (f64, f64) {
+    let (dt, x0) = unsafe { (pcsim_rt_dt(h), pcsim_rt_start_position(h)) };
+    let (mut y, mut v) = (0.0, 0.0);
+    for k in k0..k0 + n {
+        let t = (k + 1) as f64 * dt;
+        let f = 90.0 + 15.0 * (7.3 * t + phase).sin();
+        let s = unsafe {
+            pcsim_rt_step(
+                h,
+                f,
+                x0 + 222.0 / 3.6 * t,
+                &mut y,
+                &mut v,
+                std::ptr::null_mut(),
+            )
+        };
+        assert_eq!(s, PCSIM_OK);
+    }
+    (y, v)
+}
+
+fn rss_kib() -> usize {
+    let s = std::fs::read_to_string("/proc/self/statm").unwrap();
+    let pages: usize = s.split_whitespace().nth(1).unwrap().parse().unwrap();
+    pages * 4
+}
+
+#[test]
+fn ten_thousand_instantiations_do_not_grow_the_memory() {
+    let cycle = || {
+        let h = new(120.0);
+        run(h, 0, 5);
+        unsafe { pcsim_rt_free(h) };
+    };
+    for _ in 0..1000 {
+        cycle();
+    }
+    let after_1k = rss_kib();
+    for _ in 0..9000 {
+        cycle();
+    }
+    let after_10k = rss_kib();
+    // The allocator keeps some pages; a leak of one handle per cycle would be ~9000 × 100 kB.
+    assert!(
+        after_10k < after_1k + 8 * 1024,
+        "RSS grew from {after_1k} kB to {after_10k} kB over 9000 cycles"
+    );
+}
+
+#[test]
+fn four_handles_in_four_threads_match_serial_runs() {
+    let serial: Vec<(f64, f64)> = (0..4)
+        .map(|i| {
+            let h = new(215.0);
+            let r = run_phase(h, 0, 3000, i as f64);
+            unsafe { pcsim_rt_free(h) };
+            r
+        })
+        .collect();
+    let threaded: Vec<(f64, f64)> = std::thread::scope(|s| {
+        let hs: Vec<_> = (0..4)
+            .map(|i| {
+                s.spawn(move || {
+                    let h = new(215.0);
+                    let r = run_phase(h, 0, 3000, i as f64);
+                    unsafe { pcsim_rt_free(h) };
+                    r
+                })
+            })
+            .collect();
+        hs.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    for (a, b) in serial.iter().zip(&threaded) {
+        assert_eq!(a.0.to_bits(), b.0.to_bits());
+        assert_eq!(a.1.to_bits(), b.1.to_bits());
+    }
+}
+
+#[test]
+fn save_and_restore_continue_bit_for_bit_and_foreign_states_are_refused() {
+    let h = new(215.0);
+    run(h, 0, 1000);
+    let n = unsafe { pcsim_rt_state_size(h) };
+    let mut buf = vec![0u8; n];
+    assert_eq!(unsafe { pcsim_rt_save(h, buf.as_mut_ptr(), n) }, PCSIM_OK);
+    let a = run(h, 1000, 1000);
+    let mut err = [0i8; 256];
+    assert_eq!(
+        unsafe { pcsim_rt_restore(h, buf.as_ptr(), n, err.as_mut_ptr(), err.len()) },
+        PCSIM_OK
+    );
+    let b = run(h, 1000, 1000);
+    assert_eq!(a.0.to_bits(), b.0.to_bits());
+    // Into a fresh handle: the same again.
+    let h2 = new(215.0);
+    assert_eq!(
+        unsafe { pcsim_rt_restore(h2, buf.as_ptr(), n, err.as_mut_ptr(), err.len()) },
+        PCSIM_OK
+    );
+    let c = run(h2, 1000, 1000);
+    assert_eq!(a.0.to_bits(), c.0.to_bits());
+    // Another window's state, a damaged one, a short buffer: refused, the catenary unchanged.
+    let h3 = new(240.0);
+    let s = unsafe { pcsim_rt_restore(h3, buf.as_ptr(), n, err.as_mut_ptr(), err.len()) };
+    assert_eq!(s, PCSIM_ERR_STATE);
+    let msg = unsafe { std::ffi::CStr::from_ptr(err.as_ptr()) }
+        .to_string_lossy()
+        .into_owned();
+    assert!(msg.contains("another case, window"), "{msg}");
+    assert_eq!(
+        unsafe { pcsim_rt_restore(h2, buf.as_ptr(), n - 3, err.as_mut_ptr(), err.len()) },
+        PCSIM_ERR_STATE
+    );
+    let mut small = vec![0u8; n - 1];
+    assert_eq!(
+        unsafe { pcsim_rt_save(h, small.as_mut_ptr(), n - 1) },
+        PCSIM_ERR_ARGUMENT
+    );
+    // A refused input leaves the catenary as it was.
+    let (mut y, mut v) = (0.0, 0.0);
+    let before = unsafe { pcsim_rt_state_size(h) };
+    assert_eq!(
+        unsafe { pcsim_rt_step(h, f64::NAN, 100.0, &mut y, &mut v, std::ptr::null_mut()) },
+        PCSIM_ERR_INPUT
+    );
+    assert_eq!(before, unsafe { pcsim_rt_state_size(h) });
+    let d = run(h, 2000, 1000);
+    assert_ne!(d.0.to_bits(), 0);
+    // NULL handles and bad names.
+    assert_eq!(
+        unsafe {
+            pcsim_rt_step(
+                std::ptr::null_mut(),
+                1.0,
+                1.0,
+                &mut y,
+                &mut v,
+                std::ptr::null_mut(),
+            )
+        },
+        PCSIM_ERR_ARGUMENT
+    );
+    let bad = CString::new("no-such").unwrap();
+    let p = unsafe { pcsim_rt_new(bad.as_ptr(), 0, 215.0, err.as_mut_ptr(), err.len()) };
+    assert!(p.is_null());
+    let msg = unsafe { std::ffi::CStr::from_ptr(err.as_ptr()) }
+        .to_string_lossy()
+        .into_owned();
+    assert!(msg.contains("no-such"), "{msg}");
+    for x in [h, h2, h3] {
+        unsafe { pcsim_rt_free(x) };
+    }
+    unsafe { pcsim_rt_free(std::ptr::null_mut()) };
+}

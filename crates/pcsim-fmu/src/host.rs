@@ -1,0 +1,270 @@
+//! What the FMI 2.0 and 3.0 C ABIs share: the component around an instance (the host's logger,
+//! the string buffers, the FMU states handed out), the registry of live components, and the
+//! `catch_unwind` wrapper every entry point runs under.
+
+use std::ffi::{c_char, c_int, c_void, CStr, CString};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::Mutex;
+
+use crate::instance::{FmuState, Instance, Res, Status};
+
+/// The FMI 2.0 logger (variadic).
+pub(crate) type Logger2 =
+    unsafe extern "C" fn(*mut c_void, *const c_char, c_int, *const c_char, *const c_char, ...);
+/// The FMI 3.0 log-message callback.
+pub(crate) type Logger3 = unsafe extern "C" fn(*mut c_void, c_int, *const c_char, *const c_char);
+
+/// The host's logger, by FMI version.
+pub(crate) enum Logger {
+    None,
+    V2(Logger2),
+    V3(Logger3),
+}
+
+pub(crate) const ERROR: c_int = 3;
+pub(crate) const FATAL: c_int = 4;
+
+/// The FMI wrapper around an instance: the host's logger, the string buffers and the FMU states
+/// handed out.
+pub(crate) struct Component {
+    pub inst: Instance,
+    pub logger: Logger,
+    pub env: usize,
+    pub name_c: CString,
+    pub strings: Vec<CString>,
+    pub string_ptrs: Vec<*const c_char>,
+    /// FMU states handed out and not yet freed (their addresses).
+    pub states: Vec<usize>,
+}
+
+impl Drop for Component {
+    fn drop(&mut self) {
+        for p in self.states.drain(..) {
+            drop(unsafe { Box::from_raw(p as *mut FmuState) });
+        }
+    }
+}
+
+/// Addresses of live components.
+static LIVE: Mutex<Vec<usize>> = Mutex::new(Vec::new());
+
+pub(crate) fn live() -> std::sync::MutexGuard<'static, Vec<usize>> {
+    LIVE.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+fn is_live(c: *mut c_void) -> bool {
+    !c.is_null() && live().contains(&(c as usize))
+}
+
+impl Component {
+    pub fn new(inst: Instance, name: &str, logger: Logger, env: usize) -> Self {
+        Component {
+            name_c: CString::new(name.replace('\0', " ")).unwrap_or_default(),
+            inst,
+            logger,
+            env,
+            strings: Vec::new(),
+            string_ptrs: Vec::new(),
+            states: Vec::new(),
+        }
+    }
+
+    fn log(&self, status: Status, msg: &str) {
+        let category: &CStr = if status >= Status::Error {
+            c"logStatusError"
+        } else {
+            c"logAll"
+        };
+        let msg = CString::new(msg.replace('\0', " ")).unwrap_or_default();
+        match self.logger {
+            Logger::None => {}
+            // The message goes through "%s" so that '%' in it is never a format directive.
+            Logger::V2(logger) => unsafe {
+                logger(
+                    self.env as *mut c_void,
+                    self.name_c.as_ptr(),
+                    status as c_int,
+                    category.as_ptr(),
+                    c"%s".as_ptr(),
+                    msg.as_ptr(),
+                )
+            },
+            Logger::V3(cb) => unsafe {
+                cb(
+                    self.env as *mut c_void,
+                    status as c_int,
+                    category.as_ptr(),
+                    msg.as_ptr(),
+                )
+            },
+        }
+    }
+
+    /// Copies of `strings` owned by the component until its next call: never dangling.
+    pub fn hold_strings(&mut self, strings: Vec<String>) -> &[*const c_char] {
+        self.strings = strings
+            .into_iter()
+            .map(|s| CString::new(s).unwrap_or_default())
+            .collect();
+        self.string_ptrs.clear();
+        self.string_ptrs
+            .extend(self.strings.iter().map(|s| s.as_ptr()));
+        &self.string_ptrs
+    }
+
+    /// A state pointer of this component (handed out and not freed), or an error.
+    pub fn own_state(&self, s: *mut c_void) -> Res<*mut FmuState> {
+        if s.is_null() || !self.states.contains(&(s as usize)) {
+            return Err((
+                Status::Error,
+                "not an FMU state of this instance (NULL, foreign or freed)".into(),
+            ));
+        }
+        Ok(s as *mut FmuState)
+    }
+
+    /// Hand a new state to the host.
+    pub fn hand_out(&mut self, st: FmuState) -> *mut c_void {
+        let p = Box::into_raw(Box::new(st));
+        self.states.push(p as usize);
+        p as *mut c_void
+    }
+
+    /// Free a state handed out (a NULL state is a no-op).
+    pub fn free_state(&mut self, s: *mut c_void) -> Res {
+        if s.is_null() {
+            return Ok(());
+        }
+        let p = self.own_state(s)?;
+        self.states.retain(|&q| q != p as usize);
+        drop(unsafe { Box::from_raw(p) });
+        Ok(())
+    }
+
+    /// Get the state into the host's existing one (in place) or a new one.
+    pub fn get_state(&mut self, s: *mut *mut c_void) -> Res {
+        if s.is_null() {
+            return Err((Status::Error, "NULL state pointer".into()));
+        }
+        let cur = unsafe { *s };
+        if !cur.is_null() && self.states.contains(&(cur as usize)) {
+            let st = unsafe { &mut *(cur as *mut FmuState) };
+            self.inst.get_state_into(st)
+        } else {
+            let st = self.inst.get_state()?;
+            unsafe { *s = self.hand_out(st) };
+            Ok(())
+        }
+    }
+
+    /// De-serialise into the host's existing state (in place) or a new one.
+    pub fn deserialize_state(&mut self, bytes: &[u8], s: *mut *mut c_void) -> Res {
+        if s.is_null() {
+            return Err((Status::Error, "NULL state pointer".into()));
+        }
+        let st = self.inst.deserialize_state(bytes)?;
+        let cur = unsafe { *s };
+        if !cur.is_null() && self.states.contains(&(cur as usize)) {
+            unsafe { *(cur as *mut FmuState) = st };
+        } else {
+            unsafe { *s = self.hand_out(st) };
+        }
+        Ok(())
+    }
+
+    /// The serialised bytes of a state handed out.
+    pub fn serialize_state(&self, s: *mut c_void) -> Res<Vec<u8>> {
+        let p = self.own_state(s)?;
+        Ok(Instance::serialize_state(unsafe { &*p }))
+    }
+}
+
+/// Register a new component and return its address.
+pub(crate) fn register(comp: Component) -> *mut c_void {
+    let p = Box::into_raw(Box::new(comp));
+    live().push(p as usize);
+    p as *mut c_void
+}
+
+/// Unregister and drop a component (freeing a freed or foreign pointer is a no-op).
+pub(crate) fn unregister(c: *mut c_void) {
+    let mut l = live();
+    if let Some(i) = l.iter().position(|&p| p == c as usize) {
+        l.swap_remove(i);
+        drop(l);
+        drop(unsafe { Box::from_raw(c as *mut Component) });
+    }
+}
+
+/// Run `f` on the live component `c` under `catch_unwind`.
+pub(crate) fn with(c: *mut c_void, f: impl FnOnce(&mut Component) -> Res<Status>) -> c_int {
+    if !is_live(c) {
+        return ERROR;
+    }
+    let comp = c as *mut Component;
+    match catch_unwind(AssertUnwindSafe(|| f(unsafe { &mut *comp }))) {
+        Ok(Ok(s)) => s as c_int,
+        Ok(Err((s, msg))) => {
+            let comp = unsafe { &mut *comp };
+            comp.log(s, &msg);
+            if s == Status::Fatal {
+                comp.inst.fail();
+            }
+            s as c_int
+        }
+        Err(_) => {
+            let comp = unsafe { &mut *comp };
+            comp.inst.fail();
+            comp.log(
+                Status::Fatal,
+                "internal error (panic caught); the instance is unusable",
+            );
+            FATAL
+        }
+    }
+}
+
+pub(crate) fn ok(r: Res) -> Res<Status> {
+    r.map(|_| Status::Ok)
+}
+
+/// Slices from host arrays; NULL with n > 0 is an error.
+pub(crate) unsafe fn slice<'a, T>(p: *const T, n: usize) -> Res<&'a [T]> {
+    if n == 0 {
+        return Ok(&[]);
+    }
+    if p.is_null() {
+        return Err((Status::Error, "NULL array".into()));
+    }
+    Ok(unsafe { std::slice::from_raw_parts(p, n) })
+}
+
+pub(crate) unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Res<&'a mut [T]> {
+    if n == 0 {
+        return Ok(&mut []);
+    }
+    if p.is_null() {
+        return Err((Status::Error, "NULL array".into()));
+    }
+    Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
+}
+
+/// A call the FMU does not support: Error with the reason logged.
+pub(crate) fn unsupported(c: *mut c_void, what: &str) -> c_int {
+    with(c, |_| {
+        Err((
+            Status::Error,
+            format!(
+                "{what} is not supported by this FMU (see modelDescription.xml capability flags)"
+            ),
+        ))
+    })
+}
+
+/// A string from the host (NULL is an error).
+pub(crate) fn host_str(p: *const c_char) -> Res<String> {
+    if p.is_null() {
+        return Err((Status::Error, "NULL string".into()));
+    }
+    Ok(unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned())
+}

@@ -1,0 +1,137 @@
+#!/usr/bin/env python3
+"""The FMI 3.0 misuse suite of the pcsim FMU, through ctypes on the shared library (no FMPy guard
+rails): calls in the wrong state give Error, a panic gives Fatal and the host survives, NULL,
+foreign and freed pointers give Error, a wrong token or event mode gives no instance, states are
+checked. Each probe runs in its own process (a crash shows as a negative return code).
+
+Usage: probe3.py LIBRARY PROBE"""
+import ctypes as C
+import os
+import sys
+
+OK, WARNING, DISCARD, ERROR, FATAL = 0, 1, 2, 3, 4
+TOKEN = b"{6b1e4f0a-2c3d-4e5f-8a9b-0c1d2e3f4a5b}"
+VR_FORCE, VR_POS, VR_HEIGHT, VR_WINDOW = 1, 2, 3, 6
+TEST_PANIC_VR = 0xFFFFFFF0
+
+lib = C.CDLL(sys.argv[1])
+probe = sys.argv[2]
+P = C.c_void_p
+B = C.c_bool
+LOG = C.CFUNCTYPE(None, C.c_void_p, C.c_int, C.c_char_p, C.c_char_p)
+lib.fmi3InstantiateCoSimulation.restype = P
+lib.fmi3InstantiateCoSimulation.argtypes = [C.c_char_p, C.c_char_p, C.c_char_p, B, B, B, B, P, C.c_size_t, P, LOG, P]
+lib.fmi3FreeInstance.argtypes = [P]
+lib.fmi3FreeInstance.restype = None
+for n in ["fmi3ExitInitializationMode", "fmi3Terminate", "fmi3Reset", "fmi3EnterEventMode", "fmi3EnterStepMode",
+          "fmi3EnterConfigurationMode", "fmi3EvaluateDiscreteStates"]:
+    getattr(lib, n).argtypes = [P]
+lib.fmi3EnterInitializationMode.argtypes = [P, B, C.c_double, C.c_double, B, C.c_double]
+lib.fmi3DoStep.argtypes = [P, C.c_double, C.c_double, B, C.POINTER(B), C.POINTER(B), C.POINTER(B), C.POINTER(C.c_double)]
+lib.fmi3SetFloat64.argtypes = [P, C.POINTER(C.c_uint32), C.c_size_t, C.POINTER(C.c_double), C.c_size_t]
+lib.fmi3GetFloat64.argtypes = [P, C.POINTER(C.c_uint32), C.c_size_t, C.POINTER(C.c_double), C.c_size_t]
+lib.fmi3GetInt32.argtypes = [P, C.POINTER(C.c_uint32), C.c_size_t, C.POINTER(C.c_int32), C.c_size_t]
+lib.fmi3GetFMUState.argtypes = [P, C.POINTER(P)]
+lib.fmi3SetFMUState.argtypes = [P, P]
+lib.fmi3FreeFMUState.argtypes = [P, C.POINTER(P)]
+lib.fmi3DeserializeFMUState.argtypes = [P, C.POINTER(C.c_uint8), C.c_size_t, C.POINTER(P)]
+
+logged = []
+
+
+@LOG
+def log_message(env, status, category, message):
+    logged.append((status, (message or b"").decode(errors="replace")))
+
+
+failures = []
+
+
+def expect(what, got, want):
+    if got != want:
+        failures.append(f"{what}: status {got}, expected {want}")
+
+
+def new(token=TOKEN, event_mode=False):
+    return lib.fmi3InstantiateCoSimulation(b"probe3", token, None, False, False, event_mode, False, None, 0, None,
+                                           log_message, None)
+
+
+def init(c):
+    expect("enter init", lib.fmi3EnterInitializationMode(c, False, 0.0, 0.0, False, 0.0), OK)
+    expect("exit init", lib.fmi3ExitInitializationMode(c), OK)
+
+
+def set_f64(c, vr, v):
+    return lib.fmi3SetFloat64(c, (C.c_uint32 * 1)(vr), 1, (C.c_double * 1)(v), 1)
+
+
+def step(c, t, h=0.001):
+    a, b, e, last = B(), B(), B(), C.c_double()
+    return lib.fmi3DoStep(c, t, h, True, C.byref(a), C.byref(b), C.byref(e), C.byref(last))
+
+
+if probe == "wrong_state":
+    c = new()
+    expect("DoStep before init", step(c, 0.0), ERROR)
+    expect("ExitInitializationMode before Enter", lib.fmi3ExitInitializationMode(c), ERROR)
+    s = P()
+    expect("GetFMUState before init", lib.fmi3GetFMUState(c, C.byref(s)), ERROR)
+    expect("EnterStepMode before init", lib.fmi3EnterStepMode(c), ERROR)
+    expect("EnterEventMode (no event mode)", lib.fmi3EnterEventMode(c), ERROR)
+    expect("EnterConfigurationMode", lib.fmi3EnterConfigurationMode(c), ERROR)
+    expect("EvaluateDiscreteStates", lib.fmi3EvaluateDiscreteStates(c), ERROR)
+    init(c)
+    expect("set a parameter after init", set_f64(c, VR_WINDOW, 100.0), ERROR)
+    expect("set an output", set_f64(c, VR_HEIGHT, 1.0), ERROR)
+    expect("GetInt32 (no such type)", lib.fmi3GetInt32(c, (C.c_uint32 * 1)(1), 1, (C.c_int32 * 1)(), 1), ERROR)
+    expect("DoStep at the wrong time", step(c, 5.0), ERROR)
+    expect("DoStep by a fraction of the internal step", step(c, 0.0, 0.0005), ERROR)
+    expect("Terminate", lib.fmi3Terminate(c), OK)
+    expect("DoStep after Terminate", step(c, 0.0), ERROR)
+    lib.fmi3FreeInstance(c)
+elif probe == "pointers":
+    expect("NULL instance", lib.fmi3Terminate(None), ERROR)
+    foreign = C.c_uint64(7)
+    expect("foreign instance", lib.fmi3Terminate(C.cast(C.pointer(foreign), P)), ERROR)
+    c = new()
+    lib.fmi3FreeInstance(c)
+    lib.fmi3FreeInstance(c)  # a repeated free is a no-op
+    expect("freed instance", lib.fmi3Terminate(c), ERROR)
+    if new(token=b"{wrong}"):
+        failures.append("a wrong instantiation token gave an instance")
+    if new(event_mode=True):
+        failures.append("eventModeUsed gave an instance (the FMU has no event mode)")
+elif probe == "panic_is_fatal":
+    os.environ["PCSIM_FMU_TEST_PANIC"] = "1"
+    c = new()
+    expect("the panicking set", set_f64(c, TEST_PANIC_VR, 1.0), FATAL)
+    expect("any call after Fatal", lib.fmi3Terminate(c), ERROR)
+    if not any(s == FATAL for s, _ in logged):
+        failures.append("the panic was not logged as Fatal")
+    lib.fmi3FreeInstance(c)
+elif probe == "states":
+    c = new()
+    init(c)
+    s = P()
+    expect("GetFMUState", lib.fmi3GetFMUState(c, C.byref(s)), OK)
+    other = new()
+    init(other)
+    expect("a state of another instance", lib.fmi3SetFMUState(other, s), ERROR)
+    junk = (C.c_uint8 * 64)()
+    t = P()
+    expect("a junk serialised state", lib.fmi3DeserializeFMUState(c, junk, 64, C.byref(t)), ERROR)
+    expect("FreeFMUState", lib.fmi3FreeFMUState(c, C.byref(s)), OK)
+    if s.value:
+        failures.append("FreeFMUState did not set the pointer to NULL")
+    s2 = C.c_void_p(12345)
+    expect("free a foreign state", lib.fmi3FreeFMUState(c, C.byref(s2)), ERROR)
+    lib.fmi3FreeInstance(other)
+    lib.fmi3FreeInstance(c)
+else:
+    sys.exit(f"unknown probe {probe}")
+
+if failures:
+    print("; ".join(failures))
+    sys.exit(1)
+print(f"{probe}: ok")
