@@ -517,7 +517,7 @@ fn issue_10_9_fmu_build_refuses_a_file_that_is_not_the_library() {
             .arg(&d)
             .output()
             .unwrap();
-        refused(&o, &["does not export the FMI 2.0 entry points"]);
+        refused(&o, &["does not export the FMI 2.0 and 3.0 entry points"]);
     }
     assert!(!d.join("pcsim_fmu.fmu").exists());
 }
