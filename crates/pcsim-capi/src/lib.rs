@@ -250,7 +250,8 @@ pub unsafe extern "C" fn pcsim_rt_save(h: *mut PcsimRt, buf: *mut u8, len: usize
             return PCSIM_ERR_ARGUMENT;
         }
         h.rt.save(&mut h.snap);
-        let mut b = Vec::with_capacity(len);
+        // Sized by the state, never by the caller's `len` (a huge `len` must not allocate).
+        let mut b = Vec::new();
         b.extend_from_slice(MAGIC);
         b.extend_from_slice(&h.fingerprint.to_le_bytes());
         h.snap.write_bytes(&mut b);

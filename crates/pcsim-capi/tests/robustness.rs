@@ -135,14 +135,25 @@ fn save_and_restore_continue_bit_for_bit_and_foreign_states_are_refused() {
         unsafe { pcsim_rt_save(h, small.as_mut_ptr(), n - 1) },
         PCSIM_ERR_ARGUMENT
     );
-    // A refused input leaves the catenary as it was.
+    // A caller's length far beyond the state's size is not an allocation request.
+    assert_eq!(
+        unsafe { pcsim_rt_save(h, buf.as_mut_ptr(), usize::MAX / 2) },
+        PCSIM_OK
+    );
+    // A refused input leaves the catenary as it was: the saved bytes are the same.
     let (mut y, mut v) = (0.0, 0.0);
-    let before = unsafe { pcsim_rt_state_size(h) };
+    let mut before = vec![0u8; n];
+    assert_eq!(
+        unsafe { pcsim_rt_save(h, before.as_mut_ptr(), n) },
+        PCSIM_OK
+    );
     assert_eq!(
         unsafe { pcsim_rt_step(h, f64::NAN, 100.0, &mut y, &mut v, std::ptr::null_mut()) },
         PCSIM_ERR_INPUT
     );
-    assert_eq!(before, unsafe { pcsim_rt_state_size(h) });
+    let mut after = vec![0u8; n];
+    assert_eq!(unsafe { pcsim_rt_save(h, after.as_mut_ptr(), n) }, PCSIM_OK);
+    assert_eq!(before, after);
     let d = run(h, 2000, 1000);
     assert_ne!(d.0.to_bits(), 0);
     // NULL handles and bad names.

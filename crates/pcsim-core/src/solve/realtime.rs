@@ -529,7 +529,12 @@ impl RealtimeCatenary {
         s.st.read_bytes(r)?;
         s.moves = r.u64()?;
         s.input = (r.f64()?, r.f64()?);
-        if !(s.st.x0_m.is_finite() && s.st.t.is_finite() && s.input.0.is_finite()) {
+        if !(s.st.is_finite()
+            && s.st.x0_m.is_finite()
+            && s.st.track_origin_m.is_finite()
+            && s.input.0.is_finite()
+            && s.input.1.is_finite())
+        {
             return Err("the serialised state holds non-finite numbers".into());
         }
         Ok(s)
