@@ -21,7 +21,9 @@ from fmpy.fmi2 import FMU2Slave
 from fmpy.fmi3 import FMU3Slave
 from fmpy.validation import validate_fmu
 
-fmu2, fmu3 = sys.argv[1], sys.argv[2]
+# Absolute paths: FMPy changes the working directory while it loads a library, which races with
+# a relative path opened in another thread.
+fmu2, fmu3 = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 passed, failed = 0, 0
 
 
@@ -47,9 +49,18 @@ check("fmpy simulate: FMI 3.0 equals FMI 2.0 within 1e-12", len(r2) == len(r3) a
       and float(np.ptp(r3["wire_height"])) > 1e-3, f"(largest difference {err:.1e})")
 
 
+_unpacked = {}
+
+
+def unpacked(path):
+    """The model description and the unzipped directory of an FMU, read once (main thread)."""
+    if path not in _unpacked:
+        _unpacked[path] = (read_model_description(path), extract(path))
+    return _unpacked[path]
+
+
 def slave(path, version, name="s", window=None):
-    md = read_model_description(path)
-    d = extract(path)
+    md, d = unpacked(path)
     cls = FMU2Slave if version == 2 else FMU3Slave
     s = cls(guid=md.guid, unzipDirectory=d, modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
     s.instantiate()
