@@ -41,3 +41,34 @@ fn imports_point_downward_only() {
     }
     assert!(checked > 20, "only {checked} files checked");
 }
+
+/// The Python bindings stay out of the workspace's default members, so that the README's
+/// `cargo test --release` and `cargo run --release` need no Python and build nothing twice
+/// (they had slipped in once, by an edit of the list).
+#[test]
+fn python_bindings_stay_out_of_the_default_members() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../Cargo.toml");
+    let text = std::fs::read_to_string(root).unwrap();
+    let doc: toml::Table = text.parse().unwrap();
+    let ws = doc["workspace"].as_table().unwrap();
+    let names = |k: &str| -> Vec<String> {
+        ws[k]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_str().unwrap().to_string())
+            .collect()
+    };
+    let (members, defaults) = (names("members"), names("default-members"));
+    assert!(members.iter().any(|m| m.ends_with("pcsim-py")));
+    assert!(
+        !defaults.iter().any(|m| m.ends_with("pcsim-py")),
+        "{defaults:?}"
+    );
+    for m in ["pcsim-core", "pcsim-cli", "pcsim-fmu", "pcsim-capi"] {
+        assert!(
+            defaults.iter().any(|d| d.ends_with(m)),
+            "{m} not in {defaults:?}"
+        );
+    }
+}
