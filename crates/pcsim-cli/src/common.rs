@@ -104,6 +104,39 @@ pub fn length(flag: &str, text: &str) -> Result<f64> {
         .value)
 }
 
+/// The sweep flags shared by `eva` and `window`: speeds (km/h unless a unit is given), contact-
+/// wire tensions (kN unless a unit is given), and the shard. Errors name the flag.
+pub fn sweep_flags(
+    speed: &[String],
+    tension: &[String],
+    jobs: Option<usize>,
+    shard: Option<&str>,
+) -> Result<(Vec<f64>, Vec<f64>, pcsim_core::analysis::sweep::Shard)> {
+    use pcsim_core::analysis::sweep::Shard;
+    if jobs == Some(0) {
+        bail!("--jobs 0: give at least 1 worker (leave it out to use every core)");
+    }
+    let shard = match shard {
+        None => Shard::ALL,
+        Some(s) => Shard::parse(s)?,
+    };
+    let list = |flag: &str, values: &[String], dim: Dimension, default_scale: f64| {
+        values
+            .iter()
+            .map(|s| {
+                Ok(parse_quantity(s, dim, default_scale)
+                    .map_err(|e| anyhow::anyhow!("{flag} {e}"))?
+                    .value)
+            })
+            .collect::<Result<Vec<f64>>>()
+    };
+    Ok((
+        list("--speed", speed, Dimension::Speed, 1.0)?,
+        list("--tension", tension, Dimension::Force, 1e3)?,
+        shard,
+    ))
+}
+
 /// A note naming the overrides, for errors they may have caused.
 pub fn override_note(overrides: &[Override]) -> String {
     overrides

@@ -319,12 +319,7 @@ pub extern "C" fn fmi2SerializedFMUstateSize(
     s: *mut c_void,
     size: *mut usize,
 ) -> Fmi2Status {
-    with(c, |k| {
-        let n = k.serialize_state(s)?.len();
-        let size = unsafe { slice_mut(size, 1)? };
-        size[0] = n;
-        Ok(Status::Ok)
-    })
+    with(c, |k| ok(k.serialized_size_into(s, size)))
 }
 
 #[no_mangle]
@@ -334,17 +329,7 @@ pub extern "C" fn fmi2SerializeFMUstate(
     b: *mut u8,
     n: usize,
 ) -> Fmi2Status {
-    with(c, |k| {
-        let bytes = k.serialize_state(s)?;
-        if bytes.len() != n {
-            return Err((
-                Status::Error,
-                format!("buffer of {n} bytes for a state of {} bytes", bytes.len()),
-            ));
-        }
-        unsafe { slice_mut(b, n)? }.copy_from_slice(&bytes);
-        Ok(Status::Ok)
-    })
+    with(c, |k| ok(k.serialize_into(s, b, n)))
 }
 
 #[no_mangle]

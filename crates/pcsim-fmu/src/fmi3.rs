@@ -20,7 +20,7 @@ use crate::host::{
     host_str, ok, register, slice, slice_mut, unregister, unsupported, with, Component, Logger,
     Logger3,
 };
-use crate::instance::{Instance, Status};
+use crate::instance::{Instance, Res, Status};
 
 type Fmi3Instance = *mut c_void;
 type Fmi3Status = c_int;
@@ -28,6 +28,18 @@ type Fmi3Vr = u32;
 type Fmi3String = *const c_char;
 type Fmi3State = *mut c_void;
 type IntermediateUpdate = *mut c_void;
+
+/// FMI 3.0 passes the number of value references and of values separately; they must agree
+/// (one value per scalar variable here).
+fn same_count(nvr: usize, nvalues: usize) -> Res<()> {
+    if nvr != nvalues {
+        return Err((
+            Status::Error,
+            format!("{nvr} value references, {nvalues} values"),
+        ));
+    }
+    Ok(())
+}
 
 #[no_mangle]
 pub extern "C" fn fmi3GetVersion() -> *const c_char {
@@ -162,12 +174,7 @@ pub extern "C" fn fmi3GetFloat64(
     nvalues: usize,
 ) -> Fmi3Status {
     with(c, |k| {
-        if nvr != nvalues {
-            return Err((
-                Status::Error,
-                format!("{nvr} value references, {nvalues} values"),
-            ));
-        }
+        same_count(nvr, nvalues)?;
         let (vr, values) = unsafe { (slice(vr, nvr)?, slice_mut(values, nvalues)?) };
         for (v, out) in vr.iter().zip(values.iter_mut()) {
             *out = if *v == crate::vars::VR_TIME {
@@ -189,12 +196,7 @@ pub extern "C" fn fmi3SetFloat64(
     nvalues: usize,
 ) -> Fmi3Status {
     with(c, |k| {
-        if nvr != nvalues {
-            return Err((
-                Status::Error,
-                format!("{nvr} value references, {nvalues} values"),
-            ));
-        }
+        same_count(nvr, nvalues)?;
         let (vr, values) = unsafe { (slice(vr, nvr)?, slice(values, nvalues)?) };
         for (v, x) in vr.iter().zip(values) {
             if *v == crate::fmi2::TEST_PANIC_VR
@@ -217,12 +219,7 @@ pub extern "C" fn fmi3GetBoolean(
     nvalues: usize,
 ) -> Fmi3Status {
     with(c, |k| {
-        if nvr != nvalues {
-            return Err((
-                Status::Error,
-                format!("{nvr} value references, {nvalues} values"),
-            ));
-        }
+        same_count(nvr, nvalues)?;
         let (vr, values) = unsafe { (slice(vr, nvr)?, slice_mut(values, nvalues)?) };
         for (v, out) in vr.iter().zip(values.iter_mut()) {
             *out = k.inst.get_boolean(*v)?;
@@ -240,12 +237,7 @@ pub extern "C" fn fmi3SetBoolean(
     nvalues: usize,
 ) -> Fmi3Status {
     with(c, |k| {
-        if nvr != nvalues {
-            return Err((
-                Status::Error,
-                format!("{nvr} value references, {nvalues} values"),
-            ));
-        }
+        same_count(nvr, nvalues)?;
         let (vr, values) = unsafe { (slice(vr, nvr)?, slice(values, nvalues)?) };
         for (v, x) in vr.iter().zip(values) {
             k.inst.set_boolean(*v, *x)?;
@@ -263,12 +255,7 @@ pub extern "C" fn fmi3GetString(
     nvalues: usize,
 ) -> Fmi3Status {
     with(c, |k| {
-        if nvr != nvalues {
-            return Err((
-                Status::Error,
-                format!("{nvr} value references, {nvalues} values"),
-            ));
-        }
+        same_count(nvr, nvalues)?;
         let (vr, values) = unsafe { (slice(vr, nvr)?, slice_mut(values, nvalues)?) };
         let strings = vr
             .iter()
@@ -288,12 +275,7 @@ pub extern "C" fn fmi3SetString(
     nvalues: usize,
 ) -> Fmi3Status {
     with(c, |k| {
-        if nvr != nvalues {
-            return Err((
-                Status::Error,
-                format!("{nvr} value references, {nvalues} values"),
-            ));
-        }
+        same_count(nvr, nvalues)?;
         let (vr, values) = unsafe { (slice(vr, nvr)?, slice(values, nvalues)?) };
         for (v, x) in vr.iter().zip(values) {
             k.inst.set_string(*v, &host_str(*x)?)?;
@@ -435,12 +417,7 @@ pub extern "C" fn fmi3SerializedFMUStateSize(
     s: Fmi3State,
     size: *mut usize,
 ) -> Fmi3Status {
-    with(c, |k| {
-        let n = k.serialize_state(s)?.len();
-        let size = unsafe { slice_mut(size, 1)? };
-        size[0] = n;
-        Ok(Status::Ok)
-    })
+    with(c, |k| ok(k.serialized_size_into(s, size)))
 }
 
 #[no_mangle]
@@ -450,17 +427,7 @@ pub extern "C" fn fmi3SerializeFMUState(
     b: *mut u8,
     n: usize,
 ) -> Fmi3Status {
-    with(c, |k| {
-        let bytes = k.serialize_state(s)?;
-        if bytes.len() != n {
-            return Err((
-                Status::Error,
-                format!("buffer of {n} bytes for a state of {} bytes", bytes.len()),
-            ));
-        }
-        unsafe { slice_mut(b, n)? }.copy_from_slice(&bytes);
-        Ok(Status::Ok)
-    })
+    with(c, |k| ok(k.serialize_into(s, b, n)))
 }
 
 #[no_mangle]

@@ -177,6 +177,28 @@ impl Component {
         let p = self.own_state(s)?;
         Ok(Instance::serialize_state(unsafe { &*p }))
     }
+
+    /// The serialised size of state `s`, written to the host's `size` (both ABIs).
+    pub fn serialized_size_into(&self, s: *mut c_void, size: *mut usize) -> Res {
+        let n = self.serialize_state(s)?.len();
+        let size = unsafe { slice_mut(size, 1)? };
+        size[0] = n;
+        Ok(())
+    }
+
+    /// Serialise state `s` into the host's buffer of exactly its serialised size (both ABIs).
+    pub fn serialize_into(&self, s: *mut c_void, b: *mut u8, n: usize) -> Res {
+        let bytes = self.serialize_state(s)?;
+        if bytes.len() != n {
+            return Err((
+                Status::Error,
+                format!("buffer of {n} bytes for a state of {} bytes", bytes.len()),
+            ));
+        }
+        let out = unsafe { slice_mut(b, n)? };
+        out.copy_from_slice(&bytes);
+        Ok(())
+    }
 }
 
 /// Register a new component and return its address.

@@ -5,7 +5,6 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
 use pcsim_core::analysis::eva::{run_eva, EvaOutput, EvaRow, EvaSettings};
 use pcsim_core::analysis::sweep::{parallel_map, parse_damping, Grid, Job, Shard};
-use pcsim_core::input::units::{parse_quantity, Dimension};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -165,31 +164,8 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
     if !(a.fraction > 0.0 && a.fraction < 1.0) {
         bail!("--fraction = {}: must lie in (0, 1)", a.fraction);
     }
-    if a.jobs == Some(0) {
-        bail!("--jobs 0: give at least 1 worker (leave it out to use every core)");
-    }
-    let shard = match &a.shard {
-        None => Shard::ALL,
-        Some(s) => Shard::parse(s)?,
-    };
-    let speeds: Vec<f64> = a
-        .speed
-        .iter()
-        .map(|s| {
-            Ok(parse_quantity(s, Dimension::Speed, 1.0)
-                .map_err(|e| anyhow::anyhow!("--speed {e}"))?
-                .value)
-        })
-        .collect::<Result<_>>()?;
-    let tensions: Vec<f64> = a
-        .tension
-        .iter()
-        .map(|s| {
-            Ok(parse_quantity(s, Dimension::Force, 1e3)
-                .map_err(|e| anyhow::anyhow!("--tension {e}"))?
-                .value)
-        })
-        .collect::<Result<_>>()?;
+    let (speeds, tensions, shard) =
+        crate::common::sweep_flags(&a.speed, &a.tension, a.jobs, a.shard.as_deref())?;
     // Every grid point is checked up front, with the flags named on error.
     let base = apply(&base, &[])?;
     let n_seeds = crate::common::seeds_flag(a.seeds, &base)?;

@@ -9,7 +9,6 @@ use pcsim_core::analysis::sweep::{parallel_map, Grid, Job, Shard};
 use pcsim_core::analysis::window_length::{
     accuracy_length, fit_criteria, EnergyCurves, SearchSettings, Tolerances,
 };
-use pcsim_core::input::units::{parse_quantity, Dimension};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -150,31 +149,8 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
             base.length_m()
         );
     }
-    if a.jobs == Some(0) {
-        bail!("--jobs 0: give at least 1 worker (leave it out to use every core)");
-    }
-    let shard = match &a.shard {
-        None => Shard::ALL,
-        Some(s) => Shard::parse(s)?,
-    };
-    let speeds: Vec<f64> = a
-        .speed
-        .iter()
-        .map(|s| {
-            Ok(parse_quantity(s, Dimension::Speed, 1.0)
-                .map_err(|e| anyhow::anyhow!("--speed {e}"))?
-                .value)
-        })
-        .collect::<Result<_>>()?;
-    let tensions: Vec<f64> = a
-        .tension
-        .iter()
-        .map(|s| {
-            Ok(parse_quantity(s, Dimension::Force, 1e3)
-                .map_err(|e| anyhow::anyhow!("--tension {e}"))?
-                .value)
-        })
-        .collect::<Result<_>>()?;
+    let (speeds, tensions, shard) =
+        crate::common::sweep_flags(&a.speed, &a.tension, a.jobs, a.shard.as_deref())?;
     let n_seeds = crate::common::seeds_flag(a.seeds, &base)?;
     let mut single = base.clone();
     single.pantographs.truncate(1);
