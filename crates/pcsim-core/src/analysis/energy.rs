@@ -187,15 +187,7 @@ pub fn system_energy(integ: &Integrator, st: &State, ws: &mut Workspace) -> Ener
     for (j, n) in m.nodes.iter().enumerate() {
         e.kinetic += 0.5 * n.mass_kg * st.nodes.v[j] * st.nodes.v[j];
     }
-    integ.fill_energy_io(st, ws);
-    let (u, v, f) = (&ws.eu, &ws.ev, &mut ws.ef);
-    let io = crate::model::elements::Io {
-        u,
-        v,
-        f,
-        loads: &ws.loads,
-        slack: 0,
-    };
+    let io = integ.energy_io(st, ws);
     for (k, el) in m.elements.iter().enumerate() {
         e.elements += el.energy(integ.energy_slots(k), &io);
     }
@@ -225,15 +217,7 @@ pub fn dissipation_rate(integ: &Integrator, st: &State, ws: &mut Workspace) -> f
         .zip(integ.modal_damping())
         .map(|(v, c)| c * v * v)
         .sum();
-    integ.fill_energy_io(st, ws);
-    let (u, v, f) = (&ws.eu, &ws.ev, &mut ws.ef);
-    let io = crate::model::elements::Io {
-        u,
-        v,
-        f,
-        loads: &ws.loads,
-        slack: 0,
-    };
+    let io = integ.energy_io(st, ws);
     for (k, el) in m.elements.iter().enumerate() {
         d += el.dissipation(integ.energy_slots(k), &io);
     }

@@ -989,6 +989,28 @@ impl Integrator {
         st.x0_m - self.offsets[p] + self.speed_m_s * st.t
     }
 
+    /// Where the moving point `mp` is this step, model coordinates, m: an external
+    /// pantograph's input position, else its pantograph's own position.
+    #[inline]
+    fn moving_x(&self, st: &State, external: &[(f64, f64)], mp: &MovingPoint) -> f64 {
+        let p = mp.pantograph;
+        match self.model.pantographs[p].kind {
+            PantographKind::External => external[p].0,
+            _ => self.position(st, p),
+        }
+    }
+
+    /// The sine row of the moving point `mp` at `x` (filled here unless an earlier point of
+    /// the same pantograph on the same basis filled it).
+    #[inline]
+    fn moving_row<'w>(&self, rows: &'w mut [f64], mp: &MovingPoint, x: f64) -> &'w [f64] {
+        let row = &mut rows[mp.row_off..mp.row_off + mp.n];
+        if mp.fills_row {
+            mp.basis.fill_sines(x - mp.origin_m, row);
+        }
+        row
+    }
+
     /// The degrees of freedom of pantograph `p` in the pantograph arrays of the state.
     pub fn pantograph_dofs(&self, p: usize) -> std::ops::Range<usize> {
         let o = self.pan_off[p];
@@ -1140,18 +1162,11 @@ impl Integrator {
 
         // Moving points (contacts, Eq. 19): rows, heights, forces.
         for (mi, mp) in self.moving.iter().enumerate() {
-            let p = mp.pantograph;
-            let x = match m.pantographs[p].kind {
-                PantographKind::External => ws.external[p].0,
-                _ => self.position(st, p),
-            };
-            let row = &mut ws.rows[mp.row_off..mp.row_off + mp.n];
-            if mp.fills_row {
-                mp.basis.fill_sines(x - mp.origin_m, row);
-            }
+            let x = self.moving_x(st, &ws.external, mp);
+            let row = self.moving_row(&mut ws.rows, mp, x);
             ws.u[self.moving_u0 + mi] = m.static_height(mp.wire, mp.dir, x, st.track_origin_m)
                 + kernels::dot(isa, &st.modal.u[mp.q_off..mp.q_off + mp.n], row);
-            ws.samples[p].position_m = x;
+            ws.samples[mp.pantograph].position_m = x;
         }
         for (p, pan) in m.pantographs.iter().enumerate() {
             ws.u[self.head_u0 + p] = match pan.kind {
@@ -1238,10 +1253,21 @@ impl Integrator {
         }
     }
 
-    /// Fill the energy arrays of `ws` at the state: displacement and velocity at every slot (in
-    /// the displacement layout). Used by `analysis::energy`; allocates nothing (the step's rows
-    /// are reused as scratch).
-    pub(crate) fn fill_energy_io(&self, st: &State, ws: &mut Workspace) {
+    /// The point elements' view of the state for their energy and dissipation: displacement
+    /// and velocity at every slot (in the displacement layout), in the energy arrays of `ws`.
+    /// Used by `analysis::energy`; allocates nothing (the step's rows are reused as scratch).
+    pub(crate) fn energy_io<'w>(&self, st: &State, ws: &'w mut Workspace) -> Io<'w> {
+        self.fill_energy_io(st, ws);
+        Io {
+            u: &ws.eu,
+            v: &ws.ev,
+            f: &mut ws.ef,
+            loads: &ws.loads,
+            slack: 0,
+        }
+    }
+
+    fn fill_energy_io(&self, st: &State, ws: &mut Workspace) {
         let m = &self.model;
         ws.eu.fill(0.0);
         ws.ev.fill(0.0);
@@ -1269,15 +1295,8 @@ impl Integrator {
             }
         }
         for (mi, mp) in self.moving.iter().enumerate() {
-            let p = mp.pantograph;
-            let x = match m.pantographs[p].kind {
-                PantographKind::External => ws.external[p].0,
-                _ => self.position(st, p),
-            };
-            let row = &mut ws.rows[mp.row_off..mp.row_off + mp.n];
-            if mp.fills_row {
-                mp.basis.fill_sines(x - mp.origin_m, row);
-            }
+            let x = self.moving_x(st, &ws.external, mp);
+            let row = self.moving_row(&mut ws.rows, mp, x);
             ws.eu[self.moving_u0 + mi] = m.static_height(mp.wire, mp.dir, x, st.track_origin_m)
                 + kernels::dot(self.isa, &st.modal.u[mp.q_off..mp.q_off + mp.n], row);
             ws.ev[self.moving_u0 + mi] =
