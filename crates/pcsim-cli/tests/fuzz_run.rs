@@ -5,6 +5,7 @@
 //! CI runs 200 mutations; the documented longer run is
 //! `PCSIM_FUZZ_CASES=1000 cargo test --release -p pcsim-cli --test fuzz_run -- --nocapture`.
 
+use pcsim_core::zoo::number_spans as numbers;
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -47,30 +48,6 @@ fn bases() -> Vec<String> {
             c.to_toml_string()
         })
         .collect()
-}
-
-fn numbers(text: &str) -> Vec<(usize, usize)> {
-    let b = text.as_bytes();
-    let mut out = Vec::new();
-    let mut i = 0;
-    while i < b.len() {
-        if b[i].is_ascii_digit()
-            && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_'))
-        {
-            let s = if i > 0 && b[i - 1] == b'-' { i - 1 } else { i };
-            let mut j = i;
-            while j < b.len()
-                && (b[j].is_ascii_digit() || matches!(b[j], b'.' | b'e' | b'E' | b'-' | b'+'))
-            {
-                j += 1;
-            }
-            out.push((s, j));
-            i = j;
-        } else {
-            i += 1;
-        }
-    }
-    out
 }
 
 fn mutate(text: &str, rng: &mut Rng) -> String {

@@ -194,3 +194,30 @@ pub fn trace_of(setup: &Setup) -> Trace {
     }
     Trace { columns, rows }
 }
+
+/// The byte spans `[start, end)` of the numbers in a case's TOML text (a leading minus
+/// included), for the tests that mutate cases: `tests/mutations.rs` (the core's proptest) and
+/// the CLI's `tests/fuzz_run.rs`.
+pub fn number_spans(text: &str) -> Vec<(usize, usize)> {
+    let b = text.as_bytes();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < b.len() {
+        let starts = b[i].is_ascii_digit()
+            && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_'));
+        if starts {
+            let s = if i > 0 && b[i - 1] == b'-' { i - 1 } else { i };
+            let mut j = i;
+            while j < b.len()
+                && (b[j].is_ascii_digit() || matches!(b[j], b'.' | b'e' | b'E' | b'-' | b'+'))
+            {
+                j += 1;
+            }
+            out.push((s, j));
+            i = j;
+        } else {
+            i += 1;
+        }
+    }
+    out
+}

@@ -6,6 +6,7 @@
 //! `PCSIM_MUTATION_CASES=20000 cargo test --release -p pcsim-core --test mutations`.
 
 use pcsim_core::presets::PRESETS;
+use pcsim_core::zoo::number_spans as numbers;
 use pcsim_core::{Case, Setup};
 use proptest::prelude::*;
 
@@ -24,30 +25,6 @@ enum Op {
     DuplicateTable(usize),
     /// Keep only this fraction of the text.
     Truncate(f64),
-}
-
-fn numbers(text: &str) -> Vec<(usize, usize)> {
-    let b = text.as_bytes();
-    let mut out = Vec::new();
-    let mut i = 0;
-    while i < b.len() {
-        let starts = b[i].is_ascii_digit()
-            && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_'));
-        if starts {
-            let s = if i > 0 && b[i - 1] == b'-' { i - 1 } else { i };
-            let mut j = i;
-            while j < b.len()
-                && (b[j].is_ascii_digit() || matches!(b[j], b'.' | b'e' | b'E' | b'-' | b'+'))
-            {
-                j += 1;
-            }
-            out.push((s, j));
-            i = j;
-        } else {
-            i += 1;
-        }
-    }
-    out
 }
 
 fn apply(text: &str, op: &Op) -> String {

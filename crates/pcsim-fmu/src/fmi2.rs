@@ -16,7 +16,7 @@ use std::ffi::{c_char, c_int, c_uint, c_void, CStr};
 use std::panic::catch_unwind;
 
 use crate::host::{
-    host_str, ok, register, slice, slice_mut, unregister, unsupported, with, Component, Logger,
+    ok, register, slice, slice_mut, unregister, unsupported, with, Component, Logger,
 };
 use crate::instance::{Instance, Phase, Status};
 
@@ -204,12 +204,7 @@ pub extern "C" fn fmi2GetString(
 ) -> Fmi2Status {
     with(c, |k| {
         let (vr, value) = unsafe { (slice(vr, n)?, slice_mut(value, n)?) };
-        let strings = vr
-            .iter()
-            .map(|v| k.inst.get_string(*v).map(str::to_string))
-            .collect::<Result<Vec<_>, _>>()?;
-        value.copy_from_slice(k.hold_strings(strings));
-        Ok(Status::Ok)
+        ok(k.get_strings(vr, value))
     })
 }
 
@@ -222,20 +217,9 @@ pub extern "C" fn fmi2SetReal(
 ) -> Fmi2Status {
     with(c, |k| {
         let (vr, value) = unsafe { (slice(vr, n)?, slice(value, n)?) };
-        for (v, x) in vr.iter().zip(value) {
-            if *v == TEST_PANIC_VR && std::env::var_os("PCSIM_FMU_TEST_PANIC").is_some() {
-                panic!("test hook: deliberate panic");
-            }
-            k.inst.set_real(*v, *x)?;
-        }
-        Ok(Status::Ok)
+        ok(k.set_reals(vr, value))
     })
 }
-
-/// A value reference that panics inside `fmi2SetReal` when the environment variable
-/// `PCSIM_FMU_TEST_PANIC` is set: the misuse suite's way to check that a panic gives Fatal and
-/// the host survives. Not in the model description.
-pub const TEST_PANIC_VR: u32 = 0xFFFF_FFF0;
 
 #[no_mangle]
 pub extern "C" fn fmi2SetInteger(
@@ -281,10 +265,7 @@ pub extern "C" fn fmi2SetString(
 ) -> Fmi2Status {
     with(c, |k| {
         let (vr, value) = unsafe { (slice(vr, n)?, slice(value, n)?) };
-        for (v, x) in vr.iter().zip(value) {
-            k.inst.set_string(*v, &host_str(*x)?)?;
-        }
-        Ok(Status::Ok)
+        ok(k.set_strings(vr, value))
     })
 }
 

@@ -17,8 +17,7 @@ use std::ffi::{c_char, c_int, c_void, CStr};
 use std::panic::catch_unwind;
 
 use crate::host::{
-    host_str, ok, register, slice, slice_mut, unregister, unsupported, with, Component, Logger,
-    Logger3,
+    ok, register, slice, slice_mut, unregister, unsupported, with, Component, Logger, Logger3,
 };
 use crate::instance::{Instance, Res, Status};
 
@@ -198,15 +197,7 @@ pub extern "C" fn fmi3SetFloat64(
     with(c, |k| {
         same_count(nvr, nvalues)?;
         let (vr, values) = unsafe { (slice(vr, nvr)?, slice(values, nvalues)?) };
-        for (v, x) in vr.iter().zip(values) {
-            if *v == crate::fmi2::TEST_PANIC_VR
-                && std::env::var_os("PCSIM_FMU_TEST_PANIC").is_some()
-            {
-                panic!("test hook: deliberate panic");
-            }
-            k.inst.set_real(*v, *x)?;
-        }
-        Ok(Status::Ok)
+        ok(k.set_reals(vr, values))
     })
 }
 
@@ -257,12 +248,7 @@ pub extern "C" fn fmi3GetString(
     with(c, |k| {
         same_count(nvr, nvalues)?;
         let (vr, values) = unsafe { (slice(vr, nvr)?, slice_mut(values, nvalues)?) };
-        let strings = vr
-            .iter()
-            .map(|v| k.inst.get_string(*v).map(str::to_string))
-            .collect::<Result<Vec<_>, _>>()?;
-        values.copy_from_slice(k.hold_strings(strings));
-        Ok(Status::Ok)
+        ok(k.get_strings(vr, values))
     })
 }
 
@@ -277,10 +263,7 @@ pub extern "C" fn fmi3SetString(
     with(c, |k| {
         same_count(nvr, nvalues)?;
         let (vr, values) = unsafe { (slice(vr, nvr)?, slice(values, nvalues)?) };
-        for (v, x) in vr.iter().zip(values) {
-            k.inst.set_string(*v, &host_str(*x)?)?;
-        }
-        Ok(Status::Ok)
+        ok(k.set_strings(vr, values))
     })
 }
 

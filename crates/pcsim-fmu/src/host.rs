@@ -100,6 +100,36 @@ impl Component {
         }
     }
 
+    /// Set Real (FMI 2.0) / Float64 (FMI 3.0) variables, one value per reference (both ABIs).
+    pub fn set_reals(&mut self, vr: &[u32], values: &[f64]) -> Res {
+        for (v, x) in vr.iter().zip(values) {
+            if *v == TEST_PANIC_VR && std::env::var_os("PCSIM_FMU_TEST_PANIC").is_some() {
+                panic!("test hook: deliberate panic");
+            }
+            self.inst.set_real(*v, *x)?;
+        }
+        Ok(())
+    }
+
+    /// Get String variables into the host's array (both ABIs); the strings stay valid until
+    /// the component's next call.
+    pub fn get_strings(&mut self, vr: &[u32], out: &mut [*const c_char]) -> Res {
+        let strings = vr
+            .iter()
+            .map(|v| self.inst.get_string(*v).map(str::to_string))
+            .collect::<Result<Vec<_>, _>>()?;
+        out.copy_from_slice(self.hold_strings(strings));
+        Ok(())
+    }
+
+    /// Set String variables from the host's C strings (both ABIs).
+    pub fn set_strings(&mut self, vr: &[u32], values: &[*const c_char]) -> Res {
+        for (v, x) in vr.iter().zip(values) {
+            self.inst.set_string(*v, &host_str(*x)?)?;
+        }
+        Ok(())
+    }
+
     /// Copies of `strings` owned by the component until its next call: never dangling.
     pub fn hold_strings(&mut self, strings: Vec<String>) -> &[*const c_char] {
         self.strings = strings
@@ -200,6 +230,11 @@ impl Component {
         Ok(())
     }
 }
+
+/// A value reference that panics inside `fmi2SetReal` / `fmi3SetFloat64` when the environment
+/// variable `PCSIM_FMU_TEST_PANIC` is set: the misuse suites' way to check that a panic gives
+/// Fatal and the host survives. Not in the model description.
+pub const TEST_PANIC_VR: u32 = 0xFFFF_FFF0;
 
 /// Register a new component and return its address.
 pub(crate) fn register(comp: Component) -> *mut c_void {

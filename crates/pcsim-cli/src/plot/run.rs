@@ -108,6 +108,30 @@ fn span_marks<DB: DrawingBackend>(
 }
 
 /// A chart against track position with the house style (labels with units, integer ticks).
+/// Draw `y` over `x_m` as its min/max envelope per pixel column of the range `x` (a filled
+/// band: about a dozen samples fall in one column, and a line through them would zig-zag
+/// between the extremes), with a legend entry in `colour` (the band at opacity `alpha`).
+fn envelope<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Chart<'a, DB>,
+    (x_m, y): (&[f64], &[f64]),
+    x: (f64, f64),
+    (colour, alpha): (RGBColor, f64),
+    label: &str,
+) -> Result<()> {
+    let cols = columns(x_m, y, x.0, x.1);
+    let mut band: Vec<(f64, f64)> = cols.iter().map(|c| (c.0, c.2)).collect();
+    band.extend(cols.iter().rev().map(|c| (c.0, c.1)));
+    chart
+        .draw_series(std::iter::once(Polygon::new(
+            band,
+            colour.mix(alpha).filled(),
+        )))
+        .map_err(|e| anyhow!("{e:?}"))?
+        .label(label)
+        .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], colour.filled()));
+    Ok(())
+}
+
 fn track_chart<'a, DB: DrawingBackend>(
     root: &'a DrawingArea<DB, Shift>,
     title: String,
@@ -159,30 +183,21 @@ fn force_chart<DB: DrawingBackend>(
     );
     let mut chart = track_chart(&root, title, "Contact force [N]", x, y)?;
     span_marks(&mut chart, d, x, y)?;
-    // Both forces as min/max envelopes per pixel column (filled bands: about a dozen samples
-    // fall in one column, and a line through them would zig-zag between the extremes).
-    let band = |x_m: &[f64], y: &[f64]| -> Vec<(f64, f64)> {
-        let cols = columns(x_m, y, x.0, x.1);
-        let mut b: Vec<(f64, f64)> = cols.iter().map(|c| (c.0, c.2)).collect();
-        b.extend(cols.iter().rev().map(|c| (c.0, c.1)));
-        b
-    };
-    chart
-        .draw_series(std::iter::once(Polygon::new(
-            band(&t.position_m, &t.force_n),
-            RAW.mix(0.8).filled(),
-        )))
-        .map_err(|e| anyhow!("{e:?}"))?
-        .label("raw (min–max per pixel column)")
-        .legend(|(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], RAW.filled()));
-    chart
-        .draw_series(std::iter::once(Polygon::new(
-            band(&t.position_m, &t.force_filtered_n),
-            COLOURS[0].mix(0.85).filled(),
-        )))
-        .map_err(|e| anyhow!("{e:?}"))?
-        .label("0–20 Hz, zero-phase Butterworth (min–max per pixel column)")
-        .legend(|(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], COLOURS[0].filled()));
+    // Both forces as min/max envelopes per pixel column.
+    envelope(
+        &mut chart,
+        (&t.position_m, &t.force_n),
+        x,
+        (RAW, 0.8),
+        "raw (min–max per pixel column)",
+    )?;
+    envelope(
+        &mut chart,
+        (&t.position_m, &t.force_filtered_n),
+        x,
+        (COLOURS[0], 0.85),
+        "0–20 Hz, zero-phase Butterworth (min–max per pixel column)",
+    )?;
     legend(&mut chart)?;
     root.present().map_err(|e| anyhow!("{e:?}"))?;
     Ok(())
@@ -277,17 +292,13 @@ fn lateral_chart<DB: DrawingBackend>(
             .label(format!("{label} (±{w:.0} mm)"))
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
     }
-    let cols = columns(&t.position_m, &mm, x.0, x.1);
-    let mut band: Vec<(f64, f64)> = cols.iter().map(|c| (c.0, c.2)).collect();
-    band.extend(cols.iter().rev().map(|c| (c.0, c.1)));
-    chart
-        .draw_series(std::iter::once(Polygon::new(
-            band,
-            COLOURS[0].mix(0.85).filled(),
-        )))
-        .map_err(|e| anyhow!("{e:?}"))?
-        .label("contact point (min–max per pixel column)")
-        .legend(|(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], COLOURS[0].filled()));
+    envelope(
+        &mut chart,
+        (&t.position_m, &mm),
+        x,
+        (COLOURS[0], 0.85),
+        "contact point (min–max per pixel column)",
+    )?;
     legend(&mut chart)?;
     root.present().map_err(|e| anyhow!("{e:?}"))?;
     Ok(())
