@@ -1,0 +1,66 @@
+#!/usr/bin/env python3
+"""Byte goldens made with the build *before* a refactor (issue 18), so that the refactor can prove
+that it changed nothing, on both kernel paths.
+
+Run:  python3 scripts/gen_byte_golden.py target/release/pcsim
+Output: data/golden/preset_bytes.json. For each of the five preset runs of preset_runs.json, and
+for the 3D preset `stitched-2018-like-3d` (its summary with its warnings), and for each kernel path
+(`portable`: PCSIM_PORTABLE=1, the same bytes on every machine; `avx2`: x86-64-v3 with fused
+multiply-add, the same bytes on every machine that has it): the FNV-1a 64-bit hash of
+timeseries.csv and of summary.json less its `wall_time_s` line, and for the 3D
+preset its warnings in full. Compared by crates/pcsim-cli/tests/byte_golden.rs.
+"""
+import json
+import os
+import pathlib
+import subprocess
+import sys
+import tempfile
+
+RUNS = [("en50318-2002", 250), ("en50318-2002", 300), ("stitched-2018-like", 320),
+        ("syt-7.0-9.8", 222), ("benchmark-55m", 275), ("stitched-2018-like-3d", None), ("stitched-2018-like-3d-crosswind", None)]
+
+
+def fnv1a64(data: bytes) -> str:
+    h = 0xcbf29ce484222325
+    for b in data:
+        h ^= b
+        h = (h * 0x100000001b3) & 0xFFFFFFFFFFFFFFFF
+    return f"{h:016x}"
+
+
+def summary_without_wall(text: str) -> bytes:
+    """summary.json as written, less its line with the wall-clock time."""
+    return "".join(l for l in text.splitlines(keepends=True) if '"wall_time_s"' not in l).encode()
+
+
+def main():
+    pcsim = sys.argv[1]
+    out = []
+    with tempfile.TemporaryDirectory() as d:
+        for preset, speed in RUNS:
+            entry = {"preset": preset, "speed_kmh": speed}
+            for path, env in [("portable", {"PCSIM_PORTABLE": "1"}), ("avx2", {})]:
+                o = pathlib.Path(d) / f"{preset}-{speed}-{path}"
+                args = [pcsim, "run", "--preset", preset, "--out", str(o), "--quiet"]
+                if speed is not None:
+                    args += ["--speed", str(speed)]
+                subprocess.run(args, check=True, stdout=subprocess.DEVNULL,
+                               env={**os.environ, **env})
+                text = (o / "summary.json").read_text()
+                s = json.loads(text)
+                entry[path] = {
+                    "kernels": s.get("kernels"),
+                    "timeseries_fnv1a64": fnv1a64((o / "timeseries.csv").read_bytes()),
+                    "summary_fnv1a64": fnv1a64(summary_without_wall(text)),
+                }
+                if "-3d" in preset:
+                    entry["warnings"] = s.get("warnings")
+            out.append(entry)
+    path = pathlib.Path(__file__).resolve().parent.parent / "data" / "golden" / "preset_bytes.json"
+    path.write_text(json.dumps(out, indent=1) + "\n")
+    print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# The rows of `pcsim eva`, `pcsim window` and `pcsim validate --json` for a small grid, made with
+# the build *before* a refactor (issue 18), on the portable kernels (the same bytes on every
+# machine). Compared by crates/pcsim-cli/tests/byte_golden.rs, and by the Python tests (the
+# core's typed rows through `pcsim.eva`, `pcsim.window`, `pcsim.validate`).
+# Usage: scripts/gen_study_golden.sh target/release/pcsim
+set -euo pipefail
+pcsim=$(readlink -f "$1")
+root=$(cd "$(dirname "$0")/.." && pwd)
+dest="$root/data/golden/studies"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+mkdir -p "$dest"
+export PCSIM_PORTABLE=1
+cd "$work"
+"$pcsim" eva --preset syt-7.0-9.8 --speed 150,222 --tension 9.8 --out eva --no-plot --quiet >/dev/null
+"$pcsim" window --preset syt-7.0-9.8 --speed 150 --tension 9.8 --max-window 240 --coarse 40 --resolution 10 --out win --no-plot --quiet >/dev/null
+"$pcsim" validate --json > validate.json
+cp eva/eva.csv "$dest/eva.csv"
+cp win/window.csv "$dest/window.csv"
+cp win/fit.csv "$dest/fit.csv"
+cp validate.json "$dest/validate.json"
+echo "wrote $dest"
