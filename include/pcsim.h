@@ -24,6 +24,7 @@ extern "C" {
 #define PCSIM_ERR_INPUT 3    /* the step's input was refused; the catenary is unchanged */
 #define PCSIM_ERR_STATE 4    /* a saved state of another case, window or version, or damaged */
 #define PCSIM_ERR_INTERNAL 5 /* a panic was caught; free the handle */
+#define PCSIM_ERR_ROLLED_BACK 6 /* the step gave an unsound state and was rolled back; unchanged */
 
 typedef struct PcsimRt PcsimRt;
 
@@ -37,8 +38,16 @@ PcsimRt *pcsim_rt_new(const char *case_name, int is_file, double window_m, char 
 
 /* One fixed step: contact force (N, pushing the wire up) and pantograph track position (m) in;
  * contact-wire height (m), vertical velocity (m/s) and lateral position (m) at the contact point
- * out (any output pointer may be NULL). No allocation. */
+ * out (any output pointer may be NULL). No allocation. The step contract (README, "The real-time
+ * step contract"): an input that is not finite, whose force lies beyond the case's bound, whose
+ * position lies outside the model or the window, or that moves too fast gives PCSIM_ERR_INPUT; a
+ * step that gives an unsound state is rolled back (PCSIM_ERR_ROLLED_BACK). Either way the
+ * catenary is unchanged. */
 int pcsim_rt_step(PcsimRt *rt, double force_n, double position_m, double *height_m, double *velocity_m_s, double *lateral_m);
+
+/* Why the last pcsim_rt_step was not taken: its status with the reason in msg (starting with the
+ * reason's code, e.g. "input refused (force_out_of_bound): ..."), or PCSIM_OK if it was taken. */
+int pcsim_rt_last_refusal(const PcsimRt *rt, char *msg, size_t msg_len);
 
 /* Why an input would be refused (PCSIM_ERR_INPUT with the message), or PCSIM_OK. */
 int pcsim_rt_check_input(PcsimRt *rt, double force_n, double position_m, char *err, size_t err_len);

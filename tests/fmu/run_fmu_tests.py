@@ -125,14 +125,14 @@ with tempfile.TemporaryDirectory() as d:
     probes = ["double_free", "use_after_free", "null", "foreign", "bad_instantiate", "set_output", "param_after_init",
               "get_before_init", "step_after_terminate", "nonfinite_input", "step_contract", "discard_rollback",
               "panic_is_fatal", "independent_instances", "unknown_vr", "position_outside", "position_glitch",
-              "discard_logged"]
+              "discard_logged", "realtime_golden"]
     for p in probes:
         r = subprocess.run([sys.executable, os.path.join(here, "probe.py"), so, p], capture_output=True, text=True)
         crashed = r.returncode < 0
         check(f"misuse probe {p}", r.returncode == 0,
               ("(host crashed: signal %d)" % -r.returncode) if crashed else r.stdout.strip().splitlines()[-1] if r.stdout.strip() else r.stderr[-300:])
     # The FMI 3.0 entry points of the same library.
-    for p in ["wrong_state", "pointers", "panic_is_fatal", "states"]:
+    for p in ["wrong_state", "pointers", "panic_is_fatal", "states", "realtime_golden"]:
         r = subprocess.run([sys.executable, os.path.join(here, "probe3.py"), so, p], capture_output=True, text=True)
         crashed = r.returncode < 0
         check(f"FMI 3.0 misuse probe {p}", r.returncode == 0,

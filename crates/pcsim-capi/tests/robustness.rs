@@ -125,7 +125,7 @@ fn save_and_restore_continue_bit_for_bit_and_foreign_states_are_refused() {
     let msg = unsafe { std::ffi::CStr::from_ptr(err.as_ptr()) }
         .to_string_lossy()
         .into_owned();
-    assert!(msg.contains("another case, window"), "{msg}");
+    assert!(msg.contains("another configuration"), "{msg}");
     assert_eq!(
         unsafe { pcsim_rt_restore(h2, buf.as_ptr(), n - 3, err.as_mut_ptr(), err.len()) },
         PCSIM_ERR_STATE
@@ -177,8 +177,56 @@ fn save_and_restore_continue_bit_for_bit_and_foreign_states_are_refused() {
         .to_string_lossy()
         .into_owned();
     assert!(msg.contains("no-such"), "{msg}");
+    // One flipped byte anywhere is refused (the checksum), the catenary unchanged.
+    for i in [0, 9, 20, n / 2, n - 9, n - 1] {
+        let mut d = buf.clone();
+        d[i] ^= 0x01;
+        assert_eq!(
+            unsafe { pcsim_rt_restore(h2, d.as_ptr(), n, err.as_mut_ptr(), err.len()) },
+            PCSIM_ERR_STATE,
+            "byte {i}"
+        );
+    }
     for x in [h, h2, h3] {
         unsafe { pcsim_rt_free(x) };
     }
     unsafe { pcsim_rt_free(std::ptr::null_mut()) };
+}
+
+/// Issue 18: a force of 1e300 N (or 1e6 N, or NaN) is refused with its reason, never stepped
+/// into a wire 1e294 m up with `PCSIM_OK`; the next good input steps as before.
+#[test]
+fn an_absurd_force_is_refused_with_its_reason() {
+    let h = new(215.0);
+    run(h, 0, 500);
+    let x0 = unsafe { pcsim_rt_start_position(h) };
+    let x = x0 + 222.0 / 3.6 * 0.5;
+    let (mut y, mut v) = (0.0, 0.0);
+    let mut msg = [0i8; 256];
+    for f in [1e300, 1e6, f64::NAN, -1e300] {
+        assert_eq!(
+            unsafe { pcsim_rt_step(h, f, x, &mut y, &mut v, std::ptr::null_mut()) },
+            PCSIM_ERR_INPUT,
+            "{f}"
+        );
+        assert_eq!(
+            unsafe { pcsim_rt_last_refusal(h, msg.as_mut_ptr(), msg.len()) },
+            PCSIM_ERR_INPUT
+        );
+        let m = unsafe { std::ffi::CStr::from_ptr(msg.as_ptr()) }.to_string_lossy();
+        assert!(
+            m.contains("force_out_of_bound") || m.contains("not_finite"),
+            "{f}: {m}"
+        );
+    }
+    assert_eq!(
+        unsafe { pcsim_rt_step(h, 85.0, x, &mut y, &mut v, std::ptr::null_mut()) },
+        PCSIM_OK
+    );
+    assert!(y.abs() < 0.5, "{y}");
+    assert_eq!(
+        unsafe { pcsim_rt_last_refusal(h, msg.as_mut_ptr(), msg.len()) },
+        PCSIM_OK
+    );
+    unsafe { pcsim_rt_free(h) };
 }

@@ -6,7 +6,7 @@ use pcsim_core::analysis::record::{simulate, RunOutput};
 use pcsim_core::input::overrides::{with_overrides, OverrideValue};
 use pcsim_core::input::units::{parse_quantity, Dimension};
 use pcsim_core::solve::Budget;
-use pcsim_core::{presets, Case, Setup};
+use pcsim_core::{Case, Setup};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -22,14 +22,11 @@ pub struct Ctx {
 /// Load a case from a file or a preset.
 pub fn load_case(path: Option<&PathBuf>, preset: Option<&str>) -> Result<Case> {
     match (path, preset) {
-        (Some(p), None) => {
-            let text = std::fs::read_to_string(p)
-                .with_context(|| format!("cannot read case file '{}'", p.display()))?;
-            let (case, _) = Case::from_toml_str(&text)
-                .with_context(|| format!("in case file '{}'", p.display()))?;
-            Ok(case)
-        }
-        (None, Some(name)) => Ok(presets::load(name)?.0),
+        (Some(p), None) => Ok(pcsim_core::input::case_from_file(
+            &p.display().to_string(),
+            std::fs::read_to_string(p),
+        )?),
+        (None, Some(name)) => Ok(pcsim_core::input::case_from_preset(name)?),
         (Some(_), Some(_)) => bail!("give a case file or --preset, not both"),
         (None, None) => bail!("give a case file or --preset NAME (see `pcsim presets`)"),
     }

@@ -108,8 +108,17 @@ fn study_rows_are_byte_identical() {
     let read = |p: &Path| std::fs::read_to_string(p).unwrap();
     pcsim(
         &[
-            "eva", "--preset", "syt-7.0-9.8", "--speed", "150,222", "--tension", "9.8", "--out",
-            "eva", "--no-plot", "--quiet",
+            "eva",
+            "--preset",
+            "syt-7.0-9.8",
+            "--speed",
+            "150,222",
+            "--tension",
+            "9.8",
+            "--out",
+            "eva",
+            "--no-plot",
+            "--quiet",
         ],
         &dir,
         true,
@@ -138,7 +147,10 @@ fn study_rows_are_byte_identical() {
         &dir,
         true,
     );
-    assert_eq!(read(&dir.join("win/window.csv")), read(&g.join("window.csv")));
+    assert_eq!(
+        read(&dir.join("win/window.csv")),
+        read(&g.join("window.csv"))
+    );
     assert_eq!(read(&dir.join("win/fit.csv")), read(&g.join("fit.csv")));
     let v = pcsim(&["validate", "--json"], &dir, true);
     assert_eq!(

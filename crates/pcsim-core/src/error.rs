@@ -16,6 +16,15 @@ pub enum CaseError {
     },
     #[error("unknown preset `{0}` (see `pcsim presets`)")]
     UnknownPreset(String),
+    /// A case file that could not be read (the front end read it; the core words the error).
+    #[error("cannot read case file '{path}': {reason}")]
+    Read { path: String, reason: String },
+    /// An error inside a case file, with the file it came from.
+    #[error("in case file '{path}': {source}")]
+    InFile {
+        path: String,
+        source: Box<CaseError>,
+    },
     /// An error of one case of a sweep or a study, with the case it belongs to.
     #[error("{case}: {source}")]
     InCase {

@@ -19,9 +19,11 @@
 
 pub mod analysis;
 pub mod error;
+pub mod fingerprint;
 pub mod input;
 pub mod linalg;
 pub mod model;
+pub mod session;
 pub mod solve;
 #[cfg(feature = "zoo")]
 pub mod zoo;

@@ -2,7 +2,7 @@
 //! getting values, and the `do_step` contract.
 
 use pcsim_core::presets;
-use pcsim_core::solve::realtime::{Coupling, RealtimeCatenary, RealtimeOutput, Snapshot};
+use pcsim_core::session::{Coupling, RealtimeOutput, RealtimeSession, SessionState};
 
 use crate::vars::{self, Causality, Kind};
 
@@ -34,33 +34,10 @@ fn err<T>(msg: impl Into<String>) -> Res<T> {
     Err((Status::Error, msg.into()))
 }
 
-/// A saved FMU state (`fmi2GetFMUstate`, `fmi3GetFMUState`): everything `do_step` reads and
-/// writes, so that a restored instance continues bit for bit, and the fingerprint of the
-/// configuration it belongs to.
-#[derive(Debug, Clone)]
-pub struct FmuState {
-    snap: Snapshot,
-    steps: u64,
-    start_time: f64,
-    force_in: f64,
-    position_in: f64,
-    out: RealtimeOutput,
-    terminated: bool,
-    fingerprint: u64,
-}
-
-/// The serialised form: a magic, a version, the configuration's fingerprint, then the state.
-const STATE_MAGIC: &[u8; 8] = b"PCSIMFMU";
-const STATE_VERSION: u64 = 1;
-
-fn fnv1a64(data: &[u8]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for &b in data {
-        h ^= b as u64;
-        h = h.wrapping_mul(0x0100_0000_01b3);
-    }
-    h
-}
+/// A saved FMU state (`fmi2GetFMUstate`, `fmi3GetFMUState`): the core session's state, in its one
+/// versioned form, with the FMU's own values (start time, the two inputs, terminated) in its host
+/// slots, so that a restored instance continues bit for bit.
+pub type FmuState = SessionState;
 
 /// One FMU instance. No global state: two instances share nothing.
 pub struct Instance {
@@ -73,14 +50,10 @@ pub struct Instance {
     sil: bool,
     force_in: f64,
     position_in: f64,
-    rt: Option<RealtimeCatenary>,
-    snap: Option<Snapshot>,
+    rt: Option<RealtimeSession>,
     start_time: f64,
-    steps: u64,
+    /// Track position of the case's start, m (`pantograph_position` is from it).
     x_start: f64,
-    out: RealtimeOutput,
-    /// The configuration's fingerprint (set when the model is built).
-    fingerprint: u64,
 }
 
 impl Instance {
@@ -96,72 +69,53 @@ impl Instance {
             force_in: 0.0,
             position_in: 0.0,
             rt: None,
-            snap: None,
             start_time: 0.0,
-            steps: 0,
             x_start: 0.0,
-            out: RealtimeOutput::default(),
-            fingerprint: 0,
         }
+    }
+
+    fn session(&self) -> Res<&RealtimeSession> {
+        self.usable()?;
+        self.rt.as_ref().ok_or((
+            Status::Error,
+            "the FMU state exists only after initialisation".to_string(),
+        ))
+    }
+
+    /// The FMU's own values kept in the state's host slots.
+    fn host(&self) -> [f64; 4] {
+        [
+            self.start_time,
+            self.force_in,
+            self.position_in,
+            (self.phase == Phase::Terminated) as u8 as f64,
+        ]
     }
 
     /// The state, for `fmi2GetFMUstate` / `fmi3GetFMUState` (after initialisation).
     pub fn get_state(&self) -> Res<FmuState> {
-        self.usable()?;
-        let rt = self.rt.as_ref().ok_or((
-            Status::Error,
-            "the FMU state exists only after initialisation".to_string(),
-        ))?;
-        Ok(FmuState {
-            snap: rt.snapshot(),
-            steps: self.steps,
-            start_time: self.start_time,
-            force_in: self.force_in,
-            position_in: self.position_in,
-            out: self.out,
-            terminated: self.phase == Phase::Terminated,
-            fingerprint: self.fingerprint,
-        })
+        Ok(self.session()?.state(self.host()))
     }
 
     /// Copy the state into `s` without allocating (a `fmi*GetFMUState` on an existing state).
     pub fn get_state_into(&self, s: &mut FmuState) -> Res {
-        self.usable()?;
-        let rt = self.rt.as_ref().ok_or((
-            Status::Error,
-            "the FMU state exists only after initialisation".to_string(),
-        ))?;
-        if s.fingerprint != self.fingerprint {
-            *s = self.get_state()?;
-            return Ok(());
-        }
-        rt.save(&mut s.snap);
-        s.steps = self.steps;
-        s.start_time = self.start_time;
-        s.force_in = self.force_in;
-        s.position_in = self.position_in;
-        s.out = self.out;
-        s.terminated = self.phase == Phase::Terminated;
+        self.session()?.save_into(s, self.host());
         Ok(())
     }
 
     /// Return to a saved state of this configuration.
     pub fn set_state(&mut self, s: &FmuState) -> Res {
         self.usable()?;
-        if s.fingerprint != self.fingerprint {
-            return err("the FMU state belongs to another configuration (case, window, step, coupling or pcsim version)");
-        }
         let rt = self.rt.as_mut().ok_or((
             Status::Error,
             "set the FMU state after initialisation".to_string(),
         ))?;
-        rt.restore(&s.snap);
-        self.steps = s.steps;
-        self.start_time = s.start_time;
-        self.force_in = s.force_in;
-        self.position_in = s.position_in;
-        self.out = s.out;
-        self.phase = if s.terminated {
+        rt.restore(s).map_err(|e| (Status::Error, e))?;
+        let [start, force, position, terminated] = s.host;
+        self.start_time = start;
+        self.force_in = force;
+        self.position_in = position;
+        self.phase = if terminated != 0.0 {
             Phase::Terminated
         } else {
             Phase::Stepping
@@ -169,84 +123,22 @@ impl Instance {
         Ok(())
     }
 
-    /// The serialised state: `PCSIMFMU`, the format version, the fingerprint, then the numbers.
+    /// The serialised state: the core session's one versioned form.
     pub fn serialize_state(s: &FmuState) -> Vec<u8> {
-        let mut b = Vec::new();
-        b.extend_from_slice(STATE_MAGIC);
-        b.extend_from_slice(&STATE_VERSION.to_le_bytes());
-        b.extend_from_slice(&s.fingerprint.to_le_bytes());
-        s.snap.write_bytes(&mut b);
-        b.extend_from_slice(&s.steps.to_le_bytes());
-        for x in [
-            s.start_time,
-            s.force_in,
-            s.position_in,
-            s.out.time_s,
-            s.out.position_m,
-            s.out.wire_height_m,
-            s.out.wire_velocity_m_s,
-            s.out.contact_force_n,
-            s.out.lateral_m,
-        ] {
-            b.extend_from_slice(&x.to_le_bytes());
-        }
-        b.push(s.terminated as u8);
-        b
+        RealtimeSession::state_bytes(s)
     }
 
     /// A state read back from [`Self::serialize_state`]'s bytes: refused with an error when it
     /// was written by another format version, for another configuration, or is damaged.
     pub fn deserialize_state(&self, bytes: &[u8]) -> Res<FmuState> {
-        use pcsim_core::solve::state::ByteReader;
-        self.usable()?;
-        let rt = self.rt.as_ref().ok_or((
-            Status::Error,
-            "de-serialise an FMU state after initialisation (the model must exist)".to_string(),
-        ))?;
-        let bad = |m: String| (Status::Error, format!("serialised FMU state refused: {m}"));
-        let mut r = ByteReader::new(bytes);
-        if r.bytes(8).map_err(bad)? != STATE_MAGIC {
-            return Err(bad("not a pcsim FMU state".into()));
-        }
-        let v = r.u64().map_err(bad)?;
-        if v != STATE_VERSION {
-            return Err(bad(format!(
-                "format version {v}, this FMU reads version {STATE_VERSION}"
-            )));
-        }
-        let fp = r.u64().map_err(bad)?;
-        if fp != self.fingerprint {
-            return Err(bad(
-                "it belongs to another configuration (case, window, step, coupling or pcsim version)".into(),
-            ));
-        }
-        let snap = rt.snapshot_from_bytes(&mut r).map_err(bad)?;
-        let steps = r.u64().map_err(bad)?;
-        let mut f = [0.0; 9];
-        for x in f.iter_mut() {
-            *x = r.f64().map_err(bad)?;
-        }
-        let terminated = r.bytes(1).map_err(bad)?[0] != 0;
-        if !r.is_done() {
-            return Err(bad("trailing bytes".into()));
-        }
-        Ok(FmuState {
-            snap,
-            steps,
-            start_time: f[0],
-            force_in: f[1],
-            position_in: f[2],
-            out: RealtimeOutput {
-                time_s: f[3],
-                position_m: f[4],
-                wire_height_m: f[5],
-                wire_velocity_m_s: f[6],
-                contact_force_n: f[7],
-                lateral_m: f[8],
-            },
-            terminated,
-            fingerprint: fp,
-        })
+        let rt = self.session().map_err(|_| {
+            (
+                Status::Error,
+                "de-serialise an FMU state after initialisation (the model must exist)".to_string(),
+            )
+        })?;
+        rt.state_from_bytes(bytes)
+            .map_err(|m| (Status::Error, format!("serialised FMU {m}")))
     }
 
     pub fn phase(&self) -> Phase {
@@ -260,7 +152,14 @@ impl Instance {
 
     /// Current FMU time, s.
     pub fn time(&self) -> f64 {
-        self.start_time + self.steps as f64 * self.step_s
+        self.start_time + self.rt.as_ref().map_or(0, |r| r.steps()) as f64 * self.step_s
+    }
+
+    /// The last output (the static wire before the first step).
+    fn out(&self) -> RealtimeOutput {
+        self.rt
+            .as_ref()
+            .map_or_else(RealtimeOutput::default, |r| r.output())
     }
 
     fn usable(&self) -> Res {
@@ -317,7 +216,6 @@ impl Instance {
         }
         let (mut case, _) = presets::load(&self.case)
             .map_err(|e| (Status::Error, format!("parameter `case`: {e}")))?;
-        case.pantographs.truncate(1);
         case.run.dt_s = self.step_s;
         if !self.irregularity_file.is_empty() {
             let text = std::fs::read_to_string(&self.irregularity_file).map_err(|e| {
@@ -339,51 +237,20 @@ impl Instance {
         } else {
             Coupling::Hil
         };
-        let mut rt = RealtimeCatenary::new(&case, self.window_m, coupling)
+        let mut rt = RealtimeSession::new(&case, self.window_m, coupling)
             .map_err(|e| (Status::Error, format!("cannot build the model: {e}")))?;
-        self.fingerprint = fnv1a64(
-            format!(
-                "{}|{}|{:e}|{:e}|{}|{}",
-                env!("CARGO_PKG_VERSION"),
-                case.to_toml_string(),
-                self.window_m,
-                self.step_s,
-                self.sil,
-                self.case
-            )
-            .as_bytes(),
-        );
-        self.x_start = case.run.start_m;
-        if !self.sil {
-            let x = self.x_start + self.position_in;
-            rt.check_input(self.force_in, x, f64::INFINITY)
-                .map_err(|e| {
-                    (
-                        Status::Error,
-                        format!(
-                            "initial input refused: {e} (pantograph_position = {} m from the case's start)",
-                            self.position_in
-                        ),
-                    )
-                })?;
-            rt.set_input(self.force_in, x);
-        }
-        let x = if self.sil {
-            rt.sil_position_m()
-        } else {
-            self.x_start + self.position_in
-        };
-        self.out = RealtimeOutput {
-            time_s: 0.0,
-            position_m: x,
-            wire_height_m: rt.static_height_at(x),
-            wire_velocity_m_s: 0.0,
-            contact_force_n: self.force_in,
-            lateral_m: rt.static_lateral_at(x),
-        };
-        self.snap = Some(rt.snapshot());
+        self.x_start = rt.start_position_m();
+        rt.set_initial_input(self.force_in, self.x_start + self.position_in)
+            .map_err(|e| {
+                (
+                    Status::Error,
+                    format!(
+                        "initial {e} (pantograph_position = {} m from the case's start)",
+                        self.position_in
+                    ),
+                )
+            })?;
         self.rt = Some(rt);
-        self.steps = 0;
         self.phase = Phase::Stepping;
         Ok(())
     }
@@ -420,7 +287,11 @@ impl Instance {
             Causality::Input => {}
         }
         if !v.is_finite() {
-            return err(format!("`{}` = {v}: not a finite number", var.name));
+            // The step contract's reason code (`not_finite`), as the other front ends report it.
+            return err(format!(
+                "input refused (not_finite): `{}` = {v} is not a finite number",
+                var.name
+            ));
         }
         match vr {
             vars::VR_CONTACT_FORCE => self.force_in = v,
@@ -463,10 +334,10 @@ impl Instance {
         Ok(match vr {
             vars::VR_CONTACT_FORCE => self.force_in,
             vars::VR_PANTOGRAPH_POSITION => self.position_in,
-            vars::VR_WIRE_HEIGHT => self.out.wire_height_m,
-            vars::VR_WIRE_VELOCITY => self.out.wire_velocity_m_s,
-            vars::VR_PANTOGRAPH_CONTACT_FORCE => self.out.contact_force_n,
-            vars::VR_CONTACT_LATERAL => self.out.lateral_m,
+            vars::VR_WIRE_HEIGHT => self.out().wire_height_m,
+            vars::VR_WIRE_VELOCITY => self.out().wire_velocity_m_s,
+            vars::VR_PANTOGRAPH_CONTACT_FORCE => self.out().contact_force_n,
+            vars::VR_CONTACT_LATERAL => self.out().lateral_m,
             vars::VR_WINDOW_LENGTH => self.window_m,
             vars::VR_STEP_SIZE => self.step_s,
             _ => return err(format!("value reference {vr} cannot be read")),
@@ -513,10 +384,10 @@ impl Instance {
     /// Advance from `t` by `h`: `t` must be the FMU's time, `h` finite, > 0 and a whole number of
     /// internal steps (at most [`vars::MAX_INTERNAL_STEPS`]). Inputs are held over the step.
     ///
-    /// Discard (logged, nothing computed, the FMU unchanged) when the HIL position lies outside
-    /// the modelled catenary, behind the window, or moved faster than the plausible speed since
-    /// the last step; or when the state becomes non-finite or implausible (the wire more than 2 m
-    /// from its design height), in which case the step is rolled back.
+    /// The step contract is the core session's (`pcsim_core::session`): Discard (logged with the
+    /// reason's code, the FMU unchanged) when the HIL input is refused (not finite, the force
+    /// beyond the case's bound, the position outside the model or the window, or faster than the
+    /// plausible speed), or when the step gave an unsound state and was rolled back.
     pub fn do_step(&mut self, t: f64, h: f64) -> Res<Status> {
         self.usable()?;
         match self.phase {
@@ -546,41 +417,19 @@ impl Instance {
                 vars::MAX_INTERNAL_STEPS
             ));
         }
-        let (rt, snap) = match (&mut self.rt, &mut self.snap) {
-            (Some(r), Some(s)) => (r, s),
-            _ => return Err((Status::Fatal, "model missing after initialisation".into())),
-        };
         let x = self.x_start + self.position_in;
-        if !self.sil {
-            if let Err(e) = rt.check_input(self.force_in, x, h) {
-                return Err((
-                    Status::Discard,
-                    format!(
-                        "input refused at t = {now} s: {e} (pantograph_position = {} m from the case's start); the step was not taken",
-                        self.position_in
-                    ),
-                ));
-            }
-        }
-        rt.save(snap);
-        let mut last = self.out;
-        for _ in 0..n as u64 {
-            rt.set_input(self.force_in, x);
-            last = rt.step();
-        }
-        if !(rt.state_is_sound()
-            && last.wire_height_m.is_finite()
-            && last.wire_velocity_m_s.is_finite()
-            && last.contact_force_n.is_finite())
-        {
-            rt.restore(snap);
-            return Err((
+        let Some(rt) = self.rt.as_mut() else {
+            return Err((Status::Fatal, "model missing after initialisation".into()));
+        };
+        match rt.advance(self.force_in, x, n as u64, h) {
+            Ok(_) => Ok(Status::Ok),
+            Err(e) => Err((
                 Status::Discard,
-                format!("the state became non-finite or implausible during the step from t = {now} s (the wire more than 2 m from its design height); rolled back"),
-            ));
+                format!(
+                    "step from t = {now} s: {e} (pantograph_position = {} m from the case's start)",
+                    self.position_in
+                ),
+            )),
         }
-        self.out = last;
-        self.steps += n as u64;
-        Ok(Status::Ok)
     }
 }

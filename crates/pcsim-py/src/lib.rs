@@ -14,7 +14,7 @@ use pcsim_core::analysis::report::{timeseries_columns, RunSummary};
 use pcsim_core::analysis::sweep::{parallel_map, Grid};
 use pcsim_core::analysis::validation::ValidationPlan;
 use pcsim_core::input::overrides::{with_overrides, OverrideValue};
-use pcsim_core::solve::realtime::{Coupling, RealtimeCatenary as CoreRealtime};
+use pcsim_core::session::{Coupling, RealtimeSession};
 use pcsim_core::{presets, Setup};
 
 fn err(e: impl std::fmt::Display) -> PyErr {
@@ -286,10 +286,12 @@ fn presets_list() -> Vec<String> {
 }
 
 /// The moving-window catenary for hardware in the loop (`coupling="hil"`: the measured contact
-/// force and position are inputs) or software in the loop (`"sil"`: pcsim's pantograph).
+/// force and position are inputs) or software in the loop (`"sil"`: pcsim's pantograph). It
+/// translates the core's real-time session, which owns the step contract (README, "The real-time
+/// step contract"); the window carries the case's leading pantograph.
 #[pyclass(module = "pcsim._pcsim")]
 struct RealtimeCatenary {
-    inner: CoreRealtime,
+    inner: RealtimeSession,
 }
 
 #[pymethods]
@@ -302,29 +304,50 @@ impl RealtimeCatenary {
             "sil" => Coupling::Sil,
             other => return Err(err(format!("coupling `{other}`: use \"hil\" or \"sil\""))),
         };
-        let mut c = case.inner.clone();
-        c.pantographs.truncate(1);
         Ok(Self {
-            inner: CoreRealtime::new(&c, window_m, coupling).map_err(err)?,
+            inner: RealtimeSession::new(&case.inner, window_m, coupling).map_err(err)?,
         })
     }
 
     /// One fixed step with the contact force (N, pushing the wire up) and the pantograph's
     /// track position (m); returns the contact-wire height (m) and vertical velocity (m/s) at
-    /// the contact point. A position or force the window cannot take raises `ValueError`.
+    /// the contact point. An input the window cannot take, or a step rolled back, raises
+    /// `ValueError` with the reason (its code in parentheses); the catenary is then unchanged.
     fn step(&mut self, force_n: f64, position_m: f64) -> PyResult<(f64, f64)> {
-        self.inner
-            .check_input(force_n, position_m, self.inner.dt_s())
-            .map_err(err)?;
-        self.inner.set_input(force_n, position_m);
-        let o = self.inner.step();
+        let o = self.inner.step(force_n, position_m).map_err(err)?;
         Ok((o.wire_height_m, o.wire_velocity_m_s))
+    }
+
+    /// [`step`] without raising: `("ok", height_m, velocity_m_s)`, or `(code, None, None)` where
+    /// `code` names why the step was not taken (`force_out_of_bound`, `not_finite`,
+    /// `outside_model`, `behind_window`, `ahead_of_window`, `too_fast`, `rolled_back`).
+    fn try_step(
+        &mut self,
+        force_n: f64,
+        position_m: f64,
+    ) -> (&'static str, Option<f64>, Option<f64>) {
+        match self.inner.step(force_n, position_m) {
+            Ok(o) => ("ok", Some(o.wire_height_m), Some(o.wire_velocity_m_s)),
+            Err(e) => (e.code(), None, None),
+        }
     }
 
     /// The fixed time step, s.
     #[getter]
     fn dt_s(&self) -> f64 {
         self.inner.dt_s()
+    }
+
+    /// The case's start: the leading pantograph's track position at t = 0, m.
+    #[getter]
+    fn start_position_m(&self) -> f64 {
+        self.inner.start_position_m()
+    }
+
+    /// The bound on the input contact force, N.
+    #[getter]
+    fn force_limit_n(&self) -> f64 {
+        self.inner.force_limit_n()
     }
 
     /// Window moves so far.

@@ -159,3 +159,23 @@ def test_realtime_catenary_steps_like_the_hil_reference():
     assert rt.moves >= 1
     with pytest.raises(ValueError, match="position"):
         rt.step(90.0, float("nan"))
+
+
+def test_realtime_golden_script_gives_the_core_sessions_statuses_and_outputs():
+    """Issue 18: the scripted input (data/golden/realtime) through Python's RealtimeCatenary
+    gives the statuses and, bit for bit, the outputs of the core's session."""
+    import csv
+    import pathlib
+
+    g = pathlib.Path(__file__).resolve().parents[3] / "data" / "golden" / "realtime"
+    script = list(csv.reader(open(g / "script.csv")))[1:]
+    want = list(csv.reader(open(g / "expected.csv")))[1:]
+    rt = pcsim.RealtimeCatenary(pcsim.Case.preset("syt-7.0-9.8"), window_m=215.0, coupling="hil")
+    x0 = rt.start_position_m
+    for row, w in zip(script, want):
+        status, h, vel = rt.try_step(float(row[1]), x0 + float(row[2]))
+        assert status == w[1], (w[0], status)
+        if status == "ok":
+            assert h == float(w[3]) and vel == float(w[4]), w[0]
+    with pytest.raises(ValueError, match="force_out_of_bound"):
+        rt.step(1e300, x0 + float(script[-1][2]))

@@ -1,11 +1,12 @@
-//! `pcsim hil`: replay a contact-force/position file through the real-time catenary (the Rust
-//! reference the FMU is tested against). The input is checked: the time column must advance by
-//! the case's Δt, and every position must lie inside the modelled catenary and move no faster
-//! than a plausible speed.
+//! `pcsim hil`: replay a contact-force/position file through the core's real-time session (the
+//! Rust reference the FMU and the C API are tested against). The time column must advance by the
+//! case's Δt; every row goes through the session's step contract, and a row it refuses (or rolls
+//! back) is written with its status and reason instead of a height. Any such row makes the exit
+//! status 1.
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use pcsim_core::solve::realtime::{Coupling, RealtimeCatenary, DEFAULT_MAX_SPEED_KMH};
+use pcsim_core::session::{Coupling, RealtimeSession, DEFAULT_MAX_SPEED_KMH};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -26,7 +27,8 @@ pub struct HilArgs {
     /// step.
     #[arg(long)]
     input: PathBuf,
-    /// Output CSV: time_s, wire_height_m, wire_velocity_m_s, contact_force_n after each step.
+    /// Output CSV: time_s, wire_height_m, wire_velocity_m_s, contact_force_n after each step (in
+    /// their shortest round-trip form: they read back bit for bit), and its status (`ok`, or the code of the reason it was refused or rolled back).
     #[arg(long)]
     out: PathBuf,
     /// Fastest plausible pantograph, km/h: a position that moves faster between two rows is
@@ -48,8 +50,9 @@ fn read_input(p: &Path) -> Result<Vec<[f64; 3]>> {
             .map(|s| s.trim().parse::<f64>())
             .collect::<Result<_, _>>()
             .with_context(|| format!("{} line {}: not three numbers", p.display(), i + 1))?;
-        if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
-            bail!("{} line {}: need three finite numbers (time_s, contact_force_n, pantograph_position_m)", p.display(), i + 1);
+        // A non-finite force or position is the step contract's to refuse; the time must be read.
+        if v.len() != 3 || !v[0].is_finite() {
+            bail!("{} line {}: need three numbers (time_s, contact_force_n, pantograph_position_m) with a finite time", p.display(), i + 1);
         }
         rows.push([v[0], v[1], v[2]]);
     }
@@ -57,8 +60,7 @@ fn read_input(p: &Path) -> Result<Vec<[f64; 3]>> {
 }
 
 pub fn hil(a: HilArgs, ctx: &Ctx) -> Result<i32> {
-    let mut case = crate::common::load_case(a.case.as_ref(), a.preset.as_deref())?;
-    case.pantographs.truncate(1);
+    let case = crate::common::load_case(a.case.as_ref(), a.preset.as_deref())?;
     if !(a.max_speed_kmh.is_finite() && a.max_speed_kmh > 0.0) {
         bail!(
             "--max-speed-kmh {}: must be a finite speed > 0",
@@ -68,12 +70,13 @@ pub fn hil(a: HilArgs, ctx: &Ctx) -> Result<i32> {
     let window = length("--window", &a.window)?;
     let rows = read_input(&a.input)?;
     crate::common::setup(&case, &[], ctx)?;
-    let mut rt = RealtimeCatenary::new(&case, window, Coupling::Hil)?;
-    rt.set_max_speed_kmh(a.max_speed_kmh);
+    let mut rt = RealtimeSession::new(&case, window, Coupling::Hil)?;
+    rt.set_max_speed_kmh(a.max_speed_kmh)?;
     let dt = rt.dt_s();
-    let x0 = case.run.start_m;
-    let mut s = String::from("time_s,wire_height_m,wire_velocity_m_s,contact_force_n\n");
+    let x0 = rt.start_position_m();
+    let mut s = String::from("time_s,wire_height_m,wire_velocity_m_s,contact_force_n,status\n");
     let t0 = rows.first().map_or(0.0, |r| r[0]);
+    let mut refused: Vec<(usize, String)> = Vec::new();
     for (k, r) in rows.iter().enumerate() {
         let line = k + 2;
         let want = t0 + k as f64 * dt;
@@ -84,26 +87,38 @@ pub fn hil(a: HilArgs, ctx: &Ctx) -> Result<i32> {
                 r[0]
             );
         }
-        let x = x0 + r[2];
-        let elapsed = if k == 0 { f64::INFINITY } else { dt };
-        rt.check_input(r[1], x, elapsed)
-            .map_err(|e| anyhow::anyhow!("{} line {line}: {e}", a.input.display()))?;
-        rt.set_input(r[1], x);
-        let o = rt.step();
-        let _ = writeln!(
-            s,
-            "{:.9},{:.12e},{:.12e},{:.12e}",
-            r[0] + dt,
-            o.wire_height_m,
-            o.wire_velocity_m_s,
-            o.contact_force_n
-        );
+        match rt.step(r[1], x0 + r[2]) {
+            Ok(o) => {
+                let _ = writeln!(
+                    s,
+                    "{:.9},{:?},{:?},{:?},ok",
+                    r[0] + dt,
+                    o.wire_height_m,
+                    o.wire_velocity_m_s,
+                    o.contact_force_n
+                );
+            }
+            Err(e) => {
+                let _ = writeln!(s, "{:.9},,,,{}", r[0] + dt, e.code());
+                refused.push((line, e.to_string()));
+            }
+        }
     }
     std::fs::write(&a.out, s).with_context(|| format!("cannot write {}", a.out.display()))?;
     println!(
         "replayed {} steps through a {window} m window; wrote {}",
-        rows.len(),
+        rows.len() - refused.len(),
         a.out.display()
     );
+    if let Some((line, why)) = refused.first() {
+        eprintln!(
+            "error: {} of {} rows were not stepped (their status is in {}); the first, {} line {line}: {why}",
+            refused.len(),
+            rows.len(),
+            a.out.display(),
+            a.input.display()
+        );
+        return Ok(1);
+    }
     Ok(0)
 }

@@ -1,0 +1,29 @@
+//! FNV-1a 64-bit hashes: the one fingerprint of configurations (real-time states, sweeps) and the
+//! checksum of serialised states. Not cryptographic: it detects a mismatch or a damaged byte,
+//! not an attack.
+
+/// The FNV-1a 64-bit hash of `data`.
+pub fn fnv1a64(data: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in data {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    h
+}
+
+/// [`fnv1a64`] as 16 hexadecimal digits (sweep manifests).
+pub fn fnv1a64_hex(data: &[u8]) -> String {
+    format!("{:016x}", fnv1a64(data))
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn known_values() {
+        // The published FNV-1a 64 test vectors.
+        assert_eq!(super::fnv1a64(b""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(super::fnv1a64(b"a"), 0xaf63_dc4c_8601_ec8c);
+        assert_eq!(super::fnv1a64_hex(b"foobar"), "85944171f73967e8");
+    }
+}
