@@ -22,15 +22,7 @@ pub struct SweepKind {
     pub finish: fn(&Path) -> Result<()>,
 }
 
-/// FNV-1a 64-bit hash, for sweep fingerprints.
-pub fn fnv1a64(data: &[u8]) -> String {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for &b in data {
-        h ^= b as u64;
-        h = h.wrapping_mul(0x0100_0000_01b3);
-    }
-    format!("{h:016x}")
-}
+pub use pcsim_core::fingerprint::fnv1a64_hex as fnv1a64;
 
 /// A shard directory, read for the merge.
 struct ShardDir {

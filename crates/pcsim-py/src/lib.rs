@@ -8,13 +8,19 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 
-use pcsim_core::analysis::eva::{run_eva, EvaRow, EvaSettings};
+use pcsim_core::analysis::eva::{EvaRow, EvaSettings};
 use pcsim_core::analysis::record::{simulate, RunOutput};
 use pcsim_core::analysis::report::{timeseries_columns, RunSummary};
 use pcsim_core::analysis::sweep::{parallel_map, Grid};
+use pcsim_core::analysis::sweep::{Job, Shard};
+use pcsim_core::analysis::sweeps::{
+    eva_sweep, run_quietly, shard_jobs, validation_runs, window_sweep, WindowRow,
+};
 use pcsim_core::analysis::validation::ValidationPlan;
+use pcsim_core::analysis::window_length::{SearchSettings, Tolerances};
 use pcsim_core::input::overrides::{with_overrides, OverrideValue};
 use pcsim_core::session::{Coupling, RealtimeSession};
+use pcsim_core::solve::Budget;
 use pcsim_core::{presets, Setup};
 
 fn err(e: impl std::fmt::Display) -> PyErr {
@@ -220,9 +226,44 @@ fn run_many<'py>(
     Ok(list)
 }
 
-/// EVA over speeds (km/h) × tensions (N): the rows of `eva.csv` as JSON text.
+/// The grid and shard of a sweep, as the CLI builds them.
+fn sweep_jobs(
+    case: &pcsim_core::Case,
+    speeds_kmh: Vec<f64>,
+    tensions_n: Vec<f64>,
+    seeds: usize,
+    shard: Option<(usize, usize)>,
+) -> Result<Vec<Job>, String> {
+    if seeds == 0 || seeds > 100_000 {
+        return Err(format!("seeds = {seeds}: give 1 to 100000 realisations"));
+    }
+    if seeds > 1 && !case.is_random() {
+        return Err(format!("seeds = {seeds}: the case has no seeded random input (an [[irregularity]] of kind psd or droppers, or a [wind] with turbulence), so every realisation would be the same"));
+    }
+    let shard = match shard {
+        None => Shard::ALL,
+        Some((i, n)) => Shard::parse(&format!("{i}/{n}")).map_err(|e| e.to_string())?,
+    };
+    let grid = Grid::new(case.clone(), speeds_kmh, tensions_n, Vec::new()).with_seeds(seeds);
+    Ok(shard_jobs(&grid, shard).map_err(|e| e.to_string())?.0)
+}
+
+/// The resource budget of a sweep (the CLI's `--max-steps`, `--max-memory-gb`).
+fn budget(max_steps: Option<u64>, max_memory_gb: Option<f64>) -> Budget {
+    let mut b = Budget::default();
+    if let Some(n) = max_steps {
+        b.max_steps = n;
+    }
+    if let Some(g) = max_memory_gb {
+        b.max_memory_bytes = (g * (1u64 << 30) as f64) as u64;
+    }
+    b
+}
+
+/// EVA over speeds (km/h) × tensions (N): the rows of `eva.csv` as JSON text, by the core's one
+/// sweep (the CLI's), with seeds, a shard `(index, count)` and the resource budget.
 #[pyfunction]
-#[pyo3(signature = (case, speeds_kmh, tensions_n, step_m=1.0, tolerance_j=0.01, fraction=0.99, jobs=None))]
+#[pyo3(signature = (case, speeds_kmh, tensions_n, step_m=1.0, tolerance_j=0.01, fraction=0.99, jobs=None, seeds=1, shard=None, max_steps=None, max_memory_gb=None))]
 #[allow(clippy::too_many_arguments)]
 fn eva(
     py: Python<'_>,
@@ -233,44 +274,107 @@ fn eva(
     tolerance_j: f64,
     fraction: f64,
     jobs: Option<usize>,
+    seeds: usize,
+    shard: Option<(usize, usize)>,
+    max_steps: Option<u64>,
+    max_memory_gb: Option<f64>,
 ) -> PyResult<String> {
     let base = case.inner.clone();
     let rows = py.detach(move || -> Result<Vec<EvaRow>, String> {
-        let grid = Grid::new(base, speeds_kmh, tensions_n, Vec::new());
-        let jobs_list = grid.jobs().map_err(|e| e.to_string())?;
+        let list = sweep_jobs(&base, speeds_kmh, tensions_n, seeds, shard)?;
+        let b = budget(max_steps, max_memory_gb);
         let settings = EvaSettings {
             step_m,
             tolerance_j,
             fraction,
+            budget: b,
             ..EvaSettings::default()
         };
-        parallel_map(&jobs_list, jobs, |j| {
-            let setup = Setup::from_case(&j.case).map_err(|e| e.to_string())?;
-            let o = run_eva(&setup, &settings, &mut |_| true).map_err(|e| e.to_string())?;
-            Ok(EvaRow::new(
-                j.index,
-                j.speed_kmh,
-                j.tension_n / 1e3,
-                &j.damping,
-                &o,
-            ))
-        })
-        .into_iter()
-        .collect()
+        Ok(eva_sweep(&list, &settings, &b, jobs, &|| ())
+            .map_err(|e| e.to_string())?
+            .into_iter()
+            .map(|c| c.row)
+            .collect())
     });
     serde_json::to_string(&rows.map_err(err)?).map_err(err)
 }
 
-/// A validation (`en50318-2002` or `seed-table1`): the report of `pcsim validate --json`.
+/// The accuracy-based window length over speeds (km/h) × tensions (N): the rows of
+/// `window.csv` as JSON text, by the core's one sweep (the CLI's `pcsim window`). The case's
+/// leading pantograph is used; tolerances in %, lengths in m.
+#[pyfunction]
+#[pyo3(signature = (case, speeds_kmh, tensions_n, mean_tol_pct=1.0, sigma_tol_pct=3.0, max_tol_pct=5.0, min_window_m=None, max_window_m=400.0, coarse_m=20.0, resolution_m=1.0, jobs=None, seeds=1, shard=None, max_steps=None, max_memory_gb=None))]
+#[allow(clippy::too_many_arguments)]
+fn window(
+    py: Python<'_>,
+    case: &Case,
+    speeds_kmh: Vec<f64>,
+    tensions_n: Vec<f64>,
+    mean_tol_pct: f64,
+    sigma_tol_pct: f64,
+    max_tol_pct: f64,
+    min_window_m: Option<f64>,
+    max_window_m: f64,
+    coarse_m: f64,
+    resolution_m: f64,
+    jobs: Option<usize>,
+    seeds: usize,
+    shard: Option<(usize, usize)>,
+    max_steps: Option<u64>,
+    max_memory_gb: Option<f64>,
+) -> PyResult<String> {
+    let mut single = case.inner.clone();
+    single.pantographs.truncate(1);
+    let rows = py.detach(move || -> Result<Vec<WindowRow>, String> {
+        let search = SearchSettings {
+            min_m: min_window_m.unwrap_or(0.5 * single.catenary.span_m),
+            max_m: max_window_m,
+            coarse_m,
+            resolution_m,
+        };
+        search.check().map_err(|e| e.to_string())?;
+        if search.max_m >= single.length_m() {
+            return Err(format!(
+                "max_window_m = {}: must be shorter than the model ({} m)",
+                search.max_m,
+                single.length_m()
+            ));
+        }
+        let tol = Tolerances {
+            mean_pct: mean_tol_pct,
+            sigma_pct: sigma_tol_pct,
+            max_pct: max_tol_pct,
+        };
+        for (name, v) in [
+            ("mean_tol_pct", mean_tol_pct),
+            ("sigma_tol_pct", sigma_tol_pct),
+            ("max_tol_pct", max_tol_pct),
+        ] {
+            if !(v.is_finite() && v > 0.0 && v < 1000.0) {
+                return Err(format!("{name} = {v}: must be a percentage in (0, 1000)"));
+            }
+        }
+        let list = sweep_jobs(&single, speeds_kmh, tensions_n, seeds, shard)?;
+        let b = budget(max_steps, max_memory_gb);
+        Ok(window_sweep(&list, &search, &tol, &b, jobs, &|| ())
+            .map_err(|e| e.to_string())?
+            .into_iter()
+            .map(|c| c.row)
+            .collect())
+    });
+    serde_json::to_string(&rows.map_err(err)?).map_err(err)
+}
+
+/// A validation (`en50318-2002` or `seed-table1`): the report of `pcsim validate --json`, by the
+/// core's one validation run.
 #[pyfunction]
 #[pyo3(signature = (name, jobs=None))]
 fn validate(py: Python<'_>, name: &str, jobs: Option<usize>) -> PyResult<String> {
     let plan = ValidationPlan::new(name).map_err(err)?;
     let report = py.detach(move || -> Result<String, String> {
-        let runs: Vec<RunOutput> = parallel_map(&plan.cases, jobs, |c| run_core(c).map(|r| r.0))
-            .into_iter()
-            .collect::<Result<_, _>>()?;
-        let report = plan.assemble(&runs).map_err(|e| e.to_string())?;
+        let b = Budget::default();
+        let (_, report) =
+            validation_runs(&plan, jobs, &|c| run_quietly(c, &b)).map_err(|e| e.to_string())?;
         serde_json::to_string(&report).map_err(|e| e.to_string())
     });
     report.map_err(err)
@@ -371,6 +475,7 @@ fn _pcsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run_many, m)?)?;
     m.add_function(wrap_pyfunction!(eva, m)?)?;
     m.add_function(wrap_pyfunction!(validate, m)?)?;
+    m.add_function(wrap_pyfunction!(window, m)?)?;
     m.add_function(wrap_pyfunction!(presets_list, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -179,3 +179,43 @@ def test_realtime_golden_script_gives_the_core_sessions_statuses_and_outputs():
             assert h == float(w[3]) and vel == float(w[4]), w[0]
     with pytest.raises(ValueError, match="force_out_of_bound"):
         rt.step(1e300, x0 + float(script[-1][2]))
+
+
+def _golden_rows(name):
+    import csv
+    import pathlib
+
+    p = pathlib.Path(__file__).resolve().parents[3] / "data" / "golden" / "studies" / name
+    return list(csv.DictReader(open(p)))
+
+
+def _same(a, b):
+    """A CSV cell against a row value: empty for None, else the same number."""
+    if b is None:
+        return a == ""
+    if isinstance(b, str):
+        return a == b
+    return abs(float(a) - b) <= 5e-4 * max(1.0, abs(b))
+
+
+def test_window_rows_match_the_golden_of_the_cli():
+    """Issue 18: pcsim.window is the CLI's window sweep (the golden rows of pcsim window)."""
+    rows = pcsim.window(pcsim.Case.preset("syt-7.0-9.8"), [150.0], [9800.0], max_window_m=240.0,
+                        coarse_m=40.0, resolution_m=10.0)
+    want = _golden_rows("window.csv")
+    assert len(rows) == len(want) == 1
+    for k, v in want[0].items():
+        assert _same(v, rows[0][k]), (k, v, rows[0][k])
+
+
+def test_eva_with_seeds_and_shards_is_the_clis_sweep():
+    """Issue 18: pcsim.eva has the CLI's shards; the union of two shards is the whole grid."""
+    case = pcsim.Case.preset("syt-7.0-9.8")
+    whole = pcsim.eva(case, [150.0, 222.0], [9800.0])
+    parts = pcsim.eva(case, [150.0, 222.0], [9800.0], shard=(0, 2)) + \
+        pcsim.eva(case, [150.0, 222.0], [9800.0], shard=(1, 2))
+    assert sorted(parts, key=lambda r: r["index"]) == whole
+    with pytest.raises(ValueError, match="seeds"):
+        pcsim.eva(case, [150.0], [9800.0], seeds=3)
+    with pytest.raises(ValueError, match="max_steps|steps"):
+        pcsim.eva(case, [150.0], [9800.0], max_steps=10)

@@ -3,15 +3,17 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
-use pcsim_core::analysis::eva::{run_eva, EvaOutput, EvaRow, EvaSettings};
-use pcsim_core::analysis::sweep::{parallel_map, parse_damping, Grid, Job, Shard};
+use pcsim_core::analysis::eva::{EvaOutput, EvaRow, EvaSettings};
+use pcsim_core::analysis::sweep::{parse_damping, Grid, Job, Shard};
+use pcsim_core::analysis::sweeps::eva_sweep;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::common::{apply, load_case, shown, Ctx, Override};
 use crate::output::write_manifest;
 use crate::progress::Progress;
-use crate::sweep_dir::{fnv1a64, merge, SweepKind};
+use crate::sweep_dir::{merge, SweepKind};
+use pcsim_core::fingerprint::fnv1a64_hex as fnv1a64;
 
 #[derive(Args)]
 #[command(args_conflicts_with_subcommands = true)]
@@ -219,7 +221,11 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
         env!("CARGO_PKG_VERSION")
     );
     let fingerprint = fnv1a64(desc.as_bytes());
-    let mine: Vec<&Job> = jobs.iter().filter(|j| shard.contains(j.index)).collect();
+    let mine: Vec<Job> = jobs
+        .iter()
+        .filter(|j| shard.contains(j.index))
+        .cloned()
+        .collect();
     std::fs::create_dir_all(&a.out)
         .with_context(|| format!("cannot create {}", a.out.display()))?;
     let pb = Progress::new(
@@ -228,24 +234,14 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
         ctx.progress,
         "eva [{bar:40}] {pos}/{len} cases {elapsed_precise} eta {eta}",
     );
-    let results = parallel_map(&mine, a.jobs, |job| {
-        let setup = pcsim_core::Setup::from_case_with(&job.case, &ctx.budget)?;
-        let out = run_eva(&setup, &settings, &mut |_| true)
-            .map_err(|e| anyhow::anyhow!("case {}: {e}", job.index))?;
-        write_case_files(&a.out, job, &out)?;
-        pb.inc();
-        Ok::<_, anyhow::Error>(out)
-    });
+    let results = eva_sweep(&mine, &settings, &ctx.budget, a.jobs, &|| pb.inc());
     pb.finish();
-    let done: Vec<EvaOutput> = results.into_iter().collect::<Result<_>>()?;
-    let rows: Vec<EvaRow> = mine
-        .iter()
-        .zip(&done)
-        .map(|(j, o)| EvaRow {
-            seed_offset: j.seed_offset,
-            ..EvaRow::new(j.index, j.speed_kmh, j.tension_n / 1e3, &j.damping, o)
-        })
-        .collect();
+    let results = results?;
+    for c in &results {
+        write_case_files(&a.out, &c.job, &c.output)?;
+    }
+    let done: Vec<&EvaOutput> = results.iter().map(|c| &c.output).collect();
+    let rows: Vec<&EvaRow> = results.iter().map(|c| &c.row).collect();
     let mut csv = String::from(EvaRow::HEADER);
     csv.push('\n');
     for r in &rows {

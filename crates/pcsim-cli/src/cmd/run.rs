@@ -64,30 +64,8 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
             &case, &overrides, n, a.jobs, &a.out, a.plot, ctx,
         );
     }
-    let (out, wall, mut warnings) = run_with_progress(&case, &overrides, "run", ctx)?;
-    // Flags of the contact point across the head (lateral motion).
-    for p in &out.pantographs {
-        if let Some(l) = &p.lateral {
-            let n = p.position_m.len().max(1);
-            if l.samples_off_head > 0 {
-                warnings.push(format!(
-                    "pantograph {}: the contact wire left the head ({} samples beyond its half-width in the analysis section; closest margin {:.0} mm)",
-                    p.name,
-                    l.samples_off_head,
-                    l.min_head_margin_mm.unwrap_or(f64::NAN)
-                ));
-            } else if l.samples_outside_working_range > 0 {
-                warnings.push(format!(
-                    "pantograph {}: the contact point left the working range in {} samples ({:.2} % of the run; largest offset {:.0} mm)",
-                    p.name,
-                    l.samples_outside_working_range,
-                    100.0 * l.samples_outside_working_range as f64 / n as f64,
-                    l.max_lateral_offset_mm
-                ));
-            }
-        }
-    }
-    for w in warnings.iter().filter(|w| w.starts_with("pantograph ")) {
+    let (out, wall, warnings) = run_with_progress(&case, &overrides, "run", ctx)?;
+    for w in pcsim_core::analysis::report::run_verdicts(&out) {
         eprintln!("warning: {w}");
     }
     let flags = overrides.iter().map(|o| o.flag.clone()).collect();

@@ -2,8 +2,9 @@
 
 use anyhow::Result;
 use clap::Args;
-use pcsim_core::analysis::record::RunOutput;
+use pcsim_core::analysis::sweeps::validation_runs;
 use pcsim_core::analysis::validation::ValidationPlan;
+use pcsim_core::CaseError;
 
 use crate::common::{run_with_progress, Ctx};
 
@@ -24,29 +25,12 @@ pub struct ValidateArgs {
 pub fn validate(a: ValidateArgs, ctx: &Ctx) -> Result<i32> {
     let plan = ValidationPlan::new(&a.name)?;
     // Each run is single-threaded and deterministic; the runs go side by side.
-    let runs: Vec<Result<(RunOutput, f64)>> = std::thread::scope(|s| {
-        let handles: Vec<_> = plan
-            .cases
-            .iter()
-            .map(|case| {
-                let label = format!("{} km/h", case.run.speed_kmh);
-                s.spawn(move || -> Result<(RunOutput, f64)> {
-                    let (out, wall, _) = run_with_progress(case, &[], &label, ctx)?;
-                    Ok((out, wall))
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .map(|h| {
-                h.join()
-                    .unwrap_or_else(|_| Err(anyhow::anyhow!("worker panicked")))
-            })
-            .collect()
-    });
-    let runs: Vec<(RunOutput, f64)> = runs.into_iter().collect::<Result<_>>()?;
-    let outputs: Vec<RunOutput> = runs.iter().map(|r| r.0.clone()).collect();
-    let report = plan.assemble(&outputs)?;
+    let (runs, report) = validation_runs(&plan, Some(plan.cases.len().max(1)), &|case| {
+        let label = format!("{} km/h", case.run.speed_kmh);
+        run_with_progress(case, &[], &label, ctx)
+            .map(|r| r.0)
+            .map_err(|e| CaseError::Parse(format!("{e:#}")).into())
+    })?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {

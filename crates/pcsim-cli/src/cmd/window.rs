@@ -4,11 +4,9 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
-use pcsim_core::analysis::eva::{run_eva, EvaSettings};
-use pcsim_core::analysis::sweep::{parallel_map, Grid, Job, Shard};
-use pcsim_core::analysis::window_length::{
-    accuracy_length, fit_criteria, EnergyCurves, SearchSettings, Tolerances,
-};
+use pcsim_core::analysis::sweep::{Grid, Job, Shard};
+use pcsim_core::analysis::sweeps::{window_sweep, WindowRow};
+use pcsim_core::analysis::window_length::{fit_criteria, EnergyCurves, SearchSettings, Tolerances};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -85,8 +83,8 @@ enum WindowSub {
     },
 }
 
-/// The header of `window.csv`.
-pub const HEADER: &str = "index,seed_offset,speed_kmh,tension_kn,damping,length_m,mean_err_pct,sigma_err_pct,max_err_pct,windows_run,eva_step_m,eva_fraction_m,eva_step_max_m,eva_fraction_max_m,eva_step_mean_m,eva_fraction_mean_m,snapshot_total_j,max_total_j,mean_total_j";
+/// The header of `window.csv` (the core's row).
+pub const HEADER: &str = WindowRow::HEADER;
 
 const COLUMNS: &str = "length_m: the accuracy-based window length (empty: not reached within --max-window); *_err_pct: the errors of that window against the full model; eva_*: the energy-based lengths of `pcsim eva` (snapshot, maximum over the passage, time average; step criterion Δd = 1 m, 0.01 J; fraction 0.99); *_total_j: the energies the fraction criteria refer to";
 
@@ -168,7 +166,11 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
         env!("CARGO_PKG_VERSION")
     );
     let fingerprint = fnv1a64(desc.as_bytes());
-    let mine: Vec<&Job> = jobs.iter().filter(|j| shard.contains(j.index)).collect();
+    let mine: Vec<Job> = jobs
+        .iter()
+        .filter(|j| shard.contains(j.index))
+        .cloned()
+        .collect();
     std::fs::create_dir_all(a.out.join("cases"))
         .with_context(|| format!("cannot create {}", a.out.display()))?;
     let pb = Progress::new(
@@ -177,19 +179,13 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
         ctx.progress,
         "window [{bar:40}] {pos}/{len} cases {elapsed_precise} eta {eta}",
     );
-    let eva_settings = EvaSettings {
-        budget: ctx.budget,
-        ..EvaSettings::default()
-    };
-    let results = parallel_map(&mine, a.jobs, |job| {
-        let (r, _) = accuracy_length(&job.case, &search, &tol, &ctx.budget)
-            .map_err(|e| anyhow::anyhow!("case {}: {e}", job.index))?;
-        let setup = pcsim_core::Setup::from_case_with(&job.case, &ctx.budget)?;
-        let eva = run_eva(&setup, &eva_settings, &mut |_| true)
-            .map_err(|e| anyhow::anyhow!("case {} (energies): {e}", job.index))?;
-        let st = stem(job.index, job.speed_kmh, job.tension_n / 1e3);
+    let results = window_sweep(&mine, &search, &tol, &ctx.budget, a.jobs, &|| pb.inc());
+    pb.finish();
+    let results = results?;
+    for c in &results {
+        let st = stem(c.job.index, c.job.speed_kmh, c.job.tension_n / 1e3);
         let mut errs = String::from("window_m,mean_err_pct,sigma_err_pct,max_err_pct\n");
-        for e in &r.evaluated {
+        for e in &c.search.evaluated {
             let _ = writeln!(
                 errs,
                 "{},{:.6},{:.6},{:.6}",
@@ -197,51 +193,22 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
             );
         }
         std::fs::write(a.out.join("cases").join(format!("{st}_errors.csv")), errs)?;
-        let c = EnergyCurves::of(&eva);
+        let cv = &c.curves;
         let mut en = String::from("window_m,snapshot_j,max_j,mean_j\n");
-        for i in 0..c.window_m.len() {
+        for i in 0..cv.window_m.len() {
             let _ = writeln!(
                 en,
                 "{},{:.9e},{:.9e},{:.9e}",
-                c.window_m[i], c.snapshot_j[i], c.max_j[i], c.mean_j[i]
+                cv.window_m[i], cv.snapshot_j[i], cv.max_j[i], cv.mean_j[i]
             );
         }
         std::fs::write(a.out.join("cases").join(format!("{st}_energy.csv")), en)?;
-        let at = r
-            .length_m
-            .and_then(|l| r.evaluated.iter().find(|e| (e.window_m - l).abs() < 1e-9));
-        let opt = |v: Option<f64>| v.map(|x| format!("{x:.3}")).unwrap_or_default();
-        let row = format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.9e},{:.9e},{:.9e}",
-            job.index,
-            job.seed_offset,
-            job.speed_kmh,
-            job.tension_n / 1e3,
-            job.damping,
-            opt(r.length_m),
-            opt(at.map(|e| e.mean_pct)),
-            opt(at.map(|e| e.sigma_pct)),
-            opt(at.map(|e| e.max_pct)),
-            r.evaluated.len(),
-            opt(eva.snapshot.eva_step_m),
-            opt(eva.snapshot.eva_fraction_m),
-            opt(eva.max.eva_step_m),
-            opt(eva.max.eva_fraction_m),
-            opt(eva.mean.eva_step_m),
-            opt(eva.mean.eva_fraction_m),
-            c.snapshot_total_j,
-            c.max_total_j,
-            c.mean_total_j
-        );
-        pb.inc();
-        Ok::<_, anyhow::Error>(row)
-    });
-    pb.finish();
-    let rows: Vec<String> = results.into_iter().collect::<Result<_>>()?;
+    }
+    let rows: Vec<&WindowRow> = results.iter().map(|c| &c.row).collect();
     let mut csv = String::from(HEADER);
     csv.push('\n');
     for r in &rows {
-        csv.push_str(r);
+        csv.push_str(&r.to_csv());
         csv.push('\n');
     }
     std::fs::write(a.out.join("window.csv"), &csv)?;
@@ -267,23 +234,16 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
         "km/h", "kN", "seed", "length [m]", "EVA step [m]", "EVA 99% [m]", "EVA 99% max"
     );
     for r in &rows {
-        let f: Vec<&str> = r.split(',').collect();
-        let show = |s: &str| {
-            if s.is_empty() {
-                "—".to_string()
-            } else {
-                s.to_string()
-            }
-        };
+        let show = |v: Option<f64>| v.map_or("—".to_string(), |x| format!("{x:.3}"));
         println!(
             "{:>6} {:>6} {:>5} {:>12} {:>14} {:>14} {:>14}",
-            f[2],
-            f[3],
-            f[1],
-            show(f[5]),
-            show(f[10]),
-            show(f[11]),
-            show(f[13])
+            r.speed_kmh,
+            r.tension_kn,
+            r.seed_offset,
+            show(r.length_m),
+            show(r.eva_step_m),
+            show(r.eva_fraction_m),
+            show(r.eva_fraction_max_m)
         );
     }
     if shard == Shard::ALL {
@@ -348,21 +308,41 @@ fn finish(dir: &Path) -> Result<()> {
     let text =
         std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
     let mut cases = Vec::new();
-    for l in text.lines().skip(1).filter(|l| !l.is_empty()) {
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    let col = |name: &str| -> Result<usize> {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .with_context(|| format!("{}: no column `{name}`", p.display()))
+    };
+    let [c_index, c_speed, c_tension, c_length, c_snap, c_max, c_mean] = [
+        "index",
+        "speed_kmh",
+        "tension_kn",
+        "length_m",
+        "snapshot_total_j",
+        "max_total_j",
+        "mean_total_j",
+    ]
+    .map(col);
+    let (c_index, c_speed, c_tension, c_length) = (c_index?, c_speed?, c_tension?, c_length?);
+    let (c_snap, c_max, c_mean) = (c_snap?, c_max?, c_mean?);
+    for l in lines.filter(|l| !l.is_empty()) {
         let f: Vec<&str> = l.split(',').collect();
-        if f.len() < 19 {
+        if f.len() != header.len() {
             bail!("{}: bad row `{l}`", p.display());
         }
         let num = |i: usize| -> Result<f64> {
             f[i].parse()
-                .with_context(|| format!("{}: column {i} of `{l}`", p.display()))
+                .with_context(|| format!("{}: column `{}` of `{l}`", p.display(), header[i]))
         };
-        let index: usize = f[0]
+        let index: usize = f[c_index]
             .parse()
             .with_context(|| format!("{}: `{l}`", p.display()))?;
-        let st = stem(index, num(2)?, num(3)?);
-        let curves = read_curves(dir, &st, [num(16)?, num(17)?, num(18)?])?;
-        cases.push((f[5].parse::<f64>().ok(), curves));
+        let st = stem(index, num(c_speed)?, num(c_tension)?);
+        let curves = read_curves(dir, &st, [num(c_snap)?, num(c_max)?, num(c_mean)?])?;
+        cases.push((f[c_length].parse::<f64>().ok(), curves));
     }
     let refs: Vec<(Option<f64>, &EnergyCurves)> = cases.iter().map(|(a, c)| (*a, c)).collect();
     let fits = fit_criteria(&refs);

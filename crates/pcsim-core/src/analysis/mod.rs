@@ -24,5 +24,6 @@ pub mod report;
 pub mod stats;
 pub mod studies;
 pub mod sweep;
+pub mod sweeps;
 pub mod validation;
 pub mod window_length;

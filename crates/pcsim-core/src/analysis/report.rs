@@ -64,7 +64,37 @@ pub struct RunSummary {
     pub irregularity: Vec<IrregularityReport>,
 }
 
+/// The run's verdicts, built here once for every front end: a contact wire that left the
+/// pantograph head, or a contact point that left the strip's working range (lateral motion).
+pub fn run_verdicts(out: &RunOutput) -> Vec<String> {
+    let mut v = Vec::new();
+    for p in &out.pantographs {
+        if let Some(l) = &p.lateral {
+            let n = p.position_m.len().max(1);
+            if l.samples_off_head > 0 {
+                v.push(format!(
+                    "pantograph {}: the contact wire left the head ({} samples beyond its half-width in the analysis section; closest margin {:.0} mm)",
+                    p.name,
+                    l.samples_off_head,
+                    l.min_head_margin_mm.unwrap_or(f64::NAN)
+                ));
+            } else if l.samples_outside_working_range > 0 {
+                v.push(format!(
+                    "pantograph {}: the contact point left the working range in {} samples ({:.2} % of the run; largest offset {:.0} mm)",
+                    p.name,
+                    l.samples_outside_working_range,
+                    100.0 * l.samples_outside_working_range as f64 / n as f64,
+                    l.max_lateral_offset_mm
+                ));
+            }
+        }
+    }
+    v
+}
+
 impl RunSummary {
+    /// The summary of a run: `warnings` are the set-up's, and the run's verdicts
+    /// ([`run_verdicts`]) follow them.
     pub fn new(
         case: &Case,
         out: &RunOutput,
@@ -87,7 +117,7 @@ impl RunSummary {
             steps_with_slack_percent: out.steps_with_slack_percent,
             run_statistics: out.run_statistics,
             overrides,
-            warnings,
+            warnings: warnings.into_iter().chain(run_verdicts(out)).collect(),
             pantographs: out
                 .pantographs
                 .iter()

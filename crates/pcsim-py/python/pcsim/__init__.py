@@ -29,6 +29,7 @@ __all__ = [
     "Result",
     "RealtimeCatenary",
     "run",
+    "window",
     "sweep",
     "eva",
     "validate",
@@ -99,12 +100,45 @@ def eva(
     tolerance_j: float = 0.01,
     fraction: float = 0.99,
     jobs: Optional[int] = None,
+    seeds: int = 1,
+    shard: Optional[Tuple[int, int]] = None,
+    max_steps: Optional[int] = None,
+    max_memory_gb: Optional[float] = None,
 ) -> List[Dict[str, Any]]:
     """Energy distribution and EVA length over speeds (km/h) × contact-wire tensions (N): one
     dict per case with the columns of the CLI's ``eva.csv`` (lengths in m, energies in J; None
-    where a criterion was not reached)."""
+    where a criterion was not reached). The core's one sweep, as ``pcsim eva``: ``seeds``
+    realisations of the case's random inputs, a ``shard`` ``(index, count)``, and the resource
+    budget of ``--max-steps`` and ``--max-memory-gb``."""
     return json.loads(
-        _pcsim.eva(case, list(speeds_kmh), list(tensions_n), step_m, tolerance_j, fraction, jobs)
+        _pcsim.eva(case, list(speeds_kmh), list(tensions_n), step_m, tolerance_j, fraction, jobs,
+                   seeds, shard, max_steps, max_memory_gb)
+    )
+
+
+def window(
+    case: Case,
+    speeds_kmh: Sequence[float],
+    tensions_n: Sequence[float],
+    mean_tol_pct: float = 1.0,
+    sigma_tol_pct: float = 3.0,
+    max_tol_pct: float = 5.0,
+    min_window_m: Optional[float] = None,
+    max_window_m: float = 400.0,
+    coarse_m: float = 20.0,
+    resolution_m: float = 1.0,
+    jobs: Optional[int] = None,
+    seeds: int = 1,
+    shard: Optional[Tuple[int, int]] = None,
+    max_steps: Optional[int] = None,
+    max_memory_gb: Optional[float] = None,
+) -> List[Dict[str, Any]]:
+    """The accuracy-based real-time window length over speeds (km/h) × tensions (N): one dict
+    per case with the columns of ``pcsim window``'s ``window.csv``, by the same core sweep."""
+    return json.loads(
+        _pcsim.window(case, list(speeds_kmh), list(tensions_n), mean_tol_pct, sigma_tol_pct,
+                      max_tol_pct, min_window_m, max_window_m, coarse_m, resolution_m, jobs, seeds,
+                      shard, max_steps, max_memory_gb)
     )
 
 

@@ -1,0 +1,235 @@
+//! The sweeps of the studies, each one function with the resource budget, seeds and shards
+//! (issue 18): the CLI, Python and the cluster recipes call these and only write their rows.
+//!
+//! - [`eva_sweep`]: EVA over a grid ([`EvaRow`] per case, with the case's [`EvaOutput`]);
+//! - [`window_sweep`]: the accuracy-based window length over a grid ([`WindowRow`] per case, with
+//!   the errors of every window tried and the energy curves);
+//! - [`validation_runs`]: the runs of a validation plan, assembled into its report.
+
+use crate::analysis::eva::{run_eva, EvaOutput, EvaRow, EvaSettings};
+use crate::analysis::record::{simulate, RunOutput};
+use crate::analysis::sweep::{parallel_map, Grid, Job, Shard};
+use crate::analysis::validation::{ValidationPlan, ValidationReport};
+use crate::analysis::window_length::{
+    accuracy_length, EnergyCurves, SearchResult, SearchSettings, Tolerances,
+};
+use crate::error::{CaseError, SimError};
+use crate::solve::Budget;
+use crate::solve::Setup;
+
+/// A sweep's error, with the case it belongs to.
+fn in_case(index: usize, what: &str, e: impl std::fmt::Display) -> SimError {
+    SimError::Case(CaseError::InCase {
+        case: format!("case {index}{what}"),
+        source: Box::new(CaseError::Parse(e.to_string())),
+    })
+}
+
+/// The cases of `grid` that belong to `shard`, in index order.
+pub fn shard_jobs(grid: &Grid, shard: Shard) -> Result<(Vec<Job>, usize), CaseError> {
+    let all = grid.jobs()?;
+    let n = all.len();
+    Ok((
+        all.into_iter()
+            .filter(|j| shard.contains(j.index))
+            .collect(),
+        n,
+    ))
+}
+
+/// One case of an EVA sweep.
+#[derive(Debug, Clone)]
+pub struct EvaCase {
+    pub job: Job,
+    pub output: EvaOutput,
+    pub row: EvaRow,
+}
+
+/// EVA of every case of `jobs` (one shard of a grid, [`shard_jobs`]) on up to `threads` threads
+/// (`None`: every core), within `budget`; `done` is called after each case (progress). The rows
+/// come in the order of `jobs`, the same bytes with any number of threads.
+pub fn eva_sweep(
+    jobs: &[Job],
+    settings: &EvaSettings,
+    budget: &Budget,
+    threads: Option<usize>,
+    done: &(dyn Fn() + Sync),
+) -> Result<Vec<EvaCase>, SimError> {
+    parallel_map(jobs, threads, |job| {
+        let setup = Setup::from_case_with(&job.case, budget)?;
+        let output =
+            run_eva(&setup, settings, &mut |_| true).map_err(|e| in_case(job.index, "", e))?;
+        let row = EvaRow {
+            seed_offset: job.seed_offset,
+            ..EvaRow::new(
+                job.index,
+                job.speed_kmh,
+                job.tension_n / 1e3,
+                &job.damping,
+                &output,
+            )
+        };
+        done();
+        Ok(EvaCase {
+            job: job.clone(),
+            output,
+            row,
+        })
+    })
+    .into_iter()
+    .collect()
+}
+
+/// One row of a window sweep (`window.csv`): the accuracy-based length beside the energy-based
+/// EVA lengths.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct WindowRow {
+    pub index: usize,
+    pub seed_offset: u64,
+    pub speed_kmh: f64,
+    pub tension_kn: f64,
+    pub damping: String,
+    /// The accuracy-based window length, m (`None`: not reached within the longest window).
+    pub length_m: Option<f64>,
+    /// The errors of that window against the full model, %.
+    pub mean_err_pct: Option<f64>,
+    pub sigma_err_pct: Option<f64>,
+    pub max_err_pct: Option<f64>,
+    /// Windows run by the search.
+    pub windows_run: usize,
+    pub eva_step_m: Option<f64>,
+    pub eva_fraction_m: Option<f64>,
+    pub eva_step_max_m: Option<f64>,
+    pub eva_fraction_max_m: Option<f64>,
+    pub eva_step_mean_m: Option<f64>,
+    pub eva_fraction_mean_m: Option<f64>,
+    /// The energies the fraction criteria refer to, J.
+    pub snapshot_total_j: f64,
+    pub max_total_j: f64,
+    pub mean_total_j: f64,
+}
+
+impl WindowRow {
+    /// The header of `window.csv`.
+    pub const HEADER: &'static str = "index,seed_offset,speed_kmh,tension_kn,damping,length_m,mean_err_pct,sigma_err_pct,max_err_pct,windows_run,eva_step_m,eva_fraction_m,eva_step_max_m,eva_fraction_max_m,eva_step_mean_m,eva_fraction_mean_m,snapshot_total_j,max_total_j,mean_total_j";
+
+    /// The row in `window.csv`'s form (an empty cell for `None`).
+    pub fn to_csv(&self) -> String {
+        let opt = |v: Option<f64>| v.map(|x| format!("{x:.3}")).unwrap_or_default();
+        format!(
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.9e},{:.9e},{:.9e}",
+            self.index,
+            self.seed_offset,
+            self.speed_kmh,
+            self.tension_kn,
+            self.damping,
+            opt(self.length_m),
+            opt(self.mean_err_pct),
+            opt(self.sigma_err_pct),
+            opt(self.max_err_pct),
+            self.windows_run,
+            opt(self.eva_step_m),
+            opt(self.eva_fraction_m),
+            opt(self.eva_step_max_m),
+            opt(self.eva_fraction_max_m),
+            opt(self.eva_step_mean_m),
+            opt(self.eva_fraction_mean_m),
+            self.snapshot_total_j,
+            self.max_total_j,
+            self.mean_total_j
+        )
+    }
+}
+
+/// One case of a window sweep.
+#[derive(Debug, Clone)]
+pub struct WindowCase {
+    pub job: Job,
+    /// Every window the search ran, with its errors.
+    pub search: SearchResult,
+    pub curves: EnergyCurves,
+    pub row: WindowRow,
+}
+
+/// The accuracy-based window length of every case of `jobs` (one shard of a grid of a
+/// one-pantograph case), with the EVA lengths beside it; as [`eva_sweep`].
+pub fn window_sweep(
+    jobs: &[Job],
+    search: &SearchSettings,
+    tol: &Tolerances,
+    budget: &Budget,
+    threads: Option<usize>,
+    done: &(dyn Fn() + Sync),
+) -> Result<Vec<WindowCase>, SimError> {
+    let eva_settings = EvaSettings {
+        budget: *budget,
+        ..EvaSettings::default()
+    };
+    parallel_map(jobs, threads, |job| {
+        let (r, _) = accuracy_length(&job.case, search, tol, budget)
+            .map_err(|e| in_case(job.index, "", e))?;
+        let setup = Setup::from_case_with(&job.case, budget)?;
+        let eva = run_eva(&setup, &eva_settings, &mut |_| true)
+            .map_err(|e| in_case(job.index, " (energies)", e))?;
+        let curves = EnergyCurves::of(&eva);
+        let at = r
+            .length_m
+            .and_then(|l| r.evaluated.iter().find(|e| (e.window_m - l).abs() < 1e-9));
+        let row = WindowRow {
+            index: job.index,
+            seed_offset: job.seed_offset,
+            speed_kmh: job.speed_kmh,
+            tension_kn: job.tension_n / 1e3,
+            damping: job.damping.clone(),
+            length_m: r.length_m,
+            mean_err_pct: at.map(|e| e.mean_pct),
+            sigma_err_pct: at.map(|e| e.sigma_pct),
+            max_err_pct: at.map(|e| e.max_pct),
+            windows_run: r.evaluated.len(),
+            eva_step_m: eva.snapshot.eva_step_m,
+            eva_fraction_m: eva.snapshot.eva_fraction_m,
+            eva_step_max_m: eva.max.eva_step_m,
+            eva_fraction_max_m: eva.max.eva_fraction_m,
+            eva_step_mean_m: eva.mean.eva_step_m,
+            eva_fraction_mean_m: eva.mean.eva_fraction_m,
+            snapshot_total_j: curves.snapshot_total_j,
+            max_total_j: curves.max_total_j,
+            mean_total_j: curves.mean_total_j,
+        };
+        done();
+        Ok(WindowCase {
+            job: job.clone(),
+            search: r,
+            curves,
+            row,
+        })
+    })
+    .into_iter()
+    .collect()
+}
+
+/// The runs of a validation plan on up to `threads` threads, each timed, assembled into its
+/// report (`pcsim validate --json`). `run` runs one case ([`run_quietly`], or the CLI's run
+/// with progress); the outputs come with their wall times, s, in the plan's order.
+#[allow(clippy::type_complexity)]
+pub fn validation_runs(
+    plan: &ValidationPlan,
+    threads: Option<usize>,
+    run: &(dyn Fn(&crate::Case) -> Result<RunOutput, SimError> + Sync),
+) -> Result<(Vec<(RunOutput, f64)>, ValidationReport), SimError> {
+    let runs: Vec<(RunOutput, f64)> = parallel_map(&plan.cases, threads, |c| {
+        let t0 = std::time::Instant::now();
+        run(c).map(|o| (o, t0.elapsed().as_secs_f64()))
+    })
+    .into_iter()
+    .collect::<Result<_, _>>()?;
+    let outputs: Vec<RunOutput> = runs.iter().map(|r| r.0.clone()).collect();
+    let report = plan.assemble(&outputs)?;
+    Ok((runs, report))
+}
+
+/// One case run within `budget`, with no progress.
+pub fn run_quietly(case: &crate::Case, budget: &Budget) -> Result<RunOutput, SimError> {
+    let setup = Setup::from_case_with(case, budget)?;
+    simulate(&setup, &mut |_| true)
+}
