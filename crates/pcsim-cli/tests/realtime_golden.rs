@@ -1,6 +1,6 @@
 //! Issue 18: `pcsim hil` only translates the core's real-time session. The scripted input of
 //! `data/golden/realtime/` gives the statuses and, bit for bit, the outputs of `expected.csv`
-//! (made by the core), and exit status 1 because five of its rows are refused.
+//! (made by the core), and exit status 2 (an error) because five of its rows are refused.
 
 use std::process::Command;
 
@@ -25,7 +25,7 @@ fn hil_replays_the_script_as_the_core_session_does() {
         .unwrap();
     assert_eq!(
         r.status.code(),
-        Some(1),
+        Some(2),
         "{}",
         String::from_utf8_lossy(&r.stderr)
     );

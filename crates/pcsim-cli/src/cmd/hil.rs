@@ -1,8 +1,8 @@
 //! `pcsim hil`: replay a contact-force/position file through the core's real-time session (the
 //! Rust reference the FMU and the C API are tested against). The time column must advance by the
 //! case's Δt; every row goes through the session's step contract, and a row it refuses (or rolls
-//! back) is written with its status and reason instead of a height. Any such row makes the exit
-//! status 1.
+//! back) is written with its status and reason instead of a height. Any such row makes the
+//! command an error (exit status 2) after the file is written.
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
@@ -111,14 +111,13 @@ pub fn hil(a: HilArgs, ctx: &Ctx) -> Result<i32> {
         a.out.display()
     );
     if let Some((line, why)) = refused.first() {
-        eprintln!(
-            "error: {} of {} rows were not stepped (their status is in {}); the first, {} line {line}: {why}",
+        bail!(
+            "{} of {} rows were not stepped (their status is in {}); the first, {} line {line}: {why}",
             refused.len(),
             rows.len(),
             a.out.display(),
             a.input.display()
         );
-        return Ok(1);
     }
     Ok(0)
 }
