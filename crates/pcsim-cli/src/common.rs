@@ -3,9 +3,9 @@
 
 use anyhow::{bail, Context, Result};
 use pcsim_core::analysis::record::{simulate, RunOutput};
+use pcsim_core::compile::Budget;
 use pcsim_core::input::overrides::{with_overrides, OverrideValue};
 use pcsim_core::input::units::{parse_quantity, Dimension};
-use pcsim_core::solve::Budget;
 use pcsim_core::{Case, Setup};
 use std::path::{Path, PathBuf};
 use std::time::Instant;

@@ -9,7 +9,7 @@ mod progress;
 mod sweep_dir;
 
 use clap::{Parser, Subcommand};
-use pcsim_core::solve::Budget;
+use pcsim_core::compile::Budget;
 
 use crate::common::Ctx;
 use crate::progress::ProgressMode;

@@ -12,7 +12,6 @@
 
 use pcsim_core::presets;
 use pcsim_core::session::{Coupling, RealtimeSession};
-use pcsim_core::solve::realtime::RealtimeCatenary;
 
 fn main() {
     let mut args = std::env::args().skip(1);
@@ -24,7 +23,7 @@ fn main() {
     let force = |k: usize| 85.0 + 20.0 * (k as f64 * 0.008).sin();
     let mut last = 0.0;
     if which == "bare" {
-        let mut rt = RealtimeCatenary::new(&case, 215.0, Coupling::Hil).unwrap();
+        let mut rt = pcsim_core::compile::realtime_window(&case, 215.0, Coupling::Hil).unwrap();
         let (x0, dt) = (rt.start_position_m(), rt.dt_s());
         for k in 0..n {
             rt.set_input(force(k), x0 + v * dt * k as f64);

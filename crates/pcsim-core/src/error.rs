@@ -47,3 +47,13 @@ pub enum SimError {
     #[error("run cancelled")]
     Cancelled,
 }
+
+/// A non-fatal remark about a case.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Warning(pub String);
+
+impl std::fmt::Display for Warning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}

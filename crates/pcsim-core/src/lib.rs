@@ -18,6 +18,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod analysis;
+pub mod compile;
 pub mod error;
 pub mod fingerprint;
 pub mod input;
@@ -29,7 +30,8 @@ pub mod solve;
 pub mod zoo;
 
 pub use analysis::record::{run_case, simulate, RunOutput};
+pub use compile::{Budget, Setup};
 pub use error::{CaseError, SimError};
 pub use input::{presets, Case};
 pub use model::Model;
-pub use solve::{RunStatistics, Setup};
+pub use solve::RunStatistics;

@@ -110,9 +110,20 @@ impl RealtimeSession {
     /// The session of `case`'s leading pantograph in a window of `window_m` (m), coupled as
     /// `coupling`, with the plausible speed [`DEFAULT_MAX_SPEED_KMH`].
     pub fn new(case: &Case, window_m: f64, coupling: Coupling) -> Result<Self, CaseError> {
+        Self::with_budget(case, window_m, coupling, &crate::compile::Budget::default())
+    }
+
+    /// [`Self::new`] with the full model compiled within `budget` (the CLI's `--max-steps`,
+    /// `--max-memory-gb`).
+    pub fn with_budget(
+        case: &Case,
+        window_m: f64,
+        coupling: Coupling,
+        budget: &crate::compile::Budget,
+    ) -> Result<Self, CaseError> {
         let mut case = case.clone();
         case.pantographs.truncate(1);
-        let cat = RealtimeCatenary::new(&case, window_m, coupling)?;
+        let cat = crate::compile::realtime_window_with(&case, window_m, coupling, budget)?;
         let fingerprint = fnv1a64(
             format!(
                 "{}|{}|{:e}|{:e}|{:?}",

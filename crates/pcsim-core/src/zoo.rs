@@ -13,10 +13,11 @@
 //! Golden time histories of every zoo model are committed in `data/golden/zoo/`, written by
 //! `cargo run --release -p pcsim-core --example zoo_golden -- data/golden/zoo`.
 
+use crate::compile::{Setup, Stepper};
 use crate::input::case::{Damping, PantographCase};
 use crate::input::presets;
 use crate::model::ModelBuilder;
-use crate::solve::{Plan, Setup, Stepper};
+use crate::solve::Plan;
 
 /// The names of the zoo models, in a fixed order.
 pub const NAMES: &[&str] = &[

@@ -1,11 +1,11 @@
 //! Checks against analytic solutions: static deflection, natural frequencies (with and without
 //! a point mass), wave-front arrival, and a constant moving load against the exact modal series.
 
+use pcsim_core::compile::{Setup, Stepper};
 use pcsim_core::input::case::Damping;
 use pcsim_core::model::basis::SineBasis;
 use pcsim_core::model::statics::modal_static_deflection;
 use pcsim_core::model::{Direction, ModelBuilder, WireRole};
-use pcsim_core::solve::{Setup, Stepper};
 use std::f64::consts::PI;
 
 fn stepper(b: ModelBuilder) -> Stepper {

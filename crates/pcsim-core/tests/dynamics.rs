@@ -4,11 +4,11 @@ mod common;
 
 use common::{short_en50318, short_preset, with_moving_force};
 use pcsim_core::analysis::energy::{dissipation_rate, system_energy};
+use pcsim_core::compile::{Setup, Stepper};
 use pcsim_core::input::case::Damping;
 use pcsim_core::model::elements::dropper::Droppers;
 use pcsim_core::model::elements::stitch::Stitches;
 use pcsim_core::run_case;
-use pcsim_core::solve::{Setup, Stepper};
 
 #[test]
 fn droppers_go_slack_when_pushed_past_their_preload() {

@@ -2,9 +2,9 @@
 
 use pcsim_core::analysis::energy::{integrate, modal_energy, DensityGrid};
 use pcsim_core::analysis::eva::{eva_by_fraction, eva_by_step, window_energy};
+use pcsim_core::compile::{Setup, Stepper};
 use pcsim_core::input::case::Damping;
 use pcsim_core::model::{Direction, ModelBuilder, WireRole};
-use pcsim_core::solve::{Setup, Stepper};
 
 fn wire(l: f64, n: usize) -> Setup {
     Setup::from_builder(

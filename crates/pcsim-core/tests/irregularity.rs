@@ -2,10 +2,10 @@
 
 use pcsim_core::analysis::montecarlo::{monte_carlo, Spread};
 use pcsim_core::analysis::window_length::{search, SearchSettings, Tolerances, WindowErrors};
+use pcsim_core::compile::Budget;
 use pcsim_core::input::case::IrregularityCase;
 use pcsim_core::model::irregularity::{psd_amplitudes, psd_shape, IrregularityProfile};
-use pcsim_core::solve::realtime::{Coupling, RealtimeCatenary};
-use pcsim_core::solve::Budget;
+use pcsim_core::solve::realtime::Coupling;
 use pcsim_core::{presets, run_case, Case};
 
 fn psd(rms: f64, seed: u64) -> IrregularityCase {
@@ -71,7 +71,12 @@ fn generated_profiles_match_their_rms_and_psd() {
     let mut got = [0.0; 3];
     let mut rms_sum = 0.0;
     for seed in 0..seeds {
-        let p = IrregularityProfile::build(&[psd(rms, seed)], length, 60.0, &[]);
+        let p = IrregularityProfile::build(
+            &pcsim_core::compile::model::irregularity_sources(&[psd(rms, seed)]),
+            length,
+            60.0,
+            &[],
+        );
         let achieved = p.reports[0].rms_achieved_m;
         assert!(
             (achieved - rms).abs() < 0.05 * rms,
@@ -297,5 +302,5 @@ fn the_real_time_window_sees_the_irregularity() {
         ws.std_n,
         fs.std_n
     );
-    let _ = RealtimeCatenary::new(&case, 215.0, Coupling::Hil).unwrap();
+    let _ = pcsim_core::compile::realtime_window(&case, 215.0, Coupling::Hil).unwrap();
 }

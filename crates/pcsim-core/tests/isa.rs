@@ -4,7 +4,8 @@
 //! `benchmark-55m` is left out: it is chaotic (docs/validation.md), so any change of rounding
 //! moves its statistics by up to 1e-2.
 
-use pcsim_core::solve::{Isa, Setup};
+use pcsim_core::compile::Setup;
+use pcsim_core::solve::Isa;
 use pcsim_core::{presets, simulate, zoo};
 
 fn stats_agree(name: &str, setup: &Setup) {

@@ -5,11 +5,11 @@
 use pcsim_core::analysis::energy::{
     dissipation_rate, integrate, modal_energy, system_energy, DensityGrid,
 };
+use pcsim_core::compile::{Setup, Stepper};
 use pcsim_core::input::case::Damping;
 use pcsim_core::model::elements::dropper::{dropper_energy_3d, dropper_force_3d};
 use pcsim_core::model::wind_field::{davenport_coherence, FieldSpec, SpectrumModel, WindField};
 use pcsim_core::model::{Direction, ModelBuilder, WireRole};
-use pcsim_core::solve::{Setup, Stepper};
 use pcsim_core::{presets, run_case, Case};
 
 /// The exact static deflection of a pinned tensioned beam under a uniform load `q`:
@@ -580,8 +580,8 @@ fn steady_crosswind_blow_off_lies_between_the_design_formulas() {
 
 #[test]
 fn ice_adds_its_annulus_mass_and_widens_the_wire_for_drag() {
+    use pcsim_core::compile::model::ice_mass;
     use pcsim_core::input::case::IceCase;
-    use pcsim_core::model::build::ice_mass;
     // 10 mm of glaze (900 kg/m³) on a 12.4 mm wire: ρ π ((d/2 + t)² − (d/2)²) = 0.6334 kg/m.
     let (m, _) = ice_mass(900.0, 0.0124, 0.010);
     let pi = std::f64::consts::PI;

@@ -4,9 +4,7 @@
 use pcsim_core::analysis::studies::run_window_sil;
 use pcsim_core::model::basis::SineBasis;
 use pcsim_core::presets;
-use pcsim_core::solve::realtime::{
-    shift_projection, shift_projection_by_integrals, Coupling, RealtimeCatenary,
-};
+use pcsim_core::solve::realtime::{shift_projection, shift_projection_by_integrals, Coupling};
 use pcsim_core::{run_case, Case};
 
 #[test]
@@ -144,7 +142,7 @@ fn hil_mode_returns_the_full_models_wire_height_for_the_same_force() {
     let case = syt();
     let full = run_case(&case, &mut |_| true).unwrap();
     let p = &full.pantographs[0];
-    let mut rt = RealtimeCatenary::new(&case, 240.0, Coupling::Hil).unwrap();
+    let mut rt = pcsim_core::compile::realtime_window(&case, 240.0, Coupling::Hil).unwrap();
     let sec = case.run.analysis_m;
     let (mut sum2, mut n, mut worst, mut var) = (0.0, 0usize, 0.0f64, 0.0);
     let mean_h: f64 = p.wire_height_m.iter().sum::<f64>() / p.wire_height_m.len() as f64;

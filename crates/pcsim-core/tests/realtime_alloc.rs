@@ -6,9 +6,9 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
 use pcsim_core::analysis::energy::{dissipation_rate, system_energy};
+use pcsim_core::compile::Stepper;
 use pcsim_core::presets;
-use pcsim_core::solve::realtime::{Coupling, RealtimeCatenary};
-use pcsim_core::solve::Stepper;
+use pcsim_core::solve::realtime::Coupling;
 
 struct Counting;
 
@@ -42,7 +42,7 @@ fn ten_thousand_realtime_steps_allocate_nothing() {
     let (case, _) = presets::load("syt-7.0-9.8").unwrap();
     for coupling in [Coupling::Sil, Coupling::Hil] {
         let c0 = allocs();
-        let mut rt = RealtimeCatenary::new(&case, 215.0, coupling).unwrap();
+        let mut rt = pcsim_core::compile::realtime_window(&case, 215.0, coupling).unwrap();
         assert!(
             allocs() > c0,
             "the counter must see the set-up's allocations"
@@ -102,7 +102,7 @@ fn three_direction_steps_with_wind_allocate_nothing() {
     case.run.end_m = 300.0;
     case.run.analysis_m = [150.0, 300.0];
     case.run.modes = Some(240);
-    let setup = pcsim_core::solve::Setup::from_case(&case).unwrap();
+    let setup = pcsim_core::compile::Setup::from_case(&case).unwrap();
     let mut s = Stepper::new(&setup).unwrap();
     let before = allocs();
     let mut check = 0.0;
@@ -118,7 +118,7 @@ fn three_direction_steps_with_wind_allocate_nothing() {
 #[test]
 fn the_real_time_window_steps_with_lateral_motion_allocate_nothing() {
     let (case, _) = presets::load("stitched-2018-like-3d").unwrap();
-    let mut rt = RealtimeCatenary::new(&case, 240.0, Coupling::Sil).unwrap();
+    let mut rt = pcsim_core::compile::realtime_window(&case, 240.0, Coupling::Sil).unwrap();
     let before = allocs();
     let (mut lo, mut hi) = (f64::MAX, f64::MIN);
     for _ in 0..6_000 {

@@ -1,9 +1,10 @@
 //! Static shape from the design geometry: heights at the droppers within 1 mm of the design (by
 //! an independent modal solve of each wire, EI included), and the vertical force balance.
 
+use pcsim_core::compile::model::static_design;
+use pcsim_core::compile::static_balance;
 use pcsim_core::input::case::G;
 use pcsim_core::model::basis::SineBasis;
-use pcsim_core::model::static_balance;
 use pcsim_core::model::statics::{modal_static_deflection, presag_at_droppers, StaticSolution};
 use pcsim_core::presets;
 
@@ -11,7 +12,7 @@ fn check_heights(preset: &str) {
     let (mut case, _) = presets::load(preset).unwrap();
     case.catenary.spans = 6; // a short model is enough for the statics; spans are identical
     let c = &case.catenary;
-    let s = StaticSolution::solve(c);
+    let s = StaticSolution::solve(&static_design(c));
     let l = case.length_m();
     let n = (8.0 * l) as usize;
     let basis = SineBasis::new(l, n);
@@ -42,7 +43,7 @@ fn check_heights(preset: &str) {
         -c.contact_wire.mass_per_m_kg * G,
         &loads,
     );
-    let presag = presag_at_droppers(c);
+    let presag = presag_at_droppers(&static_design(c));
     for k in 0..c.spans {
         for (i, d) in c.droppers.positions_m.iter().enumerate() {
             let x = k as f64 * c.span_m + d;
@@ -126,7 +127,7 @@ fn stitch_elements_take_the_stitch_droppers_and_soften_the_support() {
     use pcsim_core::model::statics::stitch_stiffness;
     let (case, _) = presets::load("stitched-2018-like").unwrap();
     let c = &case.catenary;
-    let s = StaticSolution::solve(c);
+    let s = StaticSolution::solve(&static_design(c));
     let st = c.stitch_wire.as_ref().unwrap();
     // k = T L / (a (L − a)) with a = L/2 − 2.5 m: 3500 · 18 / (6.5 · 11.5).
     assert!((stitch_stiffness(3500.0, 18.0, 2.5) - 3500.0 * 18.0 / (6.5 * 11.5)).abs() < 1e-9);
@@ -164,7 +165,7 @@ fn vertical_forces_balance() {
 fn steady_arm_carries_the_large_static_force_readme_reports() {
     // README §5: about 200 N when the pre-sag is zero at the supports (§3.1 data).
     let (case, _) = presets::load("en50318-2002").unwrap();
-    let s = StaticSolution::solve(&case.catenary);
+    let s = StaticSolution::solve(&static_design(&case.catenary));
     assert!(
         (s.arm_force_n - 200.0).abs() < 20.0,
         "arm force {}",
@@ -179,7 +180,7 @@ fn benchmark_dropper_lengths_close_to_published_nominal_lengths() {
         1.017, 0.896, 0.810, 0.758, 0.741, 0.758, 0.810, 0.896, 1.017,
     ];
     let (case, _) = presets::load("benchmark-55m").unwrap();
-    let s = StaticSolution::solve(&case.catenary);
+    let s = StaticSolution::solve(&static_design(&case.catenary));
     // Absolute lengths agree within 10 mm (ours are ~8 mm longer throughout: a constant such as
     // clamp length in the published definition); the shape relative to the mid-span dropper
     // agrees within 2 mm.

@@ -6,11 +6,7 @@
 //! instances, so NULL, foreign, freed and doubly freed pointers give `fmi2Error` (a repeated free
 //! is a no-op). Strings returned to the host stay valid until the next call on that instance.
 
-#![allow(
-    non_snake_case,
-    clippy::missing_safety_doc,
-    clippy::not_unsafe_ptr_arg_deref
-)]
+#![allow(non_snake_case, clippy::not_unsafe_ptr_arg_deref)]
 
 use std::ffi::{c_char, c_int, c_uint, c_void, CStr};
 use std::panic::catch_unwind;
@@ -60,6 +56,7 @@ pub extern "C" fn fmi2SetDebugLogging(
     cats: *const Fmi2String,
 ) -> Fmi2Status {
     with(c, |_| {
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
         unsafe { slice(cats, n) }?;
         Ok(Status::Ok)
     })
@@ -79,9 +76,11 @@ pub extern "C" fn fmi2Instantiate(
         if name.is_null() || guid.is_null() || fmu_type != 1 {
             return std::ptr::null_mut();
         }
+        // SAFETY: checked non-NULL above; the FMI standard has the host pass NUL-terminated strings valid for the call, and they are only read (copied) here.
         let name = unsafe { CStr::from_ptr(name) }
             .to_string_lossy()
             .into_owned();
+        // SAFETY: checked non-NULL above; the FMI standard has the host pass NUL-terminated strings valid for the call, and they are only read (copied) here.
         let guid = unsafe { CStr::from_ptr(guid) }
             .to_string_lossy()
             .into_owned();
@@ -91,6 +90,7 @@ pub extern "C" fn fmi2Instantiate(
         let (logger, env) = if functions.is_null() {
             (None, 0)
         } else {
+            // SAFETY: `functions` is non-NULL (checked) and points to the host's callback struct, valid for the call (FMI 2.0 §2.1.5); two fields are copied out.
             unsafe {
                 (
                     (*functions).logger,
@@ -152,6 +152,7 @@ pub extern "C" fn fmi2GetReal(
     value: *mut f64,
 ) -> Fmi2Status {
     with(c, |k| {
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
         let (vr, value) = unsafe { (slice(vr, n)?, slice_mut(value, n)?) };
         for (v, out) in vr.iter().zip(value.iter_mut()) {
             *out = k.inst.get_real(*v)?;
@@ -168,6 +169,7 @@ pub extern "C" fn fmi2GetInteger(
     _value: *mut c_int,
 ) -> Fmi2Status {
     with(c, |_| {
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
         let vr = unsafe { slice(vr, n)? };
         match vr.first() {
             None => Ok(Status::Ok),
@@ -187,6 +189,7 @@ pub extern "C" fn fmi2GetBoolean(
     value: *mut Fmi2Boolean,
 ) -> Fmi2Status {
     with(c, |k| {
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
         let (vr, value) = unsafe { (slice(vr, n)?, slice_mut(value, n)?) };
         for (v, out) in vr.iter().zip(value.iter_mut()) {
             *out = k.inst.get_boolean(*v)? as c_int;
@@ -203,6 +206,7 @@ pub extern "C" fn fmi2GetString(
     value: *mut Fmi2String,
 ) -> Fmi2Status {
     with(c, |k| {
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
         let (vr, value) = unsafe { (slice(vr, n)?, slice_mut(value, n)?) };
         ok(k.get_strings(vr, value))
     })
@@ -216,6 +220,7 @@ pub extern "C" fn fmi2SetReal(
     value: *const f64,
 ) -> Fmi2Status {
     with(c, |k| {
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
         let (vr, value) = unsafe { (slice(vr, n)?, slice(value, n)?) };
         ok(k.set_reals(vr, value))
     })
@@ -229,6 +234,7 @@ pub extern "C" fn fmi2SetInteger(
     _value: *const c_int,
 ) -> Fmi2Status {
     with(c, |_| {
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
         let vr = unsafe { slice(vr, n)? };
         match vr.first() {
             None => Ok(Status::Ok),
@@ -248,6 +254,7 @@ pub extern "C" fn fmi2SetBoolean(
     value: *const Fmi2Boolean,
 ) -> Fmi2Status {
     with(c, |k| {
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
         let (vr, value) = unsafe { (slice(vr, n)?, slice(value, n)?) };
         for (v, x) in vr.iter().zip(value) {
             k.inst.set_boolean(*v, *x != 0)?;
@@ -264,6 +271,7 @@ pub extern "C" fn fmi2SetString(
     value: *const Fmi2String,
 ) -> Fmi2Status {
     with(c, |k| {
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
         let (vr, value) = unsafe { (slice(vr, n)?, slice(value, n)?) };
         ok(k.set_strings(vr, value))
     })
@@ -278,6 +286,7 @@ pub extern "C" fn fmi2GetFMUstate(c: Fmi2Component, s: *mut *mut c_void) -> Fmi2
 pub extern "C" fn fmi2SetFMUstate(c: Fmi2Component, s: *mut c_void) -> Fmi2Status {
     with(c, |k| {
         let p = k.own_state(s)?;
+        // SAFETY: `own_state` returned `p` only because it is a state this component handed out and has not freed: a live `Box<FmuState>`.
         ok(k.inst.set_state(unsafe { &*p }))
     })
 }
@@ -288,7 +297,9 @@ pub extern "C" fn fmi2FreeFMUstate(c: Fmi2Component, s: *mut *mut c_void) -> Fmi
         if s.is_null() {
             return Err((Status::Error, "NULL state pointer".into()));
         }
+        // SAFETY: `s` is non-NULL (checked) and points to the host's state variable (the standard's `fmi*FMUState*`), readable and writable for the call.
         k.free_state(unsafe { *s })?;
+        // SAFETY: as above: `s` is the host's non-NULL state variable.
         unsafe { *s = std::ptr::null_mut() };
         Ok(Status::Ok)
     })
@@ -321,6 +332,7 @@ pub extern "C" fn fmi2DeSerializeFMUstate(
     s: *mut *mut c_void,
 ) -> Fmi2Status {
     with(c, |k| {
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
         let bytes = unsafe { slice(b, n)? };
         ok(k.deserialize_state(bytes, s))
     })
@@ -394,6 +406,7 @@ pub extern "C" fn fmi2GetRealStatus(c: Fmi2Component, kind: c_int, v: *mut f64) 
         if k.inst.phase() == Phase::Instantiated {
             return Err((Status::Error, "no step yet".into()));
         }
+        // SAFETY: `v` is non-NULL (checked above) and points to the host's variable for the result, writable for the call.
         unsafe { *v = k.inst.time() };
         Ok(Status::Ok)
     })
@@ -422,6 +435,7 @@ pub extern "C" fn fmi2GetBooleanStatus(
                 format!("fmi2GetBooleanStatus: status kind {kind} not available"),
             ));
         }
+        // SAFETY: `v` is non-NULL (checked above) and points to the host's variable for the result, writable for the call.
         unsafe { *v = (k.inst.phase() == Phase::Terminated) as c_int };
         Ok(Status::Ok)
     })

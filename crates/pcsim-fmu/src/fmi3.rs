@@ -8,7 +8,6 @@
 
 #![allow(
     non_snake_case,
-    clippy::missing_safety_doc,
     clippy::not_unsafe_ptr_arg_deref,
     clippy::too_many_arguments
 )]
@@ -87,9 +86,11 @@ pub extern "C" fn fmi3InstantiateCoSimulation(
         if name.is_null() || token.is_null() || event_mode_used {
             return std::ptr::null_mut();
         }
+        // SAFETY: checked non-NULL above; the FMI standard has the host pass NUL-terminated strings valid for the call, and they are only read (copied) here.
         let name = unsafe { CStr::from_ptr(name) }
             .to_string_lossy()
             .into_owned();
+        // SAFETY: checked non-NULL above; the FMI standard has the host pass NUL-terminated strings valid for the call, and they are only read (copied) here.
         let token = unsafe { CStr::from_ptr(token) }.to_string_lossy();
         if token != crate::GUID {
             return std::ptr::null_mut();
@@ -174,6 +175,7 @@ pub extern "C" fn fmi3GetFloat64(
 ) -> Fmi3Status {
     with(c, |k| {
         same_count(nvr, nvalues)?;
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
         let (vr, values) = unsafe { (slice(vr, nvr)?, slice_mut(values, nvalues)?) };
         for (v, out) in vr.iter().zip(values.iter_mut()) {
             *out = if *v == crate::vars::VR_TIME {
@@ -196,6 +198,7 @@ pub extern "C" fn fmi3SetFloat64(
 ) -> Fmi3Status {
     with(c, |k| {
         same_count(nvr, nvalues)?;
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
         let (vr, values) = unsafe { (slice(vr, nvr)?, slice(values, nvalues)?) };
         ok(k.set_reals(vr, values))
     })
@@ -211,6 +214,7 @@ pub extern "C" fn fmi3GetBoolean(
 ) -> Fmi3Status {
     with(c, |k| {
         same_count(nvr, nvalues)?;
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
         let (vr, values) = unsafe { (slice(vr, nvr)?, slice_mut(values, nvalues)?) };
         for (v, out) in vr.iter().zip(values.iter_mut()) {
             *out = k.inst.get_boolean(*v)?;
@@ -229,6 +233,7 @@ pub extern "C" fn fmi3SetBoolean(
 ) -> Fmi3Status {
     with(c, |k| {
         same_count(nvr, nvalues)?;
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
         let (vr, values) = unsafe { (slice(vr, nvr)?, slice(values, nvalues)?) };
         for (v, x) in vr.iter().zip(values) {
             k.inst.set_boolean(*v, *x)?;
@@ -247,6 +252,7 @@ pub extern "C" fn fmi3GetString(
 ) -> Fmi3Status {
     with(c, |k| {
         same_count(nvr, nvalues)?;
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
         let (vr, values) = unsafe { (slice(vr, nvr)?, slice_mut(values, nvalues)?) };
         ok(k.get_strings(vr, values))
     })
@@ -262,6 +268,7 @@ pub extern "C" fn fmi3SetString(
 ) -> Fmi3Status {
     with(c, |k| {
         same_count(nvr, nvalues)?;
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
         let (vr, values) = unsafe { (slice(vr, nvr)?, slice(values, nvalues)?) };
         ok(k.set_strings(vr, values))
     })
@@ -378,6 +385,7 @@ pub extern "C" fn fmi3GetFMUState(c: Fmi3Instance, s: *mut Fmi3State) -> Fmi3Sta
 pub extern "C" fn fmi3SetFMUState(c: Fmi3Instance, s: Fmi3State) -> Fmi3Status {
     with(c, |k| {
         let p = k.own_state(s)?;
+        // SAFETY: `own_state` returned `p` only because it is a state this component handed out and has not freed: a live `Box<FmuState>`.
         ok(k.inst.set_state(unsafe { &*p }))
     })
 }
@@ -388,7 +396,9 @@ pub extern "C" fn fmi3FreeFMUState(c: Fmi3Instance, s: *mut Fmi3State) -> Fmi3St
         if s.is_null() {
             return Err((Status::Error, "NULL state pointer".into()));
         }
+        // SAFETY: `s` is non-NULL (checked) and points to the host's state variable (the standard's `fmi*FMUState*`), readable and writable for the call.
         k.free_state(unsafe { *s })?;
+        // SAFETY: as above: `s` is the host's non-NULL state variable.
         unsafe { *s = std::ptr::null_mut() };
         Ok(Status::Ok)
     })
@@ -421,6 +431,7 @@ pub extern "C" fn fmi3DeserializeFMUState(
     s: *mut Fmi3State,
 ) -> Fmi3Status {
     with(c, |k| {
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
         let bytes = unsafe { slice(b, n)? };
         ok(k.deserialize_state(bytes, s))
     })
@@ -674,6 +685,7 @@ pub extern "C" fn fmi3DoStep(
 ) -> Fmi3Status {
     with(c, |k| {
         let r = k.inst.do_step(t, h);
+        // SAFETY: each output pointer is NULL (skipped) or points to the host's variable, writable for the call (FMI 3.0 `fmi3DoStep`).
         unsafe {
             for p in [event_handling_needed, terminate, early_return] {
                 if !p.is_null() {

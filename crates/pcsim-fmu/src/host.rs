@@ -40,6 +40,8 @@ pub(crate) struct Component {
 impl Drop for Component {
     fn drop(&mut self) {
         for p in self.states.drain(..) {
+            // SAFETY: every address in `states` came from `Box::into_raw` in `hand_out` and is
+            // removed when freed, so each is a live box, dropped once here.
             drop(unsafe { Box::from_raw(p as *mut FmuState) });
         }
     }
@@ -79,6 +81,8 @@ impl Component {
         match self.logger {
             Logger::None => {}
             // The message goes through "%s" so that '%' in it is never a format directive.
+            // SAFETY: the host gave this logger at instantiation (FMI 2.0 §2.1.5) for the
+            // instance's life; every string passed is a NUL-terminated CString alive meanwhile.
             Logger::V2(logger) => unsafe {
                 logger(
                     self.env as *mut c_void,
@@ -89,6 +93,7 @@ impl Component {
                     msg.as_ptr(),
                 )
             },
+            // SAFETY: as for FMI 2.0: the host's logger, with live NUL-terminated strings.
             Logger::V3(cb) => unsafe {
                 cb(
                     self.env as *mut c_void,
@@ -167,6 +172,8 @@ impl Component {
         }
         let p = self.own_state(s)?;
         self.states.retain(|&q| q != p as usize);
+        // SAFETY: `own_state` found `p` among the states handed out (live boxes); it was just
+        // removed from the list, so it is dropped exactly once.
         drop(unsafe { Box::from_raw(p) });
         Ok(())
     }
@@ -176,12 +183,17 @@ impl Component {
         if s.is_null() {
             return Err((Status::Error, "NULL state pointer".into()));
         }
+        // SAFETY: `s` is non-NULL (checked) and is the host's state variable, readable and
+        // writable for the call (FMI 2.0 `fmi2GetFMUstate`, FMI 3.0 `fmi3GetFMUState`).
         let cur = unsafe { *s };
         if !cur.is_null() && self.states.contains(&(cur as usize)) {
+            // SAFETY: `cur` is a state this component handed out and has not freed (a live
+            // box), and the host does not use it during the call.
             let st = unsafe { &mut *(cur as *mut FmuState) };
             self.inst.get_state_into(st)
         } else {
             let st = self.inst.get_state()?;
+            // SAFETY: `s` is the host's writable state variable (above).
             unsafe { *s = self.hand_out(st) };
             Ok(())
         }
@@ -193,10 +205,14 @@ impl Component {
             return Err((Status::Error, "NULL state pointer".into()));
         }
         let st = self.inst.deserialize_state(bytes)?;
+        // SAFETY: `s` is non-NULL (checked) and is the host's state variable, readable and
+        // writable for the call.
         let cur = unsafe { *s };
         if !cur.is_null() && self.states.contains(&(cur as usize)) {
+            // SAFETY: `cur` is a live state handed out by this component (a box).
             unsafe { *(cur as *mut FmuState) = st };
         } else {
+            // SAFETY: `s` is the host's writable state variable (above).
             unsafe { *s = self.hand_out(st) };
         }
         Ok(())
@@ -205,12 +221,14 @@ impl Component {
     /// The serialised bytes of a state handed out.
     pub fn serialize_state(&self, s: *mut c_void) -> Res<Vec<u8>> {
         let p = self.own_state(s)?;
+        // SAFETY: `own_state` returned `p` only for a live state handed out by this component.
         Ok(Instance::serialize_state(unsafe { &*p }))
     }
 
     /// The serialised size of state `s`, written to the host's `size` (both ABIs).
     pub fn serialized_size_into(&self, s: *mut c_void, size: *mut usize) -> Res {
         let n = self.serialize_state(s)?.len();
+        // SAFETY: the host passes a writable `size_t` (NULL is refused by `slice_mut`).
         let size = unsafe { slice_mut(size, 1)? };
         size[0] = n;
         Ok(())
@@ -225,6 +243,7 @@ impl Component {
                 format!("buffer of {n} bytes for a state of {} bytes", bytes.len()),
             ));
         }
+        // SAFETY: the host passes a buffer of `n` writable bytes (NULL is refused).
         let out = unsafe { slice_mut(b, n)? };
         out.copy_from_slice(&bytes);
         Ok(())
@@ -249,6 +268,8 @@ pub(crate) fn unregister(c: *mut c_void) {
     if let Some(i) = l.iter().position(|&p| p == c as usize) {
         l.swap_remove(i);
         drop(l);
+        // SAFETY: `c` was in the registry, so it came from `Box::into_raw` in `register` and
+        // was not freed; it has just been removed, so it is dropped exactly once.
         drop(unsafe { Box::from_raw(c as *mut Component) });
     }
 }
@@ -259,9 +280,12 @@ pub(crate) fn with(c: *mut c_void, f: impl FnOnce(&mut Component) -> Res<Status>
         return ERROR;
     }
     let comp = c as *mut Component;
+    // SAFETY: `c` is in the registry of live components (checked), and the FMI standard lets a
+    // host call one instance from one thread at a time, so this is the only reference.
     match catch_unwind(AssertUnwindSafe(|| f(unsafe { &mut *comp }))) {
         Ok(Ok(s)) => s as c_int,
         Ok(Err((s, msg))) => {
+            // SAFETY: the same live component; the closure's borrow has ended.
             let comp = unsafe { &mut *comp };
             comp.log(s, &msg);
             if s == Status::Fatal {
@@ -270,6 +294,7 @@ pub(crate) fn with(c: *mut c_void, f: impl FnOnce(&mut Component) -> Res<Status>
             s as c_int
         }
         Err(_) => {
+            // SAFETY: the same live component; the panicking closure's borrow has ended.
             let comp = unsafe { &mut *comp };
             comp.inst.fail();
             comp.log(
@@ -286,6 +311,9 @@ pub(crate) fn ok(r: Res) -> Res<Status> {
 }
 
 /// Slices from host arrays; NULL with n > 0 is an error.
+///
+/// # Safety
+/// `p` is NULL or points to `n` initialised values that stay valid and unchanged for `'a`.
 pub(crate) unsafe fn slice<'a, T>(p: *const T, n: usize) -> Res<&'a [T]> {
     if n == 0 {
         return Ok(&[]);
@@ -293,9 +321,14 @@ pub(crate) unsafe fn slice<'a, T>(p: *const T, n: usize) -> Res<&'a [T]> {
     if p.is_null() {
         return Err((Status::Error, "NULL array".into()));
     }
+    // SAFETY: non-NULL, and `n` valid values for `'a` (the caller's contract).
     Ok(unsafe { std::slice::from_raw_parts(p, n) })
 }
 
+/// A mutable slice of a host array; NULL with n > 0 is an error.
+///
+/// # Safety
+/// `p` is NULL or points to `n` writable values that nothing else uses for `'a`.
 pub(crate) unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Res<&'a mut [T]> {
     if n == 0 {
         return Ok(&mut []);
@@ -303,6 +336,8 @@ pub(crate) unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Res<&'a mut [T]> {
     if p.is_null() {
         return Err((Status::Error, "NULL array".into()));
     }
+    // SAFETY: non-NULL, and `n` writable values used by nothing else for `'a` (the caller's
+    // contract).
     Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
 }
 
@@ -323,5 +358,7 @@ pub(crate) fn host_str(p: *const c_char) -> Res<String> {
     if p.is_null() {
         return Err((Status::Error, "NULL string".into()));
     }
+    // SAFETY: non-NULL (checked); the FMI standard has the host pass NUL-terminated strings
+    // valid for the call, and the string is only copied here.
     Ok(unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned())
 }

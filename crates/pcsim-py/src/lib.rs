@@ -18,9 +18,9 @@ use pcsim_core::analysis::sweeps::{
 };
 use pcsim_core::analysis::validation::ValidationPlan;
 use pcsim_core::analysis::window_length::{SearchSettings, Tolerances};
+use pcsim_core::compile::Budget;
 use pcsim_core::input::overrides::{with_overrides, OverrideValue};
 use pcsim_core::session::{Coupling, RealtimeSession};
-use pcsim_core::solve::Budget;
 use pcsim_core::{presets, Setup};
 
 fn err(e: impl std::fmt::Display) -> PyErr {

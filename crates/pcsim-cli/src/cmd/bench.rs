@@ -193,8 +193,8 @@ fn percentiles(ns: &mut [u64]) -> [f64; 4] {
 
 /// Step-latency distribution of the real-time window catenary on one core.
 fn bench_realtime(a: &BenchArgs, ctx: &Ctx) -> Result<i32> {
-    use pcsim_core::solve::budget::check_len;
-    use pcsim_core::solve::realtime::{Coupling, RealtimeCatenary};
+    use pcsim_core::compile::budget::check_len;
+    use pcsim_core::solve::realtime::Coupling;
     let preset = a.preset.clone().unwrap_or_else(|| "syt-7.0-9.8".into());
     let mut case = presets::load(&preset)?.0;
     case.pantographs.truncate(1);
@@ -231,7 +231,7 @@ fn bench_realtime(a: &BenchArgs, ctx: &Ctx) -> Result<i32> {
     let mut n_moves = 0;
     let mut wall = 0.0;
     for _ in 0..a.repeat {
-        let mut rt = RealtimeCatenary::new(&case, window, coupling)?;
+        let mut rt = pcsim_core::compile::realtime_window(&case, window, coupling)?;
         let dt = rt.dt_s();
         let mut move_ns = Vec::with_capacity(steps / 100 + 16);
         let mut guard = 0.0;

@@ -69,8 +69,7 @@ pub fn hil(a: HilArgs, ctx: &Ctx) -> Result<i32> {
     }
     let window = length("--window", &a.window)?;
     let rows = read_input(&a.input)?;
-    crate::common::setup(&case, &[], ctx)?;
-    let mut rt = RealtimeSession::new(&case, window, Coupling::Hil)?;
+    let mut rt = RealtimeSession::with_budget(&case, window, Coupling::Hil, &ctx.budget)?;
     rt.set_max_speed_kmh(a.max_speed_kmh)?;
     let dt = rt.dt_s();
     let x0 = rt.start_position_m();

@@ -2,10 +2,11 @@
 //! length at which it converges (paper §2.4; README §2.5–2.7).
 
 use crate::analysis::energy::{integrate, DensityGrid};
+use crate::compile::budget::{check_len, Budget};
+use crate::compile::Setup;
 use crate::error::SimError;
-use crate::solve::budget::{check_len, Budget};
 use crate::solve::run::{run, Observer};
-use crate::solve::{Integrator, Setup, State, Workspace};
+use crate::solve::{Integrator, State, Workspace};
 
 /// Settings of an EVA evaluation.
 #[derive(Debug, Clone, PartialEq)]

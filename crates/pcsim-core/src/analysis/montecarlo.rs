@@ -7,9 +7,9 @@ use serde::Serialize;
 
 use crate::analysis::record::{simulate, RunOutput};
 use crate::analysis::sweep::parallel_map;
+use crate::compile::{Budget, Setup};
 use crate::error::SimError;
 use crate::input::case::Case;
-use crate::solve::{Budget, Setup};
 
 /// Mean, standard deviation (N − 1) and a 95 % confidence interval of the mean (Student's t).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]

@@ -3,13 +3,14 @@
 
 use crate::analysis::filter::lowpass_zero_phase;
 use crate::analysis::stats::{contact_stats, lateral_stats, ContactStats, LateralStats, CUTOFF_HZ};
+use crate::compile::Setup;
 use crate::error::SimError;
 use crate::input::case::Case;
 use crate::model::irregularity::IrregularityReport;
 use crate::model::wind::WindReport;
 use crate::model::Direction;
 use crate::solve::run::{run, Observer, RunStatistics};
-use crate::solve::{Integrator, Setup, State, Workspace};
+use crate::solve::{Integrator, State, Workspace};
 
 /// Time histories of one pantograph.
 #[derive(Debug, Clone, PartialEq)]

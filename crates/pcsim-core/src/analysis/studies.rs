@@ -4,11 +4,11 @@
 use crate::analysis::record::{simulate, Recorder, RunOutput};
 use crate::analysis::stats::ContactStats;
 use crate::analysis::sweep::parallel_map;
+use crate::compile::Setup;
 use crate::error::{CaseError, SimError};
 use crate::input::case::{Case, PantographCase};
-use crate::solve::realtime::{Coupling, RealtimeCatenary};
+use crate::solve::realtime::Coupling;
 use crate::solve::run::run;
-use crate::solve::Setup;
 
 /// Result of a window run in SIL mode.
 #[derive(Debug, Clone, PartialEq)]
@@ -38,7 +38,7 @@ pub fn run_window_sil(case: &Case, window_m: f64) -> Result<WindowRun, SimError>
     }
     let mut single = case.clone();
     single.pantographs.truncate(1);
-    let mut rt = RealtimeCatenary::new(&single, window_m, Coupling::Sil)?;
+    let mut rt = crate::compile::realtime_window(&single, window_m, Coupling::Sil)?;
     let (duration_s, analysis_m) = rt.full_run();
     let n_steps = (duration_s / rt.dt_s()).ceil() as usize;
     let n_modes = rt.n_modes();

@@ -2,9 +2,9 @@
 //! and merged back by case index. Each case runs single-threaded and deterministically, so a
 //! sweep gives the same bytes with any number of threads or shards.
 
+use crate::compile::Setup;
 use crate::error::CaseError;
 use crate::input::case::{Case, Damping};
-use crate::solve::Setup;
 
 /// Map `f` over `items` on a pool of `jobs` threads (`None`: all cores), keeping the order.
 pub fn parallel_map<T: Sync, R: Send>(

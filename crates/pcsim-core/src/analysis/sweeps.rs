@@ -13,9 +13,9 @@ use crate::analysis::validation::{ValidationPlan, ValidationReport};
 use crate::analysis::window_length::{
     accuracy_length, EnergyCurves, SearchResult, SearchSettings, Tolerances,
 };
+use crate::compile::Budget;
+use crate::compile::Setup;
 use crate::error::{CaseError, SimError};
-use crate::solve::Budget;
-use crate::solve::Setup;
 
 /// A sweep's error, with the case it belongs to.
 fn in_case(index: usize, what: &str, e: impl std::fmt::Display) -> SimError {

@@ -20,9 +20,9 @@ use crate::analysis::eva::{eva_by_fraction, eva_by_step, EvaOutput};
 use crate::analysis::record::simulate;
 use crate::analysis::stats::ContactStats;
 use crate::analysis::studies::run_window_sil;
+use crate::compile::{Budget, Setup};
 use crate::error::{CaseError, SimError};
 use crate::input::case::Case;
-use crate::solve::{Budget, Setup};
 
 /// Tolerances on the window's 0–20 Hz force statistics against the full model's, %.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]

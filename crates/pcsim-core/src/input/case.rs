@@ -9,13 +9,13 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 use crate::error::CaseError;
+pub use crate::error::Warning;
 pub use crate::input::irregularity::{IrregularityCase, PsdTable};
 pub use crate::input::lateral::{
     AeroCase, Dof, IceCase, LateralCase, SectionCase, Spectrum, WindCase, WindProfile,
 };
-
-/// Gravitational acceleration, m/s².
-pub const G: f64 = 9.81;
+pub use crate::model::statics::{Presag, PresagZero, G};
+pub use crate::model::wire::Damping;
 
 /// Provenance of each sourced field: dotted path → source text.
 pub type Provenance = BTreeMap<String, String>;
@@ -106,39 +106,6 @@ pub struct WireCase {
     /// motion, wind, ice).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub section: Option<SectionCase>,
-}
-
-/// Where the pre-sag parabola is zero.
-#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
-#[serde(rename_all = "snake_case")]
-pub enum PresagZero {
-    /// `presag(ξ) = 4 s ξ (1 − ξ)` over the whole span.
-    Supports,
-    /// The parabola spans the first to the last dropper; the contact wire is level from the
-    /// support to the first dropper.
-    EndDroppers,
-}
-
-/// Design pre-sag of the contact wire (downward, m), at each dropper.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-pub enum Presag {
-    Parabolic {
-        mid_span_m: f64,
-        zero_at: PresagZero,
-    },
-    /// Pre-sag at each dropper, in dropper order.
-    Table { values_m: Vec<f64> },
-}
-
-/// Damping of the wires' own modes (paper §2.1 uses Rayleigh α = β = 0.02; README §2.2).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-pub enum Damping {
-    /// `C = αM + βK` on each wire's modal matrices.
-    Rayleigh { alpha: f64, beta: f64 },
-    /// The same damping ratio on every sine mode of each wire.
-    Modal { ratio: f64 },
 }
 
 /// Droppers: positions within a span (same in every span) and properties.
@@ -273,16 +240,6 @@ pub struct RunCase {
         skip_serializing_if = "crate::input::lateral::is_vertical_only"
     )]
     pub dofs: Vec<Dof>,
-}
-
-/// A non-fatal remark about a case.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Warning(pub String);
-
-impl std::fmt::Display for Warning {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
 }
 
 impl Case {

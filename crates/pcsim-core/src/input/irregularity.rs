@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use super::case::{check_bound, inv, Bound, Case, Warning};
 use crate::error::CaseError;
+pub use crate::model::irregularity::PsdTable;
 
 /// One source of irregularity (`[[irregularity]]`).
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -41,14 +42,6 @@ pub enum IrregularityCase {
     /// repeated at each span), random with `rms_m`, seeded, linear between droppers and zero at
     /// the supports.
     Droppers { rms_m: f64, seed: u64 },
-}
-
-/// A PSD shape over wavelength.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct PsdTable {
-    pub wavelength_m: Vec<f64>,
-    pub psd: Vec<f64>,
 }
 
 impl IrregularityCase {

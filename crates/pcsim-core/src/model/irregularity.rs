@@ -11,10 +11,54 @@
 
 use rustfft::num_complex::Complex;
 use rustfft::FftPlanner;
-use serde::Serialize;
 
-use crate::input::case::{IrregularityCase, PsdTable};
 use crate::model::wind_field::SplitMix64;
+use serde::{Deserialize, Serialize};
+
+/// One source of irregularity, as the model takes it (the compile step fills it from the case's
+/// `[[irregularity]]`).
+#[derive(Debug, Clone, PartialEq)]
+pub enum IrregularitySource {
+    /// Deviation (m, upward positive) at positions (m, increasing), linear in between.
+    Table {
+        position_m: Vec<f64>,
+        deviation_m: Vec<f64>,
+        /// Where the table came from (a file name), for the outputs.
+        source_file: String,
+    },
+    /// A random profile with the one-sided PSD `S(λ) ∝ λ^exponent` (or a table) in a band,
+    /// scaled to `rms_m`, seeded.
+    Psd {
+        rms_m: f64,
+        min_wavelength_m: f64,
+        max_wavelength_m: f64,
+        exponent: f64,
+        table: Option<PsdTable>,
+        seed: u64,
+    },
+    /// Random height errors at the droppers, the same in every span, seeded.
+    Droppers { rms_m: f64, seed: u64 },
+}
+
+impl IrregularitySource {
+    /// The seed of a random source.
+    pub fn seed(&self) -> Option<u64> {
+        match self {
+            IrregularitySource::Psd { seed, .. } | IrregularitySource::Droppers { seed, .. } => {
+                Some(*seed)
+            }
+            IrregularitySource::Table { .. } => None,
+        }
+    }
+}
+
+/// A PSD shape over wavelength.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PsdTable {
+    pub wavelength_m: Vec<f64>,
+    pub psd: Vec<f64>,
+}
 
 /// What the outputs say about one source.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -64,14 +108,14 @@ impl IrregularityProfile {
     /// Build the sum of `sources` over a model of `length_m` with spans of `span_m` and droppers
     /// at `dropper_positions_m` within each span.
     pub fn build(
-        sources: &[IrregularityCase],
+        sources: &[IrregularitySource],
         length_m: f64,
         span_m: f64,
         dropper_positions_m: &[f64],
     ) -> Self {
         let mut dx: f64 = 0.1;
         for s in sources {
-            if let IrregularityCase::Psd {
+            if let IrregularitySource::Psd {
                 min_wavelength_m, ..
             } = s
             {
@@ -83,14 +127,14 @@ impl IrregularityProfile {
         let mut reports = Vec::new();
         for s in sources {
             let part: Vec<f64> = match s {
-                IrregularityCase::Table {
+                IrregularitySource::Table {
                     position_m,
                     deviation_m,
                     ..
                 } => (0..n)
                     .map(|k| table_at(position_m, deviation_m, k as f64 * dx))
                     .collect(),
-                IrregularityCase::Psd {
+                IrregularitySource::Psd {
                     rms_m,
                     min_wavelength_m,
                     max_wavelength_m,
@@ -106,7 +150,7 @@ impl IrregularityProfile {
                     table.as_ref(),
                     *seed,
                 ),
-                IrregularityCase::Droppers { rms_m, seed } => {
+                IrregularitySource::Droppers { rms_m, seed } => {
                     dropper_profile(n, dx, span_m, dropper_positions_m, *rms_m, *seed)
                 }
             };
@@ -118,20 +162,20 @@ impl IrregularityProfile {
             };
             reports.push(IrregularityReport {
                 kind: match s {
-                    IrregularityCase::Table { .. } => "table",
-                    IrregularityCase::Psd { .. } => "psd",
-                    IrregularityCase::Droppers { .. } => "droppers",
+                    IrregularitySource::Table { .. } => "table",
+                    IrregularitySource::Psd { .. } => "psd",
+                    IrregularitySource::Droppers { .. } => "droppers",
                 }
                 .into(),
                 seed: s.seed(),
                 rms_target_m: match s {
-                    IrregularityCase::Psd { rms_m, .. }
-                    | IrregularityCase::Droppers { rms_m, .. } => Some(*rms_m),
-                    IrregularityCase::Table { .. } => None,
+                    IrregularitySource::Psd { rms_m, .. }
+                    | IrregularitySource::Droppers { rms_m, .. } => Some(*rms_m),
+                    IrregularitySource::Table { .. } => None,
                 },
                 rms_achieved_m: single.rms_over(length_m),
                 source_file: match s {
-                    IrregularityCase::Table { source_file, .. } => source_file.clone(),
+                    IrregularitySource::Table { source_file, .. } => source_file.clone(),
                     _ => String::new(),
                 },
             });

@@ -28,7 +28,7 @@ pub mod wind_field;
 pub mod window;
 pub mod wire;
 
-pub use build::{static_balance, ModelBuilder, StaticBalance};
+pub use build::ModelBuilder;
 pub use dof::{BlockKey, Direction, Layout};
 pub use elements::{Attach, PointElement};
 pub use pantograph::{Lumped, Pantograph, PantographKind};

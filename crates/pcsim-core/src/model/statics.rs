@@ -22,8 +22,34 @@
 //! analytic profile plus the modal deviation, never a truncated sine series of the static shape
 //! (README §5).
 
-use crate::input::case::{CatenaryCase, Presag, PresagZero, G};
 use crate::model::basis::SineBasis;
+use serde::{Deserialize, Serialize};
+
+/// Gravitational acceleration, m/s².
+pub const G: f64 = 9.81;
+
+/// Where the pre-sag parabola is zero.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum PresagZero {
+    /// `presag(ξ) = 4 s ξ (1 − ξ)` over the whole span.
+    Supports,
+    /// The parabola spans the first to the last dropper; the contact wire is level from the
+    /// support to the first dropper.
+    EndDroppers,
+}
+
+/// Design pre-sag of the contact wire (downward, m), at each dropper.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Presag {
+    Parabolic {
+        mid_span_m: f64,
+        zero_at: PresagZero,
+    },
+    /// Pre-sag at each dropper, in dropper order.
+    Table { values_m: Vec<f64> },
+}
 
 /// A span-periodic piecewise-parabolic wire profile: nodal heights, and between nodes the
 /// parabola of a tensioned wire under its weight (`T y'' = w`).
@@ -130,9 +156,42 @@ pub struct StitchStatic {
     pub force_n: f64,
 }
 
+/// What the static shape needs of a catenary's design (one span, repeated): the compile step
+/// fills it from a case (`compile::model::static_design`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StaticDesign {
+    pub span_m: f64,
+    pub spans: usize,
+    /// System height at the supports, m.
+    pub encumbrance_m: f64,
+    /// Dropper positions within a span, m.
+    pub dropper_x_m: Vec<f64>,
+    pub presag: Presag,
+    /// Whether the steady arm holds the contact wire at its design height at the support.
+    pub arm_holds_contact: bool,
+    pub contact_mass_per_m_kg: f64,
+    pub contact_tension_n: f64,
+    pub messenger_mass_per_m_kg: f64,
+    pub messenger_tension_n: f64,
+    pub dropper_mass_per_m_kg: f64,
+    pub clamp_mass_contact_kg: f64,
+    pub clamp_mass_messenger_kg: f64,
+    pub stitch: Option<StitchDesign>,
+}
+
+/// A stitch wire's design: the droppers it carries and its own data.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StitchDesign {
+    pub droppers: Vec<usize>,
+    pub tension_n: f64,
+    pub length_m: f64,
+    pub clamp_mass_kg: f64,
+    pub mass_per_m_kg: f64,
+}
+
 /// Contact-wire pre-sag at each dropper (positive downward), m.
-pub fn presag_at_droppers(c: &CatenaryCase) -> Vec<f64> {
-    let d = &c.droppers.positions_m;
+pub fn presag_at_droppers(c: &StaticDesign) -> Vec<f64> {
+    let d = &c.dropper_x_m;
     match &c.presag {
         Presag::Table { values_m } => values_m.clone(),
         Presag::Parabolic {
@@ -161,12 +220,12 @@ pub fn presag_at_droppers(c: &CatenaryCase) -> Vec<f64> {
 
 impl StaticSolution {
     /// Solve the static shape of the catenary of `c`.
-    pub fn solve(c: &CatenaryCase) -> Self {
+    pub fn solve(c: &StaticDesign) -> Self {
         let s = c.span_m;
-        let d = &c.droppers.positions_m;
+        let d = &c.dropper_x_m;
         let nd = d.len();
         let presag = presag_at_droppers(c);
-        let hold = c.steady_arm.static_support;
+        let hold = c.arm_holds_contact;
         let mut xs = Vec::new();
         let mut hs = Vec::new();
         if hold {
@@ -180,20 +239,20 @@ impl StaticSolution {
             hs,
             span_m: s,
             n_spans: c.spans,
-            w: c.contact_wire.mass_per_m_kg * G,
-            t: c.contact_wire.tension_n,
+            w: c.contact_mass_per_m_kg * G,
+            t: c.contact_tension_n,
         };
         let nf = contact.node_forces();
         let off = hold as usize;
         let fc: Vec<f64> = (0..nd)
-            .map(|i| nf[i + off] + c.droppers.clamp_mass_contact_kg * G)
+            .map(|i| nf[i + off] + c.clamp_mass_contact_kg * G)
             .collect();
         let arm = if hold { nf[0] } else { 0.0 };
 
         // Stitch elements.
         let stitch: Vec<Option<(f64, f64)>> = (0..nd)
             .map(|i| {
-                c.stitch_wire
+                c.stitch
                     .as_ref()
                     .filter(|st| st.droppers.contains(&i))
                     .map(|st| {
@@ -205,15 +264,15 @@ impl StaticSolution {
             .collect();
 
         // Messenger: iterate on dropper lengths (their weight loads the messenger).
-        let wm = c.messenger.mass_per_m_kg * G;
-        let tm = c.messenger.tension_n;
+        let wm = c.messenger_mass_per_m_kg * G;
+        let tm = c.messenger_tension_n;
         let mut len = vec![c.encumbrance_m; nd];
         let mut hm = vec![c.encumbrance_m; nd];
         let mut fm = fc.clone();
         let mut st_force = vec![0.0; nd];
         for _ in 0..8 {
             fm = (0..nd)
-                .map(|i| fc[i] + c.droppers.mass_per_m_kg * G * len[i])
+                .map(|i| fc[i] + c.dropper_mass_per_m_kg * G * len[i])
                 .collect();
             let loads: Vec<f64> = (0..nd)
                 .map(|i| match stitch[i] {
@@ -221,7 +280,7 @@ impl StaticSolution {
                         st_force[i] = fm[i] + m * G;
                         st_force[i]
                     }
-                    None => fm[i] + c.droppers.clamp_mass_messenger_kg * G,
+                    None => fm[i] + c.clamp_mass_messenger_kg * G,
                 })
                 .collect();
             let ra = loads
@@ -250,7 +309,7 @@ impl StaticSolution {
         let loads_total: f64 = (0..nd)
             .map(|i| match stitch[i] {
                 Some(_) => st_force[i],
-                None => fm[i] + c.droppers.clamp_mass_messenger_kg * G,
+                None => fm[i] + c.clamp_mass_messenger_kg * G,
             })
             .sum();
         let mut mxs = vec![0.0];

@@ -144,7 +144,7 @@ pub fn mean_at_height(u_ref: f64, z_ref: f64, z: f64, profile: &Profile) -> f64 
     }
 }
 
-/// The mean-wind profile (model side of `input::lateral::WindProfile`).
+/// The mean-wind profile (the model side of the case's `[wind] profile`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Profile {
     Log { roughness_m: f64 },

@@ -8,11 +8,20 @@
 //! be followed from the case file (`catenary.contact_wire.tension_n`) through
 //! [`Section::tension_n`] to both.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
-use crate::input::case::Damping;
 use crate::model::basis::SineBasis;
 use crate::model::dof::Direction;
+
+/// Damping of the wires' own modes (paper §2.1 uses Rayleigh α = β = 0.02; README §2.2).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Damping {
+    /// `C = αM + βK` on each wire's modal matrices.
+    Rayleigh { alpha: f64, beta: f64 },
+    /// The same damping ratio on every sine mode of each wire.
+    Modal { ratio: f64 },
+}
 
 /// What a wire is in the catenary.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

@@ -1049,11 +1049,26 @@ impl Integrator {
         &ws.u
     }
 
-    /// Advance `st` by one fixed step Δt. Allocation-free; the work is the same every step.
+    /// Advance `st` by one fixed step Δt (Eq. 18), in eight named stages, as MuJoCo's
+    /// `mj_step`: drift, gather, fixed point forces, modal right-hand side, wind, moving points,
+    /// implicit solve and kick, pantographs. Allocation-free; the work is the same every step.
     pub fn step(&self, st: &mut State, ws: &mut Workspace) {
+        self.drift(st);
+        self.gather(st, ws);
+        self.fixed_point_forces(st, ws);
+        self.modal_rhs(st, ws);
+        self.wind(st, ws);
+        self.moving_points(st, ws);
+        self.implicit_solve(st, ws);
+        self.pantographs(st, ws);
+    }
+
+    /// Stage 1, drift: the half kick and the drift of the modal coordinates (the exact flow of the
+    /// torsional modes), of the pantograph and node coordinates; the time advances by Δt.
+    #[inline(always)]
+    fn drift(&self, st: &mut State) {
         let dt = self.dt;
         let h = 0.5 * dt;
-        let m = &self.model;
         let isa = self.isa;
         for &(a, b, exact) in &self.segments {
             let (q, v, acc) = (
@@ -1079,7 +1094,12 @@ impl Integrator {
             nd.u[j] += dt * nd.v[j];
         }
         st.t += dt;
+    }
 
+    /// Stage 2, gather: the wires' displacement and velocity at every point (the sampler, the hot
+    /// spot) and the nodes' own; the force accumulators are cleared.
+    #[inline(always)]
+    fn gather(&self, st: &mut State, ws: &mut Workspace) {
         // Point displacements and velocities.
         for g in &self.groups {
             g.sampler.gather(
@@ -1101,7 +1121,14 @@ impl Integrator {
         let nn = st.nodes.u.len();
         ws.u[self.node_u0..self.node_u0 + nn].copy_from_slice(&st.nodes.u);
         ws.vel[self.node_v0..self.node_v0 + nn].copy_from_slice(&st.nodes.v);
+    }
 
+    /// Stage 3, fixed point forces: droppers (Eq. 15), supports, steady arms, stitches and
+    /// registrations at their slots; the nodes' accelerations and half kick.
+    #[inline(always)]
+    fn fixed_point_forces(&self, st: &mut State, ws: &mut Workspace) {
+        let h = 0.5 * self.dt;
+        let m = &self.model;
         // Point forces of the fixed elements.
         let mut io = Io {
             u: &ws.u,
@@ -1118,7 +1145,13 @@ impl Integrator {
             st.nodes.a[j] = ws.f[self.node_u0 + j] / node.mass_kg;
             st.nodes.v[j] += h * st.nodes.a[j];
         }
+    }
 
+    /// Stage 4, modal right-hand side: `−K q − C v` of every mode (Eqs. 9–14) plus the point forces
+    /// scattered onto the modes (Eq. 18).
+    #[inline(always)]
+    fn modal_rhs(&self, st: &mut State, ws: &mut Workspace) {
+        let isa = self.isa;
         // Right-hand sides, stored in the acceleration array.
         kernels::modal_rhs(
             isa,
@@ -1136,7 +1169,14 @@ impl Integrator {
                 &mut ws.scr,
             );
         }
+    }
 
+    /// Stage 5, wind: the crosswind's fluctuating pressures on the grid, scattered onto the loaded
+    /// wires (the mean is projected exactly, once).
+    #[inline(always)]
+    fn wind(&self, st: &mut State, ws: &mut Workspace) {
+        let m = &self.model;
+        let isa = self.isa;
         // Crosswind: the grid's pressures (fluctuation about the mean, which is projected
         // exactly), one scatter onto every loaded wire, each block its share.
         if let (Some(w), Some(wl)) = (&self.wind, &m.wind) {
@@ -1159,7 +1199,14 @@ impl Integrator {
                 );
             }
         }
+    }
 
+    /// Stage 6, moving points: each pantograph's contact row and wire height, the contact force
+    /// (Eq. 19) and its scatter, and the contact samples (height, lateral position).
+    #[inline(always)]
+    fn moving_points(&self, st: &mut State, ws: &mut Workspace) {
+        let m = &self.model;
+        let isa = self.isa;
         // Moving points (contacts, Eq. 19): rows, heights, forces.
         for (mi, mp) in self.moving.iter().enumerate() {
             let x = self.moving_x(st, &ws.external, mp);
@@ -1218,13 +1265,28 @@ impl Integrator {
                 ws.samples[p].lateral_m = z;
             }
         }
+    }
 
+    /// Stage 7, implicit solve and kick: the diagonal modal solve `(M + Δt/2 C)⁻¹`, the Woodbury
+    /// correction of the implicit point masses and dampers, and the second half kick.
+    #[inline(always)]
+    fn implicit_solve(&self, st: &mut State, ws: &mut Workspace) {
+        let h = 0.5 * self.dt;
+        let isa = self.isa;
         // Solve for the accelerations and finish the velocities.
         kernels::scale(isa, &mut st.modal.a, &self.d_inv);
         for imp in &self.implicit {
             imp.correct(&mut st.modal.a, &self.neg_d_inv, &mut ws.scr, &mut ws.imp);
         }
         kernels::kick(isa, &mut st.modal.v, &st.modal.a, h);
+    }
+
+    /// Stage 8, pantographs: the wire velocity at the contact and each lumped pantograph's
+    /// accelerations and half kick (Eq. 16).
+    #[inline(always)]
+    fn pantographs(&self, st: &mut State, ws: &mut Workspace) {
+        let h = 0.5 * self.dt;
+        let isa = self.isa;
         for (p, pm) in self.pan_point.iter().enumerate() {
             if let Some(mi) = *pm {
                 let mp = &self.moving[mi];

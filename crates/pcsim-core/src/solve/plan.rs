@@ -2,7 +2,7 @@
 //! time step). Both are separate from the model, which is the problem only.
 
 use crate::error::CaseError;
-use crate::input::case::{Case, Warning};
+use crate::error::Warning;
 use crate::model::{Model, WireRole};
 use crate::solve::kernels::Isa;
 
@@ -42,24 +42,6 @@ impl Options {
 }
 
 impl Plan {
-    /// The plan of a validated case: the run lasts until the rearmost pantograph reaches
-    /// `run.end_m`.
-    pub fn from_case(case: &Case) -> Plan {
-        let v = case.speed_m_s();
-        let max_off = case
-            .pantographs
-            .iter()
-            .map(|p| p.offset_m())
-            .fold(0.0, f64::max);
-        Plan {
-            speed_kmh: case.run.speed_kmh,
-            speed_m_s: v,
-            start_m: case.run.start_m,
-            duration_s: (case.run.end_m - (case.run.start_m - max_off)) / v,
-            analysis_m: case.run.analysis_m,
-        }
-    }
-
     /// Number of fixed steps of length `dt` that cover the duration.
     pub fn n_steps(&self, dt: f64) -> usize {
         (self.duration_s / dt).ceil() as usize

@@ -32,14 +32,12 @@
 //!   cut off at the overlap's end carries a small Gibbs error.
 
 use crate::error::{CaseError, SimError};
-use crate::input::case::Case;
 use crate::model::WireRole;
 use crate::solve::integrator::Integrator;
 use crate::solve::plan::Plan;
 use crate::solve::run::Observer;
 use crate::solve::state::State;
 use crate::solve::workspace::Workspace;
-use crate::solve::Setup;
 
 /// How the real-time catenary is coupled to the pantograph.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -333,24 +331,24 @@ pub fn force_limit_n(static_force_n: f64) -> f64 {
 }
 
 impl RealtimeCatenary {
-    /// Build the window model of `case` with window length `window_m` (at the full model's mode
-    /// density), placed around the leading pantograph's start.
-    pub fn new(case: &Case, window_m: f64, coupling: Coupling) -> Result<Self, CaseError> {
-        if case.wind.is_some() {
-            return Err(CaseError::Invalid {
-                field: "wind".into(),
-                value: "given".into(),
-                reason: "the real-time window does not carry a crosswind (its turbulence is generated for the full model's run); remove [wind] for the window".into(),
-            });
-        }
-        let full = Setup::from_case(case)?;
-        let static_force = match case.pantographs.first() {
-            Some(crate::input::case::PantographCase::Lumped { uplift_n, .. }) => *uplift_n,
-            Some(crate::input::case::PantographCase::MovingForce { force_n, .. }) => *force_n,
-            None => 0.0,
-        };
-        let span = case.catenary.span_m;
-        let l = full.model.length_m();
+    /// The window model, `window_m` long (at the full model's mode density), placed around the
+    /// leading pantograph's start (the compile step's `compile::realtime_window` builds it from a
+    /// case). `full_model`,
+    /// `full_plan` and `options` are the full model's; `span_m` its span; `static_force_n` the
+    /// leading pantograph's static force (the bound on HIL forces, [`force_limit_n`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        full_model: &crate::model::Model,
+        full_plan: &Plan,
+        options: crate::solve::Options,
+        span_m: f64,
+        static_force_n: f64,
+        window_m: f64,
+        coupling: Coupling,
+    ) -> Result<Self, CaseError> {
+        let static_force = static_force_n;
+        let span = span_m;
+        let l = full_model.length_m();
         if !(window_m.is_finite() && window_m >= 0.5 * span && window_m < l) {
             return Err(CaseError::Invalid {
                 field: "window_m".into(),
@@ -358,23 +356,21 @@ impl RealtimeCatenary {
                 reason: format!("the window must be at least half a span ({} m) and shorter than the model ({l} m)", 0.5 * span),
             });
         }
-        let density = full.model.n_modes() as f64 / l;
+        let density = full_model.n_modes() as f64 / l;
         let n = ((density * window_m).round() as usize).max(1);
         let m = ((window_m / (2.0 * span)).floor() as usize).max(1);
         let shift_m = m as f64 * span;
         let trigger_m = (0.5 * window_m + 0.5 * shift_m).min(window_m);
-        let lead_offset = full.model.pantographs.first().map_or(0.0, |p| p.offset_m);
-        let x_start = full.plan.start_m - lead_offset + full.plan.speed_m_s * 0.0;
+        let lead_offset = full_model.pantographs.first().map_or(0.0, |p| p.offset_m);
+        let x_start = full_plan.start_m - lead_offset + full_plan.speed_m_s * 0.0;
         let origin_m = span * ((x_start - 0.5 * window_m).max(0.0) / span).floor();
-        let model = full
-            .model
-            .window(origin_m, window_m, n, coupling == Coupling::Hil);
+        let model = full_model.window(origin_m, window_m, n, coupling == Coupling::Hil);
         let plan = Plan {
-            start_m: full.plan.start_m - origin_m,
-            ..full.plan.clone()
+            start_m: full_plan.start_m - origin_m,
+            ..full_plan.clone()
         };
         let mover = WindowMover::new(&model, window_m, n, shift_m, trigger_m);
-        let integ = Integrator::new(model, &plan, full.options)?;
+        let integ = Integrator::new(model, &plan, options)?;
         let mut st = integ.initial_state(plan.start_m);
         st.track_origin_m = origin_m;
         let ws = integ.workspace();
@@ -388,8 +384,8 @@ impl RealtimeCatenary {
             n,
             input: (x_start, 0.0),
             start_m: x_start,
-            full_duration_s: full.plan.duration_s,
-            analysis_m: full.plan.analysis_m,
+            full_duration_s: full_plan.duration_s,
+            analysis_m: full_plan.analysis_m,
             length_m: l,
             max_speed_kmh: DEFAULT_MAX_SPEED_KMH,
             force_limit_n: force_limit_n(static_force),

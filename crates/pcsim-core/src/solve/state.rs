@@ -38,11 +38,7 @@ impl Dofs {
     }
 
     fn is_finite(&self) -> bool {
-        self.u
-            .iter()
-            .chain(&self.v)
-            .chain(&self.a)
-            .all(|x| x.is_finite())
+        all_finite(&self.u) && all_finite(&self.v) && all_finite(&self.a)
     }
 
     fn write(&self, out: &mut Vec<u8>) {
@@ -100,6 +96,25 @@ impl<'a> ByteReader<'a> {
     pub fn is_done(&self) -> bool {
         self.bytes.is_empty()
     }
+}
+
+/// Whether every value is finite, without a branch per value: `0·x` is ±0 for a finite `x` and
+/// NaN otherwise, and four independent sums of it vectorise (the real-time session checks the
+/// whole state after every step; a short-circuiting scan cost 6 k instructions per step of the
+/// 215 m window).
+fn all_finite(xs: &[f64]) -> bool {
+    let mut acc = [0.0f64; 4];
+    let mut chunks = xs.chunks_exact(4);
+    for c in &mut chunks {
+        for i in 0..4 {
+            acc[i] += c[i] * 0.0;
+        }
+    }
+    let mut r = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+    for &x in chunks.remainder() {
+        r += x * 0.0;
+    }
+    r == 0.0
 }
 
 /// The state at time `t`.
@@ -274,5 +289,24 @@ impl State {
             let o = model.layout.blocks[b].offset;
             self.modal.a[o..o + n].fill(0.0);
         }
+    }
+}
+
+#[cfg(test)]
+mod finite_tests {
+    #[test]
+    fn all_finite_finds_any_non_finite_value() {
+        for n in 0..11 {
+            let v = vec![1.5; n];
+            assert!(super::all_finite(&v));
+            for i in 0..n {
+                for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+                    let mut w = v.clone();
+                    w[i] = bad;
+                    assert!(!super::all_finite(&w), "n {n}, index {i}, {bad}");
+                }
+            }
+        }
+        assert!(super::all_finite(&[f64::MAX, -f64::MAX, 0.0, -0.0, 1e-310]));
     }
 }

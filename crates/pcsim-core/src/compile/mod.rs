@@ -1,0 +1,179 @@
+//! The compile step (MuJoCo's rule: no engine file reads the file format): the one place that
+//! reads a [`Case`] and turns it into what the engine takes — the [`Model`] (`model.rs`), the
+//! [`Plan`] of the run and the integrator's [`Options`], checked once: the case validated, the
+//! resources estimated against the [`Budget`], the speed and the time step checked for stability.
+//!
+//! Layers: `model/` and `solve/` import nothing from `input/`; `input/` reuses the model's
+//! vocabulary (damping, pre-sag, sections); this module imports them all (`tests/layers.rs`).
+
+pub mod budget;
+pub mod model;
+
+pub use budget::{Budget, Estimate};
+pub use model::{model_from_case, static_balance, StaticBalance, CONTACT, MESSENGER};
+
+use crate::error::{CaseError, Warning};
+use crate::input::case::Case;
+use crate::model::build::BuilderRun;
+use crate::model::Model;
+use crate::solve::integrator::{self, Integrator};
+use crate::solve::realtime::{Coupling, RealtimeCatenary};
+use crate::solve::{ContactSample, Options, Plan, State, Workspace};
+
+/// The plan of a validated case: the run lasts until the rearmost pantograph reaches
+/// `run.end_m`.
+pub fn plan_of(case: &Case) -> Plan {
+    let v = case.speed_m_s();
+    let max_off = case
+        .pantographs
+        .iter()
+        .map(|p| p.offset_m())
+        .fold(0.0, f64::max);
+    Plan {
+        speed_kmh: case.run.speed_kmh,
+        speed_m_s: v,
+        start_m: case.run.start_m,
+        duration_s: (case.run.end_m - (case.run.start_m - max_off)) / v,
+        analysis_m: case.run.analysis_m,
+    }
+}
+
+/// What a case becomes: the model (the problem), the plan of the run and the integrator's
+/// options, with the warnings found on the way.
+#[derive(Debug, Clone)]
+pub struct Setup {
+    pub model: Model,
+    pub plan: Plan,
+    pub options: Options,
+    pub warnings: Vec<Warning>,
+}
+
+impl Setup {
+    /// Validate a case and build its model, plan and options, within the default [`Budget`].
+    pub fn from_case(case: &Case) -> Result<Setup, CaseError> {
+        Self::from_case_with(case, &Budget::default())
+    }
+
+    /// [`Setup::from_case`] within a given budget: the run's steps and memory are estimated
+    /// from the case before anything is built, and refused with an error naming the cause when
+    /// they exceed it.
+    pub fn from_case_with(case: &Case, budget: &Budget) -> Result<Setup, CaseError> {
+        // Validated once, here; the model is built from the validated case.
+        let validated = case.validate()?;
+        budget.check(case)?;
+        let (model, mut warnings) = model::model_from_validated(case, validated)?;
+        let plan = plan_of(case);
+        warnings.extend(plan.check(&model)?);
+        let options = Options::new(case.run.dt_s);
+        // Δt against the explicit limits, here so that a set-up never holds an unstable step
+        // (`Integrator::new` checks again: the window and hand-made models come to it directly).
+        integrator::check_stability(&model, options.dt_s)?;
+        Ok(Setup {
+            model,
+            plan,
+            options,
+            warnings,
+        })
+    }
+
+    /// A hand-made model and its run (`model::ModelBuilder`).
+    pub fn from_builder((model, run): (Model, BuilderRun)) -> Setup {
+        let length = model.length_m();
+        Setup {
+            model,
+            plan: Plan {
+                speed_kmh: run.speed_m_s * 3.6,
+                speed_m_s: run.speed_m_s,
+                start_m: run.start_m,
+                duration_s: run.duration_s,
+                analysis_m: [0.0, length],
+            },
+            options: Options::new(run.dt_s),
+            warnings: Vec::new(),
+        }
+    }
+
+    /// The integrator of this set-up.
+    pub fn integrator(&self) -> Result<Integrator, CaseError> {
+        Integrator::new(self.model.clone(), &self.plan, self.options)
+    }
+
+    /// Number of steps of the run.
+    pub fn n_steps(&self) -> usize {
+        self.plan.n_steps(self.options.dt_s)
+    }
+}
+
+/// An integrator with its state and workspace: the convenient way to step a set-up by hand.
+#[derive(Debug, Clone)]
+pub struct Stepper {
+    pub integ: Integrator,
+    pub state: State,
+    pub ws: Workspace,
+}
+
+impl Stepper {
+    /// A stepper at the initial (static) state of the set-up.
+    pub fn new(setup: &Setup) -> Result<Stepper, CaseError> {
+        let integ = setup.integrator()?;
+        let state = integ.initial_state(setup.plan.start_m);
+        let ws = integ.workspace();
+        Ok(Stepper { integ, state, ws })
+    }
+
+    /// One step.
+    pub fn step(&mut self) {
+        self.integ.step(&mut self.state, &mut self.ws);
+    }
+
+    /// The model.
+    pub fn model(&self) -> &Model {
+        self.integ.model()
+    }
+
+    /// Contact samples of the last step.
+    pub fn samples(&self) -> &[ContactSample] {
+        self.ws.samples()
+    }
+}
+
+/// The real-time window of `case` (its first pantograph; the session drops the others), `window_m`
+/// long, coupled as `coupling`: the full model is compiled once, and the window is cut from it.
+pub fn realtime_window(
+    case: &Case,
+    window_m: f64,
+    coupling: Coupling,
+) -> Result<RealtimeCatenary, CaseError> {
+    realtime_window_with(case, window_m, coupling, &Budget::default())
+}
+
+/// [`realtime_window`] with the full model compiled within `budget`.
+pub fn realtime_window_with(
+    case: &Case,
+    window_m: f64,
+    coupling: Coupling,
+    budget: &Budget,
+) -> Result<RealtimeCatenary, CaseError> {
+    if case.wind.is_some() {
+        return Err(CaseError::Invalid {
+            field: "wind".into(),
+            value: "given".into(),
+            reason: "the real-time window does not carry a crosswind (its turbulence is generated for the full model's run); remove [wind] for the window".into(),
+        });
+    }
+    let full = Setup::from_case_with(case, budget)?;
+    let static_force_n = match case.pantographs.first() {
+        Some(crate::input::case::PantographCase::Lumped { uplift_n, .. }) => *uplift_n,
+        Some(crate::input::case::PantographCase::MovingForce { force_n, .. }) => *force_n,
+        None => 0.0,
+    };
+    RealtimeCatenary::new(
+        &full.model,
+        &full.plan,
+        full.options,
+        case.catenary.span_m,
+        static_force_n,
+        window_m,
+        coupling,
+    )
+}

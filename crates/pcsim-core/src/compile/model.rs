@@ -1,0 +1,659 @@
+//! A case becomes a model ([`model_from_case`]): the one place where a case's catenary, wires,
+//! elements, pantographs, wind and irregularity become the model's data. This is where every
+//! element kind is registered (hand-made models for analytic checks and the zoo come from
+//! `model::ModelBuilder`).
+
+use crate::error::{CaseError, Warning};
+use crate::input::case::{
+    Case, CatenaryCase, Dof, IrregularityCase, PantographCase, Spectrum, WindProfile, WireCase,
+};
+use crate::model::basis::SineBasis;
+use crate::model::dof::Direction;
+use crate::model::elements::contact::{Contact, ContactLaw, Contacts};
+use crate::model::elements::dropper::{Dropper, Droppers};
+use crate::model::elements::registration::{Registration, Registrations};
+use crate::model::elements::steady_arm::{SteadyArm, SteadyArms};
+use crate::model::elements::stitch::{Stitch, Stitches};
+use crate::model::elements::support::{Support, Supports};
+use crate::model::elements::{Attach, PointElement};
+use crate::model::irregularity::{IrregularityProfile, IrregularitySource};
+use crate::model::lateral::LateralGeometry;
+use crate::model::pantograph::{Lumped, Pantograph, PantographKind};
+use crate::model::statics::{StaticDesign, StaticSolution, StitchDesign, G};
+use crate::model::wind::{mean_at_height, Profile, WindLoad, WindReport, WireWind};
+use crate::model::wind_field::{FieldSpec, SpectrumModel, WindField};
+use crate::model::wire::{Section, Wire, WireRole};
+use crate::model::{Model, Node, StaticShape};
+
+/// What the static shape needs of a case's catenary.
+pub fn static_design(c: &CatenaryCase) -> StaticDesign {
+    StaticDesign {
+        span_m: c.span_m,
+        spans: c.spans,
+        encumbrance_m: c.encumbrance_m,
+        dropper_x_m: c.droppers.positions_m.clone(),
+        presag: c.presag.clone(),
+        arm_holds_contact: c.steady_arm.static_support,
+        contact_mass_per_m_kg: c.contact_wire.mass_per_m_kg,
+        contact_tension_n: c.contact_wire.tension_n,
+        messenger_mass_per_m_kg: c.messenger.mass_per_m_kg,
+        messenger_tension_n: c.messenger.tension_n,
+        dropper_mass_per_m_kg: c.droppers.mass_per_m_kg,
+        clamp_mass_contact_kg: c.droppers.clamp_mass_contact_kg,
+        clamp_mass_messenger_kg: c.droppers.clamp_mass_messenger_kg,
+        stitch: c.stitch_wire.as_ref().map(|s| StitchDesign {
+            droppers: s.droppers.clone(),
+            tension_n: s.tension_n,
+            length_m: s.length_m,
+            clamp_mass_kg: s.clamp_mass_kg,
+            mass_per_m_kg: s.mass_per_m_kg,
+        }),
+    }
+}
+
+/// A case's irregularity sources as the model's.
+pub fn irregularity_sources(v: &[IrregularityCase]) -> Vec<IrregularitySource> {
+    v.iter()
+        .map(|s| match s {
+            IrregularityCase::Table {
+                position_m,
+                deviation_m,
+                source_file,
+            } => IrregularitySource::Table {
+                position_m: position_m.clone(),
+                deviation_m: deviation_m.clone(),
+                source_file: source_file.clone(),
+            },
+            IrregularityCase::Psd {
+                rms_m,
+                min_wavelength_m,
+                max_wavelength_m,
+                exponent,
+                table,
+                seed,
+            } => IrregularitySource::Psd {
+                rms_m: *rms_m,
+                min_wavelength_m: *min_wavelength_m,
+                max_wavelength_m: *max_wavelength_m,
+                exponent: *exponent,
+                table: table.clone(),
+                seed: *seed,
+            },
+            IrregularityCase::Droppers { rms_m, seed } => IrregularitySource::Droppers {
+                rms_m: *rms_m,
+                seed: *seed,
+            },
+        })
+        .collect()
+}
+
+/// Index of the messenger and of the contact wire in a catenary model built from a case.
+pub const MESSENGER: usize = 0;
+pub const CONTACT: usize = 1;
+
+/// Mass per metre of radial ice of thickness `t` on a wire of diameter `d` (the annulus), kg/m,
+/// and its polar mass moment per metre, kg·m.
+pub fn ice_mass(density_kg_m3: f64, d: f64, t: f64) -> (f64, f64) {
+    let (r, ro) = (0.5 * d, 0.5 * d + t);
+    let pi = std::f64::consts::PI;
+    (
+        density_kg_m3 * pi * (ro * ro - r * r),
+        density_kg_m3 * 0.5 * pi * (ro.powi(4) - r.powi(4)),
+    )
+}
+
+/// The section of a wire for the dynamics: the dynamic mass per metre (clamps and ice smeared
+/// in), the vertical data, and the lateral and torsional data of `section` when given (lateral
+/// bending stiffness defaults to the vertical one; torsion data are zero when not modelled).
+fn section(mass_per_m_kg: f64, w: &WireCase, ice_polar_kg_m: f64) -> Section {
+    let mut s = Section::vertical(mass_per_m_kg, w.tension_n, w.ei_nm2);
+    if let Some(sc) = &w.section {
+        s.ei_lateral_nm2 = sc.ei_lateral_nm2.unwrap_or(w.ei_nm2);
+        s.gj_nm2 = sc.gj_nm2.unwrap_or(0.0);
+        s.polar_inertia_kg_m = sc.polar_inertia_kg_m.unwrap_or(0.0) + ice_polar_kg_m;
+    }
+    s
+}
+
+/// The directions of a case.
+fn directions(case: &Case) -> Vec<Direction> {
+    Direction::ALL
+        .into_iter()
+        .filter(|d| {
+            case.run.dofs.contains(&match d {
+                Direction::Vertical => Dof::Vertical,
+                Direction::Lateral => Dof::Lateral,
+                Direction::Torsional => Dof::Torsional,
+            })
+        })
+        .collect()
+}
+
+/// Duration of a case's run, s (the rearmost pantograph from its start to `end_m`).
+fn run_duration_s(case: &Case) -> f64 {
+    let max_off = case
+        .pantographs
+        .iter()
+        .map(|p| p.offset_m())
+        .fold(0.0, f64::max);
+    (case.run.end_m - (case.run.start_m - max_off)) / case.speed_m_s().max(1e-9)
+}
+
+/// The crosswind of a case on the model's wires (messenger, contact wire): the mean wind at
+/// each wire's height, the aerodynamic coefficients, the linearised aerodynamic damping and the
+/// generated turbulence on a grid along the line.
+fn wind_load(case: &Case, diam: [f64; 2], length_m: f64) -> Option<WindLoad> {
+    let wd = case.wind.as_ref()?;
+    let c = &case.catenary;
+    let lat = c.lateral.as_ref()?;
+    let profile = match wd.profile {
+        WindProfile::Log { roughness_m } => Profile::Log { roughness_m },
+        WindProfile::Power { exponent } => Profile::Power { exponent },
+    };
+    let normal = wd.yaw_deg.to_radians().sin().abs();
+    let rho = wd.air_density_kg_m3;
+    let heights = [
+        lat.contact_wire_height_m + c.encumbrance_m,
+        lat.contact_wire_height_m,
+    ];
+    let mut wires = Vec::new();
+    for (wire, w) in [(MESSENGER, &c.messenger), (CONTACT, &c.contact_wire)] {
+        let aero = w.section.as_ref().and_then(|s| s.aero.as_ref())?;
+        let d = diam[wire];
+        let (cd, cl, cm) = aero.at(0.0);
+        let (_, dcl) = aero.slopes_at_zero();
+        let u = normal
+            * mean_at_height(
+                wd.mean_speed_m_s,
+                wd.reference_height_m,
+                heights[wire],
+                &profile,
+            );
+        wires.push(WireWind {
+            wire,
+            height_m: heights[wire],
+            mean_normal_m_s: u,
+            lateral_m: d * cd,
+            vertical_m: d * cl,
+            torsional_m2: d * d * cm,
+            damping_lateral: rho * d * cd * u,
+            damping_vertical: 0.5 * rho * d * u * (dcl + cd),
+        });
+    }
+    let sigma = wd.turbulence_intensity * wd.mean_speed_m_s;
+    let u_c = mean_at_height(
+        wd.mean_speed_m_s,
+        wd.reference_height_m,
+        lat.contact_wire_height_m,
+        &profile,
+    );
+    let n_grid = (length_m / wd.grid_m).floor() as usize;
+    let xs: Vec<f64> = (1..n_grid)
+        .map(|g| g as f64 * wd.grid_m)
+        .filter(|&x| x < length_m - 1e-9)
+        .collect();
+    let duration = run_duration_s(case) + 2.0 * wd.dt_s;
+    let spectrum = match wd.spectrum {
+        Spectrum::Kaimal { integral_length_m } => Some(SpectrumModel::Kaimal {
+            integral_length_m,
+            mean_m_s: u_c,
+        }),
+        Spectrum::Davenport => Some(SpectrumModel::Davenport {
+            reference_m_s: wd.mean_speed_m_s,
+        }),
+        Spectrum::None => None,
+    };
+    let field = match spectrum {
+        Some(sp) if sigma > 0.0 => WindField::generate(
+            &xs,
+            &FieldSpec {
+                spectrum: sp,
+                sigma_m_s: sigma,
+                mean_m_s: u_c.max(0.1),
+                coherence_decay: wd.coherence_decay,
+            },
+            wd.dt_s,
+            duration,
+            wd.seed,
+        ),
+        _ => WindField::calm(&xs, wd.dt_s),
+    };
+    let achieved = field.std_over(duration) / wd.mean_speed_m_s.max(1e-12);
+    Some(WindLoad {
+        air_density_kg_m3: rho,
+        normal_fraction: normal,
+        wires,
+        field,
+        grid_m: wd.grid_m,
+        report: WindReport {
+            mean_speed_m_s: wd.mean_speed_m_s,
+            reference_height_m: wd.reference_height_m,
+            yaw_deg: wd.yaw_deg,
+            spectrum: spectrum.map_or("none", |s| s.name()).into(),
+            seed: wd.seed,
+            turbulence_intensity_target: wd.turbulence_intensity,
+            turbulence_intensity_achieved: achieved,
+        },
+    })
+}
+
+fn default_name(name: &str, i: usize) -> String {
+    if !name.is_empty() {
+        name.to_string()
+    } else if i == 0 {
+        "leading".to_string()
+    } else {
+        format!("pantograph-{}", i + 1)
+    }
+}
+
+/// The pantographs of a case, and one contact per pantograph on the contact wire.
+fn pantographs(
+    case: &Case,
+    contact_wire: usize,
+    eccentricity_m: f64,
+    twist: bool,
+) -> (Vec<Pantograph>, Contacts) {
+    let mut contacts = Vec::new();
+    let pans = case
+        .pantographs
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let (mut head, mut working) = (None, None);
+            let (name, offset_m, kind, law) = match p {
+                PantographCase::Lumped {
+                    name,
+                    offset_m,
+                    masses_kg,
+                    stiffness_n_per_m,
+                    damping_ns_per_m,
+                    uplift_n,
+                    aero_coeffs_kmh,
+                    head_half_width_m,
+                    working_half_width_m,
+                } => (
+                    {
+                        head = *head_half_width_m;
+                        working = *working_half_width_m;
+                        name
+                    },
+                    offset_m,
+                    PantographKind::Lumped(Lumped {
+                        masses_kg: masses_kg.clone(),
+                        stiffness_n_per_m: stiffness_n_per_m.clone(),
+                        damping_ns_per_m: damping_ns_per_m.clone(),
+                        uplift_n: *uplift_n,
+                        aero_coeffs_kmh: aero_coeffs_kmh.clone(),
+                    }),
+                    ContactLaw::Penalty {
+                        stiffness_n_per_m: case.contact.stiffness_n_per_m,
+                    },
+                ),
+                PantographCase::MovingForce {
+                    name,
+                    offset_m,
+                    force_n,
+                } => (
+                    name,
+                    offset_m,
+                    PantographKind::MovingForce { force_n: *force_n },
+                    ContactLaw::Prescribed,
+                ),
+            };
+            contacts.push(Contact {
+                pantograph: i,
+                wire: contact_wire,
+                dir: Direction::Vertical,
+                law,
+                eccentricity_m,
+                twist,
+            });
+            Pantograph {
+                name: default_name(name, i),
+                offset_m: *offset_m,
+                kind,
+                head_half_width_m: head,
+                working_half_width_m: working,
+            }
+        })
+        .collect();
+    (pans, Contacts(contacts))
+}
+
+/// Build the model of a case (validated first).
+///
+/// Deviation from the paper: dropper clamp masses (and half of each dropper's own mass) are
+/// smeared into the wires' mass per metre instead of being point masses, as the reference
+/// README §5 allows (σ changes by ≤ 1 N); point masses treated explicitly would be unstable.
+/// Steady-arm masses stay point masses, solved exactly in the mass matrix.
+pub fn model_from_case(case: &Case) -> Result<(Model, Vec<Warning>), CaseError> {
+    let warnings = case.validate()?;
+    model_from_validated(case, warnings)
+}
+
+/// [`model_from_case`] for a case already validated, whose validation gave `warnings`.
+pub fn model_from_validated(
+    case: &Case,
+    mut warnings: Vec<Warning>,
+) -> Result<(Model, Vec<Warning>), CaseError> {
+    let dirs = directions(case);
+    let lateral = dirs.contains(&Direction::Lateral);
+    let torsional = dirs.contains(&Direction::Torsional);
+    // Ice: its mass joins the wires' (statics and dynamics); the design geometry is kept.
+    let mut c = case.catenary.clone();
+    let diam = |w: &WireCase| w.section.as_ref().map_or(0.0, |s| s.diameter_m);
+    let mut diameters = [diam(&c.messenger), diam(&c.contact_wire)];
+    let mut ice_polar = [0.0; 2];
+    if let Some(ice) = &c.ice {
+        for (i, t) in [(MESSENGER, ice.messenger_m), (CONTACT, ice.contact_wire_m)] {
+            let (m, j) = ice_mass(ice.density_kg_m3, diameters[i], t);
+            let w = if i == MESSENGER {
+                &mut c.messenger
+            } else {
+                &mut c.contact_wire
+            };
+            w.mass_per_m_kg += m;
+            ice_polar[i] = j;
+            diameters[i] += 2.0 * t;
+        }
+    }
+    let c = &c;
+    let stat = StaticSolution::solve(&static_design(c));
+    for (i, len) in stat.dropper_length_m.iter().enumerate() {
+        if !len.is_finite() || *len <= 0.05 {
+            return Err(CaseError::Invalid {
+                field: "catenary.encumbrance_m".into(),
+                value: c.encumbrance_m.to_string(),
+                reason: format!("the static messenger sags onto the contact wire: dropper {} would be {:.3} m long", i + 1, len),
+            });
+        }
+    }
+    let l = case.length_m();
+    let basis = SineBasis::new(l, case.n_modes());
+    let nd = c.droppers.positions_m.len() as f64;
+    let mean_len = stat.dropper_length_m.iter().sum::<f64>() / nd;
+    let half_dropper = 0.5 * c.droppers.mass_per_m_kg * mean_len;
+    let rho_c = c.contact_wire.mass_per_m_kg
+        + nd * (c.droppers.clamp_mass_contact_kg + half_dropper) / c.span_m;
+    // Stitch droppers' upper clamps are the stitch nodes (own degrees of freedom).
+    let n_on_messenger = nd - c.stitch_wire.as_ref().map_or(0, |st| st.droppers.len()) as f64;
+    let rho_m = c.messenger.mass_per_m_kg
+        + (n_on_messenger * c.droppers.clamp_mass_messenger_kg + nd * half_dropper) / c.span_m;
+    let wind = wind_load(case, diameters, l);
+    // The linearised aerodynamic damping of the wind joins each wire's modal damping.
+    let aero = |wire: usize, dir: Direction| {
+        wind.as_ref()
+            .and_then(|wl| wl.wires.iter().find(|ww| ww.wire == wire))
+            .map_or(0.0, |ww| match dir {
+                Direction::Lateral => ww.damping_lateral,
+                Direction::Vertical => ww.damping_vertical,
+                Direction::Torsional => 0.0,
+            })
+    };
+    let wires: Vec<Wire> = [
+        (
+            "messenger",
+            WireRole::Messenger,
+            rho_m,
+            &c.messenger,
+            MESSENGER,
+        ),
+        (
+            "contact_wire",
+            WireRole::Contact,
+            rho_c,
+            &c.contact_wire,
+            CONTACT,
+        ),
+    ]
+    .into_iter()
+    .map(|(name, role, rho, wc, i)| {
+        Wire::new(
+            name,
+            role,
+            0.0,
+            basis.clone(),
+            section(rho, wc, ice_polar[i]),
+            c.damping.clone(),
+            &dirs,
+        )
+        .with_added_damping(Direction::Lateral, aero(i, Direction::Lateral))
+        .with_added_damping(Direction::Vertical, aero(i, Direction::Vertical))
+    })
+    .collect();
+    if let Some(wl) = &wind {
+        for ww in &wl.wires {
+            if ww.damping_vertical < 0.0 {
+                warnings.push(Warning(format!(
+                    "wind: the {} has negative vertical aerodynamic damping ({:.3} N·s/m², C_L' + C_D < 0): Den Hartog galloping is possible",
+                    wires[ww.wire].name, ww.damping_vertical
+                )));
+            }
+        }
+    }
+    let on_dir = |wire: usize, dir: Direction, x_m: f64, modelled: bool| {
+        if modelled {
+            Attach::Wire { wire, dir, x_m }
+        } else {
+            Attach::Ground
+        }
+    };
+    let on = |wire: usize, x_m: f64| Attach::Wire {
+        wire,
+        dir: Direction::Vertical,
+        x_m,
+    };
+    let lat_ecc = c.lateral.as_ref();
+    let dropper_ecc = lat_ecc.map_or(0.0, |l| l.dropper_clamp_eccentricity_m);
+    let mut droppers = Vec::new();
+    let mut stitches = Vec::new();
+    let mut nodes = Vec::new();
+    let sup = &c.messenger_support;
+    for s in 0..c.spans {
+        for (i, &d) in c.droppers.positions_m.iter().enumerate() {
+            let x = s as f64 * c.span_m + d;
+            let top = match stat.stitch[i] {
+                Some(st) => {
+                    let damping = match c.stitch_wire.as_ref().and_then(|w| w.damping_ns_per_m) {
+                        Some(cs) => cs,
+                        None if sup.stiffness_n_per_m > 0.0 => {
+                            sup.damping_ns_per_m / sup.stiffness_n_per_m * st.stiffness_n_per_m
+                        }
+                        None => 0.0,
+                    };
+                    nodes.push(Node {
+                        x_m: x,
+                        mass_kg: st.node_mass_kg,
+                        dir: Direction::Vertical,
+                    });
+                    let node = Attach::Node(nodes.len() - 1);
+                    stitches.push(Stitch {
+                        wire: on(MESSENGER, x),
+                        node,
+                        stiffness_n_per_m: st.stiffness_n_per_m,
+                        damping_ns_per_m: damping,
+                    });
+                    node
+                }
+                None => on(MESSENGER, x),
+            };
+            droppers.push(Dropper {
+                x_m: x,
+                stiffness_n_per_m: match (c.droppers.stiffness_n_per_m, c.droppers.ea_n) {
+                    (Some(k), _) => k,
+                    (None, Some(ea)) => ea / stat.dropper_length_m[i],
+                    (None, None) => unreachable!("validated"),
+                },
+                preload_n: stat.dropper_force_contact_n[i],
+                top,
+                bottom: on(CONTACT, x),
+                length_m: stat.dropper_length_m[i],
+                top_lateral: on_dir(MESSENGER, Direction::Lateral, x, lateral),
+                bottom_lateral: on_dir(CONTACT, Direction::Lateral, x, lateral),
+                bottom_twist: on_dir(
+                    CONTACT,
+                    Direction::Torsional,
+                    x,
+                    torsional && dropper_ecc != 0.0,
+                ),
+                eccentricity_m: if torsional { dropper_ecc } else { 0.0 },
+            });
+        }
+    }
+    let supports = (1..c.spans)
+        .map(|s| Support {
+            at: on(MESSENGER, s as f64 * c.span_m),
+            stiffness_n_per_m: c.messenger_support.stiffness_n_per_m,
+            damping_ns_per_m: c.messenger_support.damping_ns_per_m,
+        })
+        .collect();
+    let arms = (1..c.spans)
+        .map(|s| SteadyArm {
+            at: on(CONTACT, s as f64 * c.span_m),
+            mass_kg: c.steady_arm.mass_kg,
+            stiffness_n_per_m: c.steady_arm.stiffness_n_per_m,
+        })
+        .collect();
+    // Lateral registration at the inner supports (the model's ends are pinned by the sine
+    // series): the contact wire's steady arm, eccentric by e_s, and the messenger's support.
+    let mut registrations = Vec::new();
+    let mut geometry = None;
+    if let (true, Some(lc)) = (lateral, &c.lateral) {
+        let e_s = if torsional {
+            lc.steady_arm_clamp_eccentricity_m
+        } else {
+            0.0
+        };
+        for s in 1..c.spans {
+            let x = s as f64 * c.span_m;
+            let k_phi = lc.steady_arm_torsional_stiffness_nm_per_rad;
+            registrations.push(Registration {
+                at: on_dir(CONTACT, Direction::Lateral, x, true),
+                twist: on_dir(
+                    CONTACT,
+                    Direction::Torsional,
+                    x,
+                    torsional && (e_s != 0.0 || k_phi != 0.0),
+                ),
+                torsional_stiffness_nm_per_rad: if torsional { k_phi } else { 0.0 },
+                eccentricity_m: e_s,
+                stiffness_n_per_m: lc.steady_arm_stiffness_n_per_m,
+                mass_kg: lc.steady_arm_mass_kg,
+                vertical_force_n: if c.steady_arm.static_support {
+                    stat.arm_force_n
+                } else {
+                    0.0
+                },
+            });
+            registrations.push(Registration {
+                at: on_dir(MESSENGER, Direction::Lateral, x, true),
+                twist: Attach::Ground,
+                eccentricity_m: 0.0,
+                stiffness_n_per_m: lc.messenger_support_stiffness_n_per_m,
+                mass_kg: 0.0,
+                vertical_force_n: 0.0,
+                torsional_stiffness_nm_per_rad: 0.0,
+            });
+        }
+        let mut probes: Vec<f64> = Vec::new();
+        for s in 0..c.spans {
+            let x0 = s as f64 * c.span_m;
+            probes.extend(c.droppers.positions_m.iter().map(|d| x0 + d));
+            probes.push(x0 + 0.5 * c.span_m);
+        }
+        probes.sort_by(f64::total_cmp);
+        probes.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+        geometry = Some(LateralGeometry {
+            first_support_m: 0.0,
+            span_m: c.span_m,
+            stagger_m: (0..=c.spans).map(|i| lc.stagger_at(i)).collect(),
+            contact_point_eccentricity_m: if torsional {
+                lc.contact_point_eccentricity_m
+            } else {
+                0.0
+            },
+            probes_m: probes,
+        });
+    }
+    let e_c = match (&c.lateral, torsional) {
+        (Some(lc), true) => lc.contact_point_eccentricity_m,
+        _ => 0.0,
+    };
+    let (pans, contacts) = pantographs(case, CONTACT, e_c, torsional && e_c != 0.0);
+    // The registration of every element kind, in the order their forces are evaluated.
+    let mut elements: Vec<Box<dyn PointElement>> = vec![
+        Box::new(Droppers(droppers)),
+        Box::new(Supports(supports)),
+        Box::new(SteadyArms(arms)),
+        Box::new(Stitches(stitches)),
+    ];
+    if !registrations.is_empty() {
+        elements.push(Box::new(Registrations(registrations)));
+    }
+    elements.push(Box::new(contacts));
+    let mut model = Model::new(
+        wires,
+        nodes,
+        elements,
+        pans,
+        StaticShape::Catenary(Box::new(stat)),
+        Some(c.span_m),
+    );
+    model.lateral = geometry;
+    model.wind = wind;
+    if !case.irregularity.is_empty() {
+        model.irregularity = Some(IrregularityProfile::build(
+            &irregularity_sources(&case.irregularity),
+            l,
+            c.span_m,
+            &c.droppers.positions_m,
+        ));
+    }
+    Ok((model, warnings))
+}
+
+/// Total static weight and support forces of a catenary model, for the balance check (N).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StaticBalance {
+    /// Wire, clamp and dropper weights.
+    pub weight_n: f64,
+    /// Messenger supports plus steady arms (all supports, including both ends).
+    pub support_n: f64,
+}
+
+/// Vertical static balance of the whole modelled catenary of `case`: every support (messenger
+/// support, steady arm; the end supports carry half a span) against every weight.
+pub fn static_balance(case: &Case) -> StaticBalance {
+    let c = &case.catenary;
+    let s = StaticSolution::solve(&static_design(c));
+    let l = case.length_m();
+    let n = c.spans as f64;
+    let dropper_w: f64 = s
+        .dropper_length_m
+        .iter()
+        .map(|len| len * c.droppers.mass_per_m_kg * G)
+        .sum();
+    // Upper clamps: on the messenger, or the stitch clamp plus half a stitch wire per stitch dropper.
+    let clamps: f64 = (0..c.droppers.positions_m.len())
+        .map(|i| {
+            let upper = match c.stitch_wire.as_ref().filter(|st| st.droppers.contains(&i)) {
+                Some(st) => st.clamp_mass_kg + 0.5 * st.mass_per_m_kg * st.length_m,
+                None => c.droppers.clamp_mass_messenger_kg,
+            };
+            (c.droppers.clamp_mass_contact_kg + upper) * G
+        })
+        .sum();
+    let weight = (c.contact_wire.mass_per_m_kg + c.messenger.mass_per_m_kg) * G * l
+        + n * (dropper_w + clamps);
+    // Support forces from the kinks of the solved shapes at a support (not from load sums): the
+    // messenger's kink is the messenger-support force; the steady arm carries the contact wire's
+    // kink when it holds the design height (zero in a stitched catenary). Interior supports carry
+    // one span's load and the two end supports half each: n spans in all.
+    let sup = s.messenger.node_forces()[0];
+    let support = n * (s.arm_force_n + sup);
+    StaticBalance {
+        weight_n: weight,
+        support_n: support,
+    }
+}
