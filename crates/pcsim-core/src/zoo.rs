@@ -28,6 +28,20 @@ pub const NAMES: &[&str] = &[
     "two_pantographs",
 ];
 
+/// The reference each zoo model is checked against: its golden time history (made by
+/// `examples/zoo_golden.rs` before the issue-9 restructure and compared by `tests/zoo.rs`; the
+/// exact solutions of `tests/analytic.rs` are checked on models of their own).
+pub fn reference(name: &str) -> Option<&'static str> {
+    Some(match name {
+        "taut_string" => "golden data/golden/zoo/taut_string.csv",
+        "tensioned_beam" => "golden data/golden/zoo/tensioned_beam.csv",
+        "one_span" => "golden data/golden/zoo/one_span.csv",
+        "stitched_three_spans" => "golden data/golden/zoo/stitched_three_spans.csv",
+        "two_pantographs" => "golden data/golden/zoo/two_pantographs.csv",
+        _ => return None,
+    })
+}
+
 /// Build a zoo model (with its plan and options) by name.
 pub fn model(name: &str) -> Option<Setup> {
     Some(match name {

@@ -75,6 +75,23 @@ fn two_pantographs_matches_its_golden_history() {
     check("two_pantographs");
 }
 
+/// Every zoo entry names its reference, and the golden it names exists.
+#[test]
+fn every_zoo_model_carries_its_reference() {
+    for name in zoo::NAMES {
+        let r = zoo::reference(name).unwrap_or_else(|| panic!("{name}: no reference"));
+        let path = r
+            .strip_prefix("golden ")
+            .and_then(|s| s.split(';').next())
+            .unwrap_or_else(|| panic!("{name}: `{r}` names no golden"));
+        let full = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../..")
+            .join(path);
+        assert!(full.exists(), "{name}: {}", full.display());
+    }
+    assert!(zoo::reference("no-such").is_none());
+}
+
 #[test]
 fn the_goldens_can_tell_a_wrong_answer() {
     // The same string with the moving force 1e-6 larger must fail the comparison.
