@@ -4,13 +4,16 @@
 //! the Effective Vibration Area of the Catenary in a Pantograph–Catenary Interaction System"
 //! (MDPI, 2024). The physics, the solver and the analysis; no file, terminal or network I/O.
 //!
-//! Layers, each importing only from the ones above it in this list:
-//! - [`input`]: cases (TOML with provenance), presets, validation targets;
+//! Layers, each importing only from the ones above it in this list (`tests/layers.rs`):
 //! - [`model`]: wires and their modal series, point elements, pantographs, statics — the problem;
 //! - [`solve`]: plan and options, state, workspace, integrator, the run loop, the real-time window;
-//! - [`analysis`]: filters, EN 50318 statistics, energy, EVA, validation, sweeps, studies.
+//! - [`input`]: cases (TOML with provenance), presets, validation targets (reusing the model's
+//!   vocabulary);
+//! - [`compile`]: a case becomes a set-up (the only reader of cases for the engine);
+//! - [`analysis`]: filters, EN 50318 statistics, energy, EVA, validation, sweeps, studies;
+//! - [`session`]: the real-time session, the one owner of the real-time step contract.
 //!
-//! Flow: a [`Case`] → [`solve::Setup`] (model, plan, options) → [`solve::Integrator`] steps a
+//! Flow: a [`Case`] → [`compile::Setup`] (model, plan, options) → [`solve::Integrator`] steps a
 //! [`solve::State`] with a [`solve::Workspace`] in [`solve::run()`] → observers such as the EN 50318
 //! recorder ([`analysis::record::simulate`]) → [`analysis::validation`].
 

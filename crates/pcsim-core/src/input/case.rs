@@ -310,470 +310,15 @@ impl Case {
     /// field and the typical range). See [`bounds`].
     pub fn validate(&self) -> Result<Vec<Warning>, CaseError> {
         let mut w = Vec::new();
-        let c = &self.catenary;
         finite_all(self)?;
-        if c.spans < 2 {
-            return Err(inv("catenary.spans", c.spans, "need at least 2 spans"));
-        }
-        if c.spans > 5000 {
-            return Err(inv(
-                "catenary.spans",
-                c.spans,
-                "more than 5000 spans (300 km at 60 m) is not a catenary model this tool can run",
-            ));
-        }
-        if c.spans > 200 {
-            w.push(Warning(format!(
-                "catenary.spans = {}: unusually many spans (typical: 10–60); the run's cost grows with the length",
-                c.spans
-            )));
-        }
-        check(&mut w, "catenary.span_m", c.span_m, &bounds::SPAN)?;
-        check(
-            &mut w,
-            "catenary.encumbrance_m",
-            c.encumbrance_m,
-            &bounds::ENCUMBRANCE,
-        )?;
-        for (name, wire) in [
-            ("contact_wire", &c.contact_wire),
-            ("messenger", &c.messenger),
-        ] {
-            let f = |k: &str| format!("catenary.{name}.{k}");
-            check(
-                &mut w,
-                &f("mass_per_m_kg"),
-                wire.mass_per_m_kg,
-                &bounds::WIRE_MASS,
-            )?;
-            check(&mut w, &f("tension_n"), wire.tension_n, &bounds::TENSION)?;
-            check(&mut w, &f("ei_nm2"), wire.ei_nm2, &bounds::EI)?;
-        }
-        let d = &c.droppers;
-        if d.positions_m.is_empty() {
-            return Err(inv(
-                "catenary.droppers.positions_m",
-                "[]",
-                "need at least one dropper per span",
-            ));
-        }
-        let mut prev = 0.0;
-        for (i, &x) in d.positions_m.iter().enumerate() {
-            if x <= 0.0 || x >= c.span_m {
-                return Err(inv(
-                    &format!("catenary.droppers.positions_m[{i}]"),
-                    x,
-                    &format!("dropper lies outside its span (0, {}) m", c.span_m),
-                ));
-            }
-            if x <= prev && i > 0 {
-                return Err(inv(
-                    &format!("catenary.droppers.positions_m[{i}]"),
-                    x,
-                    "positions must increase",
-                ));
-            }
-            prev = x;
-        }
-        match (d.stiffness_n_per_m, d.ea_n) {
-            (Some(k), None) => check(
-                &mut w,
-                "catenary.droppers.stiffness_n_per_m",
-                k,
-                &bounds::DROPPER_STIFFNESS,
-            )?,
-            (None, Some(ea)) => check(&mut w, "catenary.droppers.ea_n", ea, &bounds::DROPPER_EA)?,
-            _ => {
-                return Err(inv(
-                    "catenary.droppers.stiffness_n_per_m",
-                    "both or neither of stiffness_n_per_m and ea_n",
-                    "give exactly one of them",
-                ))
-            }
-        }
-        check(
-            &mut w,
-            "catenary.droppers.clamp_mass_messenger_kg",
-            d.clamp_mass_messenger_kg,
-            &bounds::CLAMP_MASS,
-        )?;
-        check(
-            &mut w,
-            "catenary.droppers.clamp_mass_contact_kg",
-            d.clamp_mass_contact_kg,
-            &bounds::CLAMP_MASS,
-        )?;
-        check(
-            &mut w,
-            "catenary.droppers.mass_per_m_kg",
-            d.mass_per_m_kg,
-            &bounds::DROPPER_MASS,
-        )?;
-        // Pre-sag: beyond span/100 (0.6 m on 60 m) no pantograph follows the wire; typical
-        // designs stay below span/500.
-        let presag_bound = Bound {
-            hard: (-c.span_m / 100.0, c.span_m / 100.0),
-            soft: (0.0, c.span_m / 500.0),
-            unit: "m",
-            typical: "0 to span/500 (downward positive)",
-        };
-        match &c.presag {
-            Presag::Parabolic { mid_span_m, .. } => {
-                check(
-                    &mut w,
-                    "catenary.presag.mid_span_m",
-                    *mid_span_m,
-                    &presag_bound,
-                )?;
-            }
-            Presag::Table { values_m } => {
-                if values_m.len() != d.positions_m.len() {
-                    return Err(inv(
-                        "catenary.presag.values_m",
-                        format!("{} values", values_m.len()),
-                        &format!("need one value per dropper ({})", d.positions_m.len()),
-                    ));
-                }
-                for (i, v) in values_m.iter().enumerate() {
-                    check(
-                        &mut w,
-                        &format!("catenary.presag.values_m[{i}]"),
-                        *v,
-                        &presag_bound,
-                    )?;
-                }
-            }
-        }
-        match &c.damping {
-            Damping::Rayleigh { alpha, beta } => {
-                check(
-                    &mut w,
-                    "catenary.damping.alpha",
-                    *alpha,
-                    &bounds::RAYLEIGH_ALPHA,
-                )?;
-                check(
-                    &mut w,
-                    "catenary.damping.beta",
-                    *beta,
-                    &bounds::RAYLEIGH_BETA,
-                )?;
-            }
-            Damping::Modal { ratio } => {
-                check(
-                    &mut w,
-                    "catenary.damping.ratio",
-                    *ratio,
-                    &bounds::MODAL_RATIO,
-                )?;
-            }
-        }
-        check(
-            &mut w,
-            "catenary.messenger_support.stiffness_n_per_m",
-            c.messenger_support.stiffness_n_per_m,
-            &bounds::SUPPORT_STIFFNESS,
-        )?;
-        check(
-            &mut w,
-            "catenary.messenger_support.damping_ns_per_m",
-            c.messenger_support.damping_ns_per_m,
-            &bounds::SUPPORT_DAMPING,
-        )?;
-        check(
-            &mut w,
-            "catenary.steady_arm.mass_kg",
-            c.steady_arm.mass_kg,
-            &bounds::ARM_MASS,
-        )?;
-        check(
-            &mut w,
-            "catenary.steady_arm.stiffness_n_per_m",
-            c.steady_arm.stiffness_n_per_m,
-            &bounds::SUPPORT_STIFFNESS,
-        )?;
-        if let Some(st) = &c.stitch_wire {
-            check(
-                &mut w,
-                "catenary.stitch_wire.length_m",
-                st.length_m,
-                &bounds::STITCH_LENGTH,
-            )?;
-            check(
-                &mut w,
-                "catenary.stitch_wire.tension_n",
-                st.tension_n,
-                &bounds::STITCH_TENSION,
-            )?;
-            check(
-                &mut w,
-                "catenary.stitch_wire.mass_per_m_kg",
-                st.mass_per_m_kg,
-                &bounds::DROPPER_MASS,
-            )?;
-            check(
-                &mut w,
-                "catenary.stitch_wire.clamp_mass_kg",
-                st.clamp_mass_kg,
-                &bounds::CLAMP_MASS,
-            )?;
-            if let Some(cs) = st.damping_ns_per_m {
-                check(
-                    &mut w,
-                    "catenary.stitch_wire.damping_ns_per_m",
-                    cs,
-                    &bounds::SUPPORT_DAMPING,
-                )?;
-            }
-            if st.length_m >= c.span_m {
-                return Err(inv(
-                    "catenary.stitch_wire.length_m",
-                    st.length_m,
-                    "must be shorter than the span",
-                ));
-            }
-            if st.droppers.is_empty() {
-                return Err(inv(
-                    "catenary.stitch_wire.droppers",
-                    "[]",
-                    "name the droppers that hang from the stitch wire",
-                ));
-            }
-            for (j, &i) in st.droppers.iter().enumerate() {
-                let field = format!("catenary.stitch_wire.droppers[{j}]");
-                let Some(&x) = d.positions_m.get(i) else {
-                    return Err(inv(
-                        &field,
-                        i,
-                        &format!("no such dropper (there are {})", d.positions_m.len()),
-                    ));
-                };
-                let to_support = x.min(c.span_m - x);
-                if to_support >= 0.5 * st.length_m - 1e-9 {
-                    return Err(inv(
-                        &field,
-                        i,
-                        &format!("dropper at {x} m is not under a stitch wire (±{} m around the support)", 0.5 * st.length_m),
-                    ));
-                }
-            }
-            if c.steady_arm.static_support {
-                w.push(Warning(
-                    "stitched catenary with catenary.steady_arm.static_support = true: the arm, not the stitch droppers, holds the contact wire at the support".into(),
-                ));
-            }
-        }
-        check(
-            &mut w,
-            "contact.stiffness_n_per_m",
-            self.contact.stiffness_n_per_m,
-            &bounds::CONTACT_STIFFNESS,
-        )?;
-
-        let r = &self.run;
-        check(&mut w, "run.speed_kmh", r.speed_kmh, &bounds::SPEED)?;
-        // The speed is checked against the wave speed of the built model (one definition, with the
-        // clamps smeared in): see `solve::Plan::check`.
-        if self.pantographs.is_empty() {
-            return Err(inv("pantographs", "[]", "need at least one pantograph"));
-        }
-        for (i, p) in self.pantographs.iter().enumerate() {
-            let base = format!("pantographs[{i}]");
-            check(
-                &mut w,
-                &format!("{base}.offset_m"),
-                p.offset_m(),
-                &bounds::OFFSET,
-            )?;
-            match p {
-                PantographCase::Lumped {
-                    masses_kg,
-                    stiffness_n_per_m,
-                    damping_ns_per_m,
-                    uplift_n,
-                    aero_coeffs_kmh,
-                    ..
-                } => {
-                    if masses_kg.is_empty() {
-                        return Err(inv(
-                            &format!("{base}.masses_kg"),
-                            "[]",
-                            "need at least one mass",
-                        ));
-                    }
-                    if masses_kg.len() > 20 {
-                        return Err(inv(
-                            &format!("{base}.masses_kg"),
-                            format!("{} masses", masses_kg.len()),
-                            "a lumped pantograph has a handful of masses (at most 20)",
-                        ));
-                    }
-                    for (j, &m) in masses_kg.iter().enumerate() {
-                        check(
-                            &mut w,
-                            &format!("{base}.masses_kg[{j}]"),
-                            m,
-                            &bounds::PANTOGRAPH_MASS,
-                        )?;
-                    }
-                    for (field, v, b) in [
-                        (
-                            "stiffness_n_per_m",
-                            stiffness_n_per_m,
-                            &bounds::PANTOGRAPH_STIFFNESS,
-                        ),
-                        (
-                            "damping_ns_per_m",
-                            damping_ns_per_m,
-                            &bounds::PANTOGRAPH_DAMPING,
-                        ),
-                    ] {
-                        if v.len() != masses_kg.len() {
-                            return Err(inv(
-                                &format!("{base}.{field}"),
-                                format!("{} values", v.len()),
-                                &format!("need one value per mass ({})", masses_kg.len()),
-                            ));
-                        }
-                        for (j, &x) in v.iter().enumerate() {
-                            check(&mut w, &format!("{base}.{field}[{j}]"), x, b)?;
-                        }
-                    }
-                    check(
-                        &mut w,
-                        &format!("{base}.uplift_n"),
-                        *uplift_n,
-                        &bounds::UPLIFT,
-                    )?;
-                    if aero_coeffs_kmh.len() > 8 {
-                        return Err(inv(
-                            &format!("{base}.aero_coeffs_kmh"),
-                            format!("{} coefficients", aero_coeffs_kmh.len()),
-                            "a polynomial of degree at most 7",
-                        ));
-                    }
-                    let v = r.speed_kmh;
-                    let aero = aero_coeffs_kmh
-                        .iter()
-                        .rev()
-                        .fold(0.0, |acc, ci| acc * v + ci);
-                    check(
-                        &mut w,
-                        &format!("{base}.aero_coeffs_kmh (the force at {v} km/h, N)"),
-                        aero,
-                        &bounds::AERO,
-                    )?;
-                }
-                PantographCase::MovingForce { force_n, .. } => {
-                    check(
-                        &mut w,
-                        &format!("{base}.force_n"),
-                        *force_n,
-                        &bounds::MOVING_FORCE,
-                    )?;
-                }
-            }
-        }
-        check(&mut w, "run.dt_s", r.dt_s, &bounds::DT)?;
-        match (r.modes, r.modes_per_m) {
-            (Some(_), Some(_)) => {
-                return Err(inv(
-                    "run.modes",
-                    "both modes and modes_per_m",
-                    "give only one of them",
-                ))
-            }
-            (None, None) => {
-                return Err(inv("run.modes", "missing", "give `modes` or `modes_per_m`"))
-            }
-            (Some(n), None) if n == 0 => return Err(inv("run.modes", n, "must be at least 1")),
-            (None, Some(dn)) => pos("run.modes_per_m", dn)?,
-            _ => {}
-        }
-        let l = self.length_m();
-        let field = if r.modes.is_some() {
-            "run.modes"
-        } else {
-            "run.modes_per_m"
-        };
-        let shown = |n: usize| match r.modes_per_m {
-            Some(d) if r.modes.is_none() => format!("{d} ({n} modes over {l} m)"),
-            _ => n.to_string(),
-        };
-        let raw = match (r.modes, r.modes_per_m) {
-            (Some(n), _) => n as f64,
-            (None, Some(d)) => d * l,
-            _ => 0.0,
-        };
-        if raw > 200_000.0 {
-            return Err(inv(
-                field,
-                shown(raw as usize),
-                "more than 200000 modes per wire",
-            ));
-        }
-        let n = self.n_modes();
-        // The shortest wave of the series, 2L/N, must be shorter than a span, or the series
-        // cannot even show the span-to-span shape of the catenary.
-        if (n as f64) < 2.0 * c.spans as f64 {
-            return Err(inv(
-                field,
-                shown(n),
-                &format!(
-                    "fewer than 2 modes per span ({} spans): the series cannot represent the catenary; about 1 mode per metre converges (docs/validation.md)",
-                    c.spans
-                ),
-            ));
-        }
-        if (n as f64) / l < 0.3 {
-            w.push(Warning(format!(
-                "{field} = {}: {:.2} modes per metre resolve the wires only to about {:.0} Hz; statistics converge at about 1 per metre (docs/validation.md)",
-                shown(n),
-                n as f64 / l,
-                n as f64 / l * 60.0
-            )));
-        }
-        let max_off = self
-            .pantographs
-            .iter()
-            .map(|p| p.offset_m())
-            .fold(0.0, f64::max);
-        if r.start_m - max_off <= 0.0 || r.start_m >= l {
-            return Err(inv(
-                "run.start_m",
-                r.start_m,
-                &format!("every pantograph must start inside the model (0, {l}) m (rearmost offset {max_off} m)"),
-            ));
-        }
-        if r.end_m <= r.start_m - max_off {
-            return Err(inv(
-                "run.end_m",
-                r.end_m,
-                "must lie ahead of the rearmost pantograph's start",
-            ));
-        }
-        if r.end_m + max_off >= l {
-            return Err(inv(
-                "run.end_m",
-                r.end_m,
-                &format!("the leading pantograph would leave the model (length {l} m) before the rearmost reaches it"),
-            ));
-        }
-        let [a, b] = r.analysis_m;
-        if !(a >= 0.0 && b <= l && a < b) {
-            return Err(inv(
-                "run.analysis_m",
-                format!("[{a}, {b}]"),
-                &format!("must be an interval inside the model [0, {l}] m"),
-            ));
-        }
-        if a < r.start_m - max_off || b > r.end_m {
-            return Err(inv(
-                "run.analysis_m",
-                format!("[{a}, {b}]"),
-                &format!("every pantograph must cross the whole section: it must lie within [start_m − offset, end_m] = [{}, {}] m", r.start_m - max_off, r.end_m),
-            ));
-        }
+        validate::geometry_and_wires(self, &mut w)?;
+        validate::droppers(self, &mut w)?;
+        validate::presag(self, &mut w)?;
+        validate::damping(self, &mut w)?;
+        validate::supports_and_arms(self, &mut w)?;
+        validate::stitch_wire(self, &mut w)?;
+        validate::contact_and_pantographs(self, &mut w)?;
+        validate::run(self, &mut w)?;
         crate::input::lateral::validate(self, &mut w)?;
         crate::input::irregularity::validate(self, &mut w)?;
         Ok(w)
@@ -1058,4 +603,500 @@ pub fn unsourced_fields(text: &str) -> Result<Vec<String>, CaseError> {
     }
     walk(&v, "", &mut out);
     Ok(out)
+}
+
+/// The sections of [`Case::validate`], in the order they are checked (the first error found is the
+/// one reported, as the hardening tests pin).
+mod validate {
+    use super::*;
+
+    /// The number and length of spans, the system height and the wires.
+    pub(super) fn geometry_and_wires(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+        let c = &case.catenary;
+        if c.spans < 2 {
+            return Err(inv("catenary.spans", c.spans, "need at least 2 spans"));
+        }
+        if c.spans > 5000 {
+            return Err(inv(
+                "catenary.spans",
+                c.spans,
+                "more than 5000 spans (300 km at 60 m) is not a catenary model this tool can run",
+            ));
+        }
+        if c.spans > 200 {
+            w.push(Warning(format!(
+                "catenary.spans = {}: unusually many spans (typical: 10–60); the run's cost grows with the length",
+                c.spans
+            )));
+        }
+        check(w, "catenary.span_m", c.span_m, &bounds::SPAN)?;
+        check(
+            w,
+            "catenary.encumbrance_m",
+            c.encumbrance_m,
+            &bounds::ENCUMBRANCE,
+        )?;
+        for (name, wire) in [
+            ("contact_wire", &c.contact_wire),
+            ("messenger", &c.messenger),
+        ] {
+            let f = |k: &str| format!("catenary.{name}.{k}");
+            check(
+                w,
+                &f("mass_per_m_kg"),
+                wire.mass_per_m_kg,
+                &bounds::WIRE_MASS,
+            )?;
+            check(w, &f("tension_n"), wire.tension_n, &bounds::TENSION)?;
+            check(w, &f("ei_nm2"), wire.ei_nm2, &bounds::EI)?;
+        }
+        Ok(())
+    }
+
+    /// The droppers: positions within the span, stiffness, clamp masses.
+    pub(super) fn droppers(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+        let c = &case.catenary;
+        let d = &c.droppers;
+        if d.positions_m.is_empty() {
+            return Err(inv(
+                "catenary.droppers.positions_m",
+                "[]",
+                "need at least one dropper per span",
+            ));
+        }
+        let mut prev = 0.0;
+        for (i, &x) in d.positions_m.iter().enumerate() {
+            if x <= 0.0 || x >= c.span_m {
+                return Err(inv(
+                    &format!("catenary.droppers.positions_m[{i}]"),
+                    x,
+                    &format!("dropper lies outside its span (0, {}) m", c.span_m),
+                ));
+            }
+            if x <= prev && i > 0 {
+                return Err(inv(
+                    &format!("catenary.droppers.positions_m[{i}]"),
+                    x,
+                    "positions must increase",
+                ));
+            }
+            prev = x;
+        }
+        match (d.stiffness_n_per_m, d.ea_n) {
+            (Some(k), None) => check(
+                w,
+                "catenary.droppers.stiffness_n_per_m",
+                k,
+                &bounds::DROPPER_STIFFNESS,
+            )?,
+            (None, Some(ea)) => check(w, "catenary.droppers.ea_n", ea, &bounds::DROPPER_EA)?,
+            _ => {
+                return Err(inv(
+                    "catenary.droppers.stiffness_n_per_m",
+                    "both or neither of stiffness_n_per_m and ea_n",
+                    "give exactly one of them",
+                ))
+            }
+        }
+        check(
+            w,
+            "catenary.droppers.clamp_mass_messenger_kg",
+            d.clamp_mass_messenger_kg,
+            &bounds::CLAMP_MASS,
+        )?;
+        check(
+            w,
+            "catenary.droppers.clamp_mass_contact_kg",
+            d.clamp_mass_contact_kg,
+            &bounds::CLAMP_MASS,
+        )?;
+        check(
+            w,
+            "catenary.droppers.mass_per_m_kg",
+            d.mass_per_m_kg,
+            &bounds::DROPPER_MASS,
+        )?;
+        Ok(())
+    }
+
+    /// The contact wire's pre-sag.
+    pub(super) fn presag(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+        let c = &case.catenary;
+        let d = &c.droppers;
+        // Pre-sag: beyond span/100 (0.6 m on 60 m) no pantograph follows the wire; typical
+        // designs stay below span/500.
+        let presag_bound = Bound {
+            hard: (-c.span_m / 100.0, c.span_m / 100.0),
+            soft: (0.0, c.span_m / 500.0),
+            unit: "m",
+            typical: "0 to span/500 (downward positive)",
+        };
+        match &c.presag {
+            Presag::Parabolic { mid_span_m, .. } => {
+                check(w, "catenary.presag.mid_span_m", *mid_span_m, &presag_bound)?;
+            }
+            Presag::Table { values_m } => {
+                if values_m.len() != d.positions_m.len() {
+                    return Err(inv(
+                        "catenary.presag.values_m",
+                        format!("{} values", values_m.len()),
+                        &format!("need one value per dropper ({})", d.positions_m.len()),
+                    ));
+                }
+                for (i, v) in values_m.iter().enumerate() {
+                    check(
+                        w,
+                        &format!("catenary.presag.values_m[{i}]"),
+                        *v,
+                        &presag_bound,
+                    )?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The wires' damping law.
+    pub(super) fn damping(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+        let c = &case.catenary;
+        match &c.damping {
+            Damping::Rayleigh { alpha, beta } => {
+                check(w, "catenary.damping.alpha", *alpha, &bounds::RAYLEIGH_ALPHA)?;
+                check(w, "catenary.damping.beta", *beta, &bounds::RAYLEIGH_BETA)?;
+            }
+            Damping::Modal { ratio } => {
+                check(w, "catenary.damping.ratio", *ratio, &bounds::MODAL_RATIO)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Messenger supports and steady arms.
+    pub(super) fn supports_and_arms(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+        let c = &case.catenary;
+        check(
+            w,
+            "catenary.messenger_support.stiffness_n_per_m",
+            c.messenger_support.stiffness_n_per_m,
+            &bounds::SUPPORT_STIFFNESS,
+        )?;
+        check(
+            w,
+            "catenary.messenger_support.damping_ns_per_m",
+            c.messenger_support.damping_ns_per_m,
+            &bounds::SUPPORT_DAMPING,
+        )?;
+        check(
+            w,
+            "catenary.steady_arm.mass_kg",
+            c.steady_arm.mass_kg,
+            &bounds::ARM_MASS,
+        )?;
+        check(
+            w,
+            "catenary.steady_arm.stiffness_n_per_m",
+            c.steady_arm.stiffness_n_per_m,
+            &bounds::SUPPORT_STIFFNESS,
+        )?;
+        Ok(())
+    }
+
+    /// The stitch wire, where there is one.
+    pub(super) fn stitch_wire(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+        let c = &case.catenary;
+        let d = &c.droppers;
+        if let Some(st) = &c.stitch_wire {
+            check(
+                w,
+                "catenary.stitch_wire.length_m",
+                st.length_m,
+                &bounds::STITCH_LENGTH,
+            )?;
+            check(
+                w,
+                "catenary.stitch_wire.tension_n",
+                st.tension_n,
+                &bounds::STITCH_TENSION,
+            )?;
+            check(
+                w,
+                "catenary.stitch_wire.mass_per_m_kg",
+                st.mass_per_m_kg,
+                &bounds::DROPPER_MASS,
+            )?;
+            check(
+                w,
+                "catenary.stitch_wire.clamp_mass_kg",
+                st.clamp_mass_kg,
+                &bounds::CLAMP_MASS,
+            )?;
+            if let Some(cs) = st.damping_ns_per_m {
+                check(
+                    w,
+                    "catenary.stitch_wire.damping_ns_per_m",
+                    cs,
+                    &bounds::SUPPORT_DAMPING,
+                )?;
+            }
+            if st.length_m >= c.span_m {
+                return Err(inv(
+                    "catenary.stitch_wire.length_m",
+                    st.length_m,
+                    "must be shorter than the span",
+                ));
+            }
+            if st.droppers.is_empty() {
+                return Err(inv(
+                    "catenary.stitch_wire.droppers",
+                    "[]",
+                    "name the droppers that hang from the stitch wire",
+                ));
+            }
+            for (j, &i) in st.droppers.iter().enumerate() {
+                let field = format!("catenary.stitch_wire.droppers[{j}]");
+                let Some(&x) = d.positions_m.get(i) else {
+                    return Err(inv(
+                        &field,
+                        i,
+                        &format!("no such dropper (there are {})", d.positions_m.len()),
+                    ));
+                };
+                let to_support = x.min(c.span_m - x);
+                if to_support >= 0.5 * st.length_m - 1e-9 {
+                    return Err(inv(
+                        &field,
+                        i,
+                        &format!("dropper at {x} m is not under a stitch wire (±{} m around the support)", 0.5 * st.length_m),
+                    ));
+                }
+            }
+            if c.steady_arm.static_support {
+                w.push(Warning(
+                    "stitched catenary with catenary.steady_arm.static_support = true: the arm, not the stitch droppers, holds the contact wire at the support".into(),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The contact stiffness and the pantographs.
+    pub(super) fn contact_and_pantographs(
+        case: &Case,
+        w: &mut Vec<Warning>,
+    ) -> Result<(), CaseError> {
+        check(
+            w,
+            "contact.stiffness_n_per_m",
+            case.contact.stiffness_n_per_m,
+            &bounds::CONTACT_STIFFNESS,
+        )?;
+
+        let r = &case.run;
+        check(w, "run.speed_kmh", r.speed_kmh, &bounds::SPEED)?;
+        // The speed is checked against the wave speed of the built model (one definition, with the
+        // clamps smeared in): see `solve::Plan::check`.
+        if case.pantographs.is_empty() {
+            return Err(inv("pantographs", "[]", "need at least one pantograph"));
+        }
+        for (i, p) in case.pantographs.iter().enumerate() {
+            let base = format!("pantographs[{i}]");
+            check(
+                w,
+                &format!("{base}.offset_m"),
+                p.offset_m(),
+                &bounds::OFFSET,
+            )?;
+            match p {
+                PantographCase::Lumped {
+                    masses_kg,
+                    stiffness_n_per_m,
+                    damping_ns_per_m,
+                    uplift_n,
+                    aero_coeffs_kmh,
+                    ..
+                } => {
+                    if masses_kg.is_empty() {
+                        return Err(inv(
+                            &format!("{base}.masses_kg"),
+                            "[]",
+                            "need at least one mass",
+                        ));
+                    }
+                    if masses_kg.len() > 20 {
+                        return Err(inv(
+                            &format!("{base}.masses_kg"),
+                            format!("{} masses", masses_kg.len()),
+                            "a lumped pantograph has a handful of masses (at most 20)",
+                        ));
+                    }
+                    for (j, &m) in masses_kg.iter().enumerate() {
+                        check(
+                            w,
+                            &format!("{base}.masses_kg[{j}]"),
+                            m,
+                            &bounds::PANTOGRAPH_MASS,
+                        )?;
+                    }
+                    for (field, v, b) in [
+                        (
+                            "stiffness_n_per_m",
+                            stiffness_n_per_m,
+                            &bounds::PANTOGRAPH_STIFFNESS,
+                        ),
+                        (
+                            "damping_ns_per_m",
+                            damping_ns_per_m,
+                            &bounds::PANTOGRAPH_DAMPING,
+                        ),
+                    ] {
+                        if v.len() != masses_kg.len() {
+                            return Err(inv(
+                                &format!("{base}.{field}"),
+                                format!("{} values", v.len()),
+                                &format!("need one value per mass ({})", masses_kg.len()),
+                            ));
+                        }
+                        for (j, &x) in v.iter().enumerate() {
+                            check(w, &format!("{base}.{field}[{j}]"), x, b)?;
+                        }
+                    }
+                    check(w, &format!("{base}.uplift_n"), *uplift_n, &bounds::UPLIFT)?;
+                    if aero_coeffs_kmh.len() > 8 {
+                        return Err(inv(
+                            &format!("{base}.aero_coeffs_kmh"),
+                            format!("{} coefficients", aero_coeffs_kmh.len()),
+                            "a polynomial of degree at most 7",
+                        ));
+                    }
+                    let v = r.speed_kmh;
+                    let aero = aero_coeffs_kmh
+                        .iter()
+                        .rev()
+                        .fold(0.0, |acc, ci| acc * v + ci);
+                    check(
+                        w,
+                        &format!("{base}.aero_coeffs_kmh (the force at {v} km/h, N)"),
+                        aero,
+                        &bounds::AERO,
+                    )?;
+                }
+                PantographCase::MovingForce { force_n, .. } => {
+                    check(
+                        w,
+                        &format!("{base}.force_n"),
+                        *force_n,
+                        &bounds::MOVING_FORCE,
+                    )?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The time step, the number of modes, and where the run starts, ends and is analysed.
+    pub(super) fn run(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+        let c = &case.catenary;
+        let r = &case.run;
+        check(w, "run.dt_s", r.dt_s, &bounds::DT)?;
+        match (r.modes, r.modes_per_m) {
+            (Some(_), Some(_)) => {
+                return Err(inv(
+                    "run.modes",
+                    "both modes and modes_per_m",
+                    "give only one of them",
+                ))
+            }
+            (None, None) => {
+                return Err(inv("run.modes", "missing", "give `modes` or `modes_per_m`"))
+            }
+            (Some(n), None) if n == 0 => return Err(inv("run.modes", n, "must be at least 1")),
+            (None, Some(dn)) => pos("run.modes_per_m", dn)?,
+            _ => {}
+        }
+        let l = case.length_m();
+        let field = if r.modes.is_some() {
+            "run.modes"
+        } else {
+            "run.modes_per_m"
+        };
+        let shown = |n: usize| match r.modes_per_m {
+            Some(d) if r.modes.is_none() => format!("{d} ({n} modes over {l} m)"),
+            _ => n.to_string(),
+        };
+        let raw = match (r.modes, r.modes_per_m) {
+            (Some(n), _) => n as f64,
+            (None, Some(d)) => d * l,
+            _ => 0.0,
+        };
+        if raw > 200_000.0 {
+            return Err(inv(
+                field,
+                shown(raw as usize),
+                "more than 200000 modes per wire",
+            ));
+        }
+        let n = case.n_modes();
+        // The shortest wave of the series, 2L/N, must be shorter than a span, or the series
+        // cannot even show the span-to-span shape of the catenary.
+        if (n as f64) < 2.0 * c.spans as f64 {
+            return Err(inv(
+                field,
+                shown(n),
+                &format!(
+                    "fewer than 2 modes per span ({} spans): the series cannot represent the catenary; about 1 mode per metre converges (docs/validation.md)",
+                    c.spans
+                ),
+            ));
+        }
+        if (n as f64) / l < 0.3 {
+            w.push(Warning(format!(
+                "{field} = {}: {:.2} modes per metre resolve the wires only to about {:.0} Hz; statistics converge at about 1 per metre (docs/validation.md)",
+                shown(n),
+                n as f64 / l,
+                n as f64 / l * 60.0
+            )));
+        }
+        let max_off = case
+            .pantographs
+            .iter()
+            .map(|p| p.offset_m())
+            .fold(0.0, f64::max);
+        if r.start_m - max_off <= 0.0 || r.start_m >= l {
+            return Err(inv(
+                "run.start_m",
+                r.start_m,
+                &format!("every pantograph must start inside the model (0, {l}) m (rearmost offset {max_off} m)"),
+            ));
+        }
+        if r.end_m <= r.start_m - max_off {
+            return Err(inv(
+                "run.end_m",
+                r.end_m,
+                "must lie ahead of the rearmost pantograph's start",
+            ));
+        }
+        if r.end_m + max_off >= l {
+            return Err(inv(
+                "run.end_m",
+                r.end_m,
+                &format!("the leading pantograph would leave the model (length {l} m) before the rearmost reaches it"),
+            ));
+        }
+        let [a, b] = r.analysis_m;
+        if !(a >= 0.0 && b <= l && a < b) {
+            return Err(inv(
+                "run.analysis_m",
+                format!("[{a}, {b}]"),
+                &format!("must be an interval inside the model [0, {l}] m"),
+            ));
+        }
+        if a < r.start_m - max_off || b > r.end_m {
+            return Err(inv(
+                "run.analysis_m",
+                format!("[{a}, {b}]"),
+                &format!("every pantograph must cross the whole section: it must lie within [start_m − offset, end_m] = [{}, {}] m", r.start_m - max_off, r.end_m),
+            ));
+        }
+        Ok(())
+    }
 }
