@@ -74,6 +74,43 @@ fn ten_thousand_realtime_steps_allocate_nothing() {
     }
 }
 
+/// The session's whole step contract (checks, save, step, soundness), its refusals and roll-backs,
+/// and saving into and restoring from an existing state, allocate nothing either (issue 18).
+#[test]
+fn the_session_contract_allocates_nothing() {
+    use pcsim_core::session::RealtimeSession;
+    let (case, _) = presets::load("syt-7.0-9.8").unwrap();
+    let mut rt = RealtimeSession::new(&case, 215.0, Coupling::Hil).unwrap();
+    let mut saved = rt.state([0.0; 4]);
+    let (x0, dt, v) = (rt.start_position_m(), rt.dt_s(), case.run.speed_kmh / 3.6);
+    let before = allocs();
+    let mut refused = 0;
+    for k in 0..10_000 {
+        let t = k as f64 * dt;
+        let x = x0 + v * t;
+        if rt.step(85.0 + 15.0 * (7.0 * t).sin(), x).is_err() {
+            refused += 1;
+        }
+        if k % 1000 == 500 {
+            // A refused input (1e300 N) and a NaN: refused without allocating.
+            assert!(rt.step(1e300, x).is_err());
+            assert!(rt.step(f64::NAN, x).is_err());
+            rt.save_into(&mut saved, [t, 0.0, 0.0, 0.0]);
+        }
+    }
+    rt.restore(&saved).unwrap();
+    let after = allocs();
+    assert_eq!(refused, 0);
+    assert!(rt.moves() >= 5, "{} moves", rt.moves());
+    assert_eq!(after - before, 0, "{} allocations", after - before);
+    // A roll-back allocates nothing (the force bound lifted so that 1e300 N is stepped).
+    rt.set_force_limit_n(1e301).unwrap();
+    let before = allocs();
+    let e = rt.step(1e300, x0 + v * 9500.0 * dt).unwrap_err();
+    assert_eq!(e.code(), "rolled_back");
+    assert_eq!(allocs() - before, 0);
+}
+
 #[test]
 fn full_model_steps_and_energy_evaluations_allocate_nothing() {
     // The stitched zoo model has every element kind: droppers, supports, arms, stitch nodes.
