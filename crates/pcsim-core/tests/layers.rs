@@ -103,3 +103,34 @@ fn python_bindings_stay_out_of_the_default_members() {
         );
     }
 }
+
+/// Validation flows one way (issue 18): the case's section types (`lateral.rs`,
+/// `irregularity.rs`) import neither `case.rs` nor the validation, and only `validate.rs` holds
+/// `Case::validate`; every bound is in `bounds.rs`, in one style.
+#[test]
+fn validation_has_no_circle_and_one_table_of_bounds() {
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/input");
+    for f in ["lateral.rs", "irregularity.rs"] {
+        let text = std::fs::read_to_string(input.join(f)).unwrap();
+        for pat in ["super::case", "input::case", "validate"] {
+            assert!(!text.contains(pat), "{f} names `{pat}`");
+        }
+    }
+    let mut with_validate = Vec::new();
+    let mut files = Vec::new();
+    sources(&input, &mut files);
+    for f in &files {
+        let text = std::fs::read_to_string(f).unwrap();
+        if text.contains("pub fn validate(&self)") {
+            with_validate.push(f.file_name().unwrap().to_string_lossy().into_owned());
+        }
+        if !f.ends_with("bounds.rs") {
+            assert!(
+                !text.contains(": Bound ="),
+                "{} defines bounds outside bounds.rs",
+                f.display()
+            );
+        }
+    }
+    assert_eq!(with_validate, ["validate.rs"]);
+}

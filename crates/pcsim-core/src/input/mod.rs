@@ -1,6 +1,7 @@
 //! What a user gives: case files (TOML with provenance), the embedded presets, and the
 //! validation targets. The bottom layer: it imports nothing else from the crate.
 
+pub mod bounds;
 pub mod case;
 pub mod irregularity;
 pub mod lateral;
@@ -8,6 +9,7 @@ pub mod overrides;
 pub mod presets;
 pub mod targets;
 pub mod units;
+mod validate;
 
 pub use case::{Case, Provenance, Warning, G};
 

@@ -1,0 +1,173 @@
+//! The plausibility bounds of every quantity a case holds, in one table and one style (SI units
+//! as the names say): outside the hard bounds a value is physically meaningless (an error),
+//! outside the soft bounds merely unusual (a warning naming the field and the typical range).
+//! Also the helpers every validator uses to say so ([`check_bound`], [`inv`], [`num`]).
+
+use crate::error::{CaseError, Warning};
+
+/// Plausibility bounds of a quantity: outside `hard` it is an error (physically meaningless),
+/// outside `soft` a warning (legal but unusual). A hard lower bound of 0 excludes 0 when
+/// `soft.0 > 0`.
+#[derive(Debug, Clone, Copy)]
+pub struct Bound {
+    pub hard: (f64, f64),
+    pub soft: (f64, f64),
+    pub unit: &'static str,
+    pub typical: &'static str,
+}
+
+const fn b(hard: (f64, f64), soft: (f64, f64), unit: &'static str, typical: &'static str) -> Bound {
+    Bound {
+        hard,
+        soft,
+        unit,
+        typical,
+    }
+}
+
+pub const SPAN: Bound = b((1.0, 1000.0), (20.0, 100.0), "m", "27–70 m");
+pub const ENCUMBRANCE: Bound = b((0.05, 20.0), (0.3, 3.5), "m", "0.3–2 m");
+pub const WIRE_MASS: Bound = b((0.01, 100.0), (0.1, 5.0), "kg/m", "0.3–2 kg/m");
+pub const TENSION: Bound = b((100.0, 1.0e6), (1000.0, 60_000.0), "N", "5–40 kN");
+pub const EI: Bound = b((0.0, 1.0e6), (0.0, 5000.0), "N·m²", "10–300 N·m²");
+pub const DROPPER_STIFFNESS: Bound = b((0.0, 1.0e10), (1.0e3, 1.0e7), "N/m", "1e4–1e6 N/m");
+pub const DROPPER_EA: Bound = b((0.0, 1.0e11), (1.0e3, 1.0e8), "N", "1e5–1e7 N");
+pub const CLAMP_MASS: Bound = b((0.0, 100.0), (0.0, 5.0), "kg", "0.1–0.5 kg");
+pub const DROPPER_MASS: Bound = b((0.0, 20.0), (0.0, 2.0), "kg/m", "0.05–0.5 kg/m");
+pub const RAYLEIGH_ALPHA: Bound = b((0.0, 1.0e4), (0.0, 10.0), "1/s", "0–1 1/s");
+pub const RAYLEIGH_BETA: Bound = b((0.0, 10.0), (0.0, 0.1), "s", "0–0.02 s");
+pub const MODAL_RATIO: Bound = b((0.0, 0.999_999), (0.0, 0.2), "", "0–0.05");
+pub const SUPPORT_STIFFNESS: Bound = b((0.0, 1.0e11), (0.0, 1.0e8), "N/m", "1e2–1e6 N/m");
+pub const SUPPORT_DAMPING: Bound = b((0.0, 1.0e8), (0.0, 1.0e5), "N·s/m", "0–2000 N·s/m");
+pub const ARM_MASS: Bound = b((0.0, 1000.0), (0.0, 10.0), "kg", "0.5–3 kg");
+pub const STITCH_LENGTH: Bound = b((0.1, 1000.0), (5.0, 30.0), "m", "12–25 m");
+pub const STITCH_TENSION: Bound = b((10.0, 1.0e6), (300.0, 10_000.0), "N", "1–5 kN");
+pub const CONTACT_STIFFNESS: Bound = b((100.0, 1.0e9), (1.0e4, 5.0e5), "N/m", "5e4 N/m");
+pub const SPEED: Bound = b((0.0, 1000.0), (10.0, 400.0), "km/h", "50–350 km/h");
+pub const OFFSET: Bound = b((0.0, 1.0e5), (0.0, 500.0), "m", "0–400 m");
+pub const PANTOGRAPH_MASS: Bound = b((0.01, 1.0e4), (0.5, 100.0), "kg", "3–20 kg");
+pub const PANTOGRAPH_STIFFNESS: Bound = b((0.0, 1.0e9), (0.0, 1.0e6), "N/m", "0–2e4 N/m");
+pub const PANTOGRAPH_DAMPING: Bound = b((0.0, 1.0e7), (0.0, 1.0e4), "N·s/m", "0–200 N·s/m");
+pub const UPLIFT: Bound = b((-1.0e4, 1.0e4), (20.0, 500.0), "N", "50–150 N");
+pub const AERO: Bound = b((-1.0e4, 1.0e4), (-50.0, 300.0), "N", "0–100 N");
+pub const MOVING_FORCE: Bound = b((-1.0e5, 1.0e5), (-1000.0, 1000.0), "N", "50–300 N");
+pub const DT: Bound = b((0.0, 0.01), (1.0e-5, 2.0e-3), "s", "0.2–1 ms");
+
+// Lateral and torsional motion, wind, ice, pantograph heads.
+pub const DIAMETER: Bound = b((0.0, 0.2), (0.004, 0.04), "m", "0.008–0.02 m");
+pub const GJ: Bound = b((0.0, 1.0e6), (1.0, 5000.0), "N·m²", "20–400 N·m²");
+pub const POLAR: Bound = b((0.0, 1.0), (1.0e-7, 1.0e-3), "kg·m", "1e-5–1e-4 kg·m");
+pub const COEFF: Bound = b(
+    (-10.0, 10.0),
+    (-3.0, 3.0),
+    "",
+    "C_D 0.8–1.3, C_L and C_M within ±0.5",
+);
+pub const STAGGER: Bound = b((-2.0, 2.0), (-0.45, 0.45), "m", "±0.2–0.4 m");
+pub const LAT_STIFF: Bound = b((0.0, 1.0e11), (0.0, 1.0e8), "N/m", "1e4–1e6 N/m");
+pub const TORS_STIFF: Bound = b((0.0, 1.0e6), (0.0, 500.0), "N·m/rad", "0–100 N·m/rad");
+pub const ECC: Bound = b((-0.5, 0.5), (-0.05, 0.05), "m", "0–0.02 m");
+pub const WIRE_HEIGHT: Bound = b((0.5, 100.0), (3.0, 10.0), "m", "4.9–6.5 m");
+pub const ICE_DENSITY: Bound = b(
+    (0.0, 1000.0),
+    (100.0, 917.0),
+    "kg/m³",
+    "300 (rime) – 900 (glaze) kg/m³",
+);
+pub const ICE: Bound = b((0.0, 0.5), (0.0, 0.05), "m", "0–0.03 m radial");
+pub const WIND: Bound = b((0.0, 120.0), (0.0, 45.0), "m/s", "0–40 m/s");
+pub const REF_HEIGHT: Bound = b((0.1, 1000.0), (2.0, 100.0), "m", "10 m");
+pub const ROUGH: Bound = b((0.0, 10.0), (1.0e-4, 2.0), "m", "0.003–1 m");
+pub const EXPONENT: Bound = b((0.0, 1.0), (0.05, 0.5), "", "0.1–0.3");
+pub const YAW: Bound = b(
+    (-360.0, 360.0),
+    (-180.0, 180.0),
+    "°",
+    "90° (square to the track)",
+);
+pub const TI: Bound = b((0.0, 1.0), (0.0, 0.4), "", "0.05–0.25");
+pub const LENGTH_SCALE: Bound = b((0.0, 10_000.0), (5.0, 500.0), "m", "30–300 m");
+pub const DECAY: Bound = b((0.0, 1000.0), (2.0, 30.0), "", "7–16");
+pub const AIR: Bound = b((0.0, 10.0), (0.9, 1.5), "kg/m³", "1.225 kg/m³");
+pub const GRID: Bound = b((0.0, 1000.0), (0.5, 20.0), "m", "2–10 m");
+pub const WIND_DT: Bound = b((0.0, 1.0), (0.002, 0.1), "s", "0.01–0.05 s");
+pub const HALF_WIDTH: Bound = b(
+    (0.0, 2.0),
+    (0.3, 1.2),
+    "m",
+    "0.8 m (1600 mm head), 0.975 m (1950 mm)",
+);
+
+// Contact-wire irregularity.
+pub const IRREGULARITY_RMS: Bound = b((0.0, 0.5), (0.0, 0.03), "m", "0–20 mm");
+pub const IRREGULARITY_WAVELENGTH: Bound = b((0.0, 1.0e5), (0.1, 1000.0), "m", "1–200 m");
+pub const IRREGULARITY_DEVIATION: Bound = b((-1.0, 1.0), (-0.1, 0.1), "m", "within ±30 mm");
+
+/// Check `v` of `field` against `b`: an error outside the hard bounds, a warning outside the
+/// soft ones.
+pub fn check_bound(w: &mut Vec<Warning>, field: &str, v: f64, b: &Bound) -> Result<(), CaseError> {
+    check(w, field, v, b)
+}
+
+fn check(w: &mut Vec<Warning>, field: &str, v: f64, b: &Bound) -> Result<(), CaseError> {
+    let (lo, hi) = b.hard;
+    let unit = if b.unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {}", b.unit)
+    };
+    // A hard lower bound of 0 with a positive soft one excludes 0 itself.
+    let strict_zero = lo == 0.0 && b.soft.0 > 0.0;
+    let low_ok = if strict_zero { v > 0.0 } else { v >= lo };
+    if !v.is_finite() || !low_ok {
+        let rel = if strict_zero {
+            "> 0".to_string()
+        } else if lo == 0.0 {
+            "≥ 0".to_string()
+        } else {
+            format!("≥ {}{unit}", num(lo))
+        };
+        return Err(inv(
+            field,
+            num(v),
+            &format!("must be a finite number {rel}"),
+        ));
+    }
+    if v > hi {
+        return Err(inv(
+            field,
+            num(v),
+            &format!(
+                "physically meaningless above {}{unit} (typical: {})",
+                num(hi),
+                b.typical
+            ),
+        ));
+    }
+    if v < b.soft.0 || v > b.soft.1 {
+        w.push(Warning(format!(
+            "{field} = {}{unit} is unusual (typical: {}); check the value and its unit",
+            num(v),
+            b.typical
+        )));
+    }
+    Ok(())
+}
+
+/// A number for a message: plain where that is short, in exponent form where it is tiny or huge.
+pub fn num(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e7).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+/// An invalid value of `field`: the error every validator returns.
+pub fn inv(field: &str, value: impl std::fmt::Display, reason: &str) -> CaseError {
+    CaseError::Invalid {
+        field: field.to_string(),
+        value: value.to_string(),
+        reason: reason.to_string(),
+    }
+}

@@ -1,0 +1,1069 @@
+//! Validation of a case, in one place (issue 18): [`Case::validate`] runs the sections below in a
+//! fixed order (the first error found is the one reported, as the hardening tests pin), each
+//! against the one table of bounds (`input::bounds`). The case's types know nothing of it, so
+//! validation imports them and nothing imports validation: no circle.
+
+use crate::error::{CaseError, Warning};
+use crate::input::bounds::{self, check_bound, inv, Bound};
+use crate::input::case::*;
+use crate::input::irregularity::IrregularityCase;
+use crate::input::lateral::*;
+
+/// A positive finite number, or an error naming the field.
+fn pos(field: &str, v: f64) -> Result<(), CaseError> {
+    if v > 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        Err(inv(field, v, "must be a finite number > 0"))
+    }
+}
+
+impl Case {
+    /// Check every value; return warnings, or an error naming the field and its value.
+    ///
+    /// Every number has plausibility bounds: outside the hard bounds it is physically
+    /// meaningless (an error), outside the soft bounds merely unusual (a warning naming the
+    /// field and the typical range). See [`bounds`].
+    pub fn validate(&self) -> Result<Vec<Warning>, CaseError> {
+        let mut w = Vec::new();
+        finite_all(self)?;
+        geometry_and_wires(self, &mut w)?;
+        droppers(self, &mut w)?;
+        presag(self, &mut w)?;
+        damping(self, &mut w)?;
+        supports_and_arms(self, &mut w)?;
+        stitch_wire(self, &mut w)?;
+        contact_and_pantographs(self, &mut w)?;
+        run(self, &mut w)?;
+        lateral_dofs(self, &mut w)?;
+        lateral_sections(self, &mut w)?;
+        lateral_geometry(self, &mut w)?;
+        ice(self, &mut w)?;
+        wind(self, &mut w)?;
+        pantograph_heads(self, &mut w)?;
+        irregularity(self, &mut w)?;
+        Ok(w)
+    }
+}
+
+/// Reject NaN and infinities anywhere in the case, naming the field.
+fn finite_all(case: &Case) -> Result<(), CaseError> {
+    let v = toml::Value::try_from(case).map_err(|e| CaseError::Parse(e.to_string()))?;
+    fn walk(v: &toml::Value, path: &str) -> Result<(), CaseError> {
+        match v {
+            toml::Value::Float(f) if !f.is_finite() => Err(inv(path, f, "must be finite")),
+            toml::Value::Table(t) => {
+                for (k, x) in t {
+                    let p = if path.is_empty() {
+                        k.clone()
+                    } else {
+                        format!("{path}.{k}")
+                    };
+                    walk(x, &p)?;
+                }
+                Ok(())
+            }
+            toml::Value::Array(a) => {
+                for (i, x) in a.iter().enumerate() {
+                    walk(x, &format!("{path}[{i}]"))?;
+                }
+                Ok(())
+            }
+            _ => Ok(()),
+        }
+    }
+    walk(&v, "")
+}
+
+/// The number and length of spans, the system height and the wires.
+pub(super) fn geometry_and_wires(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let c = &case.catenary;
+    if c.spans < 2 {
+        return Err(inv("catenary.spans", c.spans, "need at least 2 spans"));
+    }
+    if c.spans > 5000 {
+        return Err(inv(
+            "catenary.spans",
+            c.spans,
+            "more than 5000 spans (300 km at 60 m) is not a catenary model this tool can run",
+        ));
+    }
+    if c.spans > 200 {
+        w.push(Warning(format!(
+            "catenary.spans = {}: unusually many spans (typical: 10–60); the run's cost grows with the length",
+            c.spans
+        )));
+    }
+    check_bound(w, "catenary.span_m", c.span_m, &bounds::SPAN)?;
+    check_bound(
+        w,
+        "catenary.encumbrance_m",
+        c.encumbrance_m,
+        &bounds::ENCUMBRANCE,
+    )?;
+    for (name, wire) in [
+        ("contact_wire", &c.contact_wire),
+        ("messenger", &c.messenger),
+    ] {
+        let f = |k: &str| format!("catenary.{name}.{k}");
+        check_bound(
+            w,
+            &f("mass_per_m_kg"),
+            wire.mass_per_m_kg,
+            &bounds::WIRE_MASS,
+        )?;
+        check_bound(w, &f("tension_n"), wire.tension_n, &bounds::TENSION)?;
+        check_bound(w, &f("ei_nm2"), wire.ei_nm2, &bounds::EI)?;
+    }
+    Ok(())
+}
+
+/// The droppers: positions within the span, stiffness, clamp masses.
+pub(super) fn droppers(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let c = &case.catenary;
+    let d = &c.droppers;
+    if d.positions_m.is_empty() {
+        return Err(inv(
+            "catenary.droppers.positions_m",
+            "[]",
+            "need at least one dropper per span",
+        ));
+    }
+    let mut prev = 0.0;
+    for (i, &x) in d.positions_m.iter().enumerate() {
+        if x <= 0.0 || x >= c.span_m {
+            return Err(inv(
+                &format!("catenary.droppers.positions_m[{i}]"),
+                x,
+                &format!("dropper lies outside its span (0, {}) m", c.span_m),
+            ));
+        }
+        if x <= prev && i > 0 {
+            return Err(inv(
+                &format!("catenary.droppers.positions_m[{i}]"),
+                x,
+                "positions must increase",
+            ));
+        }
+        prev = x;
+    }
+    match (d.stiffness_n_per_m, d.ea_n) {
+        (Some(k), None) => check_bound(
+            w,
+            "catenary.droppers.stiffness_n_per_m",
+            k,
+            &bounds::DROPPER_STIFFNESS,
+        )?,
+        (None, Some(ea)) => check_bound(w, "catenary.droppers.ea_n", ea, &bounds::DROPPER_EA)?,
+        _ => {
+            return Err(inv(
+                "catenary.droppers.stiffness_n_per_m",
+                "both or neither of stiffness_n_per_m and ea_n",
+                "give exactly one of them",
+            ))
+        }
+    }
+    check_bound(
+        w,
+        "catenary.droppers.clamp_mass_messenger_kg",
+        d.clamp_mass_messenger_kg,
+        &bounds::CLAMP_MASS,
+    )?;
+    check_bound(
+        w,
+        "catenary.droppers.clamp_mass_contact_kg",
+        d.clamp_mass_contact_kg,
+        &bounds::CLAMP_MASS,
+    )?;
+    check_bound(
+        w,
+        "catenary.droppers.mass_per_m_kg",
+        d.mass_per_m_kg,
+        &bounds::DROPPER_MASS,
+    )?;
+    Ok(())
+}
+
+/// The contact wire's pre-sag.
+pub(super) fn presag(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let c = &case.catenary;
+    let d = &c.droppers;
+    // Pre-sag: beyond span/100 (0.6 m on 60 m) no pantograph follows the wire; typical
+    // designs stay below span/500.
+    let presag_bound = Bound {
+        hard: (-c.span_m / 100.0, c.span_m / 100.0),
+        soft: (0.0, c.span_m / 500.0),
+        unit: "m",
+        typical: "0 to span/500 (downward positive)",
+    };
+    match &c.presag {
+        Presag::Parabolic { mid_span_m, .. } => {
+            check_bound(w, "catenary.presag.mid_span_m", *mid_span_m, &presag_bound)?;
+        }
+        Presag::Table { values_m } => {
+            if values_m.len() != d.positions_m.len() {
+                return Err(inv(
+                    "catenary.presag.values_m",
+                    format!("{} values", values_m.len()),
+                    &format!("need one value per dropper ({})", d.positions_m.len()),
+                ));
+            }
+            for (i, v) in values_m.iter().enumerate() {
+                check_bound(
+                    w,
+                    &format!("catenary.presag.values_m[{i}]"),
+                    *v,
+                    &presag_bound,
+                )?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The wires' damping law.
+pub(super) fn damping(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let c = &case.catenary;
+    match &c.damping {
+        Damping::Rayleigh { alpha, beta } => {
+            check_bound(w, "catenary.damping.alpha", *alpha, &bounds::RAYLEIGH_ALPHA)?;
+            check_bound(w, "catenary.damping.beta", *beta, &bounds::RAYLEIGH_BETA)?;
+        }
+        Damping::Modal { ratio } => {
+            check_bound(w, "catenary.damping.ratio", *ratio, &bounds::MODAL_RATIO)?;
+        }
+    }
+    Ok(())
+}
+
+/// Messenger supports and steady arms.
+pub(super) fn supports_and_arms(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let c = &case.catenary;
+    check_bound(
+        w,
+        "catenary.messenger_support.stiffness_n_per_m",
+        c.messenger_support.stiffness_n_per_m,
+        &bounds::SUPPORT_STIFFNESS,
+    )?;
+    check_bound(
+        w,
+        "catenary.messenger_support.damping_ns_per_m",
+        c.messenger_support.damping_ns_per_m,
+        &bounds::SUPPORT_DAMPING,
+    )?;
+    check_bound(
+        w,
+        "catenary.steady_arm.mass_kg",
+        c.steady_arm.mass_kg,
+        &bounds::ARM_MASS,
+    )?;
+    check_bound(
+        w,
+        "catenary.steady_arm.stiffness_n_per_m",
+        c.steady_arm.stiffness_n_per_m,
+        &bounds::SUPPORT_STIFFNESS,
+    )?;
+    Ok(())
+}
+
+/// The stitch wire, where there is one.
+pub(super) fn stitch_wire(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let c = &case.catenary;
+    let d = &c.droppers;
+    if let Some(st) = &c.stitch_wire {
+        check_bound(
+            w,
+            "catenary.stitch_wire.length_m",
+            st.length_m,
+            &bounds::STITCH_LENGTH,
+        )?;
+        check_bound(
+            w,
+            "catenary.stitch_wire.tension_n",
+            st.tension_n,
+            &bounds::STITCH_TENSION,
+        )?;
+        check_bound(
+            w,
+            "catenary.stitch_wire.mass_per_m_kg",
+            st.mass_per_m_kg,
+            &bounds::DROPPER_MASS,
+        )?;
+        check_bound(
+            w,
+            "catenary.stitch_wire.clamp_mass_kg",
+            st.clamp_mass_kg,
+            &bounds::CLAMP_MASS,
+        )?;
+        if let Some(cs) = st.damping_ns_per_m {
+            check_bound(
+                w,
+                "catenary.stitch_wire.damping_ns_per_m",
+                cs,
+                &bounds::SUPPORT_DAMPING,
+            )?;
+        }
+        if st.length_m >= c.span_m {
+            return Err(inv(
+                "catenary.stitch_wire.length_m",
+                st.length_m,
+                "must be shorter than the span",
+            ));
+        }
+        if st.droppers.is_empty() {
+            return Err(inv(
+                "catenary.stitch_wire.droppers",
+                "[]",
+                "name the droppers that hang from the stitch wire",
+            ));
+        }
+        for (j, &i) in st.droppers.iter().enumerate() {
+            let field = format!("catenary.stitch_wire.droppers[{j}]");
+            let Some(&x) = d.positions_m.get(i) else {
+                return Err(inv(
+                    &field,
+                    i,
+                    &format!("no such dropper (there are {})", d.positions_m.len()),
+                ));
+            };
+            let to_support = x.min(c.span_m - x);
+            if to_support >= 0.5 * st.length_m - 1e-9 {
+                return Err(inv(
+                    &field,
+                    i,
+                    &format!(
+                        "dropper at {x} m is not under a stitch wire (±{} m around the support)",
+                        0.5 * st.length_m
+                    ),
+                ));
+            }
+        }
+        if c.steady_arm.static_support {
+            w.push(Warning(
+                "stitched catenary with catenary.steady_arm.static_support = true: the arm, not the stitch droppers, holds the contact wire at the support".into(),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The contact stiffness and the pantographs.
+pub(super) fn contact_and_pantographs(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    check_bound(
+        w,
+        "contact.stiffness_n_per_m",
+        case.contact.stiffness_n_per_m,
+        &bounds::CONTACT_STIFFNESS,
+    )?;
+
+    let r = &case.run;
+    check_bound(w, "run.speed_kmh", r.speed_kmh, &bounds::SPEED)?;
+    // The speed is checked against the wave speed of the built model (one definition, with the
+    // clamps smeared in): see `solve::Plan::check`.
+    if case.pantographs.is_empty() {
+        return Err(inv("pantographs", "[]", "need at least one pantograph"));
+    }
+    for (i, p) in case.pantographs.iter().enumerate() {
+        let base = format!("pantographs[{i}]");
+        check_bound(
+            w,
+            &format!("{base}.offset_m"),
+            p.offset_m(),
+            &bounds::OFFSET,
+        )?;
+        match p {
+            PantographCase::Lumped {
+                masses_kg,
+                stiffness_n_per_m,
+                damping_ns_per_m,
+                uplift_n,
+                aero_coeffs_kmh,
+                ..
+            } => {
+                if masses_kg.is_empty() {
+                    return Err(inv(
+                        &format!("{base}.masses_kg"),
+                        "[]",
+                        "need at least one mass",
+                    ));
+                }
+                if masses_kg.len() > 20 {
+                    return Err(inv(
+                        &format!("{base}.masses_kg"),
+                        format!("{} masses", masses_kg.len()),
+                        "a lumped pantograph has a handful of masses (at most 20)",
+                    ));
+                }
+                for (j, &m) in masses_kg.iter().enumerate() {
+                    check_bound(
+                        w,
+                        &format!("{base}.masses_kg[{j}]"),
+                        m,
+                        &bounds::PANTOGRAPH_MASS,
+                    )?;
+                }
+                for (field, v, b) in [
+                    (
+                        "stiffness_n_per_m",
+                        stiffness_n_per_m,
+                        &bounds::PANTOGRAPH_STIFFNESS,
+                    ),
+                    (
+                        "damping_ns_per_m",
+                        damping_ns_per_m,
+                        &bounds::PANTOGRAPH_DAMPING,
+                    ),
+                ] {
+                    if v.len() != masses_kg.len() {
+                        return Err(inv(
+                            &format!("{base}.{field}"),
+                            format!("{} values", v.len()),
+                            &format!("need one value per mass ({})", masses_kg.len()),
+                        ));
+                    }
+                    for (j, &x) in v.iter().enumerate() {
+                        check_bound(w, &format!("{base}.{field}[{j}]"), x, b)?;
+                    }
+                }
+                check_bound(w, &format!("{base}.uplift_n"), *uplift_n, &bounds::UPLIFT)?;
+                if aero_coeffs_kmh.len() > 8 {
+                    return Err(inv(
+                        &format!("{base}.aero_coeffs_kmh"),
+                        format!("{} coefficients", aero_coeffs_kmh.len()),
+                        "a polynomial of degree at most 7",
+                    ));
+                }
+                let v = r.speed_kmh;
+                let aero = aero_coeffs_kmh
+                    .iter()
+                    .rev()
+                    .fold(0.0, |acc, ci| acc * v + ci);
+                check_bound(
+                    w,
+                    &format!("{base}.aero_coeffs_kmh (the force at {v} km/h, N)"),
+                    aero,
+                    &bounds::AERO,
+                )?;
+            }
+            PantographCase::MovingForce { force_n, .. } => {
+                check_bound(
+                    w,
+                    &format!("{base}.force_n"),
+                    *force_n,
+                    &bounds::MOVING_FORCE,
+                )?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The time step, the number of modes, and where the run starts, ends and is analysed.
+pub(super) fn run(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let c = &case.catenary;
+    let r = &case.run;
+    check_bound(w, "run.dt_s", r.dt_s, &bounds::DT)?;
+    match (r.modes, r.modes_per_m) {
+        (Some(_), Some(_)) => {
+            return Err(inv(
+                "run.modes",
+                "both modes and modes_per_m",
+                "give only one of them",
+            ))
+        }
+        (None, None) => return Err(inv("run.modes", "missing", "give `modes` or `modes_per_m`")),
+        (Some(n), None) if n == 0 => return Err(inv("run.modes", n, "must be at least 1")),
+        (None, Some(dn)) => pos("run.modes_per_m", dn)?,
+        _ => {}
+    }
+    let l = case.length_m();
+    let field = if r.modes.is_some() {
+        "run.modes"
+    } else {
+        "run.modes_per_m"
+    };
+    let shown = |n: usize| match r.modes_per_m {
+        Some(d) if r.modes.is_none() => format!("{d} ({n} modes over {l} m)"),
+        _ => n.to_string(),
+    };
+    let raw = match (r.modes, r.modes_per_m) {
+        (Some(n), _) => n as f64,
+        (None, Some(d)) => d * l,
+        _ => 0.0,
+    };
+    if raw > 200_000.0 {
+        return Err(inv(
+            field,
+            shown(raw as usize),
+            "more than 200000 modes per wire",
+        ));
+    }
+    let n = case.n_modes();
+    // The shortest wave of the series, 2L/N, must be shorter than a span, or the series
+    // cannot even show the span-to-span shape of the catenary.
+    if (n as f64) < 2.0 * c.spans as f64 {
+        return Err(inv(
+            field,
+            shown(n),
+            &format!(
+                "fewer than 2 modes per span ({} spans): the series cannot represent the catenary; about 1 mode per metre converges (docs/validation.md)",
+                c.spans
+            ),
+        ));
+    }
+    if (n as f64) / l < 0.3 {
+        w.push(Warning(format!(
+            "{field} = {}: {:.2} modes per metre resolve the wires only to about {:.0} Hz; statistics converge at about 1 per metre (docs/validation.md)",
+            shown(n),
+            n as f64 / l,
+            n as f64 / l * 60.0
+        )));
+    }
+    let max_off = case
+        .pantographs
+        .iter()
+        .map(|p| p.offset_m())
+        .fold(0.0, f64::max);
+    if r.start_m - max_off <= 0.0 || r.start_m >= l {
+        return Err(inv(
+            "run.start_m",
+            r.start_m,
+            &format!("every pantograph must start inside the model (0, {l}) m (rearmost offset {max_off} m)"),
+        ));
+    }
+    if r.end_m <= r.start_m - max_off {
+        return Err(inv(
+            "run.end_m",
+            r.end_m,
+            "must lie ahead of the rearmost pantograph's start",
+        ));
+    }
+    if r.end_m + max_off >= l {
+        return Err(inv(
+            "run.end_m",
+            r.end_m,
+            &format!("the leading pantograph would leave the model (length {l} m) before the rearmost reaches it"),
+        ));
+    }
+    let [a, b] = r.analysis_m;
+    if !(a >= 0.0 && b <= l && a < b) {
+        return Err(inv(
+            "run.analysis_m",
+            format!("[{a}, {b}]"),
+            &format!("must be an interval inside the model [0, {l}] m"),
+        ));
+    }
+    if a < r.start_m - max_off || b > r.end_m {
+        return Err(inv(
+            "run.analysis_m",
+            format!("[{a}, {b}]"),
+            &format!("every pantograph must cross the whole section: it must lie within [start_m − offset, end_m] = [{}, {}] m", r.start_m - max_off, r.end_m),
+        ));
+    }
+    Ok(())
+}
+
+/// The modelled directions.
+pub(super) fn lateral_dofs(case: &Case, _w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let dofs = &case.run.dofs;
+    if !dofs.contains(&Dof::Vertical) {
+        return Err(inv(
+            "run.dofs",
+            format!("{dofs:?}"),
+            "must include \"vertical\": the pantograph touches the wire vertically",
+        ));
+    }
+    for (i, d) in dofs.iter().enumerate() {
+        if dofs[..i].contains(d) {
+            return Err(inv(
+                "run.dofs",
+                format!("{dofs:?}"),
+                "a direction is listed twice",
+            ));
+        }
+    }
+    let lateral = dofs.contains(&Dof::Lateral);
+    let torsional = dofs.contains(&Dof::Torsional);
+    if torsional && !lateral {
+        return Err(inv(
+            "run.dofs",
+            format!("{dofs:?}"),
+            "torsion is coupled through lateral forces at eccentric clamps: model \"lateral\" too",
+        ));
+    }
+    Ok(())
+}
+
+/// The wires' lateral and torsional section data.
+pub(super) fn lateral_sections(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let lateral = case.run.dofs.contains(&Dof::Lateral);
+    let torsional = case.run.dofs.contains(&Dof::Torsional);
+    let c = &case.catenary;
+    for (name, wire) in [
+        ("contact_wire", &c.contact_wire),
+        ("messenger", &c.messenger),
+    ] {
+        let f = |k: &str| format!("catenary.{name}.section.{k}");
+        let needs = lateral || case.wind.is_some() || c.ice.is_some();
+        let Some(s) = &wire.section else {
+            if needs {
+                return Err(inv(
+                    &format!("catenary.{name}.section"),
+                    "missing",
+                    "lateral motion, wind and ice need the wire's section (diameter_m, and gj_nm2 and polar_inertia_kg_m for torsion)",
+                ));
+            }
+            continue;
+        };
+        check_bound(w, &f("diameter_m"), s.diameter_m, &bounds::DIAMETER)?;
+        if let Some(ei) = s.ei_lateral_nm2 {
+            check_bound(w, &f("ei_lateral_nm2"), ei, &bounds::EI)?;
+        }
+        match (s.gj_nm2, s.polar_inertia_kg_m) {
+            (Some(gj), Some(ip)) => {
+                check_bound(w, &f("gj_nm2"), gj, &bounds::GJ)?;
+                check_bound(w, &f("polar_inertia_kg_m"), ip, &bounds::POLAR)?;
+            }
+            _ if torsional => {
+                return Err(inv(
+                    &f(if s.gj_nm2.is_none() {
+                        "gj_nm2"
+                    } else {
+                        "polar_inertia_kg_m"
+                    }),
+                    "missing",
+                    "torsional motion needs gj_nm2 and polar_inertia_kg_m",
+                ))
+            }
+            _ => {}
+        }
+        match &s.aero {
+            Some(a) => {
+                let n = a.attack_deg.len();
+                if n < 2 {
+                    return Err(inv(
+                        &f("aero.attack_deg"),
+                        format!("{n} angles"),
+                        "need at least two angles",
+                    ));
+                }
+                for i in 1..n {
+                    if a.attack_deg[i] <= a.attack_deg[i - 1] {
+                        return Err(inv(
+                            &f(&format!("aero.attack_deg[{i}]")),
+                            a.attack_deg[i],
+                            "angles must increase",
+                        ));
+                    }
+                }
+                if a.attack_deg[0] > 0.0 || a.attack_deg[n - 1] < 0.0 {
+                    return Err(inv(
+                        &f("aero.attack_deg"),
+                        format!("{:?}", a.attack_deg),
+                        "the table must include 0° (the mean wind is horizontal)",
+                    ));
+                }
+                for (k, v) in [("drag", &a.drag), ("lift", &a.lift), ("moment", &a.moment)] {
+                    if v.len() != n {
+                        return Err(inv(
+                            &f(&format!("aero.{k}")),
+                            format!("{} values", v.len()),
+                            &format!("need one value per angle ({n})"),
+                        ));
+                    }
+                    for (i, x) in v.iter().enumerate() {
+                        check_bound(w, &f(&format!("aero.{k}[{i}]")), *x, &bounds::COEFF)?;
+                    }
+                }
+                if a.at(0.0).0 <= 0.0 {
+                    return Err(inv(
+                        &f("aero.drag"),
+                        a.at(0.0).0,
+                        "the drag coefficient at 0° must be positive",
+                    ));
+                }
+            }
+            None if case.wind.is_some() => {
+                return Err(inv(
+                    &f("aero"),
+                    "missing",
+                    "wind needs the wire's aerodynamic coefficients",
+                ))
+            }
+            None => {}
+        }
+    }
+    Ok(())
+}
+
+/// Stagger, registrations and the lateral geometry.
+pub(super) fn lateral_geometry(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let lateral = case.run.dofs.contains(&Dof::Lateral);
+    let c = &case.catenary;
+    match &c.lateral {
+        Some(l) => {
+            if !lateral {
+                w.push(Warning(
+                    "catenary.lateral is given but run.dofs has no \"lateral\": stagger and lateral registration are ignored".into(),
+                ));
+            }
+            match (&l.stagger_m, &l.stagger_list_m) {
+                (Some(s), None) => check_bound(w, "catenary.lateral.stagger_m", *s, &bounds::STAGGER)?,
+                (None, Some(list)) => {
+                    if list.is_empty() {
+                        return Err(inv(
+                            "catenary.lateral.stagger_list_m",
+                            "[]",
+                            "give at least one stagger",
+                        ));
+                    }
+                    for (i, s) in list.iter().enumerate() {
+                        check_bound(
+                            w,
+                            &format!("catenary.lateral.stagger_list_m[{i}]"),
+                            *s,
+                            &bounds::STAGGER,
+                        )?;
+                    }
+                }
+                (None, None) => {}
+                (Some(_), Some(_)) => {
+                    return Err(inv(
+                        "catenary.lateral.stagger_m",
+                        "both stagger_m and stagger_list_m",
+                        "give only one of them",
+                    ))
+                }
+            }
+            let f = |k: &str| format!("catenary.lateral.{k}");
+            check_bound(
+                w,
+                &f("steady_arm_stiffness_n_per_m"),
+                l.steady_arm_stiffness_n_per_m,
+                &bounds::LAT_STIFF,
+            )?;
+            check_bound(w, &f("steady_arm_mass_kg"), l.steady_arm_mass_kg, &bounds::ARM_MASS)?;
+            check_bound(
+                w,
+                &f("messenger_support_stiffness_n_per_m"),
+                l.messenger_support_stiffness_n_per_m,
+                &bounds::LAT_STIFF,
+            )?;
+            for (k, v) in [
+                ("dropper_clamp_eccentricity_m", l.dropper_clamp_eccentricity_m),
+                (
+                    "steady_arm_clamp_eccentricity_m",
+                    l.steady_arm_clamp_eccentricity_m,
+                ),
+                (
+                    "contact_point_eccentricity_m",
+                    l.contact_point_eccentricity_m,
+                ),
+            ] {
+                check_bound(w, &f(k), v, &bounds::ECC)?;
+            }
+            check_bound(
+                w,
+                &f("steady_arm_torsional_stiffness_nm_per_rad"),
+                l.steady_arm_torsional_stiffness_nm_per_rad,
+                &bounds::TORS_STIFF,
+            )?;
+            check_bound(
+                w,
+                &f("contact_wire_height_m"),
+                l.contact_wire_height_m,
+                &bounds::WIRE_HEIGHT,
+            )?;
+        }
+        None if lateral => {
+            return Err(inv(
+                "catenary.lateral",
+                "missing",
+                "lateral motion needs the lateral registration (steady-arm and messenger-support stiffness, contact-wire height, stagger)",
+            ))
+        }
+        None => {}
+    }
+    Ok(())
+}
+
+/// Ice on the wires.
+pub(super) fn ice(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let c = &case.catenary;
+    if let Some(ice) = &c.ice {
+        check_bound(
+            w,
+            "catenary.ice.density_kg_m3",
+            ice.density_kg_m3,
+            &bounds::ICE_DENSITY,
+        )?;
+        check_bound(
+            w,
+            "catenary.ice.contact_wire_m",
+            ice.contact_wire_m,
+            &bounds::ICE,
+        )?;
+        check_bound(w, "catenary.ice.messenger_m", ice.messenger_m, &bounds::ICE)?;
+    }
+    Ok(())
+}
+
+/// The crosswind.
+pub(super) fn wind(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let lateral = case.run.dofs.contains(&Dof::Lateral);
+    let c = &case.catenary;
+    if let Some(wd) = &case.wind {
+        if !lateral {
+            return Err(inv(
+                "wind",
+                "given",
+                "wind acts laterally: add \"lateral\" to run.dofs",
+            ));
+        }
+        let f = |k: &str| format!("wind.{k}");
+        check_bound(w, &f("mean_speed_m_s"), wd.mean_speed_m_s, &bounds::WIND)?;
+        check_bound(
+            w,
+            &f("reference_height_m"),
+            wd.reference_height_m,
+            &bounds::REF_HEIGHT,
+        )?;
+        match &wd.profile {
+            WindProfile::Log { roughness_m } => {
+                check_bound(w, &f("profile.roughness_m"), *roughness_m, &bounds::ROUGH)?;
+                if *roughness_m <= 0.0 {
+                    return Err(inv(&f("profile.roughness_m"), roughness_m, "must be > 0"));
+                }
+                let lh = c.lateral.as_ref().map_or(5.0, |l| l.contact_wire_height_m);
+                if lh <= *roughness_m || wd.reference_height_m <= *roughness_m {
+                    return Err(inv(
+                        &f("profile.roughness_m"),
+                        roughness_m,
+                        "the log law needs heights above the roughness length",
+                    ));
+                }
+            }
+            WindProfile::Power { exponent } => {
+                check_bound(w, &f("profile.exponent"), *exponent, &bounds::EXPONENT)?
+            }
+        }
+        check_bound(w, &f("yaw_deg"), wd.yaw_deg, &bounds::YAW)?;
+        check_bound(
+            w,
+            &f("turbulence_intensity"),
+            wd.turbulence_intensity,
+            &bounds::TI,
+        )?;
+        if let Spectrum::Kaimal { integral_length_m } = wd.spectrum {
+            check_bound(
+                w,
+                &f("spectrum.integral_length_m"),
+                integral_length_m,
+                &bounds::LENGTH_SCALE,
+            )?;
+            if integral_length_m <= 0.0 {
+                return Err(inv(
+                    &f("spectrum.integral_length_m"),
+                    integral_length_m,
+                    "must be > 0",
+                ));
+            }
+        }
+        check_bound(w, &f("coherence_decay"), wd.coherence_decay, &bounds::DECAY)?;
+        check_bound(
+            w,
+            &f("air_density_kg_m3"),
+            wd.air_density_kg_m3,
+            &bounds::AIR,
+        )?;
+        check_bound(w, &f("grid_m"), wd.grid_m, &bounds::GRID)?;
+        if wd.grid_m <= 0.0 {
+            return Err(inv(&f("grid_m"), wd.grid_m, "must be > 0"));
+        }
+        check_bound(w, &f("dt_s"), wd.dt_s, &bounds::WIND_DT)?;
+        if wd.dt_s <= 0.0 {
+            return Err(inv(&f("dt_s"), wd.dt_s, "must be > 0"));
+        }
+        if wd.dt_s < case.run.dt_s {
+            return Err(inv(
+                &f("dt_s"),
+                wd.dt_s,
+                "must not be shorter than run.dt_s (the wind is interpolated between its samples)",
+            ));
+        }
+        if wd.turbulence_intensity > 0.0 && matches!(wd.spectrum, Spectrum::None) {
+            return Err(inv(
+                &f("spectrum"),
+                "none",
+                "a turbulence intensity above 0 needs a spectrum (kaimal or davenport)",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The pantograph heads' widths.
+pub(super) fn pantograph_heads(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    for (i, p) in case.pantographs.iter().enumerate() {
+        if let PantographCase::Lumped {
+            head_half_width_m,
+            working_half_width_m,
+            ..
+        } = p
+        {
+            if let Some(h) = head_half_width_m {
+                check_bound(
+                    w,
+                    &format!("pantographs[{i}].head_half_width_m"),
+                    *h,
+                    &bounds::HALF_WIDTH,
+                )?;
+                if *h <= 0.0 {
+                    return Err(inv(
+                        &format!("pantographs[{i}].head_half_width_m"),
+                        h,
+                        "must be > 0",
+                    ));
+                }
+            }
+            if let Some(wr) = working_half_width_m {
+                check_bound(
+                    w,
+                    &format!("pantographs[{i}].working_half_width_m"),
+                    *wr,
+                    &bounds::HALF_WIDTH,
+                )?;
+                if let Some(h) = head_half_width_m {
+                    if wr > h {
+                        return Err(inv(
+                            &format!("pantographs[{i}].working_half_width_m"),
+                            wr,
+                            &format!("must not exceed the head's half-width ({h} m)"),
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Check the irregularity sources of `case`.
+pub(super) fn irregularity(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    for (i, ir) in case.irregularity.iter().enumerate() {
+        let f = |k: &str| format!("irregularity[{i}].{k}");
+        match ir {
+            IrregularityCase::Table {
+                position_m,
+                deviation_m,
+                ..
+            } => {
+                if position_m.len() < 2 {
+                    return Err(inv(
+                        &f("position_m"),
+                        format!("{} points", position_m.len()),
+                        "a profile needs at least two points",
+                    ));
+                }
+                if deviation_m.len() != position_m.len() {
+                    return Err(inv(
+                        &f("deviation_m"),
+                        format!("{} values", deviation_m.len()),
+                        &format!("need one deviation per position ({})", position_m.len()),
+                    ));
+                }
+                for k in 1..position_m.len() {
+                    if position_m[k] <= position_m[k - 1] {
+                        return Err(inv(
+                            &f(&format!("position_m[{k}]")),
+                            position_m[k],
+                            "positions must increase",
+                        ));
+                    }
+                }
+                for (k, d) in deviation_m.iter().enumerate() {
+                    check_bound(
+                        w,
+                        &f(&format!("deviation_m[{k}]")),
+                        *d,
+                        &bounds::IRREGULARITY_DEVIATION,
+                    )?;
+                }
+            }
+            IrregularityCase::Psd {
+                rms_m,
+                min_wavelength_m,
+                max_wavelength_m,
+                exponent,
+                table,
+                ..
+            } => {
+                check_bound(w, &f("rms_m"), *rms_m, &bounds::IRREGULARITY_RMS)?;
+                check_bound(
+                    w,
+                    &f("min_wavelength_m"),
+                    *min_wavelength_m,
+                    &bounds::IRREGULARITY_WAVELENGTH,
+                )?;
+                check_bound(
+                    w,
+                    &f("max_wavelength_m"),
+                    *max_wavelength_m,
+                    &bounds::IRREGULARITY_WAVELENGTH,
+                )?;
+                if !(*min_wavelength_m > 0.0 && max_wavelength_m > min_wavelength_m) {
+                    return Err(inv(
+                        &f("max_wavelength_m"),
+                        max_wavelength_m,
+                        &format!("the band needs 0 < min_wavelength_m ({min_wavelength_m}) < max_wavelength_m"),
+                    ));
+                }
+                if !(exponent.is_finite() && exponent.abs() <= 10.0) {
+                    return Err(inv(&f("exponent"), exponent, "must lie within ±10"));
+                }
+                if *max_wavelength_m > case.length_m() {
+                    w.push(Warning(format!(
+                        "{} = {max_wavelength_m} m is longer than the model ({} m): those wavelengths are cut",
+                        f("max_wavelength_m"),
+                        case.length_m()
+                    )));
+                }
+                if let Some(t) = table {
+                    if t.wavelength_m.len() < 2 || t.psd.len() != t.wavelength_m.len() {
+                        return Err(inv(
+                            &f("table"),
+                            format!(
+                                "{} wavelengths, {} values",
+                                t.wavelength_m.len(),
+                                t.psd.len()
+                            ),
+                            "need at least two wavelengths and one PSD value per wavelength",
+                        ));
+                    }
+                    for k in 0..t.wavelength_m.len() {
+                        if t.wavelength_m[k] <= 0.0
+                            || (k > 0 && t.wavelength_m[k] <= t.wavelength_m[k - 1])
+                        {
+                            return Err(inv(
+                                &f(&format!("table.wavelength_m[{k}]")),
+                                t.wavelength_m[k],
+                                "wavelengths must be positive and increase",
+                            ));
+                        }
+                        if !(t.psd[k] > 0.0 && t.psd[k].is_finite()) {
+                            return Err(inv(
+                                &f(&format!("table.psd[{k}]")),
+                                t.psd[k],
+                                "PSD values must be finite and > 0",
+                            ));
+                        }
+                    }
+                }
+            }
+            IrregularityCase::Droppers { rms_m, .. } => {
+                check_bound(w, &f("rms_m"), *rms_m, &bounds::IRREGULARITY_RMS)?;
+            }
+        }
+    }
+    Ok(())
+}
