@@ -332,28 +332,12 @@ fn window(
             coarse_m,
             resolution_m,
         };
-        search.check().map_err(|e| e.to_string())?;
-        if search.max_m >= single.length_m() {
-            return Err(format!(
-                "max_window_m = {}: must be shorter than the model ({} m)",
-                search.max_m,
-                single.length_m()
-            ));
-        }
         let tol = Tolerances {
             mean_pct: mean_tol_pct,
             sigma_pct: sigma_tol_pct,
             max_pct: max_tol_pct,
         };
-        for (name, v) in [
-            ("mean_tol_pct", mean_tol_pct),
-            ("sigma_tol_pct", sigma_tol_pct),
-            ("max_tol_pct", max_tol_pct),
-        ] {
-            if !(v.is_finite() && v > 0.0 && v < 1000.0) {
-                return Err(format!("{name} = {v}: must be a percentage in (0, 1000)"));
-            }
-        }
+        // The tolerances and the search are checked by the core's sweep, as for the CLI.
         let list = sweep_jobs(&single, speeds_kmh, tensions_n, seeds, shard)?;
         let b = budget(max_steps, max_memory_gb);
         Ok(window_sweep(&list, &search, &tol, &b, jobs, &|| ())

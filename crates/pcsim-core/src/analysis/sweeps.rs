@@ -152,7 +152,9 @@ pub struct WindowCase {
 }
 
 /// The accuracy-based window length of every case of `jobs` (one shard of a grid of a
-/// one-pantograph case), with the EVA lengths beside it; as [`eva_sweep`].
+/// one-pantograph case), with the EVA lengths beside it; as [`eva_sweep`]. The tolerances and the
+/// search are checked here, for every front end ([`Tolerances::check`],
+/// [`SearchSettings::check_for`] against the model's length).
 pub fn window_sweep(
     jobs: &[Job],
     search: &SearchSettings,
@@ -161,6 +163,10 @@ pub fn window_sweep(
     threads: Option<usize>,
     done: &(dyn Fn() + Sync),
 ) -> Result<Vec<WindowCase>, SimError> {
+    tol.check()?;
+    if let Some(j) = jobs.first() {
+        search.check_for(j.case.length_m())?;
+    }
     let eva_settings = EvaSettings {
         budget: *budget,
         ..EvaSettings::default()

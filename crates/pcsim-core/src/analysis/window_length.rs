@@ -91,7 +91,40 @@ pub struct SearchSettings {
     pub resolution_m: f64,
 }
 
+impl Tolerances {
+    /// Check the tolerances, naming the flag: each a percentage in (0, 1000).
+    pub fn check(&self) -> Result<(), CaseError> {
+        for (flag, v) in [
+            ("--mean-tol", self.mean_pct),
+            ("--sigma-tol", self.sigma_pct),
+            ("--max-tol", self.max_pct),
+        ] {
+            if !(v.is_finite() && v > 0.0 && v < 1000.0) {
+                return Err(CaseError::Invalid {
+                    field: flag.into(),
+                    value: v.to_string(),
+                    reason: "must be a percentage in (0, 1000)".into(),
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
 impl SearchSettings {
+    /// [`Self::check`], and the longest window shorter than the model of `model_length_m`.
+    pub fn check_for(&self, model_length_m: f64) -> Result<(), CaseError> {
+        self.check()?;
+        if self.max_m >= model_length_m {
+            return Err(CaseError::Invalid {
+                field: "--max-window".into(),
+                value: format!("{} m", self.max_m),
+                reason: format!("must be shorter than the model ({model_length_m} m)"),
+            });
+        }
+        Ok(())
+    }
+
     /// Check the settings, naming the flag.
     pub fn check(&self) -> Result<(), CaseError> {
         let bad = |field: &str, v: f64, r: &str| CaseError::Invalid {
