@@ -216,15 +216,8 @@ pub fn shown(dir: &Path, file: &str) -> String {
 /// The number of realisations of `--seeds N` (1 without the flag): at least 1, at most
 /// 100 000, and only for a case with a seeded random input.
 pub fn seeds_flag(seeds: Option<usize>, case: &Case) -> Result<usize> {
-    match seeds {
-        None => Ok(1),
-        Some(0) => anyhow::bail!("--seeds 0: run at least 1 realisation"),
-        Some(n) if n > 100_000 => anyhow::bail!("--seeds {n}: at most 100000 realisations"),
-        Some(n) if !case.is_random() => anyhow::bail!(
-            "--seeds {n}: the case has no seeded random input (an [[irregularity]] of kind psd or droppers, or a [wind] with turbulence), so every realisation would be the same"
-        ),
-        Some(n) => Ok(n),
-    }
+    pcsim_core::analysis::sweep::check_seeds(seeds, case)
+        .map_err(|e| anyhow::anyhow!("--seeds {}: {e}", seeds.unwrap_or(1)))
 }
 
 /// Read a contact-wire irregularity profile from a CSV file: a header line, then `position_m,

@@ -38,6 +38,7 @@ pub fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
 pub struct NotPositiveDefinite {
     /// The row whose pivot was not positive.
     pub row: usize,
+    /// The pivot found.
     pub pivot: f64,
 }
 

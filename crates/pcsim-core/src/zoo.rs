@@ -106,6 +106,7 @@ pub fn one_span() -> Setup {
         },
         options: full.options,
         warnings: vec![],
+        stable: None,
     }
 }
 
@@ -143,7 +144,9 @@ pub fn two_pantographs() -> Setup {
 /// A recorded time history of a zoo model: the columns and one row every `every` steps.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Trace {
+    /// Column names with their units.
     pub columns: Vec<String>,
+    /// One row per recorded step.
     pub rows: Vec<Vec<f64>>,
 }
 

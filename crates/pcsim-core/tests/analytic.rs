@@ -147,7 +147,7 @@ fn natural_frequency_of_string_with_central_point_mass() {
     for _ in 0..200_000 {
         s.step();
         ts.push(s.state.t);
-        ys.push(s.integ.monitor(&s.ws, 0));
+        ys.push(s.integ.compiled().monitor(&s.ws, 0));
     }
     let measured = 2.0 * PI / mean_period(&zero_crossings(&ts, &ys));
     assert!(

@@ -291,3 +291,32 @@ fn unusual_values_are_warnings_naming_the_field() {
         );
     }
 }
+
+/// The number of realisations is checked once, in the core, for the CLI and Python alike
+/// (`analysis::sweep::check_seeds`): at least one, at most `MAX_SEEDS`, and several only for a
+/// case with a seeded random input.
+#[test]
+fn the_number_of_realisations_is_checked_in_the_core() {
+    use pcsim_core::analysis::sweep::{check_seeds, MAX_SEEDS};
+    let (plain, _) = presets::load("syt-7.0-9.8").unwrap();
+    assert!(!plain.is_random());
+    assert_eq!(check_seeds(None, &plain), Ok(1));
+    assert!(check_seeds(Some(3), &plain)
+        .unwrap_err()
+        .contains("no seeded random input"));
+    let mut random = plain.clone();
+    random
+        .irregularity
+        .push(pcsim_core::input::case::IrregularityCase::Droppers {
+            rms_m: 0.005,
+            seed: 7,
+        });
+    assert!(random.is_random());
+    assert_eq!(check_seeds(Some(3), &random), Ok(3));
+    assert!(check_seeds(Some(0), &random)
+        .unwrap_err()
+        .contains("at least 1"));
+    assert!(check_seeds(Some(MAX_SEEDS + 1), &random)
+        .unwrap_err()
+        .contains("at most"));
+}

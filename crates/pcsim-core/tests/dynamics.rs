@@ -23,11 +23,11 @@ fn droppers_go_slack_when_pushed_past_their_preload() {
     for _ in 0..20_000 {
         s.step();
     }
-    let (droppers, slots) = s.integ.element::<Droppers>().unwrap();
+    let (droppers, slots) = s.integ.compiled().element::<Droppers>().unwrap();
     let nd = droppers.0.len();
     let mut t = vec![0.0; nd];
     let mut e = vec![0.0; nd];
-    let u = s.integ.displacements(&s.ws);
+    let u = s.integ.compiled().displacements(&s.ws);
     droppers.tensions(slots, u, &mut t);
     droppers.elongations(slots, u, &mut e);
     let mut slack = 0;
@@ -70,8 +70,8 @@ fn energy_residual(setup: Setup, steps: usize, moving_force: Option<f64>) -> (f6
         state: mut st,
         mut ws,
     } = Stepper::new(&setup).unwrap();
-    let e0 = system_energy(&integ, &st, &mut ws).total();
-    let mut d_prev = dissipation_rate(&integ, &st, &mut ws);
+    let e0 = system_energy(integ.compiled(), &st, &mut ws).total();
+    let mut d_prev = dissipation_rate(integ.compiled(), &st, &mut ws);
     let mut p_prev = 0.0;
     let (mut dissipated, mut work) = (0.0, 0.0);
     let dt = integ.dt_s();
@@ -82,7 +82,7 @@ fn energy_residual(setup: Setup, steps: usize, moving_force: Option<f64>) -> (f6
         integ.step(&mut st, &mut ws);
         max_slack = max_slack.max(ws.slack_droppers());
         let p_now = ws.samples()[0].wire_velocity_m_s;
-        let d = dissipation_rate(&integ, &st, &mut ws);
+        let d = dissipation_rate(integ.compiled(), &st, &mut ws);
         dissipated += 0.5 * dt * (d + d_prev);
         d_prev = d;
         if let Some(f) = moving_force {
@@ -90,7 +90,7 @@ fn energy_residual(setup: Setup, steps: usize, moving_force: Option<f64>) -> (f6
             work += 0.5 * dt * (p + p_prev);
             p_prev = p;
         }
-        let e = system_energy(&integ, &st, &mut ws).total();
+        let e = system_energy(integ.compiled(), &st, &mut ws).total();
         worst = worst.max((e - e0 + dissipated - work).abs());
         scale = scale.max((e - e0).abs()).max(dissipated).max(work.abs());
     }
@@ -134,17 +134,17 @@ fn energy_balance_with_pantograph_contact_and_damping() {
             mut ws,
         } = Stepper::new(&setup).unwrap();
         st.pantographs.u[0] += 0.05;
-        let e0 = system_energy(&integ, &st, &mut ws).total();
+        let e0 = system_energy(integ.compiled(), &st, &mut ws).total();
         let dt = integ.dt_s();
-        let mut d_prev = dissipation_rate(&integ, &st, &mut ws);
+        let mut d_prev = dissipation_rate(integ.compiled(), &st, &mut ws);
         let mut dissipated = 0.0;
         let (mut worst, mut scale): (f64, f64) = (0.0, 0.0);
         for _ in 0..20_000 {
             integ.step(&mut st, &mut ws);
-            let d = dissipation_rate(&integ, &st, &mut ws);
+            let d = dissipation_rate(integ.compiled(), &st, &mut ws);
             dissipated += 0.5 * dt * (d + d_prev);
             d_prev = d;
-            let e = system_energy(&integ, &st, &mut ws).total();
+            let e = system_energy(integ.compiled(), &st, &mut ws).total();
             worst = worst.max((e - e0 + dissipated).abs());
             scale = scale.max((e - e0).abs()).max(dissipated);
         }

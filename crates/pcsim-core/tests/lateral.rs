@@ -479,23 +479,23 @@ fn energy_balance_holds_with_the_wind_doing_work() {
         state: mut st,
         mut ws,
     } = Stepper::new(&setup).unwrap();
-    let e0 = system_energy(&integ, &st, &mut ws).total();
+    let e0 = system_energy(integ.compiled(), &st, &mut ws).total();
     let dt = integ.dt_s();
-    let mut d_prev = dissipation_rate(&integ, &st, &mut ws);
+    let mut d_prev = dissipation_rate(integ.compiled(), &st, &mut ws);
     let mut p_prev = 0.0;
     let (mut dissipated, mut work) = (0.0, 0.0);
     let (mut worst, mut scale): (f64, f64) = (0.0, 0.0);
     for i in 0..8000 {
         integ.step(&mut st, &mut ws);
-        let d = dissipation_rate(&integ, &st, &mut ws);
+        let d = dissipation_rate(integ.compiled(), &st, &mut ws);
         dissipated += 0.5 * dt * (d + d_prev);
         d_prev = d;
-        let p = integ.wind_power(&st, &ws);
+        let p = integ.compiled().wind_power(&st, &ws);
         if i > 0 {
             work += 0.5 * dt * (p + p_prev);
         }
         p_prev = p;
-        let e = system_energy(&integ, &st, &mut ws).total();
+        let e = system_energy(integ.compiled(), &st, &mut ws).total();
         worst = worst.max((e - e0 + dissipated - work).abs());
         scale = scale.max((e - e0).abs()).max(dissipated).max(work.abs());
     }

@@ -134,3 +134,43 @@ fn validation_has_no_circle_and_one_table_of_bounds() {
     }
     assert_eq!(with_validate, ["validate.rs"]);
 }
+
+/// Analysis depends on the compiled model, not on the stepper (issue 18, item 3): the energy view
+/// and the observers (the EN 50318 recorder, the energy sampler) take a `CompiledModel`; only
+/// the drivers that run a set-up (`simulate`, the EVA run) build an `Integrator`. The compiled
+/// model holds no time step.
+#[test]
+fn analysis_reads_the_compiled_model_not_the_stepper() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let energy = std::fs::read_to_string(src.join("analysis/energy.rs")).unwrap();
+    assert!(
+        !energy.contains("Integrator"),
+        "analysis/energy.rs names the stepper"
+    );
+    let run = std::fs::read_to_string(src.join("solve/run.rs")).unwrap();
+    let observe = &run[run.find("fn observe(").expect("Observer::observe")..];
+    let observe = &observe[..observe.find(')').unwrap()];
+    assert!(
+        observe.contains("&CompiledModel") && !observe.contains("Integrator"),
+        "Observer::observe takes the stepper: {observe}"
+    );
+    for f in ["analysis/record.rs", "analysis/eva.rs"] {
+        let text = std::fs::read_to_string(src.join(f)).unwrap();
+        for (i, _) in text.match_indices("fn observe(") {
+            let sig = &text[i..i + text[i..].find(')').unwrap()];
+            assert!(
+                !sig.contains("Integrator"),
+                "{f}: an observer takes the stepper"
+            );
+        }
+    }
+    let compiled = std::fs::read_to_string(src.join("solve/compiled.rs")).unwrap();
+    let body = &compiled[compiled.find("pub struct CompiledModel").unwrap()..];
+    let body = &body[..body.find("\n}").unwrap()];
+    for dt in ["dt:", "dt_s:", "d_inv", "flow:"] {
+        assert!(
+            !body.contains(dt),
+            "CompiledModel holds a Δt operator: `{dt}`"
+        );
+    }
+}

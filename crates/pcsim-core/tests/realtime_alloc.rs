@@ -120,8 +120,8 @@ fn full_model_steps_and_energy_evaluations_allocate_nothing() {
     let mut check = 0.0;
     for _ in 0..2_000 {
         s.step();
-        check += system_energy(&s.integ, &s.state, &mut s.ws).total()
-            + dissipation_rate(&s.integ, &s.state, &mut s.ws);
+        check += system_energy(s.integ.compiled(), &s.state, &mut s.ws).total()
+            + dissipation_rate(s.integ.compiled(), &s.state, &mut s.ws);
     }
     let after = allocs();
     assert!(check.is_finite() && check > 0.0);
@@ -145,7 +145,7 @@ fn three_direction_steps_with_wind_allocate_nothing() {
     let mut check = 0.0;
     for _ in 0..1_000 {
         s.step();
-        check += s.ws.samples()[0].lateral_m + s.integ.wind_power(&s.state, &s.ws);
+        check += s.ws.samples()[0].lateral_m + s.integ.compiled().wind_power(&s.state, &s.ws);
     }
     let after = allocs();
     assert!(check.is_finite() && check != 0.0);

@@ -123,4 +123,24 @@ fn the_window_carries_the_leading_pantograph_only() {
     one.pantographs.truncate(1);
     let mut rt1 = RealtimeSession::new(&one, 240.0, Coupling::Sil).unwrap();
     assert_eq!(rt1.step(0.0, 0.0).unwrap(), o);
+    // The bare window keeps the leading one too (`compile::window_case`, one place) ...
+    let bare = pcsim_core::compile::realtime_window(&case, 240.0, Coupling::Sil).unwrap();
+    assert_eq!(bare.model().pantographs.len(), 1);
+    // ... and the window's constructor refuses a full model with two, naming the field.
+    let full = pcsim_core::compile::Setup::from_case(&case).unwrap();
+    let e = pcsim_core::solve::realtime::RealtimeCatenary::new(
+        &full.model,
+        &full.plan,
+        full.options,
+        case.catenary.span_m,
+        100.0,
+        240.0,
+        Coupling::Sil,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("pantographs") && e.contains("one pantograph"),
+        "{e}"
+    );
 }

@@ -144,138 +144,97 @@ pub extern "C" fn fmi2Reset(c: Fmi2Component) -> Fmi2Status {
     with(c, |k| ok(k.inst.reset()))
 }
 
-#[no_mangle]
-pub extern "C" fn fmi2GetReal(
-    c: Fmi2Component,
-    vr: *const Fmi2ValueReference,
-    n: usize,
-    value: *mut f64,
-) -> Fmi2Status {
-    with(c, |k| {
-        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
-        let (vr, value) = unsafe { (slice(vr, n)?, slice_mut(value, n)?) };
-        for (v, out) in vr.iter().zip(value.iter_mut()) {
-            *out = k.inst.get_real(*v)?;
+/// The typed get/set shells of FMI 2.0, written once: each takes the component, `n` value
+/// references and `n` values, refuses NULL arrays, and hands the slices to its body (`get`: the
+/// values writable, `set`: read-only); `none` answers Error for a type this FMU has no variables
+/// of, naming the first value reference.
+macro_rules! typed_shell {
+    (get $name:ident, $t:ty, |$k:ident, $vr:ident, $value:ident| $body:expr) => {
+        #[no_mangle]
+        pub extern "C" fn $name(
+            c: Fmi2Component,
+            vr: *const Fmi2ValueReference,
+            n: usize,
+            value: *mut $t,
+        ) -> Fmi2Status {
+            with(c, |$k| {
+                // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is
+                // refused.
+                let ($vr, $value) = unsafe { (slice(vr, n)?, slice_mut(value, n)?) };
+                $body
+            })
         }
-        Ok(Status::Ok)
-    })
-}
-
-#[no_mangle]
-pub extern "C" fn fmi2GetInteger(
-    c: Fmi2Component,
-    vr: *const Fmi2ValueReference,
-    n: usize,
-    _value: *mut c_int,
-) -> Fmi2Status {
-    with(c, |_| {
-        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
-        let vr = unsafe { slice(vr, n)? };
-        match vr.first() {
-            None => Ok(Status::Ok),
-            Some(v) => Err((
-                Status::Error,
-                format!("no Integer variable with value reference {v}"),
-            )),
+    };
+    (set $name:ident, $t:ty, |$k:ident, $vr:ident, $value:ident| $body:expr) => {
+        #[no_mangle]
+        pub extern "C" fn $name(
+            c: Fmi2Component,
+            vr: *const Fmi2ValueReference,
+            n: usize,
+            value: *const $t,
+        ) -> Fmi2Status {
+            with(c, |$k| {
+                // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is
+                // refused.
+                let ($vr, $value) = unsafe { (slice(vr, n)?, slice(value, n)?) };
+                $body
+            })
         }
-    })
-}
-
-#[no_mangle]
-pub extern "C" fn fmi2GetBoolean(
-    c: Fmi2Component,
-    vr: *const Fmi2ValueReference,
-    n: usize,
-    value: *mut Fmi2Boolean,
-) -> Fmi2Status {
-    with(c, |k| {
-        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
-        let (vr, value) = unsafe { (slice(vr, n)?, slice_mut(value, n)?) };
-        for (v, out) in vr.iter().zip(value.iter_mut()) {
-            *out = k.inst.get_boolean(*v)? as c_int;
+    };
+    (none $get:ident, $set:ident, $t:ty, $type_name:literal) => {
+        typed_shell!(@none $get, *mut $t, $type_name);
+        typed_shell!(@none $set, *const $t, $type_name);
+    };
+    (@none $name:ident, $ptr:ty, $type_name:literal) => {
+        #[no_mangle]
+        pub extern "C" fn $name(
+            c: Fmi2Component,
+            vr: *const Fmi2ValueReference,
+            n: usize,
+            _value: $ptr,
+        ) -> Fmi2Status {
+            with(c, |_| {
+                // SAFETY: the host passes `n` value references, valid for the call (FMI); NULL is
+                // refused.
+                let vr = unsafe { slice(vr, n)? };
+                match vr.first() {
+                    None => Ok(Status::Ok),
+                    Some(v) => Err((
+                        Status::Error,
+                        format!(concat!("no ", $type_name, " variable with value reference {}"), v),
+                    )),
+                }
+            })
         }
-        Ok(Status::Ok)
-    })
+    };
 }
 
-#[no_mangle]
-pub extern "C" fn fmi2GetString(
-    c: Fmi2Component,
-    vr: *const Fmi2ValueReference,
-    n: usize,
-    value: *mut Fmi2String,
-) -> Fmi2Status {
-    with(c, |k| {
-        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
-        let (vr, value) = unsafe { (slice(vr, n)?, slice_mut(value, n)?) };
-        ok(k.get_strings(vr, value))
-    })
-}
-
-#[no_mangle]
-pub extern "C" fn fmi2SetReal(
-    c: Fmi2Component,
-    vr: *const Fmi2ValueReference,
-    n: usize,
-    value: *const f64,
-) -> Fmi2Status {
-    with(c, |k| {
-        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
-        let (vr, value) = unsafe { (slice(vr, n)?, slice(value, n)?) };
-        ok(k.set_reals(vr, value))
-    })
-}
-
-#[no_mangle]
-pub extern "C" fn fmi2SetInteger(
-    c: Fmi2Component,
-    vr: *const Fmi2ValueReference,
-    n: usize,
-    _value: *const c_int,
-) -> Fmi2Status {
-    with(c, |_| {
-        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
-        let vr = unsafe { slice(vr, n)? };
-        match vr.first() {
-            None => Ok(Status::Ok),
-            Some(v) => Err((
-                Status::Error,
-                format!("no Integer variable with value reference {v}"),
-            )),
-        }
-    })
-}
-
-#[no_mangle]
-pub extern "C" fn fmi2SetBoolean(
-    c: Fmi2Component,
-    vr: *const Fmi2ValueReference,
-    n: usize,
-    value: *const Fmi2Boolean,
-) -> Fmi2Status {
-    with(c, |k| {
-        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
-        let (vr, value) = unsafe { (slice(vr, n)?, slice(value, n)?) };
-        for (v, x) in vr.iter().zip(value) {
-            k.inst.set_boolean(*v, *x != 0)?;
-        }
-        Ok(Status::Ok)
-    })
-}
-
-#[no_mangle]
-pub extern "C" fn fmi2SetString(
-    c: Fmi2Component,
-    vr: *const Fmi2ValueReference,
-    n: usize,
-    value: *const Fmi2String,
-) -> Fmi2Status {
-    with(c, |k| {
-        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
-        let (vr, value) = unsafe { (slice(vr, n)?, slice(value, n)?) };
-        ok(k.set_strings(vr, value))
-    })
-}
+typed_shell!(get fmi2GetReal, f64, |k, vr, value| {
+    for (v, out) in vr.iter().zip(value.iter_mut()) {
+        *out = k.inst.get_real(*v)?;
+    }
+    Ok(Status::Ok)
+});
+typed_shell!(get fmi2GetBoolean, Fmi2Boolean, |k, vr, value| {
+    for (v, out) in vr.iter().zip(value.iter_mut()) {
+        *out = k.inst.get_boolean(*v)? as c_int;
+    }
+    Ok(Status::Ok)
+});
+typed_shell!(get fmi2GetString, Fmi2String, |k, vr, value| ok(
+    k.get_strings(vr, value)
+));
+typed_shell!(set fmi2SetReal, f64, |k, vr, value| ok(k.set_reals(vr, value)));
+typed_shell!(set fmi2SetBoolean, Fmi2Boolean, |k, vr, value| {
+    for (v, x) in vr.iter().zip(value) {
+        k.inst.set_boolean(*v, *x != 0)?;
+    }
+    Ok(Status::Ok)
+});
+typed_shell!(set fmi2SetString, Fmi2String, |k, vr, value| ok(
+    k.set_strings(vr, value)
+));
+typed_shell!(none fmi2GetInteger, fmi2SetInteger, c_int, "Integer");
 
 #[no_mangle]
 pub extern "C" fn fmi2GetFMUstate(c: Fmi2Component, s: *mut *mut c_void) -> Fmi2Status {

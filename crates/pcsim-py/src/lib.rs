@@ -231,15 +231,11 @@ fn sweep_jobs(
     case: &pcsim_core::Case,
     speeds_kmh: Vec<f64>,
     tensions_n: Vec<f64>,
-    seeds: usize,
+    seeds: Option<usize>,
     shard: Option<(usize, usize)>,
 ) -> Result<Vec<Job>, String> {
-    if seeds == 0 || seeds > 100_000 {
-        return Err(format!("seeds = {seeds}: give 1 to 100000 realisations"));
-    }
-    if seeds > 1 && !case.is_random() {
-        return Err(format!("seeds = {seeds}: the case has no seeded random input (an [[irregularity]] of kind psd or droppers, or a [wind] with turbulence), so every realisation would be the same"));
-    }
+    let seeds = pcsim_core::analysis::sweep::check_seeds(seeds, case)
+        .map_err(|e| format!("seeds = {}: {e}", seeds.unwrap_or(1)))?;
     let shard = match shard {
         None => Shard::ALL,
         Some((i, n)) => Shard::parse(&format!("{i}/{n}")).map_err(|e| e.to_string())?,
@@ -263,7 +259,7 @@ fn budget(max_steps: Option<u64>, max_memory_gb: Option<f64>) -> Budget {
 /// EVA over speeds (km/h) × tensions (N): the rows of `eva.csv` as JSON text, by the core's one
 /// sweep (the CLI's), with seeds, a shard `(index, count)` and the resource budget.
 #[pyfunction]
-#[pyo3(signature = (case, speeds_kmh, tensions_n, step_m=1.0, tolerance_j=0.01, fraction=0.99, jobs=None, seeds=1, shard=None, max_steps=None, max_memory_gb=None))]
+#[pyo3(signature = (case, speeds_kmh, tensions_n, step_m=1.0, tolerance_j=0.01, fraction=0.99, jobs=None, seeds=None, shard=None, max_steps=None, max_memory_gb=None))]
 #[allow(clippy::too_many_arguments)]
 fn eva(
     py: Python<'_>,
@@ -274,7 +270,7 @@ fn eva(
     tolerance_j: f64,
     fraction: f64,
     jobs: Option<usize>,
-    seeds: usize,
+    seeds: Option<usize>,
     shard: Option<(usize, usize)>,
     max_steps: Option<u64>,
     max_memory_gb: Option<f64>,
@@ -303,7 +299,7 @@ fn eva(
 /// `window.csv` as JSON text, by the core's one sweep (the CLI's `pcsim window`). The case's
 /// leading pantograph is used; tolerances in %, lengths in m.
 #[pyfunction]
-#[pyo3(signature = (case, speeds_kmh, tensions_n, mean_tol_pct=1.0, sigma_tol_pct=3.0, max_tol_pct=5.0, min_window_m=None, max_window_m=400.0, coarse_m=20.0, resolution_m=1.0, jobs=None, seeds=1, shard=None, max_steps=None, max_memory_gb=None))]
+#[pyo3(signature = (case, speeds_kmh, tensions_n, mean_tol_pct=1.0, sigma_tol_pct=3.0, max_tol_pct=5.0, min_window_m=None, max_window_m=400.0, coarse_m=20.0, resolution_m=1.0, jobs=None, seeds=None, shard=None, max_steps=None, max_memory_gb=None))]
 #[allow(clippy::too_many_arguments)]
 fn window(
     py: Python<'_>,
@@ -318,13 +314,12 @@ fn window(
     coarse_m: f64,
     resolution_m: f64,
     jobs: Option<usize>,
-    seeds: usize,
+    seeds: Option<usize>,
     shard: Option<(usize, usize)>,
     max_steps: Option<u64>,
     max_memory_gb: Option<f64>,
 ) -> PyResult<String> {
-    let mut single = case.inner.clone();
-    single.pantographs.truncate(1);
+    let single = pcsim_core::compile::window_case(&case.inner);
     let rows = py.detach(move || -> Result<Vec<WindowRow>, String> {
         let search = SearchSettings {
             min_m: min_window_m.unwrap_or(0.5 * single.catenary.span_m),

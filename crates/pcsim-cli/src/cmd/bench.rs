@@ -191,13 +191,14 @@ fn percentiles(ns: &mut [u64]) -> [f64; 4] {
     ]
 }
 
-/// Step-latency distribution of the real-time window catenary on one core.
+/// Step-latency distribution of the real-time window catenary on one core, each step under the
+/// whole step contract (`RealtimeSession::step`: input checks, save, step, soundness), as a rig
+/// pays it.
 fn bench_realtime(a: &BenchArgs, ctx: &Ctx) -> Result<i32> {
     use pcsim_core::compile::budget::check_len;
     use pcsim_core::solve::realtime::Coupling;
     let preset = a.preset.clone().unwrap_or_else(|| "syt-7.0-9.8".into());
-    let mut case = presets::load(&preset)?.0;
-    case.pantographs.truncate(1);
+    let case = pcsim_core::compile::window_case(&presets::load(&preset)?.0);
     let mut overrides = Vec::new();
     if let Some(v) = &a.speed {
         overrides.push(Override::speed(v)?);
@@ -231,18 +232,18 @@ fn bench_realtime(a: &BenchArgs, ctx: &Ctx) -> Result<i32> {
     let mut n_moves = 0;
     let mut wall = 0.0;
     for _ in 0..a.repeat {
-        let mut rt = pcsim_core::compile::realtime_window(&case, window, coupling)?;
+        let mut rt = pcsim_core::session::RealtimeSession::new(&case, window, coupling)?;
         let dt = rt.dt_s();
         let mut move_ns = Vec::with_capacity(steps / 100 + 16);
         let mut guard = 0.0;
         let t_all = Instant::now();
         for (k, slot) in ns.iter_mut().enumerate() {
             let t = k as f64 * dt;
-            rt.set_input(85.0 + 15.0 * (7.3 * t).sin(), x0 + v * t);
             let moves = rt.moves();
             let t0 = Instant::now();
-            let o = rt.step();
+            let o = rt.step(85.0 + 15.0 * (7.3 * t).sin(), x0 + v * t);
             *slot = t0.elapsed().as_nanos() as u64;
+            let o = o.map_err(|r| anyhow::anyhow!("step {k} was refused: {r}"))?;
             if rt.moves() != moves && move_ns.len() < move_ns.capacity() {
                 move_ns.push(*slot);
             }
@@ -261,7 +262,7 @@ fn bench_realtime(a: &BenchArgs, ctx: &Ctx) -> Result<i32> {
         runs.push([p[0], p[1], p[2], p[3], mv[0], mv[3]]);
         n_moves = move_ns.len();
         header = format!(
-            "bench --realtime `{preset}`: window {} m, {} modes/wire, {:?} coupling, dt {} s, {:.0} km/h, kernels {}, {} run(s) of {} steps ({} window moves each) on one core",
+            "bench --realtime `{preset}`: window {} m, {} modes/wire, {:?} coupling, dt {} s, {:.0} km/h, kernels {}, {} run(s) of {} steps ({} window moves each) on one core, each under the step contract",
             window,
             rt.n_modes(),
             coupling,

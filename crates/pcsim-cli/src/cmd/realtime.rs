@@ -51,8 +51,7 @@ pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
     if let Some(v) = &a.speed {
         overrides.push(Override::speed(v)?);
     }
-    let mut case = apply(&base, &overrides)?;
-    case.pantographs.truncate(1);
+    let case = pcsim_core::compile::window_case(&apply(&base, &overrides)?);
     let windows: Vec<f64> = a
         .window
         .iter()

@@ -140,8 +140,7 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
     let (speeds, tensions, shard) =
         crate::common::sweep_flags(&a.speed, &a.tension, a.jobs, a.shard.as_deref())?;
     let n_seeds = crate::common::seeds_flag(a.seeds, &base)?;
-    let mut single = base.clone();
-    single.pantographs.truncate(1);
+    let single = pcsim_core::compile::window_case(&base);
     let grid = Grid::new(single.clone(), speeds, tensions, Vec::new()).with_seeds(n_seeds);
     let jobs = grid.jobs().context("in the window sweep")?;
     let mut desc = single.to_toml_string();

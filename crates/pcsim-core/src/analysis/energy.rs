@@ -25,7 +25,7 @@ use crate::error::CaseError;
 use crate::model::basis::SineBasis;
 use crate::model::wire::Coefficients;
 use crate::model::{Model, PantographKind};
-use crate::solve::{Integrator, State, Workspace};
+use crate::solve::{CompiledModel, State, Workspace};
 
 /// Evaluator of the energy density on a uniform grid over the whole model.
 pub struct DensityGrid {
@@ -166,6 +166,7 @@ pub struct Energy {
 }
 
 impl Energy {
+    /// The system's energy, J: kinetic + potential + elements + external.
     pub fn total(&self) -> f64 {
         self.kinetic + self.potential + self.elements + self.external
     }
@@ -173,8 +174,8 @@ impl Energy {
 
 /// Energy of the deviation from the static state of the whole system at `st`. Allocates
 /// nothing: it uses the workspace's energy arrays.
-pub fn system_energy(integ: &Integrator, st: &State, ws: &mut Workspace) -> Energy {
-    let m = integ.model();
+pub fn system_energy(cm: &CompiledModel, st: &State, ws: &mut Workspace) -> Energy {
+    let m = cm.model();
     let mut e = Energy::default();
     for b in 0..m.layout.blocks.len() {
         let s = m.series(b);
@@ -187,17 +188,17 @@ pub fn system_energy(integ: &Integrator, st: &State, ws: &mut Workspace) -> Ener
     for (j, n) in m.nodes.iter().enumerate() {
         e.kinetic += 0.5 * n.mass_kg * st.nodes.v[j] * st.nodes.v[j];
     }
-    let io = integ.energy_io(st, ws);
+    let io = cm.energy_io(st, ws);
     for (k, el) in m.elements.iter().enumerate() {
-        e.elements += el.energy(integ.energy_slots(k), &io);
+        e.elements += el.energy(cm.energy_slots(k), &io);
     }
     for (p, pan) in m.pantographs.iter().enumerate() {
         if let PantographKind::Lumped(l) = &pan.kind {
-            let r = integ.pantograph_dofs(p);
+            let r = cm.pantograph_dofs(p);
             let (kin, pot, ext) = l.energy(
                 &st.pantographs.u[r.clone()],
                 &st.pantographs.v[r],
-                integ.speed_kmh(),
+                cm.speed_kmh(),
             );
             e.kinetic += kin;
             e.potential += pot;
@@ -208,22 +209,22 @@ pub fn system_energy(integ: &Integrator, st: &State, ws: &mut Workspace) -> Ener
 }
 
 /// Rate of energy dissipation by every damper at the state's velocities, W. Allocates nothing.
-pub fn dissipation_rate(integ: &Integrator, st: &State, ws: &mut Workspace) -> f64 {
-    let m = integ.model();
+pub fn dissipation_rate(cm: &CompiledModel, st: &State, ws: &mut Workspace) -> f64 {
+    let m = cm.model();
     let mut d: f64 = st
         .modal
         .v
         .iter()
-        .zip(integ.modal_damping())
+        .zip(cm.modal_damping())
         .map(|(v, c)| c * v * v)
         .sum();
-    let io = integ.energy_io(st, ws);
+    let io = cm.energy_io(st, ws);
     for (k, el) in m.elements.iter().enumerate() {
-        d += el.dissipation(integ.energy_slots(k), &io);
+        d += el.dissipation(cm.energy_slots(k), &io);
     }
     for (p, pan) in m.pantographs.iter().enumerate() {
         if let PantographKind::Lumped(l) = &pan.kind {
-            d += l.dissipation(&st.pantographs.v[integ.pantograph_dofs(p)]);
+            d += l.dissipation(&st.pantographs.v[cm.pantograph_dofs(p)]);
         }
     }
     d

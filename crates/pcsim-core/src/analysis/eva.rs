@@ -6,7 +6,7 @@ use crate::compile::budget::{check_len, Budget};
 use crate::compile::Setup;
 use crate::error::SimError;
 use crate::solve::run::{run, Observer};
-use crate::solve::{Integrator, State, Workspace};
+use crate::solve::{CompiledModel, State, Workspace};
 
 /// Settings of an EVA evaluation.
 #[derive(Debug, Clone, PartialEq)]
@@ -122,6 +122,7 @@ impl EnergyView {
 /// Energy distributions and EVA lengths of one run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EvaOutput {
+    /// The settings the run used.
     pub settings: EvaSettings,
     /// Relative positions x − x_p of the densities, m.
     pub xi_m: Vec<f64>,
@@ -133,7 +134,9 @@ pub struct EvaOutput {
     pub max: EnergyView,
     /// Time average over the passage.
     pub mean: EnergyView,
+    /// Track position at which the snapshot is taken (the leading pantograph passes it), m.
     pub snapshot_at_m: f64,
+    /// Energy samples taken over the passage (for the max and mean views).
     pub samples: usize,
 }
 
@@ -181,17 +184,17 @@ impl EnergySampler<'_> {
 impl Observer for EnergySampler<'_> {
     fn observe(
         &mut self,
-        integ: &Integrator,
+        cm: &CompiledModel,
         st: &mut State,
         _ws: &Workspace,
     ) -> Result<(), SimError> {
         self.step += 1;
-        let xp = integ.position(st, 0);
+        let xp = cm.position(st, 0);
         let snap_now = self.snapshot.is_none() && self.prev_x < self.snap_x && xp >= self.snap_x;
         let in_passage =
             xp >= self.analysis[0] && xp <= self.analysis[1] && self.step % self.every == 0;
         if snap_now || in_passage {
-            self.grid.density(integ.model(), st, &mut self.dens);
+            self.grid.density(cm.model(), st, &mut self.dens);
             let total = integrate(&self.dens, self.dx);
             let w = window_energy(&self.dens, self.dx, xp, &self.d);
             if snap_now {
@@ -313,12 +316,19 @@ pub fn run_eva(
 /// One row of an EVA sweep (`eva.csv`): the case, the settings and every EVA variant.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct EvaRow {
+    /// Case index in the grid.
     pub index: usize,
+    /// Train speed, km/h.
     pub speed_kmh: f64,
+    /// Contact-wire tension, kN.
     pub tension_kn: f64,
+    /// Damping of the case, as written in the grid.
     pub damping: String,
+    /// Window increment Δd of the step criterion, m.
     pub step_m: f64,
+    /// Energy gain below which the step criterion stops, J.
     pub tolerance_j: f64,
+    /// Share of the total energy the fraction criterion asks for.
     pub fraction: f64,
     /// EVA of the snapshot by the paper's step criterion, m (`None`: not reached).
     pub eva_step_m: Option<f64>,
@@ -328,9 +338,13 @@ pub struct EvaRow {
     pub converged_energy_j: Option<f64>,
     /// Energy of the whole model at the snapshot, J.
     pub total_energy_j: f64,
+    /// EVA of the maximum over the passage by the step criterion, m.
     pub eva_step_max_m: Option<f64>,
+    /// EVA of the maximum over the passage by the fraction criterion, m.
     pub eva_fraction_max_m: Option<f64>,
+    /// EVA of the time average by the step criterion, m.
     pub eva_step_mean_m: Option<f64>,
+    /// EVA of the time average by the fraction criterion, m.
     pub eva_fraction_mean_m: Option<f64>,
     /// Seed offset of the realisation (Monte Carlo over the case's random inputs; 0 for one).
     pub seed_offset: u64,

@@ -68,7 +68,9 @@ pub struct Sos(pub Vec<[f64; 6]>);
 /// Filter band.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Band {
+    /// Low-pass below the cut-off, Hz.
     Lowpass(f64),
+    /// Band-pass between the two cut-offs, Hz.
     Bandpass(f64, f64),
 }
 

@@ -14,12 +14,19 @@ use crate::input::case::Case;
 /// Mean, standard deviation (N − 1) and a 95 % confidence interval of the mean (Student's t).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Spread {
+    /// Number of realisations.
     pub n: usize,
+    /// Mean over the realisations.
     pub mean: f64,
+    /// Standard deviation (N − 1).
     pub std: f64,
+    /// Lower end of the 95 % confidence interval of the mean.
     pub ci95_low: f64,
+    /// Upper end of the 95 % confidence interval of the mean.
     pub ci95_high: f64,
+    /// Smallest value.
     pub min: f64,
+    /// Largest value.
     pub max: f64,
 }
 
@@ -72,7 +79,9 @@ impl Spread {
 /// One realisation: its seed offset and its run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Realisation {
+    /// Seed offset added to every seed of the case's random inputs.
     pub seed_offset: u64,
+    /// The realisation's run.
     pub output: RunOutput,
 }
 

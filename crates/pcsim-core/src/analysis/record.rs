@@ -10,11 +10,12 @@ use crate::model::irregularity::IrregularityReport;
 use crate::model::wind::WindReport;
 use crate::model::Direction;
 use crate::solve::run::{run, Observer, RunStatistics};
-use crate::solve::{Integrator, State, Workspace};
+use crate::solve::{CompiledModel, State, Workspace};
 
 /// Time histories of one pantograph.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PantographTrace {
+    /// The pantograph's name (from the case).
     pub name: String,
     /// Position along the track, m.
     pub position_m: Vec<f64>,
@@ -26,6 +27,7 @@ pub struct PantographTrace {
     pub wire_height_m: Vec<f64>,
     /// See [`ContactStats::max_uplift_at_support_mm`], m.
     pub max_uplift_at_support_m: f64,
+    /// EN 50318 statistics over the analysis section (`None` when the pantograph never crossed it).
     pub stats: Option<ContactStats>,
     /// Lateral position of the contact point from the track's centre line, m (empty when
     /// lateral motion is not modelled).
@@ -39,15 +41,21 @@ pub struct PantographTrace {
 /// Everything a run produced.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunOutput {
+    /// Train speed, m/s.
     pub speed_m_s: f64,
+    /// Time step, s.
     pub dt_s: f64,
+    /// Time of every recorded step, s.
     pub time_s: Vec<f64>,
+    /// Analysis section (track coordinates), m.
     pub analysis_m: [f64; 2],
+    /// Per pantograph: its time histories and statistics.
     pub pantographs: Vec<PantographTrace>,
     /// Largest number of droppers slack at once.
     pub max_slack_droppers: usize,
     /// Share of steps with at least one slack dropper, %.
     pub steps_with_slack_percent: f64,
+    /// Modes per wire and direction.
     pub n_modes: usize,
     /// Counters of what the run loop saw (snapshot-tested on the zoo).
     pub run_statistics: RunStatistics,
@@ -83,17 +91,19 @@ pub struct Recorder {
     analysis_m: [f64; 2],
     /// Registration point of support number `j` (`round(x / span)`), by `j`.
     support: Vec<Option<usize>>,
+    /// The run's time step, s.
+    dt_s: f64,
 }
 
 impl Recorder {
-    /// A recorder for `n_steps` steps of `integ`'s model over the analysis section (track
-    /// coordinates).
-    pub fn new(integ: &Integrator, n_steps: usize, analysis_m: [f64; 2]) -> Self {
-        let np = integ.model().pantographs.len();
-        let span_m = integ.model().span_m;
+    /// A recorder for `n_steps` steps of Δt = `dt_s` of the compiled model `cm` over the analysis
+    /// section (track coordinates).
+    pub fn new(cm: &CompiledModel, dt_s: f64, n_steps: usize, analysis_m: [f64; 2]) -> Self {
+        let np = cm.model().pantographs.len();
+        let span_m = cm.model().span_m;
         let mut support = Vec::new();
         if let Some(span) = span_m {
-            for (k, &x) in integ.monitor_positions().iter().enumerate() {
+            for (k, &x) in cm.monitor_positions().iter().enumerate() {
                 let j = (x / span).round();
                 if j >= 0.0 && (x - j * span).abs() < 1e-6 {
                     let j = j as usize;
@@ -104,7 +114,7 @@ impl Recorder {
                 }
             }
         }
-        let lateral = integ.model().has(Direction::Lateral);
+        let lateral = cm.model().has(Direction::Lateral);
         Recorder {
             time: Vec::with_capacity(n_steps),
             pos: vec![Vec::with_capacity(n_steps); np],
@@ -113,6 +123,7 @@ impl Recorder {
             lateral: vec![Vec::with_capacity(if lateral { n_steps } else { 0 }); np],
             uplift: vec![0.0; np],
             blowout: 0.0,
+            dt_s,
             record_lateral: lateral,
             span_m,
             analysis_m,
@@ -121,9 +132,9 @@ impl Recorder {
     }
 
     /// The statistics and traces of the recorded run.
-    pub fn finish(mut self, integ: &Integrator, rs: RunStatistics) -> RunOutput {
-        let m = integ.model();
-        let dt = integ.dt_s();
+    pub fn finish(mut self, cm: &CompiledModel, rs: RunStatistics) -> RunOutput {
+        let m = cm.model();
+        let dt = self.dt_s;
         let fs = 1.0 / dt;
         let pantographs = (0..m.pantographs.len())
             .map(|p| {
@@ -168,7 +179,7 @@ impl Recorder {
             })
             .collect();
         RunOutput {
-            speed_m_s: integ.speed_m_s(),
+            speed_m_s: cm.speed_m_s(),
             dt_s: dt,
             time_s: self.time,
             analysis_m: self.analysis_m,
@@ -190,16 +201,16 @@ impl Recorder {
 impl Observer for Recorder {
     fn observe(
         &mut self,
-        integ: &Integrator,
+        cm: &CompiledModel,
         st: &mut State,
         ws: &Workspace,
     ) -> Result<(), SimError> {
         self.time.push(st.t);
         let origin = st.track_origin_m;
-        for (k, &x) in integ.probe_positions().iter().enumerate() {
+        for (k, &x) in cm.probe_positions().iter().enumerate() {
             let xt = x + origin;
             if xt >= self.analysis_m[0] && xt <= self.analysis_m[1] {
-                self.blowout = self.blowout.max(integ.probe(ws, k).abs());
+                self.blowout = self.blowout.max(cm.probe(ws, k).abs());
             }
         }
         for (p, s) in ws.samples().iter().enumerate() {
@@ -214,7 +225,7 @@ impl Observer for Recorder {
                 let xs = j * span + origin;
                 if j >= 0.0 && xs >= self.analysis_m[0] && xs <= self.analysis_m[1] {
                     if let Some(Some(k)) = self.support.get(j as usize) {
-                        self.uplift[p] = self.uplift[p].max(integ.monitor(ws, *k));
+                        self.uplift[p] = self.uplift[p].max(cm.monitor(ws, *k));
                     }
                 }
             }
@@ -238,7 +249,12 @@ pub fn simulate(
     let mut st = integ.initial_state(setup.plan.start_m);
     let mut ws = integ.workspace();
     let n_steps = setup.n_steps();
-    let mut rec = Recorder::new(&integ, n_steps, setup.plan.analysis_m);
+    let mut rec = Recorder::new(
+        integ.compiled(),
+        integ.dt_s(),
+        n_steps,
+        setup.plan.analysis_m,
+    );
     let rs = run(&integ, &mut st, &mut ws, n_steps, &mut [&mut rec], progress)?;
-    Ok(rec.finish(&integ, rs))
+    Ok(rec.finish(integ.compiled(), rs))
 }

@@ -26,8 +26,11 @@ pub fn case_name(case: &Case) -> String {
 }
 
 #[derive(Serialize)]
+/// One pantograph in `summary.json`: its name, statistics and lateral flags.
 pub struct PantographSummary {
+    /// The pantograph's name.
     pub name: String,
+    /// EN 50318 statistics over the analysis section.
     pub stats: Option<ContactStats>,
     /// The contact point across the head (lateral motion modelled): flags and the wear
     /// histogram.
@@ -36,25 +39,39 @@ pub struct PantographSummary {
 }
 
 #[derive(Serialize)]
+/// `summary.json` of a run: the case, the run's settings and statistics, the warnings and the verdicts. Built here for every front end.
 pub struct RunSummary {
+    /// The case's name (`meta.name`).
     pub case_name: String,
+    /// Train speed, km/h.
     pub speed_kmh: f64,
     /// Contact-wire tension used, N.
     pub contact_wire_tension_n: f64,
+    /// Span length, m.
     pub span_m: f64,
+    /// Simulated time, s.
     pub simulated_time_s: f64,
+    /// Wall-clock time of the run, s.
     pub wall_time_s: f64,
+    /// Analysis section (track coordinates), m.
     pub analysis_section_m: [f64; 2],
+    /// Modes per wire and direction.
     pub modes_per_wire: usize,
+    /// Time step, s.
     pub dt_s: f64,
     /// The kernels that ran: `portable` (the same bytes on every machine) or `x86-64-v3`.
     pub kernels: String,
+    /// Largest number of droppers slack at once.
     pub max_slack_droppers: usize,
+    /// Share of steps with at least one slack dropper, %.
     pub steps_with_slack_percent: f64,
+    /// Counters of what the run loop saw.
     pub run_statistics: RunStatistics,
     /// The flags that overrode case values, as given.
     pub overrides: Vec<String>,
+    /// Every warning of the case and the run, with the verdicts.
     pub warnings: Vec<String>,
+    /// Per pantograph: its statistics.
     pub pantographs: Vec<PantographSummary>,
     /// The crosswind (mean speed, spectrum, seed, turbulence intensity achieved).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -136,8 +153,11 @@ impl RunSummary {
 /// One column of the time series: its name, its values and the decimals it is written with.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Column {
+    /// Column name with its unit (the CSV header).
     pub name: String,
+    /// One value per recorded step.
     pub values: Vec<f64>,
+    /// Decimals it is written with.
     pub decimals: usize,
 }
 

@@ -118,6 +118,7 @@ pub struct LateralStats {
     pub samples_off_head: usize,
     /// The pantograph's half-widths used, m.
     pub head_half_width_m: Option<f64>,
+    /// The working range's half-width used, m (when given).
     pub working_half_width_m: Option<f64>,
     /// Histogram of the lateral position (the strip's wear pattern).
     pub histogram: LateralHistogram,
@@ -129,6 +130,7 @@ pub struct LateralHistogram {
     /// Left edge of the first bin, mm (from the track's centre line, positive to the same side
     /// as positive stagger).
     pub from_mm: f64,
+    /// Bin width, mm.
     pub bin_mm: f64,
     /// Samples per bin; samples beyond the range go to the end bins.
     pub counts: Vec<usize>,

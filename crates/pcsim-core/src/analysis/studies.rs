@@ -13,12 +13,19 @@ use crate::solve::run::run;
 /// Result of a window run in SIL mode.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WindowRun {
+    /// Window length, m.
     pub window_m: f64,
+    /// Modes per wire and direction in the window.
     pub n_modes: usize,
+    /// Window moves made.
     pub moves: usize,
+    /// Time of every step, s.
     pub time_s: Vec<f64>,
+    /// Pantograph position (track coordinates), m.
     pub position_m: Vec<f64>,
+    /// Contact force, N.
     pub force_n: Vec<f64>,
+    /// EN 50318 statistics over the analysis section.
     pub stats: Option<ContactStats>,
 }
 
@@ -36,14 +43,12 @@ pub fn run_window_sil(case: &Case, window_m: f64) -> Result<WindowRun, SimError>
             reason: "SIL needs a lumped pantograph".into(),
         }));
     }
-    let mut single = case.clone();
-    single.pantographs.truncate(1);
-    let mut rt = crate::compile::realtime_window(&single, window_m, Coupling::Sil)?;
+    let mut rt = crate::compile::realtime_window(case, window_m, Coupling::Sil)?;
     let (duration_s, analysis_m) = rt.full_run();
     let n_steps = (duration_s / rt.dt_s()).ceil() as usize;
     let n_modes = rt.n_modes();
     let (integ, st, ws, mover) = rt.parts_mut();
-    let mut rec = Recorder::new(integ, n_steps, analysis_m);
+    let mut rec = Recorder::new(integ.compiled(), integ.dt_s(), n_steps, analysis_m);
     let rs = run(integ, st, ws, n_steps, &mut [&mut rec, mover], &mut |_| {
         true
     })
@@ -59,7 +64,7 @@ pub fn run_window_sil(case: &Case, window_m: f64) -> Result<WindowRun, SimError>
         },
         other => other,
     })?;
-    let mut out = rec.finish(integ, rs);
+    let mut out = rec.finish(integ.compiled(), rs);
     let p = out.pantographs.swap_remove(0);
     Ok(WindowRun {
         window_m,
@@ -75,7 +80,9 @@ pub fn run_window_sil(case: &Case, window_m: f64) -> Result<WindowRun, SimError>
 /// The window study: the full model and the window model at each length, leading pantograph.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WindowStudy {
+    /// The full model's run.
     pub full: RunOutput,
+    /// The window's run at each length.
     pub windows: Vec<WindowRun>,
 }
 
@@ -108,8 +115,7 @@ pub fn window_study(
     jobs: Option<usize>,
     progress: &mut dyn FnMut(f64) -> bool,
 ) -> Result<WindowStudy, SimError> {
-    let mut single = case.clone();
-    single.pantographs.truncate(1);
+    let single = crate::compile::window_case(case);
     let full = simulate(&Setup::from_case(&single)?, progress)?;
     let windows = parallel_map(windows_m, jobs, |&w| run_window_sil(&single, w))
         .into_iter()

@@ -62,7 +62,9 @@ pub fn damping_label(d: &Damping) -> String {
 /// A shard `I/N` of a sweep: the cases with index ≡ I (mod N).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Shard {
+    /// This shard's index I (0 ≤ I < N).
     pub index: usize,
+    /// Number of shards N.
     pub count: usize,
 }
 
@@ -92,12 +94,33 @@ impl Shard {
     }
 }
 
+/// The most realisations a sweep or a Monte Carlo run takes.
+pub const MAX_SEEDS: usize = 100_000;
+
+/// The number of realisations asked for `case` (`None`: not asked, one run), checked once for
+/// every front end: at least 1, at most [`MAX_SEEDS`], and only for a case with a seeded random
+/// input (otherwise every realisation would be the same). The error says why; each front end
+/// prefixes its own name of the setting (`--seeds 3: …`, `seeds = 3: …`).
+pub fn check_seeds(seeds: Option<usize>, case: &Case) -> Result<usize, String> {
+    match seeds {
+        None => Ok(1),
+        Some(0) => Err("run at least 1 realisation".into()),
+        Some(n) if n > MAX_SEEDS => Err(format!("at most {MAX_SEEDS} realisations")),
+        Some(_) if !case.is_random() => Err("the case has no seeded random input (an [[irregularity]] of kind psd or droppers, or a [wind] with turbulence), so every realisation would be the same".into()),
+        Some(n) => Ok(n),
+    }
+}
+
 /// A grid of cases: every seed × damping × tension × speed (speed fastest).
 #[derive(Debug, Clone)]
 pub struct Grid {
+    /// The case every grid point starts from.
     pub base: Case,
+    /// Speeds, km/h (the fastest-varying axis).
     pub speeds_kmh: Vec<f64>,
+    /// Contact-wire tensions, N (empty: the base case's).
     pub tensions_n: Vec<f64>,
+    /// Dampings (empty: the base case's).
     pub dampings: Vec<Damping>,
     /// Seed offsets of the realisations (Monte Carlo; `[0]` for one).
     pub seeds: Vec<u64>,
@@ -106,13 +129,17 @@ pub struct Grid {
 /// One case of a grid.
 #[derive(Debug, Clone)]
 pub struct Job {
+    /// Index of the case in the grid (stable across shards).
     pub index: usize,
+    /// Train speed, km/h.
     pub speed_kmh: f64,
     /// Contact-wire tension, N.
     pub tension_n: f64,
+    /// Damping, as written in the output.
     pub damping: String,
     /// Seed offset of the realisation (every seed of the case's random inputs plus this).
     pub seed_offset: u64,
+    /// The case, with the grid point's values applied.
     pub case: Case,
 }
 

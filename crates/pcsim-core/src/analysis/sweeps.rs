@@ -40,8 +40,11 @@ pub fn shard_jobs(grid: &Grid, shard: Shard) -> Result<(Vec<Job>, usize), CaseEr
 /// One case of an EVA sweep.
 #[derive(Debug, Clone)]
 pub struct EvaCase {
+    /// The grid point.
     pub job: Job,
+    /// Energy distributions and EVA lengths of its run.
     pub output: EvaOutput,
+    /// Its row of `eva.csv`.
     pub row: EvaRow,
 }
 
@@ -84,28 +87,43 @@ pub fn eva_sweep(
 /// EVA lengths.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct WindowRow {
+    /// Case index in the grid.
     pub index: usize,
+    /// Seed offset of the realisation.
     pub seed_offset: u64,
+    /// Train speed, km/h.
     pub speed_kmh: f64,
+    /// Contact-wire tension, kN.
     pub tension_kn: f64,
+    /// Damping, as written in the grid.
     pub damping: String,
     /// The accuracy-based window length, m (`None`: not reached within the longest window).
     pub length_m: Option<f64>,
     /// The errors of that window against the full model, %.
     pub mean_err_pct: Option<f64>,
+    /// Error of σ against the full model, %.
     pub sigma_err_pct: Option<f64>,
+    /// Error of the maximum against the full model, %.
     pub max_err_pct: Option<f64>,
     /// Windows run by the search.
     pub windows_run: usize,
+    /// EVA of the snapshot by the step criterion, m.
     pub eva_step_m: Option<f64>,
+    /// EVA of the snapshot by the fraction criterion, m.
     pub eva_fraction_m: Option<f64>,
+    /// EVA of the maximum by the step criterion, m.
     pub eva_step_max_m: Option<f64>,
+    /// EVA of the maximum by the fraction criterion, m.
     pub eva_fraction_max_m: Option<f64>,
+    /// EVA of the time average by the step criterion, m.
     pub eva_step_mean_m: Option<f64>,
+    /// EVA of the time average by the fraction criterion, m.
     pub eva_fraction_mean_m: Option<f64>,
     /// The energies the fraction criteria refer to, J.
     pub snapshot_total_j: f64,
+    /// Total energy of the maximum view, J.
     pub max_total_j: f64,
+    /// Total energy of the time-average view, J.
     pub mean_total_j: f64,
 }
 
@@ -144,10 +162,13 @@ impl WindowRow {
 /// One case of a window sweep.
 #[derive(Debug, Clone)]
 pub struct WindowCase {
+    /// The grid point.
     pub job: Job,
     /// Every window the search ran, with its errors.
     pub search: SearchResult,
+    /// The window energies the criteria read.
     pub curves: EnergyCurves,
+    /// Its row of `window.csv`.
     pub row: WindowRow,
 }
 
@@ -172,9 +193,11 @@ pub fn window_sweep(
         ..EvaSettings::default()
     };
     parallel_map(jobs, threads, |job| {
-        let (r, _) = accuracy_length(&job.case, search, tol, budget)
-            .map_err(|e| in_case(job.index, "", e))?;
-        let setup = Setup::from_case_with(&job.case, budget)?;
+        // The window carries one pantograph; its energies are the one-pantograph run's.
+        let case = crate::compile::window_case(&job.case);
+        let (r, _) =
+            accuracy_length(&case, search, tol, budget).map_err(|e| in_case(job.index, "", e))?;
+        let setup = Setup::from_case_with(&case, budget)?;
         let eva = run_eva(&setup, &eva_settings, &mut |_| true)
             .map_err(|e| in_case(job.index, " (energies)", e))?;
         let curves = EnergyCurves::of(&eva);

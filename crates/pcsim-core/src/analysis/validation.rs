@@ -14,11 +14,15 @@ pub use crate::input::targets::{target_cases, TargetCase, QUANTITIES, TARGETS_TO
 /// One row of a validation table.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Row {
+    /// The quantity's name, as in the targets.
     pub quantity: String,
+    /// pcsim's value.
     pub value: f64,
     /// Unit of the value and the range: N, mm or %.
     pub unit: &'static str,
+    /// The target range [low, high].
     pub range: [f64; 2],
+    /// Whether the value lies in the range.
     pub pass: bool,
     /// The seed paper's own value, where the targets give one.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -31,10 +35,12 @@ pub struct Row {
 /// A speed case of a validation.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CaseRows {
+    /// Train speed, km/h.
     pub speed_kmh: f64,
     /// "leading" or "trailing" where the targets distinguish pantographs.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pantograph: Option<String>,
+    /// One row per quantity.
     pub rows: Vec<Row>,
 }
 
@@ -106,9 +112,13 @@ pub fn compare(stats: &ContactStats, target: &TargetCase) -> CaseRows {
 /// A validation pcsim knows: its preset and its table of targets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Validation {
+    /// Name on the command line.
     pub name: &'static str,
+    /// The preset it runs.
     pub preset: &'static str,
+    /// The table of targets it reads.
     pub table: &'static str,
+    /// Title printed above the table.
     pub title: &'static str,
 }
 
@@ -131,7 +141,9 @@ pub const VALIDATIONS: &[Validation] = &[
 /// The runs a validation needs and how its targets map onto them.
 #[derive(Debug, Clone)]
 pub struct ValidationPlan {
+    /// The validation.
     pub validation: Validation,
+    /// Its targets, one per speed (and pantograph).
     pub targets: Vec<TargetCase>,
     /// One case per distinct target speed (targets within 1e-9 km/h share a run).
     pub cases: Vec<Case>,
@@ -142,7 +154,9 @@ pub struct ValidationPlan {
 /// The result: the JSON of `pcsim validate --json`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ValidationReport {
+    /// Whether every row passes.
     pub all_pass: bool,
+    /// The rows of every speed case.
     pub cases: Vec<CaseRows>,
 }
 

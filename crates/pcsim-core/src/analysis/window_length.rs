@@ -27,8 +27,11 @@ use crate::input::case::Case;
 /// Tolerances on the window's 0–20 Hz force statistics against the full model's, %.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Tolerances {
+    /// Tolerance on the mean force, %.
     pub mean_pct: f64,
+    /// Tolerance on the standard deviation σ, %.
     pub sigma_pct: f64,
+    /// Tolerance on the statistical maximum, %.
     pub max_pct: f64,
 }
 
@@ -45,9 +48,13 @@ impl Default for Tolerances {
 /// A window's relative errors against the full model, % (signed).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct WindowErrors {
+    /// Window length, m.
     pub window_m: f64,
+    /// Error of the mean force, %.
     pub mean_pct: f64,
+    /// Error of σ, %.
     pub sigma_pct: f64,
+    /// Error of the statistical maximum, %.
     pub max_pct: f64,
 }
 
@@ -85,9 +92,13 @@ impl WindowErrors {
 /// `coarse` metres.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct SearchSettings {
+    /// Shortest window searched, m.
     pub min_m: f64,
+    /// Longest window searched, m.
     pub max_m: f64,
+    /// Spacing of the coarse scan, m.
     pub coarse_m: f64,
+    /// Resolution of the search (the lattice spacing), m.
     pub resolution_m: f64,
 }
 
@@ -242,8 +253,7 @@ pub fn accuracy_length(
     tol: &Tolerances,
     budget: &Budget,
 ) -> Result<(SearchResult, ContactStats), SimError> {
-    let mut single = case.clone();
-    single.pantographs.truncate(1);
+    let single = crate::compile::window_case(case);
     let full = simulate(&Setup::from_case_with(&single, budget)?, &mut |_| true)?;
     let fs = full.pantographs[0].stats.ok_or_else(|| {
         SimError::Case(CaseError::Invalid {
@@ -271,6 +281,7 @@ pub struct Criterion {
     /// `step` (the paper's: the first Δd whose energy gain is below `value` J) or `fraction`
     /// (the smallest window holding `value` of the total).
     pub kind: &'static str,
+    /// The criterion's value: an energy gain, J (`step`), or a share of the total (`fraction`).
     pub value: f64,
 }
 
@@ -323,16 +334,24 @@ impl Criterion {
 /// criteria read (kept in files by `pcsim window`, so that a merge can fit them again).
 #[derive(Debug, Clone, PartialEq)]
 pub struct EnergyCurves {
+    /// Window lengths d, m.
     pub window_m: Vec<f64>,
+    /// Window energies of the snapshot, J.
     pub snapshot_j: Vec<f64>,
+    /// Window energies of the maximum over the passage, J.
     pub max_j: Vec<f64>,
+    /// Window energies of the time average, J.
     pub mean_j: Vec<f64>,
+    /// Total energy of the snapshot, J.
     pub snapshot_total_j: f64,
+    /// Total energy of the maximum view, J.
     pub max_total_j: f64,
+    /// Total energy of the time-average view, J.
     pub mean_total_j: f64,
 }
 
 impl EnergyCurves {
+    /// The curves of an EVA run.
     pub fn of(eva: &EvaOutput) -> Self {
         EnergyCurves {
             window_m: eva.window_m.clone(),
@@ -350,10 +369,15 @@ impl EnergyCurves {
 /// (cases where either is missing are counted as misses).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CriterionFit {
+    /// The criterion, as `view/kind=value`.
     pub criterion: String,
+    /// RMS error against the accuracy-based lengths, m.
     pub rms_error_m: f64,
+    /// Largest error, m.
     pub max_error_m: f64,
+    /// Cases fitted.
     pub cases: usize,
+    /// Cases where either length is missing.
     pub misses: usize,
 }
 

@@ -16,7 +16,7 @@ use crate::error::{CaseError, Warning};
 use crate::input::case::Case;
 use crate::model::build::BuilderRun;
 use crate::model::Model;
-use crate::solve::integrator::{self, Integrator};
+use crate::solve::integrator::{self, Integrator, StableStep};
 use crate::solve::realtime::{Coupling, RealtimeCatenary};
 use crate::solve::{ContactSample, Options, Plan, State, Workspace};
 
@@ -42,10 +42,18 @@ pub fn plan_of(case: &Case) -> Plan {
 /// options, with the warnings found on the way.
 #[derive(Debug, Clone)]
 pub struct Setup {
+    /// The model (the problem).
     pub model: Model,
+    /// The run's plan (speed, start, duration, analysis section).
     pub plan: Plan,
+    /// The integrator's options (Δt, kernels).
     pub options: Options,
+    /// Warnings found while building the set-up.
     pub warnings: Vec<Warning>,
+    /// The proof that `options.dt_s` is stable for `model` ([`integrator::check_stability`]),
+    /// when the set-up checked it (`None`: checked when the integrator is built). A set-up whose
+    /// model is changed by hand must reset it to `None`.
+    pub stable: Option<StableStep>,
 }
 
 impl Setup {
@@ -65,14 +73,16 @@ impl Setup {
         let plan = plan_of(case);
         warnings.extend(plan.check(&model)?);
         let options = Options::new(case.run.dt_s);
-        // Δt against the explicit limits, here so that a set-up never holds an unstable step
-        // (`Integrator::new` checks again: the window and hand-made models come to it directly).
-        integrator::check_stability(&model, options.dt_s)?;
+        // Δt against the explicit limits, once, here: a set-up never holds an unstable step, and
+        // its integrator is built on this proof (the window and hand-made models are checked by
+        // `Integrator::new`).
+        let stable = integrator::check_stability(&model, options.dt_s)?;
         Ok(Setup {
             model,
             plan,
             options,
             warnings,
+            stable: Some(stable),
         })
     }
 
@@ -90,12 +100,20 @@ impl Setup {
             },
             options: Options::new(run.dt_s),
             warnings: Vec::new(),
+            stable: None,
         }
     }
 
     /// The integrator of this set-up.
+    /// [`Setup::from_case`] checked the time step once; a set-up made otherwise, or whose Δt
+    /// was changed since, is checked here.
     pub fn integrator(&self) -> Result<Integrator, CaseError> {
-        Integrator::new(self.model.clone(), &self.plan, self.options)
+        match self.stable {
+            Some(s) if s.dt_s() == self.options.dt_s => {
+                Integrator::new_stable(self.model.clone(), &self.plan, self.options, s)
+            }
+            _ => Integrator::new(self.model.clone(), &self.plan, self.options),
+        }
     }
 
     /// Number of steps of the run.
@@ -107,8 +125,11 @@ impl Setup {
 /// An integrator with its state and workspace: the convenient way to step a set-up by hand.
 #[derive(Debug, Clone)]
 pub struct Stepper {
+    /// The stepper.
     pub integ: Integrator,
+    /// The state it steps.
     pub state: State,
+    /// Its scratch and samples.
     pub ws: Workspace,
 }
 
@@ -137,7 +158,16 @@ impl Stepper {
     }
 }
 
-/// The real-time window of `case` (its first pantograph; the session drops the others), `window_m`
+/// The case of a real-time window, and of the full-model run it is compared with: `case` with its
+/// leading pantograph only. The window carries one pantograph (the rig's); this is the one place
+/// that says so, and [`realtime_window`] applies it.
+pub fn window_case(case: &Case) -> Case {
+    let mut single = case.clone();
+    single.pantographs.truncate(1);
+    single
+}
+
+/// The real-time window of `case` (its leading pantograph only, [`window_case`]), `window_m`
 /// long, coupled as `coupling`: the full model is compiled once, and the window is cut from it.
 pub fn realtime_window(
     case: &Case,
@@ -161,6 +191,7 @@ pub fn realtime_window_with(
             reason: "the real-time window does not carry a crosswind (its turbulence is generated for the full model's run); remove [wind] for the window".into(),
         });
     }
+    let case = &window_case(case);
     let full = Setup::from_case_with(case, budget)?;
     let static_force_n = match case.pantographs.first() {
         Some(crate::input::case::PantographCase::Lumped { uplift_n, .. }) => *uplift_n,

@@ -89,6 +89,7 @@ pub fn irregularity_sources(v: &[IrregularityCase]) -> Vec<IrregularitySource> {
 
 /// Index of the messenger and of the contact wire in a catenary model built from a case.
 pub const MESSENGER: usize = 0;
+/// Index of the contact wire in the model's wires.
 pub const CONTACT: usize = 1;
 
 /// Mass per metre of radial ice of thickness `t` on a wire of diameter `d` (the annulus), kg/m,

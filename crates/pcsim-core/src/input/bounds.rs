@@ -10,9 +10,13 @@ use crate::error::{CaseError, Warning};
 /// `soft.0 > 0`.
 #[derive(Debug, Clone, Copy)]
 pub struct Bound {
+    /// Outside: an error (physically meaningless).
     pub hard: (f64, f64),
+    /// Outside: a warning (legal but unusual).
     pub soft: (f64, f64),
+    /// Unit of the bounds, as written in messages.
     pub unit: &'static str,
+    /// The typical values, as written in warnings.
     pub typical: &'static str,
 }
 
@@ -25,72 +29,122 @@ const fn b(hard: (f64, f64), soft: (f64, f64), unit: &'static str, typical: &'st
     }
 }
 
+/// Span length, m.
 pub const SPAN: Bound = b((1.0, 1000.0), (20.0, 100.0), "m", "27–70 m");
+/// Encumbrance (system height at the supports), m.
 pub const ENCUMBRANCE: Bound = b((0.05, 20.0), (0.3, 3.5), "m", "0.3–2 m");
+/// A wire's mass per length, kg/m.
 pub const WIRE_MASS: Bound = b((0.01, 100.0), (0.1, 5.0), "kg/m", "0.3–2 kg/m");
+/// A wire's tension, N.
 pub const TENSION: Bound = b((100.0, 1.0e6), (1000.0, 60_000.0), "N", "5–40 kN");
+/// A wire's bending stiffness EI, N·m².
 pub const EI: Bound = b((0.0, 1.0e6), (0.0, 5000.0), "N·m²", "10–300 N·m²");
+/// A dropper's stiffness in tension, N/m.
 pub const DROPPER_STIFFNESS: Bound = b((0.0, 1.0e10), (1.0e3, 1.0e7), "N/m", "1e4–1e6 N/m");
+/// A dropper's axial stiffness EA, N.
 pub const DROPPER_EA: Bound = b((0.0, 1.0e11), (1.0e3, 1.0e8), "N", "1e5–1e7 N");
+/// A dropper clamp's mass, kg.
 pub const CLAMP_MASS: Bound = b((0.0, 100.0), (0.0, 5.0), "kg", "0.1–0.5 kg");
+/// A dropper's mass per length, kg/m.
 pub const DROPPER_MASS: Bound = b((0.0, 20.0), (0.0, 2.0), "kg/m", "0.05–0.5 kg/m");
+/// Rayleigh damping's mass factor α, 1/s.
 pub const RAYLEIGH_ALPHA: Bound = b((0.0, 1.0e4), (0.0, 10.0), "1/s", "0–1 1/s");
+/// Rayleigh damping's stiffness factor β, s.
 pub const RAYLEIGH_BETA: Bound = b((0.0, 10.0), (0.0, 0.1), "s", "0–0.02 s");
+/// A modal damping ratio.
 pub const MODAL_RATIO: Bound = b((0.0, 0.999_999), (0.0, 0.2), "", "0–0.05");
+/// A messenger support's stiffness, N/m.
 pub const SUPPORT_STIFFNESS: Bound = b((0.0, 1.0e11), (0.0, 1.0e8), "N/m", "1e2–1e6 N/m");
+/// A messenger support's damping, N·s/m.
 pub const SUPPORT_DAMPING: Bound = b((0.0, 1.0e8), (0.0, 1.0e5), "N·s/m", "0–2000 N·s/m");
+/// A steady arm's mass, kg.
 pub const ARM_MASS: Bound = b((0.0, 1000.0), (0.0, 10.0), "kg", "0.5–3 kg");
+/// A stitch wire's length, m.
 pub const STITCH_LENGTH: Bound = b((0.1, 1000.0), (5.0, 30.0), "m", "12–25 m");
+/// A stitch wire's tension, N.
 pub const STITCH_TENSION: Bound = b((10.0, 1.0e6), (300.0, 10_000.0), "N", "1–5 kN");
+/// The contact's penalty stiffness (Eq. 19), N/m.
 pub const CONTACT_STIFFNESS: Bound = b((100.0, 1.0e9), (1.0e4, 5.0e5), "N/m", "5e4 N/m");
+/// Train speed, km/h.
 pub const SPEED: Bound = b((0.0, 1000.0), (10.0, 400.0), "km/h", "50–350 km/h");
+/// A pantograph's distance behind the leading one, m.
 pub const OFFSET: Bound = b((0.0, 1.0e5), (0.0, 500.0), "m", "0–400 m");
+/// A pantograph mass, kg.
 pub const PANTOGRAPH_MASS: Bound = b((0.01, 1.0e4), (0.5, 100.0), "kg", "3–20 kg");
+/// A pantograph spring, N/m.
 pub const PANTOGRAPH_STIFFNESS: Bound = b((0.0, 1.0e9), (0.0, 1.0e6), "N/m", "0–2e4 N/m");
+/// A pantograph damper, N·s/m.
 pub const PANTOGRAPH_DAMPING: Bound = b((0.0, 1.0e7), (0.0, 1.0e4), "N·s/m", "0–200 N·s/m");
+/// A pantograph's static uplift, N.
 pub const UPLIFT: Bound = b((-1.0e4, 1.0e4), (20.0, 500.0), "N", "50–150 N");
+/// A pantograph's aerodynamic force at the run's speed, N.
 pub const AERO: Bound = b((-1.0e4, 1.0e4), (-50.0, 300.0), "N", "0–100 N");
+/// A constant moving force, N.
 pub const MOVING_FORCE: Bound = b((-1.0e5, 1.0e5), (-1000.0, 1000.0), "N", "50–300 N");
+/// The time step, s.
 pub const DT: Bound = b((0.0, 0.01), (1.0e-5, 2.0e-3), "s", "0.2–1 ms");
 
 // Lateral and torsional motion, wind, ice, pantograph heads.
+/// A wire's diameter, m.
 pub const DIAMETER: Bound = b((0.0, 0.2), (0.004, 0.04), "m", "0.008–0.02 m");
+/// A wire's torsional stiffness GJ, N·m².
 pub const GJ: Bound = b((0.0, 1.0e6), (1.0, 5000.0), "N·m²", "20–400 N·m²");
+/// A wire's polar mass moment per length, kg·m.
 pub const POLAR: Bound = b((0.0, 1.0), (1.0e-7, 1.0e-3), "kg·m", "1e-5–1e-4 kg·m");
+/// An aerodynamic coefficient (drag, lift or moment).
 pub const COEFF: Bound = b(
     (-10.0, 10.0),
     (-3.0, 3.0),
     "",
     "C_D 0.8–1.3, C_L and C_M within ±0.5",
 );
+/// A contact wire's stagger at a support, m.
 pub const STAGGER: Bound = b((-2.0, 2.0), (-0.45, 0.45), "m", "±0.2–0.4 m");
+/// A lateral registration or support stiffness, N/m.
 pub const LAT_STIFF: Bound = b((0.0, 1.0e11), (0.0, 1.0e8), "N/m", "1e4–1e6 N/m");
+/// A torsional stiffness of a clamp or registration, N·m/rad.
 pub const TORS_STIFF: Bound = b((0.0, 1.0e6), (0.0, 500.0), "N·m/rad", "0–100 N·m/rad");
+/// A clamp's or the contact point's eccentricity, m.
 pub const ECC: Bound = b((-0.5, 0.5), (-0.05, 0.05), "m", "0–0.02 m");
+/// Contact-wire height above the rail, m.
 pub const WIRE_HEIGHT: Bound = b((0.5, 100.0), (3.0, 10.0), "m", "4.9–6.5 m");
+/// Density of ice, kg/m³.
 pub const ICE_DENSITY: Bound = b(
     (0.0, 1000.0),
     (100.0, 917.0),
     "kg/m³",
     "300 (rime) – 900 (glaze) kg/m³",
 );
+/// Radial ice thickness, m.
 pub const ICE: Bound = b((0.0, 0.5), (0.0, 0.05), "m", "0–0.03 m radial");
+/// Mean wind speed, m/s.
 pub const WIND: Bound = b((0.0, 120.0), (0.0, 45.0), "m/s", "0–40 m/s");
+/// Reference height of the wind profile, m.
 pub const REF_HEIGHT: Bound = b((0.1, 1000.0), (2.0, 100.0), "m", "10 m");
+/// Terrain roughness length, m.
 pub const ROUGH: Bound = b((0.0, 10.0), (1.0e-4, 2.0), "m", "0.003–1 m");
+/// Exponent of a power-law wind profile.
 pub const EXPONENT: Bound = b((0.0, 1.0), (0.05, 0.5), "", "0.1–0.3");
+/// Wind direction to the track, °.
 pub const YAW: Bound = b(
     (-360.0, 360.0),
     (-180.0, 180.0),
     "°",
     "90° (square to the track)",
 );
+/// Turbulence intensity.
 pub const TI: Bound = b((0.0, 1.0), (0.0, 0.4), "", "0.05–0.25");
+/// Turbulence integral length scale, m.
 pub const LENGTH_SCALE: Bound = b((0.0, 10_000.0), (5.0, 500.0), "m", "30–300 m");
+/// Davenport coherence decay constant.
 pub const DECAY: Bound = b((0.0, 1000.0), (2.0, 30.0), "", "7–16");
+/// Air density, kg/m³.
 pub const AIR: Bound = b((0.0, 10.0), (0.9, 1.5), "kg/m³", "1.225 kg/m³");
+/// Spacing of the wind grid, m.
 pub const GRID: Bound = b((0.0, 1000.0), (0.5, 20.0), "m", "2–10 m");
+/// Time step of the wind field, s.
 pub const WIND_DT: Bound = b((0.0, 1.0), (0.002, 0.1), "s", "0.01–0.05 s");
+/// A pantograph head's half-width, m.
 pub const HALF_WIDTH: Bound = b(
     (0.0, 2.0),
     (0.3, 1.2),
@@ -99,8 +153,11 @@ pub const HALF_WIDTH: Bound = b(
 );
 
 // Contact-wire irregularity.
+/// RMS of a contact-wire irregularity, m.
 pub const IRREGULARITY_RMS: Bound = b((0.0, 0.5), (0.0, 0.03), "m", "0–20 mm");
+/// A wavelength of an irregularity PSD, m.
 pub const IRREGULARITY_WAVELENGTH: Bound = b((0.0, 1.0e5), (0.1, 1000.0), "m", "1–200 m");
+/// A tabulated deviation of the contact wire, m.
 pub const IRREGULARITY_DEVIATION: Bound = b((-1.0, 1.0), (-0.1, 0.1), "m", "within ±30 mm");
 
 /// Check `v` of `field` against `b`: an error outside the hard bounds, a warning outside the

@@ -26,11 +26,16 @@ pub type Provenance = BTreeMap<String, String>;
 #[serde(deny_unknown_fields)]
 pub struct Case {
     #[serde(default)]
+    /// Name and description.
     pub meta: Meta,
+    /// The catenary.
     pub catenary: CatenaryCase,
+    /// The pantographs, leading first.
     pub pantographs: Vec<PantographCase>,
     #[serde(default)]
+    /// The pantograph–wire contact.
     pub contact: ContactCase,
+    /// The run.
     pub run: RunCase,
     /// Crosswind (needs `lateral` in `run.dofs`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -45,8 +50,10 @@ pub struct Case {
 #[serde(deny_unknown_fields)]
 pub struct Meta {
     #[serde(default)]
+    /// Name of the case (shown in outputs).
     pub name: String,
     #[serde(default)]
+    /// What the case is, in a sentence or two.
     pub description: String,
 }
 
@@ -56,15 +63,23 @@ pub struct Meta {
 pub struct CatenaryCase {
     /// Number of spans in the model (the model length is `spans × span_m`).
     pub spans: usize,
+    /// Span length, m.
     pub span_m: f64,
     /// Height of the messenger above the contact wire at the supports.
     pub encumbrance_m: f64,
+    /// Pre-sag of the contact wire.
     pub presag: Presag,
+    /// Damping of the wires' modes.
     pub damping: Damping,
+    /// The contact wire.
     pub contact_wire: WireCase,
+    /// The messenger wire.
     pub messenger: WireCase,
+    /// The droppers.
     pub droppers: DropperCase,
+    /// The messenger supports.
     pub messenger_support: SupportCase,
+    /// The steady arms.
     pub steady_arm: ArmCase,
     /// Stitch wires at every support (stitched catenaries), or none.
     #[serde(default)]
@@ -84,7 +99,9 @@ pub struct CatenaryCase {
 pub struct StitchCase {
     /// Length of the stitch wire, centred on the support.
     pub length_m: f64,
+    /// Tension of the stitch wire, N.
     pub tension_n: f64,
+    /// Mass per length of the stitch wire, kg/m.
     pub mass_per_m_kg: f64,
     /// Mass of each stitch-dropper clamp on the stitch wire.
     pub clamp_mass_kg: f64,
@@ -100,8 +117,11 @@ pub struct StitchCase {
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct WireCase {
+    /// Mass per length, kg/m.
     pub mass_per_m_kg: f64,
+    /// Tension, N.
     pub tension_n: f64,
+    /// Bending stiffness EI, N·m².
     pub ei_nm2: f64,
     /// Diameter, lateral and torsional data and aerodynamic coefficients (lateral and torsional
     /// motion, wind, ice).
@@ -113,6 +133,7 @@ pub struct WireCase {
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct DropperCase {
+    /// Positions from the span's start, m.
     pub positions_m: Vec<f64>,
     /// Stiffness in tension (zero in compression; Eq. 15). Give this or `ea_n`.
     #[serde(default)]
@@ -120,9 +141,12 @@ pub struct DropperCase {
     /// Axial stiffness EA; each dropper then has `k = EA / length` with its static length.
     #[serde(default)]
     pub ea_n: Option<f64>,
+    /// Mass of the clamp on the messenger, kg.
     pub clamp_mass_messenger_kg: f64,
+    /// Mass of the clamp on the contact wire, kg.
     pub clamp_mass_contact_kg: f64,
     #[serde(default)]
+    /// Dropper mass per length, kg/m (shared by its two ends).
     pub mass_per_m_kg: f64,
 }
 
@@ -130,8 +154,10 @@ pub struct DropperCase {
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct SupportCase {
+    /// Vertical stiffness, N/m.
     pub stiffness_n_per_m: f64,
     #[serde(default)]
+    /// Vertical damping, N·s/m.
     pub damping_ns_per_m: f64,
 }
 
@@ -139,7 +165,9 @@ pub struct SupportCase {
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ArmCase {
+    /// Mass, kg.
     pub mass_kg: f64,
+    /// Vertical stiffness, N/m.
     pub stiffness_n_per_m: f64,
     /// Whether the arm holds the contact wire at its design height at the support and carries
     /// the static force there (simple catenaries). When false (stitched catenaries) the contact
@@ -160,12 +188,16 @@ pub enum PantographCase {
     /// last joins the lowest mass to the roof.
     Lumped {
         #[serde(default)]
+        /// Name (shown in outputs).
         name: String,
         /// Distance behind the leading pantograph, m (0 for the leading one).
         #[serde(default)]
         offset_m: f64,
+        /// Masses, head first, kg.
         masses_kg: Vec<f64>,
+        /// Springs, one per mass, N/m.
         stiffness_n_per_m: Vec<f64>,
+        /// Dampers, one per mass, N·s/m.
         damping_ns_per_m: Vec<f64>,
         /// Net static uplift on the lowest mass (gravity included), N.
         uplift_n: f64,
@@ -185,9 +217,12 @@ pub enum PantographCase {
     /// A constant upward force moving along the contact wire.
     MovingForce {
         #[serde(default)]
+        /// Name (shown in outputs).
         name: String,
         #[serde(default)]
+        /// Distance behind the leading pantograph, m.
         offset_m: f64,
+        /// Upward force, N.
         force_n: f64,
     },
 }
@@ -206,6 +241,7 @@ impl PantographCase {
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ContactCase {
+    /// Penalty stiffness of the contact (Eq. 19), N/m.
     pub stiffness_n_per_m: f64,
 }
 
@@ -221,6 +257,7 @@ impl Default for ContactCase {
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct RunCase {
+    /// Train speed, km/h.
     pub speed_kmh: f64,
     /// Position of the leading pantograph at t = 0.
     pub start_m: f64,
@@ -232,7 +269,9 @@ pub struct RunCase {
     #[serde(default)]
     pub modes: Option<usize>,
     #[serde(default)]
+    /// Modes per metre of wire (the number of modes scales with the model's length).
     pub modes_per_m: Option<f64>,
+    /// Time step, s.
     pub dt_s: f64,
     /// The directions modelled for every wire (Eqs. 5–8): `["vertical"]` (default),
     /// `["vertical", "lateral"]` or all three.

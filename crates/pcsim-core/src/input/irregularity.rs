@@ -17,7 +17,9 @@ pub enum IrregularityCase {
     /// A profile: deviation (m, upward positive) at positions (m, model coordinates, increasing),
     /// linear in between and zero outside.
     Table {
+        /// Positions, m (model coordinates, increasing).
         position_m: Vec<f64>,
+        /// Deviations at the positions, m (upward positive).
         deviation_m: Vec<f64>,
         /// Where the table came from (a file name), for the outputs.
         #[serde(default, skip_serializing_if = "String::is_empty")]
@@ -26,8 +28,11 @@ pub enum IrregularityCase {
     /// A random profile with the one-sided PSD `S(λ) ∝ λ^exponent` over wavelength (or a table),
     /// limited to `[min_wavelength_m, max_wavelength_m]`, scaled to `rms_m`, seeded.
     Psd {
+        /// RMS of the profile, m.
         rms_m: f64,
+        /// Shortest wavelength of the band, m.
         min_wavelength_m: f64,
+        /// Longest wavelength of the band, m.
         max_wavelength_m: f64,
         /// `S ∝ λ^exponent` in the band (per unit spatial frequency); ignored with `table`.
         #[serde(default)]
@@ -36,12 +41,19 @@ pub enum IrregularityCase {
         /// interpolation), instead of the power law.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         table: Option<PsdTable>,
+        /// Seed of the random phases (written to the outputs).
         seed: u64,
     },
     /// Height errors at the droppers, the same pattern in every span (a dropper-length error
     /// repeated at each span), random with `rms_m`, seeded, linear between droppers and zero at
     /// the supports.
-    Droppers { rms_m: f64, seed: u64 },
+    /// RMS of the dropper-height errors (m) and the seed of the random pattern.
+    Droppers {
+        /// RMS of the dropper-height errors, m.
+        rms_m: f64,
+        /// Seed of the random pattern.
+        seed: u64,
+    },
 }
 
 impl IrregularityCase {

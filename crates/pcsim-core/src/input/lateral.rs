@@ -9,8 +9,11 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq, PartialOrd, Ord, Hash)]
 #[serde(rename_all = "snake_case")]
 pub enum Dof {
+    /// Vertical motion (`y` of Eqs. 1–8).
     Vertical,
+    /// Lateral motion (`z` of Eqs. 1–8).
     Lateral,
+    /// Torsional motion (`φ` of Eqs. 1–8).
     Torsional,
 }
 
@@ -52,8 +55,11 @@ pub struct SectionCase {
 pub struct AeroCase {
     /// Angles of attack, degrees, increasing (the relative wind's angle above horizontal).
     pub attack_deg: Vec<f64>,
+    /// Drag coefficients C_D at the angles.
     pub drag: Vec<f64>,
+    /// Lift coefficients C_L at the angles.
     pub lift: Vec<f64>,
+    /// Moment coefficients C_M at the angles.
     pub moment: Vec<f64>,
 }
 
@@ -142,6 +148,7 @@ impl LateralCase {
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct IceCase {
+    /// Density of the ice, kg/m³.
     pub density_kg_m3: f64,
     /// Radial thickness on the contact wire, m.
     pub contact_wire_m: f64,
@@ -154,9 +161,17 @@ pub struct IceCase {
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum WindProfile {
     /// `U(z) = U_ref ln(z/z0) / ln(z_ref/z0)`.
-    Log { roughness_m: f64 },
+    /// A logarithmic profile with the terrain's roughness length, m.
+    Log {
+        /// Terrain roughness length z0, m.
+        roughness_m: f64,
+    },
     /// `U(z) = U_ref (z/z_ref)^α`.
-    Power { exponent: f64 },
+    /// A power-law profile with the exponent α.
+    Power {
+        /// Exponent α.
+        exponent: f64,
+    },
 }
 
 /// The turbulence spectrum of the along-wind component.
@@ -165,7 +180,11 @@ pub enum WindProfile {
 pub enum Spectrum {
     /// Kaimal (IEC form): `f S/σ² = 4 y / (1 + 6 y)^{5/3}`, `y = f L/U`, with the Kaimal length
     /// `L = 8.1 Λ` (`Λ = 0.7 z` below 60 m).
-    Kaimal { integral_length_m: f64 },
+    /// Kaimal with the integral length Λ, m.
+    Kaimal {
+        /// Integral length scale Λ, m.
+        integral_length_m: f64,
+    },
     /// Davenport: `f S/σ² = (2/3) x² / (1 + x²)^{4/3}`, `x = 1200 f / U_ref`.
     Davenport,
     /// Mean wind only.
@@ -178,17 +197,21 @@ pub enum Spectrum {
 pub struct WindCase {
     /// Mean speed at the reference height, m/s.
     pub mean_speed_m_s: f64,
+    /// Reference height of the mean speed, m.
     pub reference_height_m: f64,
+    /// The mean-wind profile with height.
     pub profile: WindProfile,
     /// Angle between the wind and the track, degrees (90: square to the track).
     pub yaw_deg: f64,
     /// σ_u / U at the reference height.
     pub turbulence_intensity: f64,
+    /// The turbulence spectrum.
     pub spectrum: Spectrum,
     /// Davenport's decay constant `C` of the coherence `exp(−C f Δx / U)` along the line.
     pub coherence_decay: f64,
     /// Seed of the turbulence (written to summary.json).
     pub seed: u64,
+    /// Air density, kg/m³.
     pub air_density_kg_m3: f64,
     /// Spacing of the wind grid along the line, m (a divisor of the span keeps it periodic).
     pub grid_m: f64,

@@ -8,9 +8,13 @@ use crate::input::case::Case;
 /// A value to put at a path.
 #[derive(Debug, Clone, PartialEq)]
 pub enum OverrideValue {
+    /// A number.
     Number(f64),
+    /// An integer.
     Integer(i64),
+    /// A boolean.
     Bool(bool),
+    /// A string.
     Text(String),
     /// A list of numbers (`run.analysis_m`, `catenary.droppers.positions_m`).
     Numbers(Vec<f64>),

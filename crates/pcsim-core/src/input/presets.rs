@@ -6,8 +6,11 @@ use crate::input::case::{Case, Provenance};
 /// A named embedded case.
 #[derive(Debug, Clone, Copy)]
 pub struct Preset {
+    /// Name (`--preset NAME`).
     pub name: &'static str,
+    /// One line on what it is.
     pub summary: &'static str,
+    /// The case file's text, every field with its source.
     pub toml: &'static str,
 }
 

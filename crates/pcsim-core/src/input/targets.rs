@@ -24,10 +24,13 @@ pub const QUANTITIES: &[&str] = &[
 /// A target case: its speed and the ranges it gives, in [`QUANTITIES`] order.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TargetCase {
+    /// Key in the targets table (e.g. `v275_leading`).
     pub key: String,
+    /// Train speed, km/h.
     pub speed_kmh: f64,
     /// From the key's suffix (`v275_leading` → "leading").
     pub pantograph: Option<String>,
+    /// Ranges [low, high] by quantity.
     pub ranges: Vec<(String, [f64; 2])>,
     /// `paper_value` entries, by quantity.
     pub paper: Vec<(String, f64)>,

@@ -39,7 +39,9 @@ impl Dimension {
 /// A parsed quantity: its value in the dimension's return unit, and whether the text gave a unit.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Quantity {
+    /// The value in the dimension's return unit.
     pub value: f64,
+    /// Whether the text gave a unit.
     pub explicit_unit: bool,
 }
 

@@ -372,79 +372,7 @@ pub(super) fn contact_and_pantographs(case: &Case, w: &mut Vec<Warning>) -> Resu
             &bounds::OFFSET,
         )?;
         match p {
-            PantographCase::Lumped {
-                masses_kg,
-                stiffness_n_per_m,
-                damping_ns_per_m,
-                uplift_n,
-                aero_coeffs_kmh,
-                ..
-            } => {
-                if masses_kg.is_empty() {
-                    return Err(inv(
-                        &format!("{base}.masses_kg"),
-                        "[]",
-                        "need at least one mass",
-                    ));
-                }
-                if masses_kg.len() > 20 {
-                    return Err(inv(
-                        &format!("{base}.masses_kg"),
-                        format!("{} masses", masses_kg.len()),
-                        "a lumped pantograph has a handful of masses (at most 20)",
-                    ));
-                }
-                for (j, &m) in masses_kg.iter().enumerate() {
-                    check_bound(
-                        w,
-                        &format!("{base}.masses_kg[{j}]"),
-                        m,
-                        &bounds::PANTOGRAPH_MASS,
-                    )?;
-                }
-                for (field, v, b) in [
-                    (
-                        "stiffness_n_per_m",
-                        stiffness_n_per_m,
-                        &bounds::PANTOGRAPH_STIFFNESS,
-                    ),
-                    (
-                        "damping_ns_per_m",
-                        damping_ns_per_m,
-                        &bounds::PANTOGRAPH_DAMPING,
-                    ),
-                ] {
-                    if v.len() != masses_kg.len() {
-                        return Err(inv(
-                            &format!("{base}.{field}"),
-                            format!("{} values", v.len()),
-                            &format!("need one value per mass ({})", masses_kg.len()),
-                        ));
-                    }
-                    for (j, &x) in v.iter().enumerate() {
-                        check_bound(w, &format!("{base}.{field}[{j}]"), x, b)?;
-                    }
-                }
-                check_bound(w, &format!("{base}.uplift_n"), *uplift_n, &bounds::UPLIFT)?;
-                if aero_coeffs_kmh.len() > 8 {
-                    return Err(inv(
-                        &format!("{base}.aero_coeffs_kmh"),
-                        format!("{} coefficients", aero_coeffs_kmh.len()),
-                        "a polynomial of degree at most 7",
-                    ));
-                }
-                let v = r.speed_kmh;
-                let aero = aero_coeffs_kmh
-                    .iter()
-                    .rev()
-                    .fold(0.0, |acc, ci| acc * v + ci);
-                check_bound(
-                    w,
-                    &format!("{base}.aero_coeffs_kmh (the force at {v} km/h, N)"),
-                    aero,
-                    &bounds::AERO,
-                )?;
-            }
+            PantographCase::Lumped { .. } => lumped_pantograph(w, &base, p, r.speed_kmh)?,
             PantographCase::MovingForce { force_n, .. } => {
                 check_bound(
                     w,
@@ -455,6 +383,92 @@ pub(super) fn contact_and_pantographs(case: &Case, w: &mut Vec<Warning>) -> Resu
             }
         }
     }
+    Ok(())
+}
+
+/// A lumped pantograph (Eq. 16): its masses, springs and dampers (one each per mass), static
+/// uplift and aerodynamic polynomial (its force at the run's speed).
+fn lumped_pantograph(
+    w: &mut Vec<Warning>,
+    base: &str,
+    p: &PantographCase,
+    speed_kmh: f64,
+) -> Result<(), CaseError> {
+    let PantographCase::Lumped {
+        masses_kg,
+        stiffness_n_per_m,
+        damping_ns_per_m,
+        uplift_n,
+        aero_coeffs_kmh,
+        ..
+    } = p
+    else {
+        return Ok(());
+    };
+    if masses_kg.is_empty() {
+        return Err(inv(
+            &format!("{base}.masses_kg"),
+            "[]",
+            "need at least one mass",
+        ));
+    }
+    if masses_kg.len() > 20 {
+        return Err(inv(
+            &format!("{base}.masses_kg"),
+            format!("{} masses", masses_kg.len()),
+            "a lumped pantograph has a handful of masses (at most 20)",
+        ));
+    }
+    for (j, &m) in masses_kg.iter().enumerate() {
+        check_bound(
+            w,
+            &format!("{base}.masses_kg[{j}]"),
+            m,
+            &bounds::PANTOGRAPH_MASS,
+        )?;
+    }
+    for (field, v, b) in [
+        (
+            "stiffness_n_per_m",
+            stiffness_n_per_m,
+            &bounds::PANTOGRAPH_STIFFNESS,
+        ),
+        (
+            "damping_ns_per_m",
+            damping_ns_per_m,
+            &bounds::PANTOGRAPH_DAMPING,
+        ),
+    ] {
+        if v.len() != masses_kg.len() {
+            return Err(inv(
+                &format!("{base}.{field}"),
+                format!("{} values", v.len()),
+                &format!("need one value per mass ({})", masses_kg.len()),
+            ));
+        }
+        for (j, &x) in v.iter().enumerate() {
+            check_bound(w, &format!("{base}.{field}[{j}]"), x, b)?;
+        }
+    }
+    check_bound(w, &format!("{base}.uplift_n"), *uplift_n, &bounds::UPLIFT)?;
+    if aero_coeffs_kmh.len() > 8 {
+        return Err(inv(
+            &format!("{base}.aero_coeffs_kmh"),
+            format!("{} coefficients", aero_coeffs_kmh.len()),
+            "a polynomial of degree at most 7",
+        ));
+    }
+    let v = speed_kmh;
+    let aero = aero_coeffs_kmh
+        .iter()
+        .rev()
+        .fold(0.0, |acc, ci| acc * v + ci);
+    check_bound(
+        w,
+        &format!("{base}.aero_coeffs_kmh (the force at {v} km/h, N)"),
+        aero,
+        &bounds::AERO,
+    )?;
     Ok(())
 }
 
@@ -957,111 +971,131 @@ pub(super) fn irregularity(case: &Case, w: &mut Vec<Warning>) -> Result<(), Case
                 position_m,
                 deviation_m,
                 ..
-            } => {
-                if position_m.len() < 2 {
-                    return Err(inv(
-                        &f("position_m"),
-                        format!("{} points", position_m.len()),
-                        "a profile needs at least two points",
-                    ));
-                }
-                if deviation_m.len() != position_m.len() {
-                    return Err(inv(
-                        &f("deviation_m"),
-                        format!("{} values", deviation_m.len()),
-                        &format!("need one deviation per position ({})", position_m.len()),
-                    ));
-                }
-                for k in 1..position_m.len() {
-                    if position_m[k] <= position_m[k - 1] {
-                        return Err(inv(
-                            &f(&format!("position_m[{k}]")),
-                            position_m[k],
-                            "positions must increase",
-                        ));
-                    }
-                }
-                for (k, d) in deviation_m.iter().enumerate() {
-                    check_bound(
-                        w,
-                        &f(&format!("deviation_m[{k}]")),
-                        *d,
-                        &bounds::IRREGULARITY_DEVIATION,
-                    )?;
-                }
-            }
-            IrregularityCase::Psd {
-                rms_m,
-                min_wavelength_m,
-                max_wavelength_m,
-                exponent,
-                table,
-                ..
-            } => {
-                check_bound(w, &f("rms_m"), *rms_m, &bounds::IRREGULARITY_RMS)?;
-                check_bound(
-                    w,
-                    &f("min_wavelength_m"),
-                    *min_wavelength_m,
-                    &bounds::IRREGULARITY_WAVELENGTH,
-                )?;
-                check_bound(
-                    w,
-                    &f("max_wavelength_m"),
-                    *max_wavelength_m,
-                    &bounds::IRREGULARITY_WAVELENGTH,
-                )?;
-                if !(*min_wavelength_m > 0.0 && max_wavelength_m > min_wavelength_m) {
-                    return Err(inv(
-                        &f("max_wavelength_m"),
-                        max_wavelength_m,
-                        &format!("the band needs 0 < min_wavelength_m ({min_wavelength_m}) < max_wavelength_m"),
-                    ));
-                }
-                if !(exponent.is_finite() && exponent.abs() <= 10.0) {
-                    return Err(inv(&f("exponent"), exponent, "must lie within ±10"));
-                }
-                if *max_wavelength_m > case.length_m() {
-                    w.push(Warning(format!(
-                        "{} = {max_wavelength_m} m is longer than the model ({} m): those wavelengths are cut",
-                        f("max_wavelength_m"),
-                        case.length_m()
-                    )));
-                }
-                if let Some(t) = table {
-                    if t.wavelength_m.len() < 2 || t.psd.len() != t.wavelength_m.len() {
-                        return Err(inv(
-                            &f("table"),
-                            format!(
-                                "{} wavelengths, {} values",
-                                t.wavelength_m.len(),
-                                t.psd.len()
-                            ),
-                            "need at least two wavelengths and one PSD value per wavelength",
-                        ));
-                    }
-                    for k in 0..t.wavelength_m.len() {
-                        if t.wavelength_m[k] <= 0.0
-                            || (k > 0 && t.wavelength_m[k] <= t.wavelength_m[k - 1])
-                        {
-                            return Err(inv(
-                                &f(&format!("table.wavelength_m[{k}]")),
-                                t.wavelength_m[k],
-                                "wavelengths must be positive and increase",
-                            ));
-                        }
-                        if !(t.psd[k] > 0.0 && t.psd[k].is_finite()) {
-                            return Err(inv(
-                                &f(&format!("table.psd[{k}]")),
-                                t.psd[k],
-                                "PSD values must be finite and > 0",
-                            ));
-                        }
-                    }
-                }
-            }
+            } => irregularity_table(w, &f, position_m, deviation_m)?,
+            IrregularityCase::Psd { .. } => irregularity_psd(case, w, &f, ir)?,
             IrregularityCase::Droppers { rms_m, .. } => {
                 check_bound(w, &f("rms_m"), *rms_m, &bounds::IRREGULARITY_RMS)?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A measured profile: at least two points, increasing positions, one deviation each.
+fn irregularity_table(
+    w: &mut Vec<Warning>,
+    f: &dyn Fn(&str) -> String,
+    position_m: &[f64],
+    deviation_m: &[f64],
+) -> Result<(), CaseError> {
+    if position_m.len() < 2 {
+        return Err(inv(
+            &f("position_m"),
+            format!("{} points", position_m.len()),
+            "a profile needs at least two points",
+        ));
+    }
+    if deviation_m.len() != position_m.len() {
+        return Err(inv(
+            &f("deviation_m"),
+            format!("{} values", deviation_m.len()),
+            &format!("need one deviation per position ({})", position_m.len()),
+        ));
+    }
+    for k in 1..position_m.len() {
+        if position_m[k] <= position_m[k - 1] {
+            return Err(inv(
+                &f(&format!("position_m[{k}]")),
+                position_m[k],
+                "positions must increase",
+            ));
+        }
+    }
+    for (k, d) in deviation_m.iter().enumerate() {
+        check_bound(
+            w,
+            &f(&format!("deviation_m[{k}]")),
+            *d,
+            &bounds::IRREGULARITY_DEVIATION,
+        )?;
+    }
+    Ok(())
+}
+
+/// A profile drawn from a PSD: the rms, the wavelength band, the exponent or the table.
+fn irregularity_psd(
+    case: &Case,
+    w: &mut Vec<Warning>,
+    f: &dyn Fn(&str) -> String,
+    ir: &IrregularityCase,
+) -> Result<(), CaseError> {
+    let IrregularityCase::Psd {
+        rms_m,
+        min_wavelength_m,
+        max_wavelength_m,
+        exponent,
+        table,
+        ..
+    } = ir
+    else {
+        return Ok(());
+    };
+    check_bound(w, &f("rms_m"), *rms_m, &bounds::IRREGULARITY_RMS)?;
+    check_bound(
+        w,
+        &f("min_wavelength_m"),
+        *min_wavelength_m,
+        &bounds::IRREGULARITY_WAVELENGTH,
+    )?;
+    check_bound(
+        w,
+        &f("max_wavelength_m"),
+        *max_wavelength_m,
+        &bounds::IRREGULARITY_WAVELENGTH,
+    )?;
+    if !(*min_wavelength_m > 0.0 && max_wavelength_m > min_wavelength_m) {
+        return Err(inv(
+            &f("max_wavelength_m"),
+            max_wavelength_m,
+            &format!("the band needs 0 < min_wavelength_m ({min_wavelength_m}) < max_wavelength_m"),
+        ));
+    }
+    if !(exponent.is_finite() && exponent.abs() <= 10.0) {
+        return Err(inv(&f("exponent"), exponent, "must lie within ±10"));
+    }
+    if *max_wavelength_m > case.length_m() {
+        w.push(Warning(format!(
+            "{} = {max_wavelength_m} m is longer than the model ({} m): those wavelengths are cut",
+            f("max_wavelength_m"),
+            case.length_m()
+        )));
+    }
+    if let Some(t) = table {
+        if t.wavelength_m.len() < 2 || t.psd.len() != t.wavelength_m.len() {
+            return Err(inv(
+                &f("table"),
+                format!(
+                    "{} wavelengths, {} values",
+                    t.wavelength_m.len(),
+                    t.psd.len()
+                ),
+                "need at least two wavelengths and one PSD value per wavelength",
+            ));
+        }
+        for k in 0..t.wavelength_m.len() {
+            if t.wavelength_m[k] <= 0.0 || (k > 0 && t.wavelength_m[k] <= t.wavelength_m[k - 1]) {
+                return Err(inv(
+                    &f(&format!("table.wavelength_m[{k}]")),
+                    t.wavelength_m[k],
+                    "wavelengths must be positive and increase",
+                ));
+            }
+            if !(t.psd[k] > 0.0 && t.psd[k].is_finite()) {
+                return Err(inv(
+                    &f(&format!("table.psd[{k}]")),
+                    t.psd[k],
+                    "PSD values must be finite and > 0",
+                ));
             }
         }
     }

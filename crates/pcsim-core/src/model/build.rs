@@ -16,9 +16,13 @@ use crate::model::{Model, StaticShape};
 /// the time step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BuilderRun {
+    /// Train speed, m/s.
     pub speed_m_s: f64,
+    /// The leading pantograph's start, m.
     pub start_m: f64,
+    /// Duration of the run, s.
     pub duration_s: f64,
+    /// Time step, s.
     pub dt_s: f64,
 }
 

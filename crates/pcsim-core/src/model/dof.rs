@@ -44,15 +44,18 @@ impl Direction {
 pub struct BlockKey {
     /// Index into `Model::wires`.
     pub wire: usize,
+    /// The direction of motion.
     pub dir: Direction,
 }
 
 /// One block of modal coordinates.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Block {
+    /// Which wire and direction.
     pub key: BlockKey,
     /// Start of the block in the modal state vector.
     pub offset: usize,
+    /// Number of modes.
     pub n_modes: usize,
     /// Index of its basis group.
     pub group: usize,
@@ -61,6 +64,7 @@ pub struct Block {
 /// Blocks sharing one sine basis, contiguous in the state vector.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BasisGroup {
+    /// The sine basis the blocks share.
     pub basis: SineBasis,
     /// Model coordinate of the basis' x = 0, m.
     pub origin_m: f64,
@@ -73,7 +77,9 @@ pub struct BasisGroup {
 /// The layout of all modal coordinates.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Layout {
+    /// Every block, in state order.
     pub blocks: Vec<Block>,
+    /// Blocks sharing one sine basis.
     pub groups: Vec<BasisGroup>,
     /// Total number of modal coordinates.
     pub len: usize,

@@ -21,7 +21,9 @@ use serde::{Deserialize, Serialize};
 pub enum IrregularitySource {
     /// Deviation (m, upward positive) at positions (m, increasing), linear in between.
     Table {
+        /// Positions, m (model coordinates, increasing).
         position_m: Vec<f64>,
+        /// Deviations at the positions, m (upward positive).
         deviation_m: Vec<f64>,
         /// Where the table came from (a file name), for the outputs.
         source_file: String,
@@ -29,15 +31,27 @@ pub enum IrregularitySource {
     /// A random profile with the one-sided PSD `S(λ) ∝ λ^exponent` (or a table) in a band,
     /// scaled to `rms_m`, seeded.
     Psd {
+        /// RMS of the profile, m.
         rms_m: f64,
+        /// Shortest wavelength of the band, m.
         min_wavelength_m: f64,
+        /// Longest wavelength of the band, m.
         max_wavelength_m: f64,
+        /// `S ∝ λ^exponent` in the band (ignored with `table`).
         exponent: f64,
+        /// The PSD's shape as a table, instead of the power law.
         table: Option<PsdTable>,
+        /// Seed of the random phases.
         seed: u64,
     },
     /// Random height errors at the droppers, the same in every span, seeded.
-    Droppers { rms_m: f64, seed: u64 },
+    /// RMS of the dropper-height errors (m) and the seed of the pattern.
+    Droppers {
+        /// RMS of the dropper-height errors, m.
+        rms_m: f64,
+        /// Seed of the random pattern.
+        seed: u64,
+    },
 }
 
 impl IrregularitySource {
@@ -56,21 +70,27 @@ impl IrregularitySource {
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct PsdTable {
+    /// Wavelengths, m (increasing).
     pub wavelength_m: Vec<f64>,
+    /// Relative PSD values at the wavelengths (log-log interpolation).
     pub psd: Vec<f64>,
 }
 
 /// What the outputs say about one source.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct IrregularityReport {
+    /// The source's kind (`table`, `psd`, `droppers`).
     pub kind: String,
     #[serde(skip_serializing_if = "Option::is_none")]
+    /// Seed of a random source.
     pub seed: Option<u64>,
     #[serde(skip_serializing_if = "Option::is_none")]
+    /// RMS asked for, m.
     pub rms_target_m: Option<f64>,
     /// RMS of this source over the model, m.
     pub rms_achieved_m: f64,
     #[serde(skip_serializing_if = "String::is_empty")]
+    /// The file a table came from.
     pub source_file: String,
 }
 
@@ -79,8 +99,11 @@ pub struct IrregularityReport {
 pub struct IrregularityProfile {
     /// Position of sample 0 (model coordinates), m.
     pub x0_m: f64,
+    /// Grid spacing, m.
     pub dx_m: f64,
+    /// The summed deviation at each grid point, m.
     pub r_m: Vec<f64>,
+    /// What each source contributed.
     pub reports: Vec<IrregularityReport>,
 }
 

@@ -12,6 +12,7 @@
 pub struct LateralGeometry {
     /// Track position of support 0, m.
     pub first_support_m: f64,
+    /// Span length, m.
     pub span_m: f64,
     /// Stagger at supports 0, 1, 2, … (the last repeats beyond), m.
     pub stagger_m: Vec<f64>,

@@ -40,6 +40,7 @@ pub use wire::{Wire, WireRole};
 pub struct Node {
     /// Position along the track (model coordinates), m.
     pub x_m: f64,
+    /// Mass, kg.
     pub mass_kg: f64,
     /// Direction of its motion.
     pub dir: Direction,
@@ -50,6 +51,7 @@ pub struct Node {
 pub enum StaticShape {
     /// Straight wires at height 0 (analytic single-wire checks).
     Flat,
+    /// The catenary's static solution from its design (the initial condition of Eqs. 9–10).
     Catenary(Box<StaticSolution>),
 }
 
@@ -68,13 +70,17 @@ impl StaticShape {
 /// The whole model.
 #[derive(Debug, Clone)]
 pub struct Model {
+    /// The wires, each with its modal series per direction.
     pub wires: Vec<Wire>,
     /// Blocks of modal coordinates keyed by (wire, direction), derived from `wires`.
     pub layout: Layout,
+    /// Lumped masses with their own degree of freedom.
     pub nodes: Vec<Node>,
     /// Point elements, one value per kind, in the order their forces are evaluated.
     pub elements: Vec<Box<dyn PointElement>>,
+    /// The pantographs, leading first.
     pub pantographs: Vec<Pantograph>,
+    /// The static shape the dynamics deviate from.
     pub statics: StaticShape,
     /// Span length when the layout repeats every span (enables the fast point sampler).
     pub span_m: Option<f64>,

@@ -10,8 +10,11 @@ use crate::linalg::{invert_small, mat_vec};
 /// the contact-wire height at the supports, where every spring is unstretched.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Lumped {
+    /// Masses, head first, kg.
     pub masses_kg: Vec<f64>,
+    /// Springs, one per mass, N/m.
     pub stiffness_n_per_m: Vec<f64>,
+    /// Dampers, one per mass, N·s/m.
     pub damping_ns_per_m: Vec<f64>,
     /// Net static uplift on the lowest mass (gravity included), N.
     pub uplift_n: f64,
@@ -23,9 +26,11 @@ pub struct Lumped {
 /// What runs along the contact wire.
 #[derive(Debug, Clone, PartialEq)]
 pub enum PantographKind {
+    /// A lumped-mass pantograph (Eq. 16).
     Lumped(Lumped),
     /// A constant upward force on the contact wire.
     MovingForce {
+        /// The force, N.
         force_n: f64,
     },
     /// A force and a position given from outside at every step (hardware in the loop).
@@ -35,12 +40,15 @@ pub enum PantographKind {
 /// A pantograph with its name and its place in the train.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Pantograph {
+    /// Name (shown in outputs).
     pub name: String,
     /// Distance behind the leading pantograph, m.
     pub offset_m: f64,
+    /// What runs along the wire.
     pub kind: PantographKind,
     /// Half-length of the head and half the strip's working range, m (for the lateral outputs).
     pub head_half_width_m: Option<f64>,
+    /// Half the strip's working range, m.
     pub working_half_width_m: Option<f64>,
 }
 
@@ -82,13 +90,17 @@ pub fn chain_matrix(k: &[f64], n: usize) -> Vec<f64> {
 /// The precomputed operators of a lumped pantograph for a time step Δt.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ChainOperators {
+    /// Number of masses.
     pub n: usize,
     /// Inverse of `M + Δt/2 C`, row-major.
     pub a_inv: Vec<f64>,
+    /// Stiffness matrix K_P (Eq. 16), row-major.
     pub k: Vec<f64>,
+    /// Damping matrix C_P (Eq. 16), row-major.
     pub c: Vec<f64>,
     /// Aerodynamic force at the run speed, N.
     pub aero_n: f64,
+    /// Net static uplift on the lowest mass, N.
     pub uplift_n: f64,
 }
 

@@ -43,12 +43,19 @@ pub enum PresagZero {
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Presag {
+    /// A parabola over the span with its mid-span sag.
     Parabolic {
+        /// Pre-sag at mid-span, m (downward).
         mid_span_m: f64,
+        /// Where the parabola is zero.
         zero_at: PresagZero,
     },
     /// Pre-sag at each dropper, in dropper order.
-    Table { values_m: Vec<f64> },
+    /// Pre-sag at each dropper, in dropper order, m.
+    Table {
+        /// Pre-sag at each dropper, in dropper order, m (downward).
+        values_m: Vec<f64>,
+    },
 }
 
 /// A span-periodic piecewise-parabolic wire profile: nodal heights, and between nodes the
@@ -59,10 +66,13 @@ pub struct Profile {
     pub xs: Vec<f64>,
     /// Heights at the nodes, m.
     pub hs: Vec<f64>,
+    /// Span length, m.
     pub span_m: f64,
+    /// Number of spans.
     pub n_spans: usize,
     /// Weight per metre, N/m, and tension, N.
     pub w: f64,
+    /// Tension, N.
     pub t: f64,
 }
 
@@ -125,7 +135,9 @@ pub fn stitch_stiffness(tension_n: f64, length_m: f64, dist_to_support_m: f64) -
 /// The static equilibrium of one (repeating) span.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StaticSolution {
+    /// Span length, m.
     pub span_m: f64,
+    /// Number of spans.
     pub n_spans: usize,
     /// Contact wire: nodes at the droppers (and at the support when the steady arm holds it).
     pub contact: Profile,
@@ -137,6 +149,7 @@ pub struct StaticSolution {
     pub dropper_force_contact_n: Vec<f64>,
     /// Dropper tension at the upper clamp (adds the dropper's own weight), N.
     pub dropper_force_messenger_n: Vec<f64>,
+    /// Static dropper lengths, m.
     pub dropper_length_m: Vec<f64>,
     /// Per dropper: the stitch element it hangs from (stiffness N/m, node mass kg, static force
     /// in the element N), or `None` for droppers on the messenger.
@@ -150,7 +163,9 @@ pub struct StaticSolution {
 /// Static data of one stitch element.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StitchStatic {
+    /// Stiffness of the stitch element, N/m.
     pub stiffness_n_per_m: f64,
+    /// Mass of its node, kg.
     pub node_mass_kg: f64,
     /// Force carried by the stitch element (dropper tension at the top + node weight), N.
     pub force_n: f64,
@@ -160,32 +175,48 @@ pub struct StitchStatic {
 /// fills it from a case (`compile::model::static_design`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct StaticDesign {
+    /// Span length, m.
     pub span_m: f64,
+    /// Number of spans.
     pub spans: usize,
     /// System height at the supports, m.
     pub encumbrance_m: f64,
     /// Dropper positions within a span, m.
     pub dropper_x_m: Vec<f64>,
+    /// Design pre-sag of the contact wire.
     pub presag: Presag,
     /// Whether the steady arm holds the contact wire at its design height at the support.
     pub arm_holds_contact: bool,
+    /// Contact wire's mass per length, kg/m.
     pub contact_mass_per_m_kg: f64,
+    /// Contact wire's tension, N.
     pub contact_tension_n: f64,
+    /// Messenger's mass per length, kg/m.
     pub messenger_mass_per_m_kg: f64,
+    /// Messenger's tension, N.
     pub messenger_tension_n: f64,
+    /// Droppers' mass per length, kg/m.
     pub dropper_mass_per_m_kg: f64,
+    /// Mass of a dropper clamp on the contact wire, kg.
     pub clamp_mass_contact_kg: f64,
+    /// Mass of a dropper clamp on the messenger, kg.
     pub clamp_mass_messenger_kg: f64,
+    /// The stitch wire, if any.
     pub stitch: Option<StitchDesign>,
 }
 
 /// A stitch wire's design: the droppers it carries and its own data.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StitchDesign {
+    /// Indices of the droppers that hang from it.
     pub droppers: Vec<usize>,
+    /// Tension, N.
     pub tension_n: f64,
+    /// Length, centred on the support, m.
     pub length_m: f64,
+    /// Mass of each stitch-dropper clamp, kg.
     pub clamp_mass_kg: f64,
+    /// Mass per length, kg/m.
     pub mass_per_m_kg: f64,
 }
 

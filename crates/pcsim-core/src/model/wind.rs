@@ -24,6 +24,7 @@ use crate::model::wind_field::{SpectrumModel, WindField};
 /// The wind on one wire.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WireWind {
+    /// Index of the wire in `Model::wires`.
     pub wire: usize,
     /// Height above the rail, m.
     pub height_m: f64,
@@ -32,19 +33,24 @@ pub struct WireWind {
     /// Per-length load coefficients on `½ρ V|V|`: lateral `d C_D`, vertical `d C_L`, torsional
     /// `d² C_M` (ice included in `d`).
     pub lateral_m: f64,
+    /// Vertical load coefficient `d C_L`, m.
     pub vertical_m: f64,
+    /// Torsional load coefficient `d² C_M`, m².
     pub torsional_m2: f64,
     /// Linearised aerodynamic damping per metre, lateral and vertical, N·s/m².
     pub damping_lateral: f64,
+    /// Vertical aerodynamic damping per metre, N·s/m².
     pub damping_vertical: f64,
 }
 
 /// The crosswind of a model.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WindLoad {
+    /// Air density, kg/m³.
     pub air_density_kg_m3: f64,
     /// `sin(yaw)`: the part of the wind (and its fluctuation) normal to the track.
     pub normal_fraction: f64,
+    /// The wind on every loaded wire.
     pub wires: Vec<WireWind>,
     /// Along-wind fluctuation on the grid (model coordinates).
     pub field: WindField,
@@ -57,11 +63,17 @@ pub struct WindLoad {
 /// The wind's description in the outputs.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct WindReport {
+    /// Mean speed at the reference height, m/s.
     pub mean_speed_m_s: f64,
+    /// Reference height, m.
     pub reference_height_m: f64,
+    /// Angle between the wind and the track, °.
     pub yaw_deg: f64,
+    /// The turbulence spectrum's name.
     pub spectrum: String,
+    /// Seed of the turbulence.
     pub seed: u64,
+    /// The turbulence intensity the case asked for.
     pub turbulence_intensity_target: f64,
     /// σ of the generated fluctuation over the run, divided by the mean at the reference height.
     pub turbulence_intensity_achieved: f64,
@@ -147,8 +159,16 @@ pub fn mean_at_height(u_ref: f64, z_ref: f64, z: f64, profile: &Profile) -> f64 
 /// The mean-wind profile (the model side of the case's `[wind] profile`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Profile {
-    Log { roughness_m: f64 },
-    Power { exponent: f64 },
+    /// A logarithmic profile with the roughness length, m.
+    Log {
+        /// Terrain roughness length z0, m.
+        roughness_m: f64,
+    },
+    /// A power-law profile with the exponent α.
+    Power {
+        /// Exponent α.
+        exponent: f64,
+    },
 }
 
 /// The spectrum to generate, or none (mean wind only).

@@ -31,13 +31,19 @@ pub enum SpectrumModel {
     /// `f S/σ² = 4 y / (1 + 6 y)^{5/3}`, `y = f L / U` (the IEC 61400-1 form; `L = 8.1 Λ`,
     /// `Λ = 0.7 z` below 60 m: reference README §3.6).
     Kaimal {
+        /// Integral length scale Λ, m.
         integral_length_m: f64,
+        /// Mean speed, m/s.
         mean_m_s: f64,
     },
     /// `f S/σ² = (2/3) x² / (1 + x²)^{4/3}`, `x = 1200 f / U_ref` (Davenport 1961: the form
     /// `f S/(κ U10²) = 4 x²/(1 + x²)^{4/3}` of the reference README §3.6 normalised by its
     /// variance `σ² = 6 κ U10²`, so that the turbulence intensity is the case's).
-    Davenport { reference_m_s: f64 },
+    /// Davenport's reference speed U_ref (at 10 m), m/s.
+    Davenport {
+        /// Davenport's reference speed U_ref, m/s.
+        reference_m_s: f64,
+    },
 }
 
 impl SpectrumModel {
@@ -77,9 +83,11 @@ pub fn davenport_coherence(decay: f64, f: f64, dx: f64, mean_m_s: f64) -> f64 {
 pub struct SplitMix64(u64);
 
 impl SplitMix64 {
+    /// A stream starting from `seed`.
     pub fn new(seed: u64) -> Self {
         Self(seed)
     }
+    /// The next number of the stream.
     pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
@@ -97,9 +105,13 @@ impl SplitMix64 {
 /// and Davenport's decay constant.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FieldSpec {
+    /// The spectrum.
     pub spectrum: SpectrumModel,
+    /// Standard deviation of the fluctuation, m/s.
     pub sigma_m_s: f64,
+    /// Mean speed, m/s (for the coherence).
     pub mean_m_s: f64,
+    /// Davenport's coherence decay constant C.
     pub coherence_decay: f64,
 }
 
@@ -108,6 +120,7 @@ pub struct FieldSpec {
 pub struct WindField {
     /// Points along the line (model coordinates, increasing), m.
     pub x_m: Vec<f64>,
+    /// Sampling interval, s.
     pub dt_s: f64,
     /// Samples per point (a power of two); the field is periodic with `n_t · dt_s`.
     pub n_t: usize,

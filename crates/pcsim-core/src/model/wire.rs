@@ -18,17 +18,30 @@ use crate::model::dof::Direction;
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Damping {
     /// `C = αM + βK` on each wire's modal matrices.
-    Rayleigh { alpha: f64, beta: f64 },
+    /// Rayleigh's mass factor α (1/s) and stiffness factor β (s).
+    Rayleigh {
+        /// Mass factor α, 1/s.
+        alpha: f64,
+        /// Stiffness factor β, s.
+        beta: f64,
+    },
     /// The same damping ratio on every sine mode of each wire.
-    Modal { ratio: f64 },
+    /// The damping ratio ζ.
+    Modal {
+        /// Damping ratio ζ.
+        ratio: f64,
+    },
 }
 
 /// What a wire is in the catenary.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum WireRole {
+    /// The messenger wire.
     Messenger,
+    /// The contact wire.
     Contact,
+    /// A stitch wire.
     Stitch,
 }
 
@@ -80,8 +93,11 @@ pub struct Coefficients {
 /// coordinates `M`, `K` and the damping `C` are diagonal.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModalSeries {
+    /// Modal masses M_k (Eqs. 11, 13).
     pub mass: Vec<f64>,
+    /// Modal stiffnesses K_k (Eqs. 12, 14).
     pub stiffness: Vec<f64>,
+    /// Modal dampings C_k (Rayleigh `C = αM + βK` as in the paper, or a modal ratio).
     pub damping: Vec<f64>,
 }
 
@@ -115,8 +131,11 @@ impl ModalSeries {
 /// The modal series of a wire, one slot per direction.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Series {
+    /// Vertical series (`y` of Eqs. 1–8), if modelled.
     pub vertical: Option<ModalSeries>,
+    /// Lateral series (`z` of Eqs. 1–8), if modelled.
     pub lateral: Option<ModalSeries>,
+    /// Torsional series (`φ` of Eqs. 1–8), if modelled.
     pub torsional: Option<ModalSeries>,
 }
 
@@ -134,15 +153,19 @@ impl Series {
 /// One wire of the catenary.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Wire {
+    /// Name (shown in outputs).
     pub name: String,
+    /// What the wire is.
     pub role: WireRole,
     /// Model coordinate of the wire's start, m.
     pub origin_m: f64,
     /// The sine basis over the wire's extent `[origin, origin + length]`.
     pub basis: SineBasis,
+    /// The cross-section's data.
     pub section: Section,
     /// The damping law of the wire's modes.
     pub damping: Damping,
+    /// The modal series per direction.
     pub series: Series,
     /// Damping per metre added uniformly in each direction (vertical, lateral, torsional), such
     /// as the linearised aerodynamic damping of a crosswind (`model::wind`), N·s/m² (N·m·s/m).

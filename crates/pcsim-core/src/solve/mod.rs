@@ -9,10 +9,12 @@
 //! | `workspace.rs` | scratch sized once, the step's samples, external inputs |
 //! | `sampler.rs` | point sines × modal coordinates over any number of blocks (the hot spot) |
 //! | `implicit.rs` | implicit point masses and dampers (Woodbury) |
-//! | `integrator.rs` | the step (Eq. 18), the stability checks |
+//! | `compiled.rs` | the compiled model: slots, point groups, moving points, monitors, probes, the energy view (no Δt) |
+//! | `integrator.rs` | the stepper: the Δt operators, the step (Eq. 18) in eight named stages, the stability checks |
 //! | `run.rs` | the run loop with observers, blow-up checks, run statistics |
 //! | `realtime.rs` | the moving-window catenary for HIL |
 
+pub mod compiled;
 pub mod implicit;
 pub mod integrator;
 pub mod kernels;
@@ -23,7 +25,8 @@ pub mod sampler;
 pub mod state;
 pub mod workspace;
 
-pub use integrator::Integrator;
+pub use compiled::CompiledModel;
+pub use integrator::{Integrator, StableStep};
 pub use kernels::Isa;
 pub use plan::{Options, Plan};
 pub use run::{run, Observer, RunStatistics};

@@ -33,6 +33,7 @@
 
 use crate::error::{CaseError, SimError};
 use crate::model::WireRole;
+use crate::solve::compiled::CompiledModel;
 use crate::solve::integrator::Integrator;
 use crate::solve::plan::Plan;
 use crate::solve::run::Observer;
@@ -51,6 +52,7 @@ pub enum Coupling {
 /// What one step returns.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct RealtimeOutput {
+    /// Simulated time, s.
     pub time_s: f64,
     /// Pantograph position along the track, m.
     pub position_m: f64,
@@ -134,13 +136,17 @@ pub struct WindowMover {
     node_from: Vec<Option<usize>>,
     nbuf: Vec<f64>,
     moves: u64,
+    /// The window's time step, s (the carried-over state is taken at the half step).
+    dt_s: f64,
 }
 
 impl WindowMover {
-    /// A mover for `model` (a window of length `window_m` with `n` modes per block), shifting by
-    /// `shift_m` once the leading pantograph passes `trigger_m` (window coordinates).
+    /// A mover for `model` (a window of length `window_m` with `n` modes per block, stepped at
+    /// `dt_s`), shifting by `shift_m` once the leading pantograph passes `trigger_m` (window
+    /// coordinates).
     pub fn new(
         model: &crate::model::Model,
+        dt_s: f64,
         window_m: f64,
         n: usize,
         shift_m: f64,
@@ -166,6 +172,7 @@ impl WindowMover {
             node_from,
             nbuf: vec![0.0; xs.len()],
             moves: 0,
+            dt_s,
         }
     }
 
@@ -196,12 +203,12 @@ impl WindowMover {
 impl Observer for WindowMover {
     fn observe(
         &mut self,
-        integ: &Integrator,
+        cm: &CompiledModel,
         st: &mut State,
         ws: &Workspace,
     ) -> Result<(), SimError> {
         if ws.samples()[0].position_m > self.trigger_m {
-            self.shift(integ.model(), st, 0.5 * integ.dt_s(), integ.isa());
+            self.shift(cm.model(), st, 0.5 * self.dt_s, cm.isa());
         }
         Ok(())
     }
@@ -215,24 +222,54 @@ impl Observer for WindowMover {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum InputError {
     /// Not a finite number.
-    NotFinite { what: &'static str, value: f64 },
+    /// What was not finite, and its value.
+    NotFinite {
+        /// What was not finite.
+        what: &'static str,
+        /// Its value.
+        value: f64,
+    },
     /// The contact force lies outside the bound stated for the case (see
     /// `session::RealtimeSession::force_limit_n`).
-    ForceOutOfBound { force_n: f64, limit_n: f64 },
+    /// The force given (N) and the bound (N).
+    ForceOutOfBound {
+        /// The force given, N.
+        force_n: f64,
+        /// The bound, N.
+        limit_n: f64,
+    },
     /// The position lies ahead of the window's far end (the wire there is not modelled).
-    AheadOfWindow { position_m: f64, window_end_m: f64 },
+    /// The position given and the window's far end, m.
+    AheadOfWindow {
+        /// The position given, m.
+        position_m: f64,
+        /// The window's far end, m.
+        window_end_m: f64,
+    },
     /// The position lies outside the modelled catenary.
-    OutsideModel { position_m: f64, length_m: f64 },
+    /// The position given and the model's length, m.
+    OutsideModel {
+        /// The position given, m.
+        position_m: f64,
+        /// The model's length, m.
+        length_m: f64,
+    },
     /// The position lies behind the window (it only moves forward).
     BehindWindow {
+        /// The position given, m.
         position_m: f64,
+        /// The window's start, m.
         window_start_m: f64,
     },
     /// The position moved faster than the plausible speed since the last step.
     TooFast {
+        /// The position given, m.
         position_m: f64,
+        /// The previous step's position, m.
         previous_m: f64,
+        /// The speed the jump implies, km/h.
         speed_kmh: f64,
+        /// The plausible limit, km/h.
         limit_kmh: f64,
     },
 }
@@ -346,6 +383,13 @@ impl RealtimeCatenary {
         window_m: f64,
         coupling: Coupling,
     ) -> Result<Self, CaseError> {
+        if full_model.pantographs.len() != 1 {
+            return Err(CaseError::Invalid {
+                field: "pantographs".into(),
+                value: format!("{} pantographs", full_model.pantographs.len()),
+                reason: "the real-time window carries one pantograph, the rig's (compile::window_case keeps the leading one)".into(),
+            });
+        }
         let static_force = static_force_n;
         let span = span_m;
         let l = full_model.length_m();
@@ -369,7 +413,7 @@ impl RealtimeCatenary {
             start_m: full_plan.start_m - origin_m,
             ..full_plan.clone()
         };
-        let mover = WindowMover::new(&model, window_m, n, shift_m, trigger_m);
+        let mover = WindowMover::new(&model, options.dt_s, window_m, n, shift_m, trigger_m);
         let integ = Integrator::new(model, &plan, options)?;
         let mut st = integ.initial_state(plan.start_m);
         st.track_origin_m = origin_m;
@@ -390,6 +434,11 @@ impl RealtimeCatenary {
             max_speed_kmh: DEFAULT_MAX_SPEED_KMH,
             force_limit_n: force_limit_n(static_force),
         })
+    }
+
+    /// The window's model (one pantograph).
+    pub fn model(&self) -> &crate::model::Model {
+        self.integ.model()
     }
 
     /// How the window is coupled to the pantograph.
@@ -542,7 +591,9 @@ impl RealtimeCatenary {
             lateral_m: s.lateral_m,
         };
         // The mover never fails.
-        let _ = self.mover.observe(&self.integ, &mut self.st, &self.ws);
+        let _ = self
+            .mover
+            .observe(self.integ.compiled(), &mut self.st, &self.ws);
         out
     }
 }

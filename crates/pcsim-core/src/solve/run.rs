@@ -8,6 +8,7 @@ use serde::Serialize;
 
 use crate::error::SimError;
 use crate::model::PantographKind;
+use crate::solve::compiled::CompiledModel;
 use crate::solve::integrator::Integrator;
 use crate::solve::state::State;
 use crate::solve::workspace::Workspace;
@@ -31,13 +32,13 @@ pub struct RunStatistics {
     pub blow_up_checks: u64,
 }
 
-/// Something that watches a run, step by step. It may change the state (a moving window
+/// Something that watches a run, step by step, through the compiled model (never the stepper). It may change the state (a moving window
 /// carries it over to its new place).
 pub trait Observer {
     /// Called after every step that passed the blow-up check.
     fn observe(
         &mut self,
-        integ: &Integrator,
+        cm: &CompiledModel,
         st: &mut State,
         ws: &Workspace,
     ) -> Result<(), SimError>;
@@ -88,7 +89,7 @@ pub fn run(
             }
         }
         for o in observers.iter_mut() {
-            o.observe(integ, st, ws)?;
+            o.observe(integ.compiled(), st, ws)?;
         }
         if step % CHECK_EVERY == 0 {
             rs.blow_up_checks += 1;

@@ -6,8 +6,11 @@ use crate::model::Model;
 /// Displacements, velocities and accelerations of a set of degrees of freedom.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Dofs {
+    /// Displacements.
     pub u: Vec<f64>,
+    /// Velocities.
     pub v: Vec<f64>,
+    /// Accelerations.
     pub a: Vec<f64>,
 }
 
@@ -71,6 +74,7 @@ pub struct ByteReader<'a> {
 }
 
 impl<'a> ByteReader<'a> {
+    /// A reader at the start of `bytes`.
     pub fn new(bytes: &'a [u8]) -> Self {
         Self { bytes }
     }
@@ -82,13 +86,16 @@ impl<'a> ByteReader<'a> {
         self.bytes = b;
         Ok(a)
     }
+    /// The next little-endian `u64`.
     pub fn u64(&mut self) -> Result<u64, String> {
         let b = self.take(8)?;
         Ok(u64::from_le_bytes(b.try_into().expect("8 bytes")))
     }
+    /// The next `f64` (its little-endian bits).
     pub fn f64(&mut self) -> Result<f64, String> {
         Ok(f64::from_bits(self.u64()?))
     }
+    /// The next `n` bytes.
     pub fn bytes(&mut self, n: usize) -> Result<&'a [u8], String> {
         self.take(n)
     }

@@ -16,7 +16,11 @@ use crate::model::dof::Direction;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ContactLaw {
     /// Eq. 19: `F = k_n d_r` while the strip presses on the wire (`d_r ≥ 0`), else 0.
-    Penalty { stiffness_n_per_m: f64 },
+    /// The penalty stiffness k_n, N/m.
+    Penalty {
+        /// Penalty stiffness k_n, N/m.
+        stiffness_n_per_m: f64,
+    },
     /// The pantograph's prescribed load (`Io::loads`).
     Prescribed,
 }
@@ -24,9 +28,13 @@ pub enum ContactLaw {
 /// One pantograph on one contact wire.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Contact {
+    /// Index of the pantograph.
     pub pantograph: usize,
+    /// Index of the contact wire.
     pub wire: usize,
+    /// Direction of the contact (vertical).
     pub dir: Direction,
+    /// How the force arises.
     pub law: ContactLaw,
     /// Depth of the contact point below the wire's axis, m (used when the wire's rotation is
     /// modelled: `twist`).

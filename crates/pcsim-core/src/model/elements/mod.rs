@@ -25,8 +25,11 @@ use crate::model::dof::Direction;
 pub enum Attach {
     /// A fixed point of a wire's series in one direction (model coordinate `x_m`).
     Wire {
+        /// Index into `Model::wires`.
         wire: usize,
+        /// The direction.
         dir: Direction,
+        /// Model coordinate, m.
         x_m: f64,
     },
     /// A node of the model (a lumped mass with its own degree of freedom, `Model::nodes`).
@@ -36,8 +39,11 @@ pub enum Attach {
     /// The point of a wire under a pantograph: it moves with the pantograph, and the height it
     /// reads is the static profile plus the deviation.
     Moving {
+        /// Index into `Model::wires`.
         wire: usize,
+        /// The direction.
         dir: Direction,
+        /// Index of the pantograph.
         pantograph: usize,
     },
     /// The contact strip (head, first mass) of a pantograph. A prescribed load has none; its
@@ -49,7 +55,9 @@ pub enum Attach {
 /// velocity in the arrays of [`Io`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Slot {
+    /// Index in the displacement (and force) arrays.
     pub u: u32,
+    /// Index in the velocity array.
     pub v: u32,
 }
 
@@ -57,7 +65,9 @@ pub struct Slot {
 /// the integrator adds `mass` or `Δt/2 · damper` at the point).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Weight {
+    /// A point mass, kg.
     Mass(f64),
+    /// A point damper, N·s/m (the integrator takes Δt/2 of it).
     Damper(f64),
 }
 
@@ -79,8 +89,11 @@ pub struct Io<'a> {
 /// new index of each node (`None` when it falls outside).
 #[derive(Debug, Clone)]
 pub struct WindowMap {
+    /// Start of the window, model coordinates, m.
     pub origin_m: f64,
+    /// Length of the window, m.
     pub length_m: f64,
+    /// For each node of the full model: its index in the window, or `None`.
     pub node_map: Vec<Option<usize>>,
 }
 
@@ -110,7 +123,9 @@ impl WindowMap {
 /// static state.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StaticSpring {
+    /// Attachments and their weights.
     pub terms: Vec<(Attach, f64)>,
+    /// Stiffness, N/m (or N·m/rad for a torsional term).
     pub stiffness_n_per_m: f64,
 }
 

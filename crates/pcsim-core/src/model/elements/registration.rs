@@ -20,6 +20,7 @@ pub struct Registration {
     pub twist: Attach,
     /// Height of the clamp above the wire's axis, m.
     pub eccentricity_m: f64,
+    /// Lateral stiffness of the registration, N/m.
     pub stiffness_n_per_m: f64,
     /// Mass moving with the wire laterally (the steady arm), kg.
     pub mass_kg: f64,

@@ -9,7 +9,9 @@ use super::{Attach, Io, PointElement, Slot, Weight, WindowMap};
 pub struct SteadyArm {
     /// The registration point on the contact wire.
     pub at: Attach,
+    /// Mass of the arm, kg.
     pub mass_kg: f64,
+    /// Vertical stiffness of the arm, N/m.
     pub stiffness_n_per_m: f64,
 }
 

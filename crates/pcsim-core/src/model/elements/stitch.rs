@@ -12,7 +12,9 @@ pub struct Stitch {
     pub wire: Attach,
     /// The stitch node.
     pub node: Attach,
+    /// Stiffness of the stitch element, N/m.
     pub stiffness_n_per_m: f64,
+    /// Damping of the stitch element, N·s/m.
     pub damping_ns_per_m: f64,
 }
 

@@ -10,7 +10,9 @@ use super::{Attach, Io, PointElement, Slot, Weight, WindowMap};
 pub struct Support {
     /// The supported wire point.
     pub at: Attach,
+    /// Vertical stiffness, N/m.
     pub stiffness_n_per_m: f64,
+    /// Vertical damping, N·s/m.
     pub damping_ns_per_m: f64,
 }
 

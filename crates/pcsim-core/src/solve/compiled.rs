@@ -1,0 +1,1094 @@
+//! The compiled model (MuJoCo's `mjModel`): everything a step reads that does not depend on the
+//! time step — the model, every attachment resolved to a [`Slot`], the point groups and their
+//! sampler plans, the moving points, the monitors and blow-out probes, the crosswind's scatter,
+//! the static deflection under the mean wind, and the energy view. The stepper
+//! ([`crate::solve::Integrator`]) adds the Δt operators on top; analysis reads this, not the
+//! stepper.
+//!
+//! # Slots
+//! Every element attachment is resolved once to a [`Slot`]: an index into the workspace's
+//! arrays. The displacement array holds, in order: the ground (index 0, always zero), the wire
+//! points of each basis group (all blocks of the group, block-major), the nodes, the pantograph
+//! heads and the moving contact points. The velocity array holds the ground, the velocity points
+//! of each block that has some, the nodes, the heads and the moving points.
+
+use crate::error::CaseError;
+use crate::model::basis::SineBasis;
+use crate::model::dof::Direction;
+use crate::model::elements::{Attach, Io, Slot, Weight};
+use crate::model::pantograph::PantographKind;
+use crate::model::{Model, WireRole};
+use crate::solve::implicit::ImplicitScratch;
+use crate::solve::kernels::{self, Isa};
+use crate::solve::plan::Plan;
+use crate::solve::sampler::{PointSampler, SamplerScratch};
+use crate::solve::state::State;
+use crate::solve::workspace::{ContactSample, Workspace};
+
+/// Wire points of one basis group, gathered for all its blocks at once.
+#[derive(Debug, Clone)]
+pub(crate) struct GroupPoints {
+    pub(crate) sampler: PointSampler,
+    /// Blocks in the group, their modes, and the group's place in the state.
+    pub(crate) k: usize,
+    pub(crate) n: usize,
+    pub(crate) q_off: usize,
+    /// First slot of the group in the displacement array.
+    pub(crate) u_base: usize,
+    pub(crate) npts: usize,
+}
+
+/// Velocity points of one block.
+#[derive(Debug, Clone)]
+pub(crate) struct VelocityPoints {
+    pub(crate) sampler: PointSampler,
+    pub(crate) n: usize,
+    pub(crate) q_off: usize,
+    pub(crate) v_base: usize,
+    pub(crate) npts: usize,
+}
+
+/// A point under a pantograph.
+#[derive(Debug, Clone)]
+pub(crate) struct MovingPoint {
+    pub(crate) wire: usize,
+    pub(crate) dir: Direction,
+    pub(crate) pantograph: usize,
+    pub(crate) basis: SineBasis,
+    pub(crate) origin_m: f64,
+    pub(crate) n: usize,
+    pub(crate) q_off: usize,
+    pub(crate) row_off: usize,
+    /// False when an earlier moving point of the same pantograph on the same basis fills the
+    /// row (the directions of one wire share their sines).
+    pub(crate) fills_row: bool,
+}
+
+/// The contact wire's lateral position under a pantograph, read with the sine row of the
+/// pantograph's vertical moving point.
+#[derive(Debug, Clone)]
+pub(crate) struct LateralProbe {
+    pub(crate) moving: usize,
+    pub(crate) wire: usize,
+    pub(crate) lat_off: usize,
+    pub(crate) tors_off: Option<usize>,
+    pub(crate) n: usize,
+    pub(crate) eccentricity_m: f64,
+}
+
+/// The crosswind's per-step work: a scatter of the grid's pressures onto every loaded wire, and
+/// the loaded blocks with their coefficients.
+#[derive(Debug, Clone)]
+pub(crate) struct WindStep {
+    pub(crate) sampler: PointSampler,
+    /// Loaded wires (one block of `n` modes each in `wind_q`), grid points.
+    pub(crate) k: usize,
+    pub(crate) n: usize,
+    pub(crate) ng: usize,
+    /// (wire slot in `wind_q`, block offset in the state, coefficient `d C`).
+    pub(crate) blocks: Vec<(usize, usize, f64)>,
+    /// The mean load's generalised "pressure" of every loaded wire, `P̄ ∫ sin(κ_k x) dx`.
+    pub(crate) mean: Vec<f64>,
+}
+
+/// The implicit point terms (steady-arm masses, support dampers) of consecutive blocks of one
+/// basis group whose points sit at the same positions: corrected together. Δt-free: a damper's
+/// weight `Δt/2 · c` is formed by the stepper.
+#[derive(Debug, Clone)]
+pub(crate) struct ImplicitGroup {
+    /// The blocks, contiguous in the state.
+    pub(crate) blocks: std::ops::Range<usize>,
+    /// Positions of the points (the group's coordinates), m.
+    pub(crate) xs: Vec<f64>,
+    /// Per block: the weight of every point.
+    pub(crate) weights: Vec<Vec<Weight>>,
+}
+
+pub(crate) const TOL_X: f64 = 1e-9;
+
+fn index_of(pts: &mut Vec<f64>, x: f64) -> usize {
+    match pts.iter().position(|&p| (p - x).abs() < TOL_X) {
+        Some(i) => i,
+        None => {
+            pts.push(x);
+            pts.len() - 1
+        }
+    }
+}
+
+pub(crate) fn invalid(field: &str, value: impl std::fmt::Display, reason: String) -> CaseError {
+    CaseError::Invalid {
+        field: field.to_string(),
+        value: value.to_string(),
+        reason,
+    }
+}
+
+/// The compiled model: the model with every attachment resolved, the point groups with their
+/// sampler plans, the moving points, monitors and probes, the crosswind's scatter, the run's
+/// kinematics (speed, pantograph offsets) and the static state under the mean wind. It holds no
+/// Δt: the stepper ([`crate::solve::Integrator`]) owns the operators of one time step.
+#[derive(Debug, Clone)]
+pub struct CompiledModel {
+    pub(crate) model: Model,
+    pub(crate) isa: Isa,
+    pub(crate) speed_m_s: f64,
+    pub(crate) speed_kmh: f64,
+    /// Per pantograph: its distance behind the leading one, m.
+    pub(crate) offsets: Vec<f64>,
+    pub(crate) groups: Vec<GroupPoints>,
+    pub(crate) vels: Vec<VelocityPoints>,
+    /// Per element kind (index into `model.elements`): its slots in a step and in an energy
+    /// evaluation.
+    pub(crate) slots: Vec<Vec<Slot>>,
+    pub(crate) energy_slots: Vec<Vec<Slot>>,
+    /// Element kinds without / with moving attachments (the latter act after the scatter).
+    pub(crate) fixed: Vec<usize>,
+    pub(crate) moving_kinds: Vec<usize>,
+    pub(crate) moving: Vec<MovingPoint>,
+    pub(crate) node_u0: usize,
+    pub(crate) node_v0: usize,
+    pub(crate) head_u0: usize,
+    pub(crate) moving_u0: usize,
+    pub(crate) n_u: usize,
+    pub(crate) n_v: usize,
+    pub(crate) rows_len: usize,
+    /// The implicit point terms, grouped for their corrections.
+    pub(crate) implicit: Vec<ImplicitGroup>,
+    pub(crate) pan_off: Vec<usize>,
+    /// Per pantograph: its moving point (for the samples).
+    pub(crate) pan_point: Vec<Option<usize>>,
+    /// Displacement slots of the monitored attachments, and their positions.
+    pub(crate) monitors: Vec<usize>,
+    pub(crate) monitor_x: Vec<f64>,
+    /// The largest sampler scratch of the groups, velocity points and wind.
+    pub(crate) scratch: SamplerScratch,
+    pub(crate) max_pdof: usize,
+    /// The true modal stiffness and damping of every coordinate (by the layout).
+    pub(crate) k_true: Vec<f64>,
+    pub(crate) c_true: Vec<f64>,
+    /// Per pantograph: the contact wire's lateral (and torsional) coordinates under it.
+    pub(crate) pan_lateral: Vec<Option<LateralProbe>>,
+    /// Blow-out probes: displacement slots of the contact wire's lateral deviation, positions.
+    pub(crate) probes: Vec<usize>,
+    pub(crate) probe_x: Vec<f64>,
+    pub(crate) wind: Option<WindStep>,
+    /// The lateral springs of the static state, resolved to displacement slots.
+    pub(crate) static_springs: Vec<StaticSpringSlots>,
+    /// Static deflection under the mean wind (modal coordinates), the initial state's.
+    pub(crate) initial_modal: Option<Vec<f64>>,
+}
+
+impl CompiledModel {
+    /// Resolve every attachment of `model` and plan its point groups, for a run at
+    /// `plan`'s speed with the kernels of `isa`, in named steps: collect the points, lay out the
+    /// slots, resolve the elements, the pantographs' probes, the monitors and blow-out probes, the
+    /// static springs, the implicit groups and the crosswind's scatter; then the static
+    /// deflection under the mean wind. Errors name the model part that cannot be compiled (an
+    /// attachment to a direction that is not modelled, a lateral spring on a node, a static wind
+    /// deflection that does not converge).
+    pub fn new(model: Model, plan: &Plan, isa: Isa) -> Result<Self, CaseError> {
+        let points = Points::collect(&model)?;
+        let sl = SlotLayout::new(&model, &points, isa);
+        let el = resolve_elements(&model, &points, &sl)?;
+        let np = model.pantographs.len();
+        let mut pan_point = vec![None; np];
+        for (m, mp) in el.moving.iter().enumerate() {
+            if pan_point[mp.pantograph].is_none() {
+                pan_point[mp.pantograph] = Some(m);
+            }
+        }
+        let pan_lateral = lateral_probes(&model, &el.moving, &pan_point);
+        let wire_slots = |at: &[Attach]| -> (Vec<usize>, Vec<f64>) {
+            at.iter()
+                .filter_map(|m| match *m {
+                    Attach::Wire { wire, dir, x_m } => {
+                        Some((sl.wire_slot(&points, wire, dir, x_m, false).u as usize, x_m))
+                    }
+                    _ => None,
+                })
+                .unzip()
+        };
+        let (monitors, monitor_x) = wire_slots(&points.monitors_at);
+        let (probes, probe_x) = wire_slots(&points.probe_at);
+        let static_springs = resolve_static_springs(&model, &points, &sl)?;
+        let lay = &model.layout;
+        let (mut k_true, mut c_true) = (vec![0.0; lay.len], vec![0.0; lay.len]);
+        for b in 0..lay.blocks.len() {
+            let s = model.series(b);
+            for (i, j) in lay.range(b).enumerate() {
+                k_true[j] = s.stiffness[i];
+                c_true[j] = s.damping[i];
+            }
+        }
+        let implicit = implicit_groups(&model)?;
+        let mut pan_off = Vec::with_capacity(np);
+        let mut off = 0;
+        for pan in &model.pantographs {
+            pan_off.push(off);
+            off += pan.n_dof();
+        }
+        let wind = wind_step(&model, isa)?;
+        let max_pdof = model
+            .pantographs
+            .iter()
+            .map(|p| p.n_dof())
+            .max()
+            .unwrap_or(0);
+        let scratch = sl
+            .groups
+            .iter()
+            .map(|g| g.sampler.scratch())
+            .chain(sl.vels.iter().map(|v| v.sampler.scratch()))
+            .chain(wind.iter().map(|w| w.sampler.scratch()))
+            .fold(
+                PointSampler::new(&SineBasis::new(1.0, 1), &[], None, isa).scratch(),
+                |a, b| a.max(b),
+            );
+        let mut cm = CompiledModel {
+            offsets: model.pantographs.iter().map(|p| p.offset_m).collect(),
+            isa,
+            speed_m_s: plan.speed_m_s,
+            speed_kmh: plan.speed_kmh,
+            groups: sl.groups,
+            vels: sl.vels,
+            slots: el.slots,
+            energy_slots: el.energy_slots,
+            fixed: el.fixed,
+            moving_kinds: el.moving_kinds,
+            moving: el.moving,
+            node_u0: sl.node_u0,
+            node_v0: sl.node_v0,
+            head_u0: sl.head_u0,
+            moving_u0: sl.moving_u0,
+            n_u: sl.n_u,
+            n_v: sl.n_v,
+            rows_len: el.rows_len,
+            implicit,
+            pan_off,
+            pan_point,
+            monitors,
+            monitor_x,
+            scratch,
+            max_pdof,
+            k_true,
+            c_true,
+            pan_lateral,
+            probes,
+            probe_x,
+            wind,
+            static_springs,
+            initial_modal: None,
+            model,
+        };
+        cm.initial_modal = cm.static_wind_deflection()?;
+        Ok(cm)
+    }
+
+    /// The model.
+    pub fn model(&self) -> &Model {
+        &self.model
+    }
+
+    /// Instruction set of the hot loops.
+    pub fn isa(&self) -> Isa {
+        self.isa
+    }
+
+    /// Train speed, m/s.
+    pub fn speed_m_s(&self) -> f64 {
+        self.speed_m_s
+    }
+
+    /// Train speed, km/h.
+    pub fn speed_kmh(&self) -> f64 {
+        self.speed_kmh
+    }
+
+    /// A workspace for this model with the stepper's scratch (the only allocation; steps
+    /// allocate nothing).
+    pub(crate) fn workspace_with(&self, scr: SamplerScratch, imp: ImplicitScratch) -> Workspace {
+        let np = self.model.pantographs.len();
+        Workspace {
+            u: vec![0.0; self.n_u],
+            vel: vec![0.0; self.n_v],
+            f: vec![0.0; self.n_u],
+            rows: vec![0.0; self.rows_len],
+            scr,
+            imp,
+            prhs: vec![0.0; self.max_pdof],
+            loads: vec![0.0; np],
+            external: vec![(0.0, 0.0); np],
+            samples: vec![ContactSample::default(); np],
+            slack: 0,
+            eu: vec![0.0; self.n_u],
+            ev: vec![0.0; self.n_u],
+            ef: vec![0.0; self.n_u],
+            wind_p: vec![0.0; self.wind.as_ref().map_or(0, |w| w.k * w.ng)],
+            wind_q: vec![0.0; self.wind.as_ref().map_or(0, |w| w.k * w.n)],
+        }
+    }
+
+    /// The static deflection of the lateral and torsional series under the mean wind (the
+    /// drag and the moment), with the linear springs of the static state
+    /// ([`crate::model::elements::StaticSpring`]): `(K + Σ k g gᵀ) q = Q̄`, solved by conjugate
+    /// gradients preconditioned with the modal stiffness, with the step's own gather and
+    /// scatter. The pendulums are linearised about the still-air state (`f0/L`); their
+    /// second-order vertical stretch `k δ²/2L` is left to the dynamics. `None` without wind.
+    fn static_wind_deflection(&self) -> Result<Option<Vec<f64>>, CaseError> {
+        let Some(w) = &self.wind else {
+            return Ok(None);
+        };
+        let lay = &self.model.layout;
+        let n_all = lay.len;
+        let mut mask = vec![false; n_all];
+        for b in 0..lay.blocks.len() {
+            if lay.blocks[b].key.dir != Direction::Vertical {
+                mask[lay.range(b)].fill(true);
+            }
+        }
+        let mut rhs = vec![0.0; n_all];
+        for &(slot, off, coef) in &w.blocks {
+            if mask[off] {
+                for j in 0..w.n {
+                    rhs[off + j] += coef * w.mean[slot * w.n + j];
+                }
+            }
+        }
+        let bnorm = rhs.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if bnorm == 0.0 {
+            return Ok(None);
+        }
+        let mut ws = self.workspace_with(self.scratch.clone(), ImplicitScratch::new(0, 0, 0));
+        let apply = |x: &[f64], y: &mut [f64], ws: &mut Workspace| {
+            for g in &self.groups {
+                g.sampler.gather(
+                    &x[g.q_off..g.q_off + g.k * g.n],
+                    g.k,
+                    &mut ws.u[g.u_base..g.u_base + g.k * g.npts],
+                    &mut ws.scr,
+                );
+            }
+            ws.f.fill(0.0);
+            for (terms, kk) in &self.static_springs {
+                let d: f64 = terms.iter().map(|&(sl, wt)| wt * ws.u[sl]).sum();
+                for &(sl, wt) in terms {
+                    ws.f[sl] += kk * d * wt;
+                }
+            }
+            for (yi, (xi, ki)) in y.iter_mut().zip(x.iter().zip(&self.k_true)) {
+                *yi = ki * xi;
+            }
+            for g in &self.groups {
+                g.sampler.scatter_add(
+                    &ws.f[g.u_base..g.u_base + g.k * g.npts],
+                    g.k,
+                    &mut y[g.q_off..g.q_off + g.k * g.n],
+                    &mut ws.scr,
+                );
+            }
+            for (yi, m) in y.iter_mut().zip(&mask) {
+                if !m {
+                    *yi = 0.0;
+                }
+            }
+        };
+        let precond = |r: &[f64], z: &mut [f64]| {
+            for ((zi, ri), (ki, m)) in z.iter_mut().zip(r).zip(self.k_true.iter().zip(&mask)) {
+                *zi = if *m && *ki > 0.0 { ri / ki } else { 0.0 };
+            }
+        };
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        let mut x = vec![0.0; n_all];
+        let mut r = rhs.clone();
+        let mut z = vec![0.0; n_all];
+        precond(&r, &mut z);
+        let mut p = z.clone();
+        let mut ap = vec![0.0; n_all];
+        let mut rz = dot(&r, &z);
+        let max_iter = 20 * n_all.max(100);
+        for _ in 0..max_iter {
+            apply(&p, &mut ap, &mut ws);
+            let pap = dot(&p, &ap);
+            if pap.is_nan() || pap <= 0.0 {
+                break;
+            }
+            let alpha = rz / pap;
+            for i in 0..n_all {
+                x[i] += alpha * p[i];
+                r[i] -= alpha * ap[i];
+            }
+            if dot(&r, &r).sqrt() <= 1e-12 * bnorm {
+                return Ok(Some(x));
+            }
+            precond(&r, &mut z);
+            let rz_new = dot(&r, &z);
+            let beta = rz_new / rz;
+            rz = rz_new;
+            for i in 0..n_all {
+                p[i] = z[i] + beta * p[i];
+            }
+        }
+        Err(invalid(
+            "wind",
+            "the static deflection",
+            format!(
+                "the static lateral solve under the mean wind did not converge (residual {:.2e} of the load): a lateral spring of zero or negative stiffness?",
+                dot(&r, &r).sqrt() / bnorm
+            ),
+        ))
+    }
+
+    /// Power of the crosswind on the wires at the state (after a step: the step's load and
+    /// the state's velocities), W.
+    pub fn wind_power(&self, st: &State, ws: &Workspace) -> f64 {
+        let Some(w) = &self.wind else {
+            return 0.0;
+        };
+        w.blocks
+            .iter()
+            .map(|&(slot, off, coef)| {
+                coef * kernels::dot(
+                    self.isa,
+                    &ws.wind_q[slot * w.n..(slot + 1) * w.n],
+                    &st.modal.v[off..off + w.n],
+                )
+            })
+            .sum()
+    }
+
+    /// Positions (model coordinates) of the blow-out probes of the contact wire's lateral
+    /// deviation, m.
+    pub fn probe_positions(&self) -> &[f64] {
+        &self.probe_x
+    }
+
+    /// Lateral deviation of the contact wire at probe `k` after the last step, m.
+    #[inline]
+    pub fn probe(&self, ws: &Workspace, k: usize) -> f64 {
+        ws.u[self.probes[k]]
+    }
+
+    /// Position of pantograph `p` at the state's time (model coordinates), m.
+    #[inline]
+    pub fn position(&self, st: &State, p: usize) -> f64 {
+        st.x0_m - self.offsets[p] + self.speed_m_s * st.t
+    }
+
+    /// Where the moving point `mp` is this step, model coordinates, m: an external
+    /// pantograph's input position, else its pantograph's own position.
+    #[inline]
+    pub(crate) fn moving_x(&self, st: &State, external: &[(f64, f64)], mp: &MovingPoint) -> f64 {
+        let p = mp.pantograph;
+        match self.model.pantographs[p].kind {
+            PantographKind::External => external[p].0,
+            _ => self.position(st, p),
+        }
+    }
+
+    /// The sine row of the moving point `mp` at `x` (filled here unless an earlier point of
+    /// the same pantograph on the same basis filled it).
+    #[inline]
+    pub(crate) fn moving_row<'w>(
+        &self,
+        rows: &'w mut [f64],
+        mp: &MovingPoint,
+        x: f64,
+    ) -> &'w [f64] {
+        let row = &mut rows[mp.row_off..mp.row_off + mp.n];
+        if mp.fills_row {
+            mp.basis.fill_sines(x - mp.origin_m, row);
+        }
+        row
+    }
+
+    /// The degrees of freedom of pantograph `p` in the pantograph arrays of the state.
+    pub fn pantograph_dofs(&self, p: usize) -> std::ops::Range<usize> {
+        let o = self.pan_off[p];
+        o..o + self.model.pantographs[p].n_dof()
+    }
+
+    /// Positions of the monitored attachments (the steady arms' registration points), model
+    /// coordinates, m.
+    pub fn monitor_positions(&self) -> &[f64] {
+        &self.monitor_x
+    }
+
+    /// Deviation at monitored point `k` after the last step, m.
+    #[inline]
+    pub fn monitor(&self, ws: &Workspace, k: usize) -> f64 {
+        ws.u[self.monitors[k]]
+    }
+
+    /// The element kind of type `T` and its slots in a step (read with
+    /// [`Self::displacements`]).
+    pub fn element<T: 'static>(&self) -> Option<(&T, &[Slot])> {
+        self.model.elements.iter().enumerate().find_map(|(i, e)| {
+            e.as_any()
+                .downcast_ref::<T>()
+                .map(|t| (t, &self.slots[i][..]))
+        })
+    }
+
+    /// The slots of element kind `e` (index into `model.elements`) in a step.
+    pub fn slots(&self, e: usize) -> &[Slot] {
+        &self.slots[e]
+    }
+
+    /// The displacement array of the last step (read with [`Self::slots`]).
+    pub fn displacements<'a>(&self, ws: &'a Workspace) -> &'a [f64] {
+        &ws.u
+    }
+
+    /// The point elements' view of the state for their energy and dissipation: displacement
+    /// and velocity at every slot (in the displacement layout), in the energy arrays of `ws`.
+    /// Used by `analysis::energy`; allocates nothing (the step's rows are reused as scratch).
+    pub(crate) fn energy_io<'w>(&self, st: &State, ws: &'w mut Workspace) -> Io<'w> {
+        self.fill_energy_io(st, ws);
+        Io {
+            u: &ws.eu,
+            v: &ws.ev,
+            f: &mut ws.ef,
+            loads: &ws.loads,
+            slack: 0,
+        }
+    }
+
+    fn fill_energy_io(&self, st: &State, ws: &mut Workspace) {
+        let m = &self.model;
+        ws.eu.fill(0.0);
+        ws.ev.fill(0.0);
+        ws.ef.fill(0.0);
+        for g in &self.groups {
+            let r = g.q_off..g.q_off + g.k * g.n;
+            let o = g.u_base..g.u_base + g.k * g.npts;
+            g.sampler.gather(
+                &st.modal.u[r.clone()],
+                g.k,
+                &mut ws.eu[o.clone()],
+                &mut ws.scr,
+            );
+            g.sampler
+                .gather(&st.modal.v[r], g.k, &mut ws.ev[o], &mut ws.scr);
+        }
+        let nn = st.nodes.u.len();
+        ws.eu[self.node_u0..self.node_u0 + nn].copy_from_slice(&st.nodes.u);
+        ws.ev[self.node_u0..self.node_u0 + nn].copy_from_slice(&st.nodes.v);
+        for (p, pan) in m.pantographs.iter().enumerate() {
+            if let PantographKind::Lumped(_) = pan.kind {
+                let o = self.pan_off[p];
+                ws.eu[self.head_u0 + p] = st.pantographs.u[o];
+                ws.ev[self.head_u0 + p] = st.pantographs.v[o];
+            }
+        }
+        for (mi, mp) in self.moving.iter().enumerate() {
+            let x = self.moving_x(st, &ws.external, mp);
+            let row = self.moving_row(&mut ws.rows, mp, x);
+            ws.eu[self.moving_u0 + mi] = m.static_height(mp.wire, mp.dir, x, st.track_origin_m)
+                + kernels::dot(self.isa, &st.modal.u[mp.q_off..mp.q_off + mp.n], row);
+            ws.ev[self.moving_u0 + mi] =
+                kernels::dot(self.isa, &st.modal.v[mp.q_off..mp.q_off + mp.n], row);
+        }
+    }
+
+    /// The slots of element kind `e` for an energy evaluation (velocities in the displacement
+    /// layout).
+    pub(crate) fn energy_slots(&self, e: usize) -> &[Slot] {
+        &self.energy_slots[e]
+    }
+
+    /// Modal damping of every coordinate (by the layout), aerodynamic damping included.
+    pub(crate) fn modal_damping(&self) -> &[f64] {
+        &self.c_true
+    }
+}
+
+/// The block of `wire` in direction `dir`, or an error: an element attaches to a direction that
+/// is not modelled.
+fn block_of(model: &Model, wire: usize, dir: Direction) -> Result<usize, CaseError> {
+    model.layout.find(wire, dir).ok_or_else(|| {
+        invalid(
+            "model",
+            format!("wire {wire}, {}", dir.name()),
+            "an element attaches to a direction that is not modelled".into(),
+        )
+    })
+}
+
+/// A lateral spring of the static state on displacement slots: (slot, weight) terms and the
+/// stiffness, N/m.
+pub(crate) type StaticSpringSlots = (Vec<(usize, f64)>, f64);
+
+/// Step 1: the points a step reads, in element order — displacement points per basis group,
+/// velocity points per block (group coordinates), the moving points' count, the monitors and
+/// the blow-out probes.
+struct Points {
+    gpts: Vec<Vec<f64>>,
+    vpts: Vec<Vec<f64>>,
+    n_moving: usize,
+    monitors_at: Vec<Attach>,
+    probe_at: Vec<Attach>,
+}
+
+impl Points {
+    fn collect(model: &Model) -> Result<Points, CaseError> {
+        let lay = &model.layout;
+        let mut gpts: Vec<Vec<f64>> = vec![Vec::new(); lay.groups.len()];
+        let mut vpts: Vec<Vec<f64>> = vec![Vec::new(); lay.blocks.len()];
+        let mut n_moving = 0;
+        for e in &model.elements {
+            for i in 0..e.len() {
+                for a in 0..e.arity() {
+                    match e.attachment(i, a) {
+                        Attach::Wire { wire, dir, x_m } => {
+                            let b = block_of(model, wire, dir)?;
+                            let g = lay.blocks[b].group;
+                            index_of(&mut gpts[g], x_m - lay.groups[g].origin_m);
+                            if e.needs_velocity(a) {
+                                index_of(&mut vpts[b], x_m - lay.groups[g].origin_m);
+                            }
+                        }
+                        Attach::Moving { .. } => n_moving += 1,
+                        _ => {}
+                    }
+                }
+            }
+        }
+        let monitors_at: Vec<Attach> = model.elements.iter().flat_map(|e| e.monitors()).collect();
+        // Blow-out probes: the contact wire's lateral deviation at droppers and mid-spans.
+        let contact_wire = model.wire_index(WireRole::Contact);
+        let probe_at: Vec<Attach> = match (&model.lateral, contact_wire) {
+            (Some(lg), Some(cw)) if lay.find(cw, Direction::Lateral).is_some() => lg
+                .probes_m
+                .iter()
+                .map(|&x_m| Attach::Wire {
+                    wire: cw,
+                    dir: Direction::Lateral,
+                    x_m,
+                })
+                .collect(),
+            _ => Vec::new(),
+        };
+        for m in monitors_at.iter().chain(&probe_at) {
+            if let Attach::Wire { wire, dir, x_m } = *m {
+                let b = block_of(model, wire, dir)?;
+                let g = lay.blocks[b].group;
+                index_of(&mut gpts[g], x_m - lay.groups[g].origin_m);
+            }
+        }
+        Ok(Points {
+            gpts,
+            vpts,
+            n_moving,
+            monitors_at,
+            probe_at,
+        })
+    }
+}
+
+/// Step 2: the slot layout — the point groups and velocity points with their sampler plans, and
+/// where the nodes, the pantograph heads and the moving points sit in the workspace's arrays.
+struct SlotLayout<'m> {
+    lay: &'m crate::model::dof::Layout,
+    groups: Vec<GroupPoints>,
+    vels: Vec<VelocityPoints>,
+    vel_of_block: Vec<Option<usize>>,
+    node_u0: usize,
+    node_v0: usize,
+    head_u0: usize,
+    head_v0: usize,
+    moving_u0: usize,
+    moving_v0: usize,
+    n_u: usize,
+    n_v: usize,
+}
+
+impl<'m> SlotLayout<'m> {
+    fn new(model: &'m Model, points: &Points, isa: Isa) -> SlotLayout<'m> {
+        let lay = &model.layout;
+        let mut n_u = 1;
+        let mut groups = Vec::with_capacity(lay.groups.len());
+        for (g, grp) in lay.groups.iter().enumerate() {
+            let sampler = PointSampler::new(&grp.basis, &points.gpts[g], model.span_m, isa);
+            let k = grp.blocks.len();
+            let npts = points.gpts[g].len();
+            groups.push(GroupPoints {
+                sampler,
+                k,
+                n: grp.basis.n_modes(),
+                q_off: grp.offset,
+                u_base: n_u,
+                npts,
+            });
+            n_u += k * npts;
+        }
+        let mut n_v = 1;
+        let mut vels = Vec::new();
+        let mut vel_of_block = vec![None; lay.blocks.len()];
+        for (b, xs) in points.vpts.iter().enumerate() {
+            if xs.is_empty() {
+                continue;
+            }
+            let bl = &lay.blocks[b];
+            vel_of_block[b] = Some(vels.len());
+            vels.push(VelocityPoints {
+                sampler: PointSampler::new(lay.basis(b), xs, model.span_m, isa),
+                n: bl.n_modes,
+                q_off: bl.offset,
+                v_base: n_v,
+                npts: xs.len(),
+            });
+            n_v += xs.len();
+        }
+        let nn = model.nodes.len();
+        let np = model.pantographs.len();
+        let (node_u0, node_v0) = (n_u, n_v);
+        let (head_u0, head_v0) = (n_u + nn, n_v + nn);
+        let (moving_u0, moving_v0) = (head_u0 + np, head_v0 + np);
+        SlotLayout {
+            lay,
+            groups,
+            vels,
+            vel_of_block,
+            node_u0,
+            node_v0,
+            head_u0,
+            head_v0,
+            moving_u0,
+            moving_v0,
+            n_u: moving_u0 + points.n_moving,
+            n_v: moving_v0 + points.n_moving,
+        }
+    }
+
+    /// The slot of a wire point that [`Points::collect`] collected (with its velocity slot when
+    /// `vel`).
+    fn wire_slot(&self, points: &Points, wire: usize, dir: Direction, x: f64, vel: bool) -> Slot {
+        let lay = self.lay;
+        let b = lay.find(wire, dir).expect("checked when collected");
+        let g = lay.blocks[b].group;
+        let xl = x - lay.groups[g].origin_m;
+        let gp = &self.groups[g];
+        let j = points.gpts[g]
+            .iter()
+            .position(|&p| (p - xl).abs() < TOL_X)
+            .expect("collected above");
+        let kb = lay.groups[g].blocks.iter().position(|&x| x == b).unwrap();
+        let v = if vel {
+            let vp = &self.vels[self.vel_of_block[b].expect("collected above")];
+            let jv = points.vpts[b]
+                .iter()
+                .position(|&p| (p - xl).abs() < TOL_X)
+                .expect("collected above");
+            (vp.v_base + jv) as u32
+        } else {
+            0
+        };
+        Slot {
+            u: (gp.u_base + kb * gp.npts + j) as u32,
+            v,
+        }
+    }
+}
+
+/// Step 3's result: every element kind's slots (in a step and in an energy evaluation), the
+/// moving points, and which kinds act before and after the scatter.
+struct Elements {
+    slots: Vec<Vec<Slot>>,
+    energy_slots: Vec<Vec<Slot>>,
+    moving: Vec<MovingPoint>,
+    fixed: Vec<usize>,
+    moving_kinds: Vec<usize>,
+    rows_len: usize,
+}
+
+/// Step 3: resolve every attachment of every element to its slot; a moving point shares the
+/// sine row of an earlier point of the same pantograph on the same basis.
+fn resolve_elements(
+    model: &Model,
+    points: &Points,
+    sl: &SlotLayout<'_>,
+) -> Result<Elements, CaseError> {
+    let lay = &model.layout;
+    let nn = model.nodes.len();
+    let mut slots = Vec::with_capacity(model.elements.len());
+    let mut energy_slots = Vec::with_capacity(model.elements.len());
+    let mut moving: Vec<MovingPoint> = Vec::with_capacity(points.n_moving);
+    let mut fixed = Vec::new();
+    let mut moving_kinds = Vec::new();
+    let mut rows_len = 0;
+    for (ei, e) in model.elements.iter().enumerate() {
+        let mut s = Vec::with_capacity(e.len() * e.arity());
+        let mut has_moving = false;
+        for i in 0..e.len() {
+            for a in 0..e.arity() {
+                let slot = match e.attachment(i, a) {
+                    Attach::Wire { wire, dir, x_m } => {
+                        sl.wire_slot(points, wire, dir, x_m, e.needs_velocity(a))
+                    }
+                    Attach::Node(j) => {
+                        if j >= nn {
+                            return Err(invalid(
+                                "model",
+                                j,
+                                format!("{} attaches to a node that does not exist", e.kind()),
+                            ));
+                        }
+                        Slot {
+                            u: (sl.node_u0 + j) as u32,
+                            v: (sl.node_v0 + j) as u32,
+                        }
+                    }
+                    Attach::Ground => Slot::default(),
+                    Attach::Head(p) => Slot {
+                        u: (sl.head_u0 + p) as u32,
+                        v: (sl.head_v0 + p) as u32,
+                    },
+                    Attach::Moving {
+                        wire,
+                        dir,
+                        pantograph,
+                    } => {
+                        has_moving = true;
+                        let b = block_of(model, wire, dir)?;
+                        let bl = &lay.blocks[b];
+                        let m = moving.len();
+                        let basis = lay.basis(b).clone();
+                        let origin_m = lay.groups[bl.group].origin_m;
+                        let shared = moving.iter().find(|o| {
+                            o.fills_row
+                                && o.pantograph == pantograph
+                                && o.basis == basis
+                                && o.origin_m == origin_m
+                        });
+                        let (row_off, fills_row) = match shared {
+                            Some(o) => (o.row_off, false),
+                            None => (rows_len, true),
+                        };
+                        if fills_row {
+                            rows_len += bl.n_modes;
+                        }
+                        moving.push(MovingPoint {
+                            wire,
+                            dir,
+                            pantograph,
+                            basis,
+                            origin_m,
+                            n: bl.n_modes,
+                            q_off: bl.offset,
+                            row_off,
+                            fills_row,
+                        });
+                        Slot {
+                            u: (sl.moving_u0 + m) as u32,
+                            v: (sl.moving_v0 + m) as u32,
+                        }
+                    }
+                };
+                s.push(slot);
+            }
+        }
+        energy_slots.push(s.iter().map(|x| Slot { u: x.u, v: x.u }).collect());
+        slots.push(s);
+        if has_moving {
+            moving_kinds.push(ei);
+        } else {
+            fixed.push(ei);
+        }
+    }
+    Ok(Elements {
+        slots,
+        energy_slots,
+        moving,
+        fixed,
+        moving_kinds,
+        rows_len,
+    })
+}
+
+/// Step 4: per pantograph, the contact wire's lateral (and torsional) coordinates under it, read
+/// with the sine row of its vertical moving point.
+fn lateral_probes(
+    model: &Model,
+    moving: &[MovingPoint],
+    pan_point: &[Option<usize>],
+) -> Vec<Option<LateralProbe>> {
+    let lay = &model.layout;
+    let contact_ecc = model
+        .lateral
+        .as_ref()
+        .map_or(0.0, |l| l.contact_point_eccentricity_m);
+    pan_point
+        .iter()
+        .map(|pm| {
+            let mi = (*pm)?;
+            let mp = &moving[mi];
+            if mp.dir != Direction::Vertical {
+                return None;
+            }
+            let lb = lay.find(mp.wire, Direction::Lateral)?;
+            Some(LateralProbe {
+                moving: mi,
+                wire: mp.wire,
+                lat_off: lay.blocks[lb].offset,
+                tors_off: lay
+                    .find(mp.wire, Direction::Torsional)
+                    .map(|t| lay.blocks[t].offset),
+                n: mp.n,
+                eccentricity_m: contact_ecc,
+            })
+        })
+        .collect()
+}
+
+/// Step 5: the lateral springs of the static state, resolved to displacement slots (for the
+/// static deflection under wind).
+fn resolve_static_springs(
+    model: &Model,
+    points: &Points,
+    sl: &SlotLayout<'_>,
+) -> Result<Vec<StaticSpringSlots>, CaseError> {
+    let mut springs = Vec::new();
+    for e in &model.elements {
+        e.static_springs(&mut springs);
+    }
+    let mut static_springs = Vec::with_capacity(springs.len());
+    for sp in &springs {
+        let mut terms = Vec::with_capacity(sp.terms.len());
+        for &(a, w) in &sp.terms {
+            match a {
+                Attach::Wire { wire, dir, x_m } => {
+                    block_of(model, wire, dir)?;
+                    terms.push((sl.wire_slot(points, wire, dir, x_m, false).u as usize, w));
+                }
+                Attach::Ground => {}
+                _ => {
+                    return Err(invalid(
+                        "model",
+                        format!("{a:?}"),
+                        "a lateral spring of the static state attaches to a node or a pantograph"
+                            .into(),
+                    ))
+                }
+            }
+        }
+        static_springs.push((terms, sp.stiffness_n_per_m));
+    }
+    Ok(static_springs)
+}
+
+/// Step 6: the implicit point terms per block, in element order; blocks of one basis group whose
+/// implicit points sit at the same positions are corrected together (contiguous in the state,
+/// in order), the others alone.
+fn implicit_groups(model: &Model) -> Result<Vec<ImplicitGroup>, CaseError> {
+    let lay = &model.layout;
+    let mut imp_pts: Vec<Vec<(f64, Weight)>> = vec![Vec::new(); lay.blocks.len()];
+    for e in &model.elements {
+        for i in 0..e.len() {
+            if let Some((a, w)) = e.implicit(i) {
+                if let Attach::Wire { wire, dir, x_m } = e.attachment(i, a) {
+                    let b = block_of(model, wire, dir)?;
+                    let x = x_m - lay.groups[lay.blocks[b].group].origin_m;
+                    imp_pts[b].push((x, w));
+                }
+            }
+        }
+    }
+    let same = |x: &Vec<(f64, Weight)>, y: &Vec<(f64, Weight)>| {
+        x.len() == y.len() && x.iter().zip(y).all(|(p, q)| (p.0 - q.0).abs() < TOL_X)
+    };
+    let mut implicit = Vec::new();
+    let mut b = 0;
+    while b < lay.blocks.len() {
+        if imp_pts[b].is_empty() {
+            b += 1;
+            continue;
+        }
+        let mut e = b + 1;
+        while e < lay.blocks.len()
+            && lay.blocks[e].group == lay.blocks[b].group
+            && lay.blocks[e].offset == lay.blocks[e - 1].offset + lay.blocks[e - 1].n_modes
+            && same(&imp_pts[b], &imp_pts[e])
+        {
+            e += 1;
+        }
+        implicit.push(ImplicitGroup {
+            blocks: b..e,
+            xs: imp_pts[b].iter().map(|p| p.0).collect(),
+            weights: (b..e)
+                .map(|k| imp_pts[k].iter().map(|p| p.1).collect())
+                .collect(),
+        });
+        b = e;
+    }
+    Ok(implicit)
+}
+
+/// Step 7: the crosswind's scatter — one scatter of the grid's pressures onto every loaded wire
+/// (they share one sine basis), then each loaded block takes its coefficient's share; the mean
+/// load projected exactly, once.
+fn wind_step(model: &Model, isa: Isa) -> Result<Option<WindStep>, CaseError> {
+    let Some(wl) = &model.wind else {
+        return Ok(None);
+    };
+    let lay = &model.layout;
+    let first = wl
+        .wires
+        .first()
+        .ok_or_else(|| invalid("wind", "no wire", "the wind loads no wire".into()))?;
+    let b0 = block_of(model, first.wire, Direction::Vertical)?;
+    let g0 = lay.blocks[b0].group;
+    let basis = lay.basis(b0).clone();
+    let origin = lay.groups[g0].origin_m;
+    let mut blocks = Vec::new();
+    for (slot, ww) in wl.wires.iter().enumerate() {
+        let bv = block_of(model, ww.wire, Direction::Vertical)?;
+        if lay.blocks[bv].group != g0 {
+            return Err(invalid(
+                "wind",
+                &model.wires[ww.wire].name,
+                "every wire under wind must share one sine basis".into(),
+            ));
+        }
+        for (dir, coef) in [
+            (Direction::Vertical, ww.vertical_m),
+            (Direction::Lateral, ww.lateral_m),
+            (Direction::Torsional, ww.torsional_m2),
+        ] {
+            if let (Some(b), true) = (lay.find(ww.wire, dir), coef != 0.0) {
+                blocks.push((slot, lay.blocks[b].offset, coef));
+            }
+        }
+    }
+    let n = basis.n_modes();
+    let k = wl.wires.len();
+    let xs: Vec<f64> = wl.field.x_m.iter().map(|x| x - origin).collect();
+    let mut mean = vec![0.0; k * n];
+    for slot in 0..k {
+        let p0 = wl.mean_pressure(slot);
+        for j in 0..n {
+            let odd = if j % 2 == 0 { 2.0 } else { 0.0 };
+            mean[slot * n + j] = p0 * odd / basis.wavenumber(j);
+        }
+    }
+    Ok(Some(WindStep {
+        sampler: PointSampler::new(&basis, &xs, model.span_m, isa),
+        k,
+        n,
+        ng: xs.len(),
+        blocks,
+        mean,
+    }))
+}
+
+/// The penalty stiffness of pantograph `p`'s contact (0 if it has none).
+pub(crate) fn contact_stiffness(model: &Model, p: usize) -> f64 {
+    use crate::model::elements::contact::{ContactLaw, Contacts};
+    model
+        .element::<Contacts>()
+        .and_then(|c| c.0.iter().find(|c| c.pantograph == p))
+        .map_or(0.0, |c| match c.law {
+            ContactLaw::Penalty { stiffness_n_per_m } => stiffness_n_per_m,
+            ContactLaw::Prescribed => 0.0,
+        })
+}
