@@ -19,12 +19,49 @@ pub struct Ctx {
     pub budget: Budget,
 }
 
+/// The largest input file read, bytes (`--max-input-mb`; set once at start-up).
+static MAX_INPUT_BYTES: std::sync::atomic::AtomicU64 =
+    std::sync::atomic::AtomicU64::new(pcsim_core::input::MAX_INPUT_BYTES);
+
+/// Set the largest input file read (the global `--max-input-mb`).
+pub fn set_max_input_bytes(n: u64) {
+    MAX_INPUT_BYTES.store(n, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// Open and read `path` as text within the input limit (`--max-input-mb`), the core's one
+/// bounded read: `/dev/zero` or a huge file is refused with the limit and the flag to raise it.
+pub fn read_input(path: &Path) -> std::io::Result<String> {
+    let limit = MAX_INPUT_BYTES.load(std::sync::atomic::Ordering::Relaxed);
+    let f = std::fs::File::open(path)?;
+    if f.metadata()?.is_dir() {
+        return Err(std::io::Error::other("is a directory"));
+    }
+    pcsim_core::input::read_text_limited(f, limit).map_err(|e| {
+        if e.kind() == std::io::ErrorKind::InvalidData && e.to_string().contains("limit") {
+            std::io::Error::other(format!(
+                "{e} ({} MB; raise it with --max-input-mb)",
+                limit >> 20
+            ))
+        } else {
+            e
+        }
+    })
+}
+
+/// [`read_input`] for a file of a kind `what` (`a manifest`), with a limit of its own, naming
+/// the file on error.
+pub fn read_text_limited(path: &Path, limit: u64, what: &str) -> Result<String> {
+    let f = std::fs::File::open(path).with_context(|| format!("cannot read {}", path.display()))?;
+    pcsim_core::input::read_text_limited(f, limit)
+        .with_context(|| format!("cannot read {} ({what})", path.display()))
+}
+
 /// Load a case from a file or a preset.
 pub fn load_case(path: Option<&PathBuf>, preset: Option<&str>) -> Result<Case> {
     match (path, preset) {
         (Some(p), None) => Ok(pcsim_core::input::case_from_file(
             &p.display().to_string(),
-            std::fs::read_to_string(p),
+            read_input(p),
         )?),
         (None, Some(name)) => Ok(pcsim_core::input::case_from_preset(name)?),
         (Some(_), Some(_)) => bail!("give a case file or --preset, not both"),
@@ -223,7 +260,7 @@ pub fn seeds_flag(seeds: Option<usize>, case: &Case) -> Result<usize> {
 /// Read a contact-wire irregularity profile from a CSV file: a header line, then `position_m,
 /// deviation_m` rows (model coordinates, m; deviation upward positive, m).
 pub fn read_irregularity_csv(path: &Path) -> Result<pcsim_core::input::case::IrregularityCase> {
-    let text = std::fs::read_to_string(path)
+    let text = read_input(path)
         .with_context(|| format!("--irregularity: cannot read {}", path.display()))?;
     pcsim_core::input::case::IrregularityCase::from_csv(&text, &path.display().to_string())
         .map_err(|e| anyhow::anyhow!("--irregularity: {e}"))

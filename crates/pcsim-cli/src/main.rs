@@ -33,6 +33,10 @@ struct Cli {
     /// Most memory one run may need before it is refused, GiB [default: 4].
     #[arg(long, global = true, value_name = "GIB")]
     max_memory_gb: Option<f64>,
+    /// Largest input file read (a case, a profile, a HIL input, a shard's manifest), MB
+    /// [default: 256].
+    #[arg(long, global = true, value_name = "MB")]
+    max_input_mb: Option<f64>,
     /// Use the portable kernels (plain multiply and add) instead of AVX2+FMA: the same bytes on
     /// every x86-64 machine, about 25 % slower. The same as PCSIM_PORTABLE=1.
     #[arg(long, global = true)]
@@ -101,6 +105,12 @@ fn context(cli: &Cli) -> anyhow::Result<Ctx> {
             anyhow::bail!("--max-memory-gb {g}: must be a number of GiB in (0, 1e6]");
         }
         budget.max_memory_bytes = (g * (1u64 << 30) as f64) as u64;
+    }
+    if let Some(mb) = cli.max_input_mb {
+        if !(0.001..=1e6).contains(&mb) {
+            anyhow::bail!("--max-input-mb {mb}: must be a number of MB in [0.001, 1e6]");
+        }
+        crate::common::set_max_input_bytes((mb * (1u64 << 20) as f64) as u64);
     }
     Ok(Ctx {
         progress: if cli.quiet {

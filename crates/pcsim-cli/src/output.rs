@@ -1,63 +1,432 @@
-//! Writing results: `summary.json`, `timeseries.csv`, and the manifest `pcsim.json` that every
-//! output directory carries (its kind, the version, the command's overrides), so that `pcsim plot
-//! DIR` can redraw any of them.
+//! Writing results as transactions. Every output directory carries a manifest, `pcsim.json` (its
+//! kind, the version, the command's overrides, the list of its files and `"complete": true`),
+//! written last; readers (`pcsim plot`, `merge`) trust a directory only through a complete
+//! manifest, and only the files it lists.
+//!
+//! A command writes into a staging directory beside `--out` (`.NAME.partial-PID`) under a lock
+//! (`.NAME.pcsim-lock`, holding the writer's pid) and, when every file is written, swaps it into
+//! place ([`OutDir::commit`]): a reused directory is **replaced whole** (the previous run's
+//! figures and `cases/` files do not survive), and a second writer to the same directory is
+//! refused while the first holds the lock. A run that fails, is interrupted or is killed leaves
+//! the previous complete output as it was (and at most a hidden `.partial-PID` folder, which the
+//! next writer removes). A directory that holds files pcsim did not write is refused, never
+//! replaced.
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use pcsim_core::analysis::record::RunOutput;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The manifest of an output directory.
 pub const MANIFEST: &str = "pcsim.json";
 
 pub use pcsim_core::analysis::report::RunSummary as Summary;
 
-/// Write the manifest of an output directory: `{"kind": …, "pcsim_version": …}` plus `extra`.
+/// Write `bytes` to `path`, naming the file in any error (a full disk, a file-size limit).
+pub fn write_file(path: &Path, bytes: impl AsRef<[u8]>) -> Result<()> {
+    std::fs::write(path, bytes).with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Write `bytes` to `path` through a temporary file and a rename: a reader sees the old file or
+/// the new one, never a truncated one.
+pub fn write_file_atomic(path: &Path, bytes: impl AsRef<[u8]>) -> Result<()> {
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
+    write_file(&tmp, bytes)?;
+    std::fs::rename(&tmp, path).with_context(|| {
+        let _ = std::fs::remove_file(&tmp);
+        format!("cannot move {} into place", path.display())
+    })
+}
+
+/// Write the manifest of a directory being written: `{"kind": …, "pcsim_version": …,
+/// "complete": false}` plus `extra`. [`OutDir::commit`] completes it.
 pub fn write_manifest(dir: &Path, kind: &str, extra: serde_json::Value) -> Result<()> {
     let mut m = serde_json::json!({
         "kind": kind,
         "pcsim_version": env!("CARGO_PKG_VERSION"),
+        "complete": false,
     });
     if let (Some(o), serde_json::Value::Object(e)) = (m.as_object_mut(), extra) {
         o.extend(e);
     }
-    let path = dir.join(MANIFEST);
-    std::fs::write(&path, serde_json::to_string_pretty(&m)? + "\n")
-        .with_context(|| format!("cannot write {}", path.display()))
+    write_file(
+        &dir.join(MANIFEST),
+        serde_json::to_string_pretty(&m)? + "\n",
+    )
 }
 
-/// Read the manifest of an output directory (`None` when it has none).
+/// The largest manifest read, bytes (a manifest lists a sweep's files: a few hundred kB at most).
+pub const MAX_MANIFEST_BYTES: u64 = 16 << 20;
+
+/// Read the manifest of a directory as it is, complete or not (`None` when it has none).
 pub fn read_manifest(dir: &Path) -> Result<Option<serde_json::Value>> {
     let path = dir.join(MANIFEST);
     if !path.exists() {
         return Ok(None);
     }
-    let text = std::fs::read_to_string(&path)
-        .with_context(|| format!("cannot read {}", path.display()))?;
+    let text = crate::common::read_text_limited(&path, MAX_MANIFEST_BYTES, "a manifest")?;
     Ok(Some(serde_json::from_str(&text).with_context(|| {
         format!("{} is not valid JSON", path.display())
     })?))
 }
 
-/// Write `summary.json`, `timeseries.csv` and the manifest into `dir` (created if needed).
+/// The manifest of a complete output directory: its kind, its files and the whole JSON.
+#[derive(Debug, Clone)]
+pub struct Manifest {
+    /// The kind of output (`run`, `eva`, `window`, `realtime`, `montecarlo`).
+    pub kind: String,
+    /// The pcsim version that wrote it.
+    pub version: String,
+    /// The files of the directory, relative to it (the manifest excluded).
+    pub files: Vec<String>,
+    /// The whole manifest.
+    pub value: serde_json::Value,
+}
+
+/// Read the manifest of a complete output directory, refusing a directory without one, an
+/// incomplete one (a run that was interrupted, or is still being written), or one whose listed
+/// files are missing.
+pub fn read_complete_manifest(dir: &Path) -> Result<Manifest> {
+    let m = read_manifest(dir)?.with_context(|| {
+        format!(
+            "{} is not a complete output of pcsim (no {MANIFEST}: not written by pcsim, made by an older version, or interrupted)",
+            dir.display()
+        )
+    })?;
+    if m["complete"] != serde_json::Value::Bool(true) {
+        bail!(
+            "{} is not complete ({MANIFEST} does not say \"complete\": true): its run was interrupted, failed, or is still being written",
+            dir.display()
+        );
+    }
+    let kind = m["kind"]
+        .as_str()
+        .with_context(|| format!("{}: {MANIFEST} has no `kind`", dir.display()))?
+        .to_string();
+    let version = m["pcsim_version"].as_str().unwrap_or_default().to_string();
+    let files: Vec<String> = m["files"]
+        .as_array()
+        .with_context(|| format!("{}: {MANIFEST} has no list of `files`", dir.display()))?
+        .iter()
+        .map(|f| {
+            f.as_str().map(str::to_string).with_context(|| {
+                format!(
+                    "{}: {MANIFEST} lists a file that is not a name",
+                    dir.display()
+                )
+            })
+        })
+        .collect::<Result<_>>()?;
+    // Figures are derived from the data files and may be redrawn (`pcsim plot`); every other
+    // listed file must be there.
+    for f in files.iter().filter(|f| !is_figure(f)) {
+        if !dir.join(f).is_file() {
+            bail!(
+                "{}: {MANIFEST} lists {f}, which is missing (the directory was changed after pcsim wrote it)",
+                dir.display()
+            );
+        }
+    }
+    Ok(Manifest {
+        kind,
+        version,
+        files,
+        value: m,
+    })
+}
+
+/// A figure file (drawn from the data files).
+fn is_figure(f: &str) -> bool {
+    f.ends_with(".svg") || f.ends_with(".png")
+}
+
+impl Manifest {
+    /// Whether the manifest lists `file` (relative to the directory).
+    pub fn lists(&self, file: &str) -> bool {
+        self.files.iter().any(|f| f == file)
+    }
+}
+
+/// Every file under `dir`, relative to it and sorted, the manifest excluded.
+fn files_under(dir: &Path) -> Result<Vec<String>> {
+    fn walk(root: &Path, d: &Path, out: &mut Vec<String>) -> Result<()> {
+        for e in std::fs::read_dir(d).with_context(|| format!("cannot read {}", d.display()))? {
+            let p = e?.path();
+            if p.is_dir() {
+                walk(root, &p, out)?;
+            } else {
+                let rel = p.strip_prefix(root).unwrap_or(&p);
+                out.push(rel.to_string_lossy().replace('\\', "/"));
+            }
+        }
+        Ok(())
+    }
+    let mut out = Vec::new();
+    walk(dir, dir, &mut out)?;
+    out.retain(|f| f != MANIFEST);
+    out.sort();
+    Ok(out)
+}
+
+/// Mark the manifest of `dir` complete, listing every file now in it (written through a rename:
+/// the manifest is the last file to change).
+pub fn complete_manifest(dir: &Path) -> Result<()> {
+    let mut m = read_manifest(dir)?
+        .with_context(|| format!("{}: no {MANIFEST} to complete", dir.display()))?;
+    let files = files_under(dir)?;
+    if let Some(o) = m.as_object_mut() {
+        o.insert("files".into(), serde_json::json!(files));
+        o.insert("complete".into(), serde_json::Value::Bool(true));
+    }
+    write_file_atomic(
+        &dir.join(MANIFEST),
+        serde_json::to_string_pretty(&m)? + "\n",
+    )
+}
+
+/// The lock of an output directory: a file beside it holding the writer's pid, made with
+/// `create_new` (one writer at a time); a lock whose process has died is taken over.
+#[derive(Debug)]
+pub struct Lock {
+    path: PathBuf,
+}
+
+fn pid_alive(pid: u32) -> bool {
+    pid == std::process::id() || Path::new(&format!("/proc/{pid}")).exists()
+}
+
+fn sibling(target: &Path, suffix: &str) -> PathBuf {
+    let name = target.file_name().unwrap_or_default().to_string_lossy();
+    target.with_file_name(format!(".{name}.{suffix}"))
+}
+
+impl Lock {
+    /// Take the lock of `target`, or refuse naming the writer that holds it.
+    pub fn take(target: &Path) -> Result<Lock> {
+        let path = sibling(target, "pcsim-lock");
+        for _ in 0..2 {
+            match std::fs::OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(&path)
+            {
+                Ok(mut f) => {
+                    use std::io::Write;
+                    let _ = writeln!(f, "{}", std::process::id());
+                    return Ok(Lock { path });
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                    let holder = std::fs::read_to_string(&path)
+                        .ok()
+                        .and_then(|s| s.trim().parse::<u32>().ok());
+                    match holder {
+                        Some(pid) if pid_alive(pid) => bail!(
+                            "{} is being written by another pcsim (pid {pid}, lock {}): wait for it, or choose another --out",
+                            target.display(),
+                            path.display()
+                        ),
+                        // A stale lock (its writer died, or it is being written this instant):
+                        // take it over once.
+                        _ => {
+                            let _ = std::fs::remove_file(&path);
+                        }
+                    }
+                }
+                Err(e) => {
+                    return Err(e)
+                        .with_context(|| format!("cannot create the lock {}", path.display()))
+                }
+            }
+        }
+        bail!(
+            "cannot take the lock {} of {}",
+            path.display(),
+            target.display()
+        )
+    }
+}
+
+impl Drop for Lock {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.path);
+    }
+}
+
+/// Refuse to replace `target` unless it is absent, empty, or a pcsim output whose manifest lists
+/// every file in it (files pcsim did not write are never deleted).
+fn check_replaceable(target: &Path) -> Result<()> {
+    if !target.exists() {
+        return Ok(());
+    }
+    if !target.is_dir() {
+        bail!(
+            "--out {} exists and is not a directory: choose another --out",
+            target.display()
+        );
+    }
+    let present = files_under(target)?;
+    if present.is_empty() && read_manifest(target).ok().flatten().is_none() {
+        return Ok(());
+    }
+    let m = read_manifest(target).ok().flatten().with_context(|| {
+        format!(
+            "--out {} exists and is not an output of pcsim (no {MANIFEST}): choose another directory, or empty it",
+            target.display()
+        )
+    })?;
+    if let Some(listed) = m["files"].as_array() {
+        let listed: Vec<&str> = listed.iter().filter_map(|f| f.as_str()).collect();
+        let foreign: Vec<&String> = present
+            .iter()
+            .filter(|f| !listed.contains(&f.as_str()))
+            .collect();
+        if !foreign.is_empty() {
+            bail!(
+                "--out {} holds files that pcsim did not write ({}): they would be deleted when the new output replaces it; move them, or choose another --out",
+                target.display(),
+                foreign
+                    .iter()
+                    .take(5)
+                    .map(|s| s.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
+    }
+    Ok(())
+}
+
+/// An output directory written as a transaction (see the module's documentation): write into
+/// [`OutDir::path`], then [`OutDir::commit`]. Dropped without a commit, it removes its staging
+/// directory and leaves the target as it was.
+#[derive(Debug)]
+pub struct OutDir {
+    target: PathBuf,
+    staging: PathBuf,
+    committed: bool,
+    _lock: Lock,
+}
+
+impl OutDir {
+    /// Lock `target`, check that it may be replaced, and make a fresh staging directory beside it.
+    pub fn begin(target: &Path) -> Result<OutDir> {
+        if target.as_os_str().is_empty() || target.file_name().is_none() {
+            bail!(
+                "--out `{}`: name a directory (not `.`, `..` or a root)",
+                target.display()
+            );
+        }
+        if let Some(parent) = target.parent().filter(|p| !p.as_os_str().is_empty()) {
+            std::fs::create_dir_all(parent)
+                .with_context(|| format!("cannot create {}", parent.display()))?;
+        }
+        let lock = Lock::take(target)?;
+        check_replaceable(target)?;
+        // Staging directories left by killed writers of this target.
+        let name = target.file_name().unwrap_or_default().to_string_lossy();
+        let prefix = format!(".{name}.partial-");
+        if let Ok(rd) = std::fs::read_dir(
+            target
+                .parent()
+                .filter(|p| !p.as_os_str().is_empty())
+                .unwrap_or(Path::new(".")),
+        ) {
+            for e in rd.flatten() {
+                let n = e.file_name().to_string_lossy().to_string();
+                if let Some(pid) = n.strip_prefix(&prefix).and_then(|p| p.parse::<u32>().ok()) {
+                    if !pid_alive(pid) || pid == std::process::id() {
+                        let _ = std::fs::remove_dir_all(e.path());
+                    }
+                }
+            }
+        }
+        let staging = sibling(target, &format!("partial-{}", std::process::id()));
+        std::fs::create_dir_all(&staging)
+            .with_context(|| format!("cannot create {}", staging.display()))?;
+        Ok(OutDir {
+            target: target.to_path_buf(),
+            staging,
+            committed: false,
+            _lock: lock,
+        })
+    }
+
+    /// Where the command writes its files (the staging directory).
+    pub fn path(&self) -> &Path {
+        &self.staging
+    }
+
+    /// Where files written into [`OutDir::path`] will be once committed (for messages).
+    pub fn in_target(&self, files: &[PathBuf]) -> Vec<PathBuf> {
+        files
+            .iter()
+            .map(|f| match f.strip_prefix(&self.staging) {
+                Ok(rel) => self.target.join(rel),
+                Err(_) => f.clone(),
+            })
+            .collect()
+    }
+
+    /// Complete the manifest (written by the command with [`write_manifest`]) and swap the
+    /// staging directory into place: the previous output is removed only once the new one is
+    /// whole.
+    pub fn commit(mut self) -> Result<()> {
+        complete_manifest(&self.staging)?;
+        let previous = sibling(&self.target, &format!("previous-{}", std::process::id()));
+        let had = self.target.exists();
+        if had {
+            std::fs::rename(&self.target, &previous).with_context(|| {
+                format!(
+                    "cannot move the previous output {} aside",
+                    self.target.display()
+                )
+            })?;
+        }
+        if let Err(e) = std::fs::rename(&self.staging, &self.target) {
+            if had {
+                let _ = std::fs::rename(&previous, &self.target);
+            }
+            return Err(e).with_context(|| {
+                format!("cannot move the new output into {}", self.target.display())
+            });
+        }
+        self.committed = true;
+        if had {
+            std::fs::remove_dir_all(&previous).with_context(|| {
+                format!("cannot remove the previous output {}", previous.display())
+            })?;
+        }
+        Ok(())
+    }
+}
+
+impl Drop for OutDir {
+    fn drop(&mut self) {
+        if !self.committed {
+            let _ = std::fs::remove_dir_all(&self.staging);
+        }
+    }
+}
+
+/// Write `summary.json`, `timeseries.csv` and the (incomplete) manifest into `dir`.
 pub fn write_run(dir: &Path, out: &RunOutput, summary: &Summary) -> Result<()> {
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("cannot create output directory {}", dir.display()))?;
     let js = serde_json::to_string_pretty(summary)?;
-    std::fs::write(dir.join("summary.json"), js + "\n")
-        .with_context(|| format!("cannot write {}", dir.join("summary.json").display()))?;
+    write_file(&dir.join("summary.json"), js + "\n")?;
     let path = dir.join("timeseries.csv");
-    let mut w = csv::Writer::from_path(&path)
-        .with_context(|| format!("cannot write {}", path.display()))?;
+    let named = |e: csv::Error| anyhow::anyhow!("cannot write {}: {e}", path.display());
+    let mut w = csv::Writer::from_path(&path).map_err(named)?;
     let cols = pcsim_core::analysis::report::timeseries_columns(out);
-    w.write_record(cols.iter().map(|c| c.name.as_str()))?;
+    w.write_record(cols.iter().map(|c| c.name.as_str()))
+        .map_err(named)?;
     let mut rec = Vec::with_capacity(cols.len());
     for k in 0..out.time_s.len() {
         rec.clear();
         for c in &cols {
             rec.push(format!("{:.*}", c.decimals, c.values[k]));
         }
-        w.write_record(&rec)?;
+        w.write_record(&rec).map_err(named)?;
     }
-    w.flush()?;
+    w.flush()
+        .with_context(|| format!("cannot write {}", path.display()))?;
     write_manifest(dir, "run", serde_json::json!({}))
 }

@@ -7,7 +7,7 @@ use pcsim_core::analysis::sweep::merge_rows;
 use std::path::{Path, PathBuf};
 
 use crate::common::shown;
-use crate::output::{read_manifest, write_manifest};
+use crate::output::write_manifest;
 
 /// What a kind of sweep directory holds.
 pub struct SweepKind {
@@ -33,25 +33,77 @@ struct ShardDir {
     rows: Vec<(usize, String)>,
 }
 
+/// The largest per-case CSV of a shard that a merge reads, bytes.
+const MAX_SHARD_CSV_BYTES: u64 = 256 << 20;
+
+/// Read a shard for the merge, its manifest parsed into checked types: complete, of this kind
+/// and this version, `shard = [I, N]` with `1 ≤ N` and `I < N`, `cases` at most the grid a
+/// shard can describe, the per-case rows of this version, and its `cases/` folder present
+/// when it holds cases. A corrupt manifest is an error naming the field, never a panic.
 fn read_shard(k: &SweepKind, d: &Path) -> Result<ShardDir> {
-    let m = read_manifest(d)?.with_context(|| {
+    let m = crate::output::read_complete_manifest(d).with_context(|| {
         format!(
-            "{} is not a shard of a {} sweep (no pcsim.json; made by an older pcsim?)",
+            "{} cannot be merged as a shard of a {} sweep",
             d.display(),
             k.kind
         )
     })?;
-    if m["kind"] != k.kind {
+    if m.kind != k.kind {
         bail!(
-            "{} is not a {} sweep (pcsim.json kind {})",
+            "{} is not a {} sweep (pcsim.json kind `{}`)",
             d.display(),
             k.kind,
-            m["kind"]
+            m.kind
         );
     }
+    if m.version != env!("CARGO_PKG_VERSION") {
+        bail!(
+            "{} was made by pcsim {} and cannot be merged by pcsim {}: rerun the shard with this version",
+            d.display(),
+            if m.version.is_empty() { "(unknown)" } else { m.version.as_str() },
+            env!("CARGO_PKG_VERSION")
+        );
+    }
+    let v = &m.value;
+    let num = |v: &serde_json::Value, what: &str| -> Result<usize> {
+        v.as_u64()
+            .and_then(|x| usize::try_from(x).ok())
+            .with_context(|| format!("{}: pcsim.json `{what}` is {v}, not a count", d.display()))
+    };
+    let shard_v = v["shard"]
+        .as_array()
+        .filter(|a| a.len() == 2)
+        .with_context(|| {
+            format!(
+                "{}: pcsim.json `shard` is {}, not [I, N]",
+                d.display(),
+                v["shard"]
+            )
+        })?;
+    let (si, sn) = (num(&shard_v[0], "shard[0]")?, num(&shard_v[1], "shard[1]")?);
+    if sn == 0 || si >= sn {
+        bail!(
+            "{}: pcsim.json `shard` is [{si}, {sn}]: need 0 ≤ I < N",
+            d.display()
+        );
+    }
+    let cases = num(&v["cases"], "cases")?;
+    if sn > MAX_SHARDS || cases > MAX_CASES {
+        bail!(
+            "{}: pcsim.json says {cases} cases in {sn} shards: more than a sweep can hold ({MAX_CASES} cases, {MAX_SHARDS} shards)",
+            d.display()
+        );
+    }
+    let fingerprint = v["fingerprint"]
+        .as_str()
+        .filter(|f| !f.is_empty())
+        .with_context(|| format!("{}: pcsim.json has no `fingerprint`", d.display()))?
+        .to_string();
+    if !m.lists(k.csv) {
+        bail!("{}: pcsim.json does not list {}", d.display(), k.csv);
+    }
     let p = d.join(k.csv);
-    let text =
-        std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
+    let text = crate::common::read_text_limited(&p, MAX_SHARD_CSV_BYTES, "a shard's table")?;
     let mut lines = text.lines();
     if lines.next() != Some(k.header) {
         bail!(
@@ -67,26 +119,42 @@ fn read_shard(k: &SweepKind, d: &Path) -> Result<ShardDir> {
             .next()
             .and_then(|s| s.parse().ok())
             .with_context(|| format!("{}: bad row `{l}`", p.display()))?;
+        if idx >= cases {
+            bail!(
+                "{}: row of case {idx}, but the sweep has {cases} cases",
+                p.display()
+            );
+        }
         rows.push((idx, l.to_string()));
     }
-    let num = |v: &serde_json::Value, what: &str| -> Result<usize> {
-        v.as_u64()
-            .map(|x| x as usize)
-            .with_context(|| format!("{}: pcsim.json lacks `{what}`", d.display()))
-    };
+    if !rows.is_empty() && !m.files.iter().any(|f| f.starts_with("cases/")) {
+        bail!(
+            "{}: its cases/ folder is missing (the per-case files of its {} rows)",
+            d.display(),
+            rows.len()
+        );
+    }
     Ok(ShardDir {
         dir: d.to_path_buf(),
-        fingerprint: m["fingerprint"].as_str().unwrap_or_default().to_string(),
-        cases: num(&m["cases"], "cases")?,
-        shard: (num(&m["shard"][0], "shard")?, num(&m["shard"][1], "shard")?),
+        fingerprint,
+        cases,
+        shard: (si, sn),
         rows,
     })
 }
+
+/// The most shards and cases a merge accepts (a manifest claiming more is corrupt).
+pub const MAX_SHARDS: usize = 100_000;
+/// See [`MAX_SHARDS`].
+pub const MAX_CASES: usize = 10_000_000;
 
 /// Join the shards of one sweep: every shard exactly once, all with one fingerprint; the result
 /// is built beside the output and moved into place only when complete, so a failed merge leaves
 /// nothing behind and never writes into a shard.
 pub fn merge(k: &SweepKind, dirs: &[PathBuf], out: &Path, no_plot: bool) -> Result<i32> {
+    if dirs.is_empty() {
+        bail!("give the shard directories to merge");
+    }
     let shards: Vec<ShardDir> = dirs
         .iter()
         .map(|d| read_shard(k, d))
@@ -154,64 +222,49 @@ pub fn merge(k: &SweepKind, dirs: &[PathBuf], out: &Path, no_plot: bool) -> Resu
             );
         }
     }
-    if out.exists()
-        && read_manifest(out).ok().flatten().is_none()
-        && out.read_dir()?.next().is_some()
-    {
-        bail!(
-            "--out {} exists and is not an output of pcsim: choose another directory",
-            out.display()
-        );
-    }
-    let partial = out_abs.with_file_name(format!(
-        "{}.partial-{}",
-        out_abs.file_name().unwrap_or_default().to_string_lossy(),
-        std::process::id()
-    ));
-    let result = (|| -> Result<()> {
-        std::fs::create_dir_all(partial.join("cases"))?;
-        for s in &shards {
-            let cdir = s.dir.join("cases");
-            if cdir.is_dir() {
-                for e in std::fs::read_dir(&cdir)? {
-                    let e = e?;
-                    std::fs::copy(e.path(), partial.join("cases").join(e.file_name()))?;
-                }
+    let od = crate::output::OutDir::begin(out)?;
+    let partial = od.path();
+    std::fs::create_dir_all(partial.join("cases"))
+        .with_context(|| format!("cannot create {}", partial.join("cases").display()))?;
+    for s in &shards {
+        let cdir = s.dir.join("cases");
+        if cdir.is_dir() {
+            for e in std::fs::read_dir(&cdir)
+                .with_context(|| format!("cannot read {}", cdir.display()))?
+            {
+                let e = e?;
+                let to = partial.join("cases").join(e.file_name());
+                std::fs::copy(e.path(), &to).with_context(|| {
+                    format!("cannot copy {} to {}", e.path().display(), to.display())
+                })?;
             }
         }
-        let mut csv = String::from(k.header);
-        csv.push('\n');
-        for (_, r) in &rows {
-            csv.push_str(r);
-            csv.push('\n');
-        }
-        std::fs::write(partial.join(k.csv), csv)?;
-        write_manifest(
-            &partial,
-            k.kind,
-            serde_json::json!({
-                "fingerprint": first.fingerprint,
-                "cases": first.cases,
-                "shard": [0, 1],
-                "merged_from_shards": n,
-                "cases_in_shard": rows.iter().map(|r| r.0).collect::<Vec<_>>(),
-                "columns": k.columns,
-            }),
-        )?;
-        (k.finish)(&partial)?;
-        if !no_plot {
-            crate::plot::redraw(&partial)?;
-        }
-        if out.exists() {
-            std::fs::remove_dir_all(out)?;
-        }
-        std::fs::rename(&partial, out)?;
-        Ok(())
-    })();
-    if let Err(e) = result {
-        let _ = std::fs::remove_dir_all(&partial);
-        return Err(e.context(format!("merging into {}", out.display())));
     }
+    let mut csv = String::from(k.header);
+    csv.push('\n');
+    for (_, r) in &rows {
+        csv.push_str(r);
+        csv.push('\n');
+    }
+    crate::output::write_file(&partial.join(k.csv), csv)?;
+    write_manifest(
+        partial,
+        k.kind,
+        serde_json::json!({
+            "fingerprint": first.fingerprint,
+            "cases": first.cases,
+            "shard": [0, 1],
+            "merged_from_shards": n,
+            "cases_in_shard": rows.iter().map(|r| r.0).collect::<Vec<_>>(),
+            "columns": k.columns,
+        }),
+    )?;
+    (k.finish)(partial).with_context(|| format!("merging into {}", out.display()))?;
+    if !no_plot {
+        crate::plot::redraw_kind(partial, k.kind)
+            .with_context(|| format!("merging into {}", out.display()))?;
+    }
+    od.commit()?;
     println!(
         "merged {} cases from {} shards into {}",
         rows.len(),
@@ -281,6 +334,5 @@ pub fn write_montecarlo(dir: &Path, csv: &str, group: &[&str], values: &[&str]) 
         }
         out.push('\n');
     }
-    std::fs::write(dir.join("montecarlo.csv"), out)
-        .with_context(|| format!("cannot write {}", dir.join("montecarlo.csv").display()))
+    crate::output::write_file(&dir.join("montecarlo.csv"), out)
 }

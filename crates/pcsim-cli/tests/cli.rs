@@ -285,10 +285,11 @@ fn run_plot_and_replot_write_readable_figures() {
         outdir.join("contact_force_leading.svg").exists()
             && outdir.join("contact_height.png").exists()
     );
-    // A directory that is not a run's output is a clear error.
+    // A directory that is not a complete output is a clear error (issue 19: readers trust a
+    // directory only through its complete manifest).
     let out = pcsim().arg("plot").arg(&dir).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("summary.json"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("pcsim.json"));
 }
 
 /// A short SYT case (8 spans) for EVA sweeps.

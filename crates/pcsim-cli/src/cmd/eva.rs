@@ -10,7 +10,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::common::{apply, load_case, shown, Ctx, Override};
-use crate::output::write_manifest;
+use crate::output::{write_file, write_manifest};
 use crate::progress::Progress;
 use crate::sweep_dir::{merge, SweepKind};
 use pcsim_core::fingerprint::fnv1a64_hex as fnv1a64;
@@ -98,7 +98,7 @@ fn case_stem(job: &Job) -> String {
 
 fn write_case_files(dir: &Path, job: &Job, o: &EvaOutput) -> Result<()> {
     let cdir = dir.join("cases");
-    std::fs::create_dir_all(&cdir)?;
+    std::fs::create_dir_all(&cdir).with_context(|| format!("cannot create {}", cdir.display()))?;
     let mut s = String::from("xi_m,snapshot_j_per_m,max_j_per_m,mean_j_per_m\n");
     for i in 0..o.xi_m.len() {
         let _ = writeln!(
@@ -110,7 +110,10 @@ fn write_case_files(dir: &Path, job: &Job, o: &EvaOutput) -> Result<()> {
             o.mean.density_j_per_m[i]
         );
     }
-    std::fs::write(cdir.join(format!("{}_distribution.csv", case_stem(job))), s)?;
+    write_file(
+        &cdir.join(format!("{}_distribution.csv", case_stem(job))),
+        s,
+    )?;
     let mut s = String::from("window_m,snapshot_j,max_j,mean_j\n");
     for i in 0..o.window_m.len() {
         let _ = writeln!(
@@ -119,7 +122,7 @@ fn write_case_files(dir: &Path, job: &Job, o: &EvaOutput) -> Result<()> {
             o.window_m[i], o.snapshot.window_j[i], o.max.window_j[i], o.mean.window_j[i]
         );
     }
-    std::fs::write(cdir.join(format!("{}_window.csv", case_stem(job))), s)?;
+    write_file(&cdir.join(format!("{}_window.csv", case_stem(job))), s)?;
     Ok(())
 }
 
@@ -226,8 +229,8 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
         .filter(|j| shard.contains(j.index))
         .cloned()
         .collect();
-    std::fs::create_dir_all(&a.out)
-        .with_context(|| format!("cannot create {}", a.out.display()))?;
+    let od = crate::output::OutDir::begin(&a.out)?;
+    let dir = od.path();
     let pb = Progress::new(
         "eva",
         mine.len() as u64,
@@ -238,7 +241,7 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
     pb.finish();
     let results = results?;
     for c in &results {
-        write_case_files(&a.out, &c.job, &c.output)?;
+        write_case_files(dir, &c.job, &c.output)?;
     }
     let done: Vec<&EvaOutput> = results.iter().map(|c| &c.output).collect();
     let rows: Vec<&EvaRow> = results.iter().map(|c| &c.row).collect();
@@ -248,12 +251,12 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
         csv.push_str(&r.to_csv());
         csv.push('\n');
     }
-    std::fs::write(a.out.join("eva.csv"), &csv)?;
+    write_file(&dir.join("eva.csv"), &csv)?;
     if shard == Shard::ALL {
-        (EVA.finish)(&a.out)?;
+        (EVA.finish)(dir)?;
     }
     write_manifest(
-        &a.out,
+        dir,
         "eva",
         serde_json::json!({
             "fingerprint": fingerprint,
@@ -263,6 +266,12 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
             "columns": COLUMNS,
         }),
     )?;
+    let files = if !a.no_plot && shard == Shard::ALL && !mine.is_empty() {
+        od.in_target(&crate::plot::redraw_kind(dir, "eva")?)
+    } else {
+        Vec::new()
+    };
+    od.commit()?;
     if mine.is_empty() {
         println!(
             "shard {}/{} holds none of the {} cases: wrote {} (header only) and {}, which `eva merge` needs",
@@ -306,8 +315,7 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
         shown(&a.out, "eva.csv"),
         shown(&a.out, "cases")
     );
-    if !a.no_plot && shard == Shard::ALL {
-        let files = crate::plot::redraw(&a.out)?;
+    if !files.is_empty() {
         crate::plot::report(&files);
     }
     Ok(0)

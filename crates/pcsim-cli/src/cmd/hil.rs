@@ -37,9 +37,27 @@ pub struct HilArgs {
     max_speed_kmh: f64,
 }
 
+/// The header an input file must start with (the columns, in this order).
+pub const INPUT_HEADER: &str = "time_s,contact_force_n,pantograph_position_m";
+
 fn read_input(p: &Path) -> Result<Vec<[f64; 3]>> {
     let text =
-        std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?;
+        crate::common::read_input(p).with_context(|| format!("cannot read {}", p.display()))?;
+    let mut lines = text.lines();
+    let header = lines.next().with_context(|| {
+        format!(
+            "{} is empty: need the header `{INPUT_HEADER}` and one row per step",
+            p.display()
+        )
+    })?;
+    let cols: Vec<&str> = header.split(',').map(|c| c.trim()).collect();
+    if cols != INPUT_HEADER.split(',').collect::<Vec<_>>() {
+        bail!(
+            "{} line 1: the header is `{}`, but an input must start with `{INPUT_HEADER}` (time in s, contact force in N, position in m from the case's start)",
+            p.display(),
+            header.trim()
+        );
+    }
     let mut rows = Vec::new();
     for (i, line) in text.lines().enumerate().skip(1) {
         if line.trim().is_empty() {
@@ -55,6 +73,12 @@ fn read_input(p: &Path) -> Result<Vec<[f64; 3]>> {
             bail!("{} line {}: need three numbers (time_s, contact_force_n, pantograph_position_m) with a finite time", p.display(), i + 1);
         }
         rows.push([v[0], v[1], v[2]]);
+    }
+    if rows.is_empty() {
+        bail!(
+            "{} has a header but no rows: nothing to replay",
+            p.display()
+        );
     }
     Ok(rows)
 }
@@ -76,7 +100,16 @@ pub fn hil(a: HilArgs, ctx: &Ctx) -> Result<i32> {
     let mut s = String::from("time_s,wire_height_m,wire_velocity_m_s,contact_force_n,status\n");
     let t0 = rows.first().map_or(0.0, |r| r[0]);
     let mut refused: Vec<(usize, String)> = Vec::new();
+    let pb = crate::progress::Progress::new(
+        "hil",
+        rows.len() as u64,
+        ctx.progress,
+        "hil [{bar:40}] {pos}/{len} steps {elapsed_precise} eta {eta}",
+    );
     for (k, r) in rows.iter().enumerate() {
+        if k % 1024 == 0 {
+            pb.set(k as u64);
+        }
         let line = k + 2;
         let want = t0 + k as f64 * dt;
         if (r[0] - want).abs() > 1e-6 * dt + 1e-9 * want.abs() {
@@ -103,7 +136,8 @@ pub fn hil(a: HilArgs, ctx: &Ctx) -> Result<i32> {
             }
         }
     }
-    std::fs::write(&a.out, s).with_context(|| format!("cannot write {}", a.out.display()))?;
+    pb.finish();
+    crate::output::write_file_atomic(&a.out, s)?;
     println!(
         "replayed {} steps through a {window} m window; wrote {}",
         rows.len() - refused.len(),

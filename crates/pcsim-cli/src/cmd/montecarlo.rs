@@ -3,14 +3,14 @@
 //! `montecarlo.json` (the spread of each statistic: mean, standard deviation, 95 % confidence
 //! interval of the mean) and histograms of σ and of the minimum force.
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use pcsim_core::analysis::montecarlo::{monte_carlo, stat_of, Spread, MC_STATS};
 use pcsim_core::Case;
 use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::common::{shown, Ctx, Override};
-use crate::output::write_manifest;
+use crate::output::{write_file, write_manifest};
 use crate::progress::Progress;
 
 pub fn run_seeds(
@@ -23,6 +23,9 @@ pub fn run_seeds(
     ctx: &Ctx,
 ) -> Result<i32> {
     crate::common::setup(case, overrides, ctx)?;
+    let od = crate::output::OutDir::begin(out)?;
+    let target = out;
+    let out = od.path();
     let pb = Progress::new(
         "montecarlo",
         n as u64,
@@ -31,7 +34,6 @@ pub fn run_seeds(
     );
     let real = monte_carlo(case, n, jobs, &ctx.budget, &|| pb.inc())?;
     pb.finish();
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     let names: Vec<String> = real[0]
         .output
         .pantographs
@@ -84,7 +86,7 @@ pub fn run_seeds(
         }
         csv.push('\n');
     }
-    std::fs::write(out.join("montecarlo.csv"), csv)?;
+    write_file(&out.join("montecarlo.csv"), csv)?;
     // The spread of each statistic.
     let mut stats = serde_json::Map::new();
     for (p, nm) in names.iter().enumerate() {
@@ -106,8 +108,8 @@ pub fn run_seeds(
         "statistics": stats,
         "note": "spread over the realisations: mean, standard deviation (N-1), 95 % confidence interval of the mean (Student's t), min, max",
     });
-    std::fs::write(
-        out.join("montecarlo.json"),
+    write_file(
+        &out.join("montecarlo.json"),
         serde_json::to_string_pretty(&summary)? + "\n",
     )?;
     write_manifest(out, "montecarlo", serde_json::json!({ "realisations": n }))?;
@@ -127,13 +129,18 @@ pub fn run_seeds(
             }
         }
     }
+    let files = if plot {
+        od.in_target(&crate::plot::redraw_kind(out, "montecarlo")?)
+    } else {
+        Vec::new()
+    };
+    od.commit()?;
     println!(
         "wrote {} and {}",
-        shown(out, "montecarlo.csv"),
-        shown(out, "montecarlo.json")
+        shown(target, "montecarlo.csv"),
+        shown(target, "montecarlo.json")
     );
     if plot {
-        let files = crate::plot::redraw(out)?;
         crate::plot::report(&files);
     }
     Ok(0)

@@ -11,6 +11,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use crate::common::{apply, case_name, length, load_case, setup, shown, Ctx, Override};
+use crate::output::write_file;
 use crate::progress::Progress;
 
 #[derive(Args)]
@@ -62,8 +63,8 @@ pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
         eprintln!("warning: {w}");
     }
     let dt = s.options.dt_s;
-    std::fs::create_dir_all(&a.out)
-        .with_context(|| format!("cannot create {}", a.out.display()))?;
+    let od = crate::output::OutDir::begin(&a.out)?;
+    let dir = od.path();
     let pb = Progress::run("full model", ctx.progress);
     let study = window_study(&case, &windows, None, &mut |f| {
         pb.set((f * 1000.0) as u64);
@@ -123,7 +124,7 @@ pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
             "measured", "", "", m, s
         );
     }
-    std::fs::write(a.out.join("realtime.csv"), table)?;
+    write_file(&dir.join("realtime.csv"), table)?;
     // Time histories (0–20 Hz) of the full model and each window.
     let ff = lowpass_zero_phase(&full.pantographs[0].force_n, 1.0 / dt, CUTOFF_HZ);
     let wf: Vec<Vec<f64>> = runs
@@ -149,9 +150,9 @@ pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
         }
         ts.push('\n');
     }
-    std::fs::write(a.out.join("timeseries.csv"), ts)?;
+    write_file(&dir.join("timeseries.csv"), ts)?;
     crate::output::write_manifest(
-        &a.out,
+        dir,
         "realtime",
         serde_json::json!({
             "case_name": name,
@@ -160,13 +161,18 @@ pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
             "overrides": overrides.iter().map(|o| o.flag.clone()).collect::<Vec<_>>(),
         }),
     )?;
+    let files = if a.no_plot {
+        Vec::new()
+    } else {
+        od.in_target(&crate::plot::redraw_kind(dir, "realtime")?)
+    };
+    od.commit()?;
     println!(
         "wrote {} and {}",
         shown(&a.out, "realtime.csv"),
         shown(&a.out, "timeseries.csv")
     );
     if !a.no_plot {
-        let files = crate::plot::redraw(&a.out)?;
         crate::plot::report(&files);
     }
     Ok(0)

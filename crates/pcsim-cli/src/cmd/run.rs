@@ -58,22 +58,29 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
     if a.jobs == Some(0) {
         anyhow::bail!("--jobs 0: give at least 1 worker (leave it out to use every core)");
     }
+    // The output directory is locked before the work starts: a second writer is refused at once.
     if a.seeds.is_some() {
         let n = crate::common::seeds_flag(a.seeds, &case)?;
         return crate::cmd::montecarlo::run_seeds(
             &case, &overrides, n, a.jobs, &a.out, a.plot, ctx,
         );
     }
+    let od = crate::output::OutDir::begin(&a.out)?;
     let (out, wall, warnings) = run_with_progress(&case, &overrides, "run", ctx)?;
     for w in pcsim_core::analysis::report::run_verdicts(&out) {
         eprintln!("warning: {w}");
     }
     let flags = overrides.iter().map(|o| o.flag.clone()).collect();
     let summary = Summary::new(&case, &out, wall, flags, warnings);
-    write_run(&a.out, &out, &summary)?;
-    if a.plot {
+    write_run(od.path(), &out, &summary)?;
+    let files = if a.plot {
         // From the files just written: exactly what `pcsim plot DIR` draws.
-        let files = crate::plot::redraw(&a.out)?;
+        od.in_target(&crate::plot::redraw_kind(od.path(), "run")?)
+    } else {
+        Vec::new()
+    };
+    od.commit()?;
+    if a.plot {
         crate::plot::report(&files);
     }
     println!(

@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::common::{apply, load_case, shown, Ctx};
-use crate::output::write_manifest;
+use crate::output::{write_file, write_manifest};
 use crate::progress::Progress;
 use crate::sweep_dir::{fnv1a64, merge, write_montecarlo, SweepKind};
 
@@ -160,8 +160,10 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
         .filter(|j| shard.contains(j.index))
         .cloned()
         .collect();
-    std::fs::create_dir_all(a.out.join("cases"))
-        .with_context(|| format!("cannot create {}", a.out.display()))?;
+    let od = crate::output::OutDir::begin(&a.out)?;
+    let dir = od.path();
+    std::fs::create_dir_all(dir.join("cases"))
+        .with_context(|| format!("cannot create {}", dir.join("cases").display()))?;
     let pb = Progress::new(
         "window",
         mine.len() as u64,
@@ -181,7 +183,7 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
                 e.window_m, e.mean_pct, e.sigma_pct, e.max_pct
             );
         }
-        std::fs::write(a.out.join("cases").join(format!("{st}_errors.csv")), errs)?;
+        write_file(&dir.join("cases").join(format!("{st}_errors.csv")), errs)?;
         let cv = &c.curves;
         let mut en = String::from("window_m,snapshot_j,max_j,mean_j\n");
         for i in 0..cv.window_m.len() {
@@ -191,7 +193,7 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
                 cv.window_m[i], cv.snapshot_j[i], cv.max_j[i], cv.mean_j[i]
             );
         }
-        std::fs::write(a.out.join("cases").join(format!("{st}_energy.csv")), en)?;
+        write_file(&dir.join("cases").join(format!("{st}_energy.csv")), en)?;
     }
     let rows: Vec<&WindowRow> = results.iter().map(|c| &c.row).collect();
     let mut csv = String::from(HEADER);
@@ -200,9 +202,9 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
         csv.push_str(&r.to_csv());
         csv.push('\n');
     }
-    std::fs::write(a.out.join("window.csv"), &csv)?;
+    write_file(&dir.join("window.csv"), &csv)?;
     write_manifest(
-        &a.out,
+        dir,
         "window",
         serde_json::json!({
             "fingerprint": fingerprint,
@@ -236,8 +238,8 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
         );
     }
     if shard == Shard::ALL {
-        finish(&a.out)?;
-        if let Ok(fit) = std::fs::read_to_string(a.out.join("fit.csv")) {
+        finish(dir)?;
+        if let Ok(fit) = std::fs::read_to_string(dir.join("fit.csv")) {
             if let Some(best) = fit.lines().nth(1) {
                 let f: Vec<&str> = best.split(',').collect();
                 println!(
@@ -247,13 +249,18 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
             }
         }
     }
+    let files = if !a.no_plot && shard == Shard::ALL {
+        od.in_target(&crate::plot::redraw_kind(dir, "window")?)
+    } else {
+        Vec::new()
+    };
+    od.commit()?;
     println!(
         "wrote {} and {}",
         shown(&a.out, "window.csv"),
         shown(&a.out, "fit.csv")
     );
-    if !a.no_plot && shard == Shard::ALL {
-        let files = crate::plot::redraw(&a.out)?;
+    if !files.is_empty() {
         crate::plot::report(&files);
     }
     Ok(0)
@@ -343,7 +350,7 @@ fn finish(dir: &Path) -> Result<()> {
             f.criterion, f.rms_error_m, f.max_error_m, f.cases, f.misses
         );
     }
-    std::fs::write(dir.join("fit.csv"), out)?;
+    write_file(&dir.join("fit.csv"), out)?;
     write_montecarlo(
         dir,
         "window.csv",

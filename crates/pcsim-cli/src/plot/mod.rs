@@ -287,20 +287,21 @@ pub fn figure(stem: &Path, f: &Figure) -> Result<Vec<PathBuf>> {
     Ok(vec![svg, png])
 }
 
-/// Redraw the figures of an output directory from its files (its manifest says its kind; older
-/// directories are recognised by their files).
+/// Redraw the figures of a complete output directory from its files (its manifest says its
+/// kind; an incomplete or foreign directory is refused), under the directory's lock, and list
+/// the figures in its manifest.
 pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
-    let kind = match crate::output::read_manifest(dir)? {
-        Some(m) => m["kind"].as_str().unwrap_or("").to_string(),
-        None if dir.join("summary.json").exists() => "run".into(),
-        None if dir.join("eva.csv").exists() => "eva".into(),
-        None if dir.join("realtime.csv").exists() => "realtime".into(),
-        None => anyhow::bail!(
-            "{} is not an output directory of pcsim (no pcsim.json, summary.json, eva.csv or realtime.csv)",
-            dir.display()
-        ),
-    };
-    match kind.as_str() {
+    let _lock = crate::output::Lock::take(dir)?;
+    let m = crate::output::read_complete_manifest(dir)?;
+    let files = redraw_kind(dir, &m.kind)?;
+    crate::output::complete_manifest(dir)?;
+    Ok(files)
+}
+
+/// Redraw the figures of a directory of `kind` from its files (a command's own staging
+/// directory, before it is committed).
+pub fn redraw_kind(dir: &Path, kind: &str) -> Result<Vec<PathBuf>> {
+    match kind {
         "run" => run::redraw(dir),
         "eva" => eva::redraw(dir),
         "realtime" => realtime::redraw(dir),

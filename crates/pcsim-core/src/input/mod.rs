@@ -28,6 +28,34 @@ pub fn case_from_file(path: &str, read: std::io::Result<String>) -> Result<Case,
         })
 }
 
+/// The largest input a front end reads by default, bytes: a case file, a profile, a HIL input
+/// or a saved state (the largest real inputs are HIL recordings of a few tens of MB). The CLI
+/// raises it with `--max-input-mb`.
+pub const MAX_INPUT_BYTES: u64 = 256 << 20;
+
+/// Read all of `reader` as UTF-8 text, refusing more than `limit_bytes` (the one bounded read of
+/// every front end: the core opens no file, the front end hands over the reader). The error says
+/// the limit; the front end names the file and how to raise it.
+pub fn read_text_limited(reader: impl std::io::Read, limit_bytes: u64) -> std::io::Result<String> {
+    use std::io::Read;
+    let mut buf = Vec::new();
+    reader
+        .take(limit_bytes.saturating_add(1))
+        .read_to_end(&mut buf)?;
+    if buf.len() as u64 > limit_bytes {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!("larger than the limit of {limit_bytes} bytes"),
+        ));
+    }
+    String::from_utf8(buf).map_err(|e| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()),
+        )
+    })
+}
+
 /// An embedded preset by name (the same wording for an unknown name everywhere).
 pub fn case_from_preset(name: &str) -> Result<Case, crate::CaseError> {
     Ok(presets::load(name)?.0)

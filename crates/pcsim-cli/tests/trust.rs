@@ -1,0 +1,515 @@
+//! Regression tests of issue 19 ("outputs a user can trust"), one per item, each named after what
+//! it guards: output directories are transactions (a manifest written last, a lock, a reused
+//! directory replaced whole, a killed run never taken for complete), inputs are bounded, a
+//! corrupt shard is an error and never a panic, and the `hil` input has a header.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn pcsim() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_pcsim"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("pcsim-trust-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Exit status 2 with every `needle` in the error, and no panic.
+fn refused(o: &Output, needles: &[&str]) {
+    let e = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(!e.contains("panicked"), "{e}");
+    for n in needles {
+        assert!(e.contains(n), "`{n}` not in: {e}");
+    }
+}
+
+fn ok(o: &Output) {
+    assert!(o.status.success(), "{}", stderr(o));
+}
+
+/// What a reader may take from a directory: `Some(files)` when its manifest says it is complete
+/// and lists files that are all there, `None` otherwise.
+fn complete_files(dir: &Path) -> Option<Vec<String>> {
+    let text = std::fs::read_to_string(dir.join("pcsim.json")).ok()?;
+    let m: serde_json::Value = serde_json::from_str(&text).ok()?;
+    if m["complete"] != serde_json::Value::Bool(true) {
+        return None;
+    }
+    let files: Vec<String> = m["files"]
+        .as_array()?
+        .iter()
+        .map(|f| f.as_str().unwrap().to_string())
+        .collect();
+    assert!(
+        files.iter().all(|f| dir.join(f).is_file()),
+        "{}: a complete manifest lists a missing file",
+        dir.display()
+    );
+    Some(files)
+}
+
+/// A short SYT case (8 spans), seconds to run.
+fn short_syt(dir: &Path) -> PathBuf {
+    let (mut c, _) = pcsim_core::presets::load("syt-7.0-9.8").unwrap();
+    c.catenary.spans = 8;
+    c.run.modes = Some(480);
+    c.run.start_m = 60.0;
+    c.run.end_m = 400.0;
+    c.run.analysis_m = [180.0, 300.0];
+    let p = dir.join("syt-short.toml");
+    std::fs::write(&p, c.to_toml_string()).unwrap();
+    p
+}
+
+#[test]
+fn issue_19_1_a_run_writes_a_complete_manifest_last_listing_its_files() {
+    let d = scratch("manifest");
+    let out = d.join("out");
+    ok(&pcsim()
+        .args(["run", "--preset", "syt-7.0-9.8", "--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap());
+    let files = complete_files(&out).expect("a complete manifest");
+    assert_eq!(files, ["summary.json", "timeseries.csv"]);
+    // Nothing is left beside it: no staging directory, no lock.
+    let left: Vec<String> = std::fs::read_dir(&d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    assert!(left.is_empty(), "left beside the output: {left:?}");
+}
+
+#[test]
+fn issue_19_1_a_reused_directory_is_replaced_whole() {
+    let d = scratch("reuse");
+    let out = d.join("out");
+    ok(&pcsim()
+        .args([
+            "run",
+            "--preset",
+            "syt-7.0-9.8",
+            "--quiet",
+            "--plot",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap());
+    assert!(out.join("contact_force_leading.png").exists());
+    // The same directory again, without figures: the previous run's figures are gone.
+    ok(&pcsim()
+        .args(["run", "--preset", "syt-7.0-9.8", "--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap());
+    assert!(!out.join("contact_force_leading.png").exists());
+    assert_eq!(
+        complete_files(&out).unwrap(),
+        ["summary.json", "timeseries.csv"]
+    );
+}
+
+#[test]
+fn issue_19_1_a_directory_holding_other_files_is_refused_not_deleted() {
+    let d = scratch("foreign");
+    let out = d.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let o = pcsim()
+        .args(["run", "--preset", "syt-7.0-9.8", "--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    refused(&o, &["not an output of pcsim"]);
+    // A pcsim output with a file added by hand is refused too, naming the file.
+    let out2 = d.join("out2");
+    ok(&pcsim()
+        .args(["run", "--preset", "syt-7.0-9.8", "--quiet", "--out"])
+        .arg(&out2)
+        .output()
+        .unwrap());
+    std::fs::write(out2.join("notes.txt"), "mine").unwrap();
+    let o = pcsim()
+        .args(["run", "--preset", "syt-7.0-9.8", "--quiet", "--out"])
+        .arg(&out2)
+        .output()
+        .unwrap();
+    refused(&o, &["notes.txt", "did not write"]);
+    assert_eq!(
+        std::fs::read_to_string(out.join("notes.txt")).unwrap(),
+        "mine"
+    );
+    assert_eq!(
+        std::fs::read_to_string(out2.join("notes.txt")).unwrap(),
+        "mine"
+    );
+}
+
+#[test]
+fn issue_19_1_a_second_writer_to_the_same_directory_is_refused() {
+    let d = scratch("lock");
+    let out = d.join("out");
+    // A longer run holds the lock while a second one starts.
+    let mut first = pcsim()
+        .args(["run", "--preset", "stitched-2018-like", "--quiet", "--out"])
+        .arg(&out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let lock = d.join(".out.pcsim-lock");
+    let t0 = Instant::now();
+    while !lock.exists() && t0.elapsed() < Duration::from_secs(20) {
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert!(lock.exists(), "the first writer took no lock");
+    let o = pcsim()
+        .args(["run", "--preset", "syt-7.0-9.8", "--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let _ = first.kill();
+    let _ = first.wait();
+    refused(&o, &["being written by another pcsim"]);
+    // The first writer was killed: its lock is stale and the next writer takes it over.
+    ok(&pcsim()
+        .args(["run", "--preset", "syt-7.0-9.8", "--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap());
+    assert!(complete_files(&out).is_some());
+}
+
+/// A run killed at 20 random moments (computing, writing, committing) never leaves a directory
+/// that a reader takes for complete unless it is whole: a complete manifest lists files that
+/// are all there, and its time series has every row of an undisturbed run.
+#[test]
+fn issue_19_1_a_killed_run_never_leaves_a_directory_taken_for_complete() {
+    let d = scratch("kill");
+    let reference = d.join("reference");
+    ok(&pcsim()
+        .args(["run", "--preset", "syt-7.0-9.8", "--quiet", "--out"])
+        .arg(&reference)
+        .output()
+        .unwrap());
+    let rows = std::fs::read_to_string(reference.join("timeseries.csv"))
+        .unwrap()
+        .lines()
+        .count();
+    let t = Instant::now();
+    ok(&pcsim()
+        .args(["run", "--preset", "syt-7.0-9.8", "--quiet", "--out"])
+        .arg(d.join("timing"))
+        .output()
+        .unwrap());
+    let wall = t.elapsed().as_secs_f64();
+    // A deterministic spread of kill points over the run (seeded, as every random input).
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let out = d.join("out");
+    let mut complete = 0;
+    for _ in 0..20 {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        let at = (state % 1000) as f64 / 1000.0 * wall * 1.2;
+        let mut child = pcsim()
+            .args(["run", "--preset", "syt-7.0-9.8", "--quiet", "--out"])
+            .arg(&out)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(Duration::from_secs_f64(at));
+        let _ = child.kill();
+        let _ = child.wait();
+        if let Some(files) = complete_files(&out) {
+            complete += 1;
+            assert_eq!(files, ["summary.json", "timeseries.csv"]);
+            let n = std::fs::read_to_string(out.join("timeseries.csv"))
+                .unwrap()
+                .lines()
+                .count();
+            assert_eq!(n, rows, "a complete directory with a truncated time series");
+            let s: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                    .unwrap();
+            assert!(s["pantographs"].is_array());
+        } else {
+            assert!(
+                !out.join("pcsim.json").exists() || !out.exists(),
+                "an incomplete directory with a manifest"
+            );
+        }
+    }
+    // The next run after the kills completes (stale locks and staging folders are cleared).
+    ok(&pcsim()
+        .args(["run", "--preset", "syt-7.0-9.8", "--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap());
+    assert!(complete_files(&out).is_some());
+    let left: Vec<String> = std::fs::read_dir(&d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".out."))
+        .collect();
+    assert!(
+        left.is_empty(),
+        "left behind: {left:?} ({complete} of 20 kills came after the commit)"
+    );
+}
+
+#[test]
+fn issue_19_1_a_write_error_names_the_file_and_leaves_no_complete_directory() {
+    let d = scratch("efbig");
+    let out = d.join("out");
+    // A file-size limit of 100 kB (timeseries.csv is larger), with SIGXFSZ ignored so that the
+    // write fails with EFBIG instead of killing the process.
+    let o = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -f 200; trap '' XFSZ; exec '{}' run --preset syt-7.0-9.8 --quiet --out '{}'",
+            env!("CARGO_BIN_EXE_pcsim"),
+            out.display()
+        ))
+        .output()
+        .unwrap();
+    refused(&o, &["timeseries.csv"]);
+    assert!(complete_files(&out).is_none());
+    assert!(!out.exists(), "a failed run left its directory");
+}
+
+#[test]
+fn issue_19_2_inputs_are_bounded_and_the_error_names_the_limit_and_the_flag() {
+    let d = scratch("bounded");
+    let t = Instant::now();
+    let o = pcsim()
+        .args(["run", "/dev/zero", "--quiet", "--out"])
+        .arg(d.join("out"))
+        .output()
+        .unwrap();
+    refused(&o, &["/dev/zero", "limit", "--max-input-mb"]);
+    assert!(
+        t.elapsed() < Duration::from_secs(30),
+        "reading /dev/zero took {:?}",
+        t.elapsed()
+    );
+    // A 2 MB case under a 1 MB limit.
+    let big = d.join("big.toml");
+    let mut text = pcsim_core::presets::load("syt-7.0-9.8")
+        .unwrap()
+        .0
+        .to_toml_string();
+    text.push_str(&format!("\n# {}\n", "x".repeat(2 << 20)));
+    std::fs::write(&big, text).unwrap();
+    let o = pcsim()
+        .args(["--max-input-mb", "1", "run"])
+        .arg(&big)
+        .args(["--quiet", "--out"])
+        .arg(d.join("out"))
+        .output()
+        .unwrap();
+    refused(&o, &["big.toml", "limit", "--max-input-mb"]);
+    // The HIL input and the irregularity profile go through the same bounded read.
+    let o = pcsim()
+        .args([
+            "hil",
+            "--preset",
+            "syt-7.0-9.8",
+            "--input",
+            "/dev/zero",
+            "--out",
+        ])
+        .arg(d.join("hil.csv"))
+        .output()
+        .unwrap();
+    refused(&o, &["/dev/zero", "limit"]);
+    let o = pcsim()
+        .args([
+            "run",
+            "--preset",
+            "syt-7.0-9.8",
+            "--irregularity",
+            "/dev/zero",
+            "--out",
+        ])
+        .arg(d.join("out"))
+        .output()
+        .unwrap();
+    refused(&o, &["/dev/zero", "limit"]);
+}
+
+/// Make two shards of a tiny EVA sweep; returns the shard directories.
+fn two_shards(d: &Path) -> (PathBuf, PathBuf) {
+    let case = short_syt(d);
+    let mut dirs = Vec::new();
+    for i in 0..2 {
+        let s = d.join(format!("s{i}"));
+        ok(&pcsim()
+            .arg("eva")
+            .arg(&case)
+            .args(["--speed", "150,200", "--tension", "9.8", "--quiet"])
+            .args(["--shard", &format!("{i}/2"), "--out"])
+            .arg(&s)
+            .output()
+            .unwrap());
+        dirs.push(s);
+    }
+    (dirs[0].clone(), dirs[1].clone())
+}
+
+fn merge(d: &Path, a: &Path, b: &Path) -> Output {
+    pcsim()
+        .args(["eva", "merge"])
+        .arg(a)
+        .arg(b)
+        .args(["--quiet", "--no-plot", "--out"])
+        .arg(d.join("merged"))
+        .output()
+        .unwrap()
+}
+
+fn edit_manifest(dir: &Path, f: impl FnOnce(&mut serde_json::Value)) {
+    let p = dir.join("pcsim.json");
+    let mut m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+    f(&mut m);
+    std::fs::write(&p, serde_json::to_string_pretty(&m).unwrap()).unwrap();
+}
+
+#[test]
+fn issue_19_3_a_corrupt_or_foreign_shard_is_an_error_never_a_panic() {
+    let d = scratch("merge");
+    let (a, b) = two_shards(&d);
+    ok(&merge(&d, &a, &b));
+    let keep = std::fs::read_to_string(b.join("pcsim.json")).unwrap();
+    let cases: [(serde_json::Value, &str, &str); 4] = [
+        (serde_json::json!([7, 3]), "shard", "0 ≤ I < N"),
+        (serde_json::json!([0, 0]), "shard", "0 ≤ I < N"),
+        (
+            serde_json::json!([0, u64::MAX]),
+            "shard",
+            "more than a sweep",
+        ),
+        (serde_json::json!("x"), "shard", "not [I, N]"),
+    ];
+    for (v, field, why) in cases {
+        edit_manifest(&b, |m| m["shard"] = v.clone());
+        refused(&merge(&d, &a, &b), &[field, why]);
+        std::fs::write(b.join("pcsim.json"), &keep).unwrap();
+    }
+    edit_manifest(&b, |m| m["cases"] = serde_json::json!(u64::MAX));
+    refused(&merge(&d, &a, &b), &["cases"]);
+    std::fs::write(b.join("pcsim.json"), &keep).unwrap();
+    // Another version of pcsim.
+    edit_manifest(&b, |m| m["pcsim_version"] = serde_json::json!("0.0.1"));
+    refused(&merge(&d, &a, &b), &["0.0.1", "rerun the shard"]);
+    std::fs::write(b.join("pcsim.json"), &keep).unwrap();
+    // An incomplete shard (its run was interrupted).
+    edit_manifest(&b, |m| m["complete"] = serde_json::json!(false));
+    refused(&merge(&d, &a, &b), &["not complete"]);
+    std::fs::write(b.join("pcsim.json"), &keep).unwrap();
+    // Not JSON at all.
+    std::fs::write(b.join("pcsim.json"), "{not json").unwrap();
+    refused(&merge(&d, &a, &b), &["not valid JSON"]);
+    std::fs::write(b.join("pcsim.json"), &keep).unwrap();
+    // Its cases/ folder removed.
+    std::fs::remove_dir_all(b.join("cases")).unwrap();
+    refused(&merge(&d, &a, &b), &["missing"]);
+}
+
+#[test]
+fn issue_19_7_a_hil_input_needs_its_header_and_rows() {
+    let d = scratch("hil");
+    let run = |name: &str, text: &str| {
+        let p = d.join(name);
+        std::fs::write(&p, text).unwrap();
+        pcsim()
+            .args(["hil", "--preset", "syt-7.0-9.8", "--input"])
+            .arg(&p)
+            .arg("--out")
+            .arg(d.join("out.csv"))
+            .output()
+            .unwrap()
+    };
+    refused(&run("empty.csv", ""), &["empty.csv", "is empty"]);
+    refused(
+        &run(
+            "header.csv",
+            "time_s,contact_force_n,pantograph_position_m\n",
+        ),
+        &["no rows"],
+    );
+    refused(
+        &run("abc.csv", "a,b,c\n0,85,0\n"),
+        &["line 1", "`a,b,c`", "time_s"],
+    );
+    // A file without a header: its first row is not taken for one.
+    refused(&run("noheader.csv", "0,85,0\n0.001,85,0.06\n"), &["line 1"]);
+    assert!(!d.join("out.csv").exists());
+}
+
+#[test]
+fn issue_19_7_the_repository_ships_a_hil_input_that_the_readme_command_replays() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let line = readme
+        .lines()
+        .find(|l| l.trim_start().starts_with("pcsim hil "))
+        .expect("the README shows a pcsim hil command");
+    let input = line
+        .split_whitespace()
+        .skip_while(|w| *w != "--input")
+        .nth(1)
+        .expect("--input FILE");
+    assert!(
+        root.join(input).is_file(),
+        "the README's {input} does not exist"
+    );
+    let d = scratch("hil-example");
+    let o = pcsim()
+        .args(["hil", "--preset", "syt-7.0-9.8", "--quiet", "--input"])
+        .arg(root.join(input))
+        .arg("--out")
+        .arg(d.join("out.csv"))
+        .output()
+        .unwrap();
+    ok(&o);
+    let out = std::fs::read_to_string(d.join("out.csv")).unwrap();
+    assert!(out.lines().count() > 100);
+    assert!(out.lines().skip(1).all(|l| l.ends_with(",ok")));
+}
+
+#[test]
+fn issue_19_7_hil_reports_progress() {
+    let d = scratch("hil-progress");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let o = pcsim()
+        .env("PCSIM_PROGRESS_EVERY_S", "0")
+        .args([
+            "hil",
+            "--preset",
+            "syt-7.0-9.8",
+            "--progress",
+            "plain",
+            "--input",
+        ])
+        .arg(root.join("examples/hil/input.csv"))
+        .arg("--out")
+        .arg(d.join("out.csv"))
+        .output()
+        .unwrap();
+    ok(&o);
+    assert!(stderr(&o).contains("hil:"), "{}", stderr(&o));
+}
