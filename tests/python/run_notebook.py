@@ -13,4 +13,8 @@ outs = [o for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", [
 text = "".join(o.get("text", "") for o in outs if o.get("output_type") == "stream")
 if "checks pass" not in text:
     sys.exit("the notebook's checks did not run to the end")
+# The figures show (issue 19: a `matplotlib.use("Agg")` had left the notebook without any).
+figures = sum(1 for o in outs if "image/png" in o.get("data", {}))
+if figures == 0:
+    sys.exit("the notebook shows no figure")
 print(f"notebook {sys.argv[1]}: {len(nb.cells)} cells executed, checks pass")

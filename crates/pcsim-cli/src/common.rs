@@ -138,6 +138,22 @@ pub fn length(flag: &str, text: &str) -> Result<f64> {
         .value)
 }
 
+/// Check `--jobs` (at least 1) and say when it is capped at the core's limit
+/// (`analysis::sweep::max_jobs`: 4 workers per core).
+pub fn jobs_flag(jobs: Option<usize>) -> Result<()> {
+    if jobs == Some(0) {
+        bail!("--jobs 0: give at least 1 worker (leave it out to use every core)");
+    }
+    let cap = pcsim_core::analysis::sweep::max_jobs();
+    if let Some(n) = jobs.filter(|&n| n > cap) {
+        eprintln!(
+            "note: --jobs {n}: capped at {cap} workers ({} per core on this machine)",
+            pcsim_core::analysis::sweep::MAX_JOBS_PER_CORE
+        );
+    }
+    Ok(())
+}
+
 /// The sweep flags shared by `eva` and `window`: speeds (km/h unless a unit is given), contact-
 /// wire tensions (kN unless a unit is given), and the shard. Errors name the flag.
 pub fn sweep_flags(
@@ -147,9 +163,7 @@ pub fn sweep_flags(
     shard: Option<&str>,
 ) -> Result<(Vec<f64>, Vec<f64>, pcsim_core::analysis::sweep::Shard)> {
     use pcsim_core::analysis::sweep::Shard;
-    if jobs == Some(0) {
-        bail!("--jobs 0: give at least 1 worker (leave it out to use every core)");
-    }
+    jobs_flag(jobs)?;
     let shard = match shard {
         None => Shard::ALL,
         Some(s) => Shard::parse(s)?,

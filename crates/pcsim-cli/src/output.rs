@@ -428,5 +428,9 @@ pub fn write_run(dir: &Path, out: &RunOutput, summary: &Summary) -> Result<()> {
     }
     w.flush()
         .with_context(|| format!("cannot write {}", path.display()))?;
-    write_manifest(dir, "run", serde_json::json!({}))
+    write_manifest(
+        dir,
+        "run",
+        serde_json::json!({ "overrides": summary.overrides }),
+    )
 }

@@ -324,9 +324,14 @@ pub fn write_montecarlo(dir: &Path, csv: &str, group: &[&str], values: &[&str]) 
             let missing = members.len() - vals.len();
             match Spread::of(&vals) {
                 Some(s) => {
+                    // An undefined spread (one realisation) is an empty cell, never 0.
+                    let o = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:.4}"));
                     out += &format!(
-                        ",{:.4},{:.4},{:.4},{:.4},{missing}",
-                        s.mean, s.std, s.ci95_low, s.ci95_high
+                        ",{:.4},{},{},{},{missing}",
+                        s.mean,
+                        o(s.std),
+                        o(s.ci95_low),
+                        o(s.ci95_high)
                     )
                 }
                 None => out += &format!(",,,,,{missing}"),

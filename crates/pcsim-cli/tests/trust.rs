@@ -513,3 +513,321 @@ fn issue_19_7_hil_reports_progress() {
     ok(&o);
     assert!(stderr(&o).contains("hil:"), "{}", stderr(&o));
 }
+
+/// A short SYT case with a seeded random input (dropper-height errors), for `--seeds`.
+fn short_random(dir: &Path) -> PathBuf {
+    let (mut c, _) = pcsim_core::presets::load("syt-7.0-9.8").unwrap();
+    c.catenary.spans = 8;
+    c.run.modes = Some(480);
+    c.run.start_m = 60.0;
+    c.run.end_m = 400.0;
+    c.run.analysis_m = [180.0, 300.0];
+    c.irregularity
+        .push(pcsim_core::input::case::IrregularityCase::Droppers {
+            rms_m: 0.005,
+            seed: 11,
+        });
+    let p = dir.join("syt-random.toml");
+    std::fs::write(&p, c.to_toml_string()).unwrap();
+    p
+}
+
+#[test]
+fn issue_19_2_jobs_are_capped_with_a_note_and_the_run_progresses() {
+    let d = scratch("jobs");
+    let case = short_random(&d);
+    let t = Instant::now();
+    let o = pcsim()
+        .arg("run")
+        .arg(&case)
+        .args(["--seeds", "2", "--jobs", "10000", "--quiet", "--out"])
+        .arg(d.join("mc"))
+        .output()
+        .unwrap();
+    ok(&o);
+    assert!(
+        stderr(&o).contains("--jobs 10000: capped at"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(
+        t.elapsed() < Duration::from_secs(60),
+        "took {:?}",
+        t.elapsed()
+    );
+}
+
+#[test]
+fn issue_19_4_a_non_finite_sample_never_hangs_the_plotting() {
+    let d = scratch("inf");
+    let out = d.join("out");
+    ok(&pcsim()
+        .args(["run", "--preset", "syt-7.0-9.8", "--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap());
+    let p = out.join("timeseries.csv");
+    let mut lines: Vec<String> = std::fs::read_to_string(&p)
+        .unwrap()
+        .lines()
+        .map(String::from)
+        .collect();
+    for (k, v) in [(500, "inf"), (900, "NaN"), (1300, "-inf")] {
+        let mut c: Vec<String> = lines[k].split(',').map(String::from).collect();
+        c[2] = v.into();
+        lines[k] = c.join(",");
+    }
+    std::fs::write(&p, lines.join("\n") + "\n").unwrap();
+    let mut child = pcsim()
+        .arg("plot")
+        .arg(&out)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let t0 = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        assert!(
+            t0.elapsed() < Duration::from_secs(60),
+            "pcsim plot hangs on a non-finite sample"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let o = child.wait_with_output().unwrap();
+    ok(&o);
+    assert!(
+        stderr(&o).contains("3 samples with a non-finite value"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(out.join("contact_force_leading.png").exists());
+}
+
+/// The SYT case with its pantograph pulled down: it never touches the wire.
+fn no_contact(dir: &Path) -> PathBuf {
+    let (mut c, _) = pcsim_core::presets::load("syt-7.0-9.8").unwrap();
+    if let pcsim_core::input::case::PantographCase::Lumped { uplift_n, .. } = &mut c.pantographs[0]
+    {
+        *uplift_n = -100.0;
+    }
+    let p = dir.join("no-contact.toml");
+    std::fs::write(&p, c.to_toml_string()).unwrap();
+    p
+}
+
+#[test]
+fn issue_19_4_a_case_without_contact_is_refused_by_the_studies_and_flagged_by_run() {
+    let d = scratch("nocontact");
+    let case = no_contact(&d);
+    for (cmd, extra) in [
+        ("realtime", vec!["--window", "120"]),
+        ("window", vec!["--speed", "222", "--tension", "9.8"]),
+        ("eva", vec!["--speed", "222", "--tension", "9.8"]),
+    ] {
+        let o = pcsim()
+            .arg(cmd)
+            .arg(&case)
+            .args(&extra)
+            .args(["--quiet", "--out"])
+            .arg(d.join(cmd))
+            .output()
+            .unwrap();
+        refused(
+            &o,
+            &[
+                "pantographs[0].uplift_n",
+                "never presses on the contact wire",
+            ],
+        );
+    }
+    let o = pcsim()
+        .arg("run")
+        .arg(&case)
+        .args(["--quiet", "--out"])
+        .arg(d.join("run"))
+        .output()
+        .unwrap();
+    ok(&o);
+    assert!(
+        stderr(&o).contains("never touched the contact wire"),
+        "{}",
+        stderr(&o)
+    );
+    let s = std::fs::read_to_string(d.join("run/summary.json")).unwrap();
+    assert!(s.contains("never touched the contact wire"));
+}
+
+#[test]
+fn issue_19_5_an_analysis_section_over_the_start_transient_is_refused_or_flagged() {
+    let d = scratch("transient");
+    let (mut c, _) = pcsim_core::presets::load("stitched-2018-like").unwrap();
+    c.run.analysis_m = [80.0, 1500.0];
+    let p = d.join("early.toml");
+    std::fs::write(&p, c.to_toml_string()).unwrap();
+    let o = pcsim()
+        .arg("run")
+        .arg(&p)
+        .args(["--quiet", "--out"])
+        .arg(d.join("o"))
+        .output()
+        .unwrap();
+    refused(
+        &o,
+        &[
+            "run.analysis_m",
+            "[80, 1500]",
+            "320 m",
+            "allow_start_transient",
+        ],
+    );
+    // The user insists: a warning in summary.json.
+    c.run.allow_start_transient = true;
+    std::fs::write(&p, c.to_toml_string()).unwrap();
+    ok(&pcsim()
+        .arg("run")
+        .arg(&p)
+        .args(["--quiet", "--out"])
+        .arg(d.join("o"))
+        .output()
+        .unwrap());
+    let s = std::fs::read_to_string(d.join("o/summary.json")).unwrap();
+    assert!(
+        s.contains("before the leading pantograph has settled"),
+        "{s}"
+    );
+}
+
+#[test]
+fn issue_19_5_one_realisation_has_an_undefined_spread_not_zero() {
+    let d = scratch("one-seed");
+    let case = short_random(&d);
+    ok(&pcsim()
+        .arg("run")
+        .arg(&case)
+        .args(["--seeds", "1", "--quiet", "--out"])
+        .arg(d.join("mc"))
+        .output()
+        .unwrap());
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("mc/montecarlo.json")).unwrap())
+            .unwrap();
+    let s = &m["statistics"]["leading"]["std_n"];
+    assert_eq!(s["n"], 1);
+    assert!(
+        s["std"].is_null() && s["ci95_low"].is_null() && s["ci95_high"].is_null(),
+        "{s}"
+    );
+}
+
+#[test]
+fn issue_19_8_errors_name_the_field_and_print_numbers_shortly() {
+    let d = scratch("friction");
+    let text = pcsim_core::presets::load("syt-7.0-9.8")
+        .unwrap()
+        .0
+        .to_toml_string();
+    // A wrong type inside [[pantographs]] names the field.
+    let mut v: toml::Value = toml::from_str(&text).unwrap();
+    v["pantographs"][0]["masses_kg"] = toml::Value::String("x".into());
+    let bad = toml::to_string(&v).unwrap();
+    let p = d.join("bad-pantograph.toml");
+    std::fs::write(&p, bad).unwrap();
+    let o = pcsim().arg("run").arg(&p).arg("--quiet").output().unwrap();
+    refused(&o, &["pantographs[0].masses_kg"]);
+    assert_eq!(
+        stderr(&o).matches("expected a sequence").count(),
+        1,
+        "{}",
+        stderr(&o)
+    );
+    // 1e-300 is printed as 1e-300.
+    let mut c = pcsim_core::presets::load("syt-7.0-9.8").unwrap().0;
+    c.run.speed_kmh = 1e-300;
+    let p = d.join("tiny.toml");
+    std::fs::write(&p, c.to_toml_string()).unwrap();
+    let o = pcsim().arg("run").arg(&p).arg("--quiet").output().unwrap();
+    refused(&o, &["1e-300"]);
+    assert!(stderr(&o).len() < 600, "{}", stderr(&o));
+    // 20 mm of ice that the design cannot carry names the ice.
+    let mut c = pcsim_core::presets::load("stitched-2018-like-3d")
+        .unwrap()
+        .0;
+    c.catenary.ice = Some(pcsim_core::input::lateral::IceCase {
+        density_kg_m3: 900.0,
+        contact_wire_m: 0.02,
+        messenger_m: 0.02,
+    });
+    let p = d.join("ice.toml");
+    std::fs::write(&p, c.to_toml_string()).unwrap();
+    let o = pcsim().arg("run").arg(&p).arg("--quiet").output().unwrap();
+    refused(&o, &["catenary.ice", "0.02 m"]);
+}
+
+#[test]
+fn issue_19_8_run_takes_dt_with_its_unit_and_the_manifest_holds_the_overrides() {
+    let d = scratch("dt");
+    let o = pcsim()
+        .args([
+            "run",
+            "--preset",
+            "syt-7.0-9.8",
+            "--dt",
+            "0.5ms",
+            "--speed",
+            "200",
+            "--quiet",
+            "--out",
+        ])
+        .arg(d.join("o"))
+        .output()
+        .unwrap();
+    ok(&o);
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("o/summary.json")).unwrap()).unwrap();
+    assert_eq!(s["dt_s"], 0.0005);
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("o/pcsim.json")).unwrap()).unwrap();
+    assert_eq!(
+        m["overrides"],
+        serde_json::json!(["--speed 200", "--dt 0.5ms"])
+    );
+}
+
+/// Every command of the README's "Using it" block is one pcsim accepts (its subcommand and flags,
+/// checked by clap with `--help` appended), and every file it names exists.
+#[test]
+fn issue_19_8_every_readme_command_parses_and_its_files_exist() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let block = readme
+        .split("## Using it")
+        .nth(1)
+        .and_then(|s| s.split("```sh").nth(1))
+        .and_then(|s| s.split("```").next())
+        .expect("the README's command block");
+    let mut checked = 0;
+    for line in block.lines() {
+        let cmd = line.split('#').next().unwrap().trim();
+        if !cmd.starts_with("pcsim ") || cmd.contains('…') {
+            continue;
+        }
+        let cmd = cmd.split('>').next().unwrap().trim();
+        let args: Vec<&str> = cmd.split_whitespace().skip(1).collect();
+        let o = pcsim()
+            .args(&args)
+            .arg("--help")
+            .current_dir(&root)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "`{cmd}`: {}", stderr(&o));
+        for a in &args {
+            if a.starts_with("examples/") || a.starts_with("data/") {
+                assert!(
+                    root.join(a).exists(),
+                    "`{cmd}` names {a}, which does not exist"
+                );
+            }
+        }
+        checked += 1;
+    }
+    assert!(checked >= 15, "only {checked} commands checked");
+}

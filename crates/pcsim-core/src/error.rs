@@ -31,20 +31,21 @@ pub enum CaseError {
         reason: String,
     },
     /// An error inside a case file, with the file it came from.
-    #[error("in case file '{path}': {source}")]
+    #[error("in case file '{path}': {error}")]
     InFile {
         /// The file.
         path: String,
-        /// What was wrong in it.
-        source: Box<CaseError>,
+        /// What was wrong in it (in the message, not a second link of the error chain, so that a
+        /// chain printed whole says it once).
+        error: Box<CaseError>,
     },
     /// An error of one case of a sweep or a study, with the case it belongs to.
-    #[error("{case}: {source}")]
+    #[error("{case}: {error}")]
     InCase {
         /// The case's name or index in a sweep.
         case: String,
         /// What was wrong in it.
-        source: Box<CaseError>,
+        error: Box<CaseError>,
     },
 }
 

@@ -92,6 +92,9 @@ pub fn one_span() -> Setup {
     c.run.start_m = 65.0;
     c.run.end_m = 115.0;
     c.run.analysis_m = [65.0, 115.0];
+    // A small model whose statistics include the start on purpose (its golden is the time
+    // history).
+    c.run.allow_start_transient = true;
     let full = Setup::from_case(&c).expect("zoo case is valid");
     let mut model = full.model.window(60.0, 60.0, 60, false);
     // A model of its own: its positions are its own coordinates (no track behind it).
@@ -121,6 +124,9 @@ pub fn stitched_three_spans() -> Setup {
     c.run.start_m = 20.0;
     c.run.end_m = 160.0;
     c.run.analysis_m = [60.0, 120.0];
+    // A small model whose statistics include the start on purpose (its golden is the time
+    // history).
+    c.run.allow_start_transient = true;
     Setup::from_case(&c).expect("zoo case is valid")
 }
 
@@ -138,6 +144,9 @@ pub fn two_pantographs() -> Setup {
     c.run.start_m = 130.0;
     c.run.end_m = 290.0;
     c.run.analysis_m = [140.0, 280.0];
+    // A small model whose statistics include the start on purpose (its golden is the time
+    // history).
+    c.run.allow_start_transient = true;
     Setup::from_case(&c).expect("zoo case is valid")
 }
 

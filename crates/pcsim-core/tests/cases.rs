@@ -320,3 +320,51 @@ fn the_number_of_realisations_is_checked_in_the_core() {
         .unwrap_err()
         .contains("at most"));
 }
+
+/// Every section a preset cites (`ref §N.M`, `docs/reference.md §N.M`) exists in the
+/// repository's copy of the reference notes, `docs/reference.md` (issue 19, item 8: sources cited
+/// a "README §3.1" that did not exist, and one read "CALIBRATE"): as a heading `### N.M`, or as
+/// item `M.` of section `## N.`.
+#[test]
+fn every_section_a_preset_cites_exists_and_no_source_is_a_placeholder() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let reference = std::fs::read_to_string(root.join("docs/reference.md")).unwrap();
+    let mut sections: Vec<String> = Vec::new();
+    let mut current = String::new();
+    for line in reference.lines() {
+        if let Some(h) = line.strip_prefix("## ") {
+            current = h.split('.').next().unwrap_or("").trim().to_string();
+            sections.push(current.clone());
+        } else if let Some(h) = line.strip_prefix("### ") {
+            sections.push(h.split_whitespace().next().unwrap_or("").to_string());
+        } else if let Some((n, _)) = line.split_once(". ") {
+            if !current.is_empty() && !n.is_empty() && n.chars().all(|c| c.is_ascii_digit()) {
+                sections.push(format!("{current}.{n}"));
+            }
+        }
+    }
+    let mut cited = 0;
+    for p in PRESETS {
+        for (i, _) in p.toml.match_indices('§') {
+            let n: String = p.toml[i + '§'.len_utf8()..]
+                .chars()
+                .take_while(|c| c.is_ascii_digit() || *c == '.')
+                .collect();
+            let n = n.trim_end_matches('.').to_string();
+            let before = &p.toml[..i];
+            let refers = before.ends_with("ref ") || before.ends_with("docs/reference.md ");
+            if refers {
+                cited += 1;
+                assert!(
+                    sections.contains(&n),
+                    "{} cites §{n}, which docs/reference.md does not have",
+                    p.name
+                );
+            }
+        }
+        for bad in ["CALIBRATE", "TODO", "TBD", "README §"] {
+            assert!(!p.toml.contains(bad), "{}: a source reads `{bad}`", p.name);
+        }
+    }
+    assert!(cited > 100, "only {cited} citations found");
+}

@@ -271,7 +271,13 @@ fn monte_carlo_gives_the_same_bytes_with_one_or_two_jobs() {
         .collect();
     assert!(sig[0] != sig[1] && sig[1] != sig[2]);
     let s = Spread::of(&sig).unwrap();
-    assert!(s.std > 0.0 && s.ci95_low < s.mean && s.mean < s.ci95_high);
+    assert!(s.std.unwrap() > 0.0 && s.ci95_low.unwrap() < s.mean && s.mean < s.ci95_high.unwrap());
+    // One realisation: the spread is undefined, not zero (issue 19, item 5).
+    let one = Spread::of(&sig[..1]).unwrap();
+    assert_eq!(
+        (one.n, one.std, one.ci95_low, one.ci95_high),
+        (1, None, None, None)
+    );
     assert_eq!(a[2].output.irregularity[0].seed, Some(13));
 }
 

@@ -138,6 +138,7 @@ fn three_direction_steps_with_wind_allocate_nothing() {
     case.run.start_m = 150.0;
     case.run.end_m = 300.0;
     case.run.analysis_m = [150.0, 300.0];
+    case.run.allow_start_transient = true; // an allocation count, not statistics
     case.run.modes = Some(240);
     let setup = pcsim_core::compile::Setup::from_case(&case).unwrap();
     let mut s = Stepper::new(&setup).unwrap();

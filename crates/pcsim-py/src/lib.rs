@@ -4,7 +4,7 @@
 //! over once. Errors of the core become `ValueError` with the core's message (naming the field).
 
 use numpy::IntoPyArray;
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 
@@ -27,6 +27,27 @@ fn err(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(e.to_string())
 }
 
+/// Run `f`, turning a panic into a `RuntimeError` with its message: no `PanicException` (a
+/// `BaseException`, which `except Exception` misses) reaches the user (issue 19, item 6).
+fn guarded<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)) {
+        Ok(r) => r,
+        Err(p) => {
+            let msg = p
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| p.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "a panic without a message".into());
+            Err(PyRuntimeError::new_err(format!(
+                "pcsim failed internally ({msg}); please report it with the case"
+            )))
+        }
+    }
+}
+
+/// How often a run looks for Ctrl-C (a signal waiting in the interpreter).
+const SIGNAL_EVERY: std::time::Duration = std::time::Duration::from_millis(50);
+
 /// A case: a catenary, its pantographs and a run (TOML, SI units as the field names say).
 #[pyclass(module = "pcsim._pcsim", frozen)]
 #[derive(Clone)]
@@ -47,75 +68,86 @@ impl Case {
     /// A case from TOML text (values plain or `{ value, source }`).
     #[staticmethod]
     fn from_toml(text: &str) -> PyResult<Case> {
-        Ok(Case {
-            inner: pcsim_core::Case::from_toml_str(text).map_err(err)?.0,
+        guarded(|| {
+            Ok(Case {
+                inner: pcsim_core::Case::from_toml_str(text).map_err(err)?.0,
+            })
         })
     }
 
     /// A case from a TOML file.
     #[staticmethod]
     fn from_file(path: std::path::PathBuf) -> PyResult<Case> {
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| err(format!("case file {}: {e}", path.display())))?;
-        Self::from_toml(&text).map_err(|e| err(format!("case file {}: {e}", path.display())))
+        guarded(|| {
+            let text = std::fs::File::open(&path)
+                .and_then(|f| {
+                    pcsim_core::input::read_text_limited(f, pcsim_core::input::MAX_INPUT_BYTES)
+                })
+                .map_err(|e| err(format!("case file {}: {e}", path.display())))?;
+            Self::from_toml(&text).map_err(|e| err(format!("case file {}: {e}", path.display())))
+        })
     }
 
     /// The case with values replaced by dotted path, each in the field's own unit:
     /// `{"run.speed_kmh": 300, "catenary.contact_wire.tension_n": 21000.0}`.
     fn with_overrides(&self, overrides: &Bound<'_, PyDict>) -> PyResult<Case> {
-        let mut list = Vec::with_capacity(overrides.len());
-        for (k, v) in overrides.iter() {
-            let path: String = k.extract()?;
-            let value = if let Ok(b) = v.extract::<bool>() {
-                OverrideValue::Bool(b)
-            } else if let Ok(i) = v.extract::<i64>() {
-                OverrideValue::Integer(i)
-            } else if let Ok(x) = v.extract::<f64>() {
-                OverrideValue::Number(x)
-            } else if let Ok(s) = v.extract::<String>() {
-                OverrideValue::Text(s)
-            } else if let Ok(l) = v.extract::<Vec<f64>>() {
-                OverrideValue::Numbers(l)
-            } else {
-                return Err(err(format!(
-                    "override `{path}`: give a number, a bool, a string or a list of numbers"
-                )));
-            };
-            list.push((path, value));
-        }
-        let inner = with_overrides(&self.inner, &list).map_err(err)?;
-        inner.validate().map_err(err)?;
-        Ok(Case { inner })
+        guarded(|| {
+            let mut list = Vec::with_capacity(overrides.len());
+            for (k, v) in overrides.iter() {
+                let path: String = k.extract()?;
+                let value = if let Ok(b) = v.extract::<bool>() {
+                    OverrideValue::Bool(b)
+                } else if let Ok(i) = v.extract::<i64>() {
+                    OverrideValue::Integer(i)
+                } else if let Ok(x) = v.extract::<f64>() {
+                    OverrideValue::Number(x)
+                } else if let Ok(s) = v.extract::<String>() {
+                    OverrideValue::Text(s)
+                } else if let Ok(l) = v.extract::<Vec<f64>>() {
+                    OverrideValue::Numbers(l)
+                } else {
+                    return Err(err(format!(
+                        "override `{path}`: give a number, a bool, a string or a list of numbers"
+                    )));
+                };
+                list.push((path, value));
+            }
+            let inner = with_overrides(&self.inner, &list).map_err(err)?;
+            inner.validate().map_err(err)?;
+            Ok(Case { inner })
+        })
     }
 
     /// The value at a dotted path (`"run.start_m"`, `"pantographs[0].masses_kg"`), in the
     /// field's unit; `ValueError` if there is none.
     fn get<'py>(&self, py: Python<'py>, path: &str) -> PyResult<Bound<'py, PyAny>> {
-        let root: toml::Value = toml::Value::try_from(&self.inner).map_err(err)?;
-        let mut v = &root;
-        for part in path.split('.') {
-            let (key, idx) = match part.find('[') {
-                Some(i) => (&part[..i], Some(&part[i..])),
-                None => (part, None),
-            };
-            v = v
-                .get(key)
-                .ok_or_else(|| err(format!("`{path}`: the case has no `{key}`")))?;
-            let mut rest = idx.unwrap_or("");
-            while let Some(r) = rest.strip_prefix('[') {
-                let end = r
-                    .find(']')
-                    .ok_or_else(|| err(format!("`{path}`: unclosed `[`")))?;
-                let i: usize = r[..end]
-                    .parse()
-                    .map_err(|_| err(format!("`{path}`: an index must be a whole number")))?;
+        guarded(|| {
+            let root: toml::Value = toml::Value::try_from(&self.inner).map_err(err)?;
+            let mut v = &root;
+            for part in path.split('.') {
+                let (key, idx) = match part.find('[') {
+                    Some(i) => (&part[..i], Some(&part[i..])),
+                    None => (part, None),
+                };
                 v = v
-                    .get(i)
-                    .ok_or_else(|| err(format!("`{path}`: index {i} is out of range")))?;
-                rest = &r[end + 1..];
+                    .get(key)
+                    .ok_or_else(|| err(format!("`{path}`: the case has no `{key}`")))?;
+                let mut rest = idx.unwrap_or("");
+                while let Some(r) = rest.strip_prefix('[') {
+                    let end = r
+                        .find(']')
+                        .ok_or_else(|| err(format!("`{path}`: unclosed `[`")))?;
+                    let i: usize = r[..end]
+                        .parse()
+                        .map_err(|_| err(format!("`{path}`: an index must be a whole number")))?;
+                    v = v
+                        .get(i)
+                        .ok_or_else(|| err(format!("`{path}`: index {i} is out of range")))?;
+                    rest = &r[end + 1..];
+                }
             }
-        }
-        to_py(py, v)
+            to_py(py, v)
+        })
     }
 
     /// The case as TOML text (plain values).
@@ -125,13 +157,15 @@ impl Case {
 
     /// Check every value: the warnings, or a `ValueError` naming the field and value.
     fn validate(&self) -> PyResult<Vec<String>> {
-        Ok(self
-            .inner
-            .validate()
-            .map_err(err)?
-            .into_iter()
-            .map(|w| w.0)
-            .collect())
+        guarded(|| {
+            Ok(self
+                .inner
+                .validate()
+                .map_err(err)?
+                .into_iter()
+                .map(|w| w.0)
+                .collect())
+        })
     }
 
     /// Pickling: by the TOML text.
@@ -193,19 +227,50 @@ fn hand_over<'py>(
 }
 
 fn run_core(case: &pcsim_core::Case) -> Result<(RunOutput, f64, Vec<String>), String> {
+    run_core_with(case, &mut |_| true)
+}
+
+fn run_core_with(
+    case: &pcsim_core::Case,
+    progress: &mut dyn FnMut(f64) -> bool,
+) -> Result<(RunOutput, f64, Vec<String>), String> {
     let setup = Setup::from_case(case).map_err(|e| e.to_string())?;
     let warnings = setup.warnings.iter().map(|w| w.0.clone()).collect();
     let t0 = std::time::Instant::now();
-    let out = simulate(&setup, &mut |_| true).map_err(|e| e.to_string())?;
+    let out = simulate(&setup, progress).map_err(|e| e.to_string())?;
     Ok((out, t0.elapsed().as_secs_f64(), warnings))
 }
 
 /// Run one case (the interpreter is released meanwhile): `(summary_json, [(column, array)])`.
+/// Ctrl-C stops it between chunks of steps (the run loop's progress checks, every 256 steps) and
+/// raises `KeyboardInterrupt`.
 #[pyfunction]
 fn run<'py>(py: Python<'py>, case: &Case) -> PyResult<Bound<'py, PyTuple>> {
-    let c = case.inner.clone();
-    let (out, wall, warnings) = py.detach(move || run_core(&c)).map_err(err)?;
-    hand_over(py, &out, &case.inner, wall, warnings)
+    guarded(|| {
+        let c = case.inner.clone();
+        let mut interrupted: Option<PyErr> = None;
+        let res = py.detach(|| {
+            let mut last = std::time::Instant::now();
+            run_core_with(&c, &mut |_| {
+                if last.elapsed() < SIGNAL_EVERY {
+                    return true;
+                }
+                last = std::time::Instant::now();
+                match Python::attach(|py| py.check_signals()) {
+                    Ok(()) => true,
+                    Err(e) => {
+                        interrupted = Some(e);
+                        false
+                    }
+                }
+            })
+        });
+        if let Some(e) = interrupted {
+            return Err(e);
+        }
+        let (out, wall, warnings) = res.map_err(err)?;
+        hand_over(py, &out, &case.inner, wall, warnings)
+    })
 }
 
 /// Run several cases on up to `jobs` threads (all cores by default), in order.
@@ -216,14 +281,16 @@ fn run_many<'py>(
     cases: Vec<Case>,
     jobs: Option<usize>,
 ) -> PyResult<Bound<'py, PyList>> {
-    let inner: Vec<pcsim_core::Case> = cases.iter().map(|c| c.inner.clone()).collect();
-    let outs = py.detach(move || parallel_map(&inner, jobs, run_core));
-    let list = PyList::empty(py);
-    for (o, c) in outs.into_iter().zip(&cases) {
-        let (out, wall, w) = o.map_err(err)?;
-        list.append(hand_over(py, &out, &c.inner, wall, w)?)?;
-    }
-    Ok(list)
+    guarded(|| {
+        let inner: Vec<pcsim_core::Case> = cases.iter().map(|c| c.inner.clone()).collect();
+        let outs = py.detach(move || parallel_map(&inner, jobs, run_core));
+        let list = PyList::empty(py);
+        for (o, c) in outs.into_iter().zip(&cases) {
+            let (out, wall, w) = o.map_err(err)?;
+            list.append(hand_over(py, &out, &c.inner, wall, w)?)?;
+        }
+        Ok(list)
+    })
 }
 
 /// The grid and shard of a sweep, as the CLI builds them.
@@ -275,24 +342,26 @@ fn eva(
     max_steps: Option<u64>,
     max_memory_gb: Option<f64>,
 ) -> PyResult<String> {
-    let base = case.inner.clone();
-    let rows = py.detach(move || -> Result<Vec<EvaRow>, String> {
-        let list = sweep_jobs(&base, speeds_kmh, tensions_n, seeds, shard)?;
-        let b = budget(max_steps, max_memory_gb);
-        let settings = EvaSettings {
-            step_m,
-            tolerance_j,
-            fraction,
-            budget: b,
-            ..EvaSettings::default()
-        };
-        Ok(eva_sweep(&list, &settings, &b, jobs, &|| ())
-            .map_err(|e| e.to_string())?
-            .into_iter()
-            .map(|c| c.row)
-            .collect())
-    });
-    serde_json::to_string(&rows.map_err(err)?).map_err(err)
+    guarded(|| {
+        let base = case.inner.clone();
+        let rows = py.detach(move || -> Result<Vec<EvaRow>, String> {
+            let list = sweep_jobs(&base, speeds_kmh, tensions_n, seeds, shard)?;
+            let b = budget(max_steps, max_memory_gb);
+            let settings = EvaSettings {
+                step_m,
+                tolerance_j,
+                fraction,
+                budget: b,
+                ..EvaSettings::default()
+            };
+            Ok(eva_sweep(&list, &settings, &b, jobs, &|| ())
+                .map_err(|e| e.to_string())?
+                .into_iter()
+                .map(|c| c.row)
+                .collect())
+        });
+        serde_json::to_string(&rows.map_err(err)?).map_err(err)
+    })
 }
 
 /// The accuracy-based window length over speeds (km/h) × tensions (N): the rows of
@@ -319,29 +388,31 @@ fn window(
     max_steps: Option<u64>,
     max_memory_gb: Option<f64>,
 ) -> PyResult<String> {
-    let single = pcsim_core::compile::window_case(&case.inner);
-    let rows = py.detach(move || -> Result<Vec<WindowRow>, String> {
-        let search = SearchSettings {
-            min_m: min_window_m.unwrap_or(0.5 * single.catenary.span_m),
-            max_m: max_window_m,
-            coarse_m,
-            resolution_m,
-        };
-        let tol = Tolerances {
-            mean_pct: mean_tol_pct,
-            sigma_pct: sigma_tol_pct,
-            max_pct: max_tol_pct,
-        };
-        // The tolerances and the search are checked by the core's sweep, as for the CLI.
-        let list = sweep_jobs(&single, speeds_kmh, tensions_n, seeds, shard)?;
-        let b = budget(max_steps, max_memory_gb);
-        Ok(window_sweep(&list, &search, &tol, &b, jobs, &|| ())
-            .map_err(|e| e.to_string())?
-            .into_iter()
-            .map(|c| c.row)
-            .collect())
-    });
-    serde_json::to_string(&rows.map_err(err)?).map_err(err)
+    guarded(|| {
+        let single = pcsim_core::compile::window_case(&case.inner);
+        let rows = py.detach(move || -> Result<Vec<WindowRow>, String> {
+            let search = SearchSettings {
+                min_m: min_window_m.unwrap_or(0.5 * single.catenary.span_m),
+                max_m: max_window_m,
+                coarse_m,
+                resolution_m,
+            };
+            let tol = Tolerances {
+                mean_pct: mean_tol_pct,
+                sigma_pct: sigma_tol_pct,
+                max_pct: max_tol_pct,
+            };
+            // The tolerances and the search are checked by the core's sweep, as for the CLI.
+            let list = sweep_jobs(&single, speeds_kmh, tensions_n, seeds, shard)?;
+            let b = budget(max_steps, max_memory_gb);
+            Ok(window_sweep(&list, &search, &tol, &b, jobs, &|| ())
+                .map_err(|e| e.to_string())?
+                .into_iter()
+                .map(|c| c.row)
+                .collect())
+        });
+        serde_json::to_string(&rows.map_err(err)?).map_err(err)
+    })
 }
 
 /// A validation (`en50318-2002` or `seed-table1`): the report of `pcsim validate --json`, by the
@@ -349,14 +420,16 @@ fn window(
 #[pyfunction]
 #[pyo3(signature = (name, jobs=None))]
 fn validate(py: Python<'_>, name: &str, jobs: Option<usize>) -> PyResult<String> {
-    let plan = ValidationPlan::new(name).map_err(err)?;
-    let report = py.detach(move || -> Result<String, String> {
-        let b = Budget::default();
-        let (_, report) =
-            validation_runs(&plan, jobs, &|c| run_quietly(c, &b)).map_err(|e| e.to_string())?;
-        serde_json::to_string(&report).map_err(|e| e.to_string())
-    });
-    report.map_err(err)
+    guarded(|| {
+        let plan = ValidationPlan::new(name).map_err(err)?;
+        let report = py.detach(move || -> Result<String, String> {
+            let b = Budget::default();
+            let (_, report) =
+                validation_runs(&plan, jobs, &|c| run_quietly(c, &b)).map_err(|e| e.to_string())?;
+            serde_json::to_string(&report).map_err(|e| e.to_string())
+        });
+        report.map_err(err)
+    })
 }
 
 /// The names of the embedded presets.
@@ -382,13 +455,15 @@ impl RealtimeCatenary {
     #[new]
     #[pyo3(signature = (case, window_m=215.0, coupling="hil"))]
     fn new(case: &Case, window_m: f64, coupling: &str) -> PyResult<Self> {
-        let coupling = match coupling {
-            "hil" => Coupling::Hil,
-            "sil" => Coupling::Sil,
-            other => return Err(err(format!("coupling `{other}`: use \"hil\" or \"sil\""))),
-        };
-        Ok(Self {
-            inner: RealtimeSession::new(&case.inner, window_m, coupling).map_err(err)?,
+        guarded(|| {
+            let coupling = match coupling {
+                "hil" => Coupling::Hil,
+                "sil" => Coupling::Sil,
+                other => return Err(err(format!("coupling `{other}`: use \"hil\" or \"sil\""))),
+            };
+            Ok(Self {
+                inner: RealtimeSession::new(&case.inner, window_m, coupling).map_err(err)?,
+            })
         })
     }
 
@@ -397,8 +472,10 @@ impl RealtimeCatenary {
     /// the contact point. An input the window cannot take, or a step rolled back, raises
     /// `ValueError` with the reason (its code in parentheses); the catenary is then unchanged.
     fn step(&mut self, force_n: f64, position_m: f64) -> PyResult<(f64, f64)> {
-        let o = self.inner.step(force_n, position_m).map_err(err)?;
-        Ok((o.wire_height_m, o.wire_velocity_m_s))
+        guarded(|| {
+            let o = self.inner.step(force_n, position_m).map_err(err)?;
+            Ok((o.wire_height_m, o.wire_velocity_m_s))
+        })
     }
 
     /// [`step`] without raising: `("ok", height_m, velocity_m_s)`, or `(code, None, None)` where
@@ -446,6 +523,13 @@ impl RealtimeCatenary {
     }
 }
 
+/// Test hook: panic inside a guarded call with `message` (the tests check that it reaches
+/// Python as a `RuntimeError`, never a `PanicException`).
+#[pyfunction]
+fn _test_panic(message: &str) -> PyResult<()> {
+    guarded(|| panic!("{message}"))
+}
+
 #[pymodule]
 fn _pcsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Case>()?;
@@ -456,6 +540,7 @@ fn _pcsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(validate, m)?)?;
     m.add_function(wrap_pyfunction!(window, m)?)?;
     m.add_function(wrap_pyfunction!(presets_list, m)?)?;
+    m.add_function(wrap_pyfunction!(_test_panic, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -84,19 +84,48 @@ def test_a_case_pickles_by_its_toml():
 
 
 def test_the_gil_is_released_during_a_run():
+    """While a run works on another thread, this thread keeps running Python (a contract, not a
+    timing: the old form compared wall times and failed on a busy 2-core machine)."""
     case = pcsim.Case.preset("en50318-2002")
-    t0 = time.perf_counter()
-    pcsim.run(case)
-    one = time.perf_counter() - t0
-    ts = [threading.Thread(target=pcsim.run, args=(case,)) for _ in range(2)]
-    t0 = time.perf_counter()
-    for t in ts:
-        t.start()
-    for t in ts:
-        t.join()
-    two = time.perf_counter() - t0
-    # Two runs on two threads overlap: well under twice one run (the machine has 2 cores).
-    assert two < 1.6 * one, f"two threads {two:.2f} s, one run {one:.2f} s"
+    t = threading.Thread(target=pcsim.run, args=(case,))
+    ticks = 0
+    t.start()
+    while t.is_alive():
+        ticks += 1
+        time.sleep(0.001)
+    t.join()
+    # A run takes about a second; holding the interpreter it would leave a handful of ticks.
+    assert ticks > 50, f"only {ticks} ticks of this thread during the run"
+
+
+def test_ctrl_c_interrupts_a_run_with_keyboard_interrupt():
+    """Issue 19, item 6: Ctrl-C stops a run and raises KeyboardInterrupt (not a lost result in a
+    PanicException)."""
+    script = (
+        "import os, signal, threading, time, pcsim\n"
+        "case = pcsim.Case.preset('stitched-2018-like').with_overrides({'run.speed_kmh': 40.0})\n"
+        "threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT)).start()\n"
+        "t0 = time.perf_counter()\n"
+        "try:\n"
+        "    pcsim.run(case)\n"
+        "    print('finished')\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted after %.1f s' % (time.perf_counter() - t0))\n"
+    )
+    import sys
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert "interrupted" in out.stdout, out.stdout + out.stderr
+    assert float(out.stdout.split()[2]) < 10.0, out.stdout
+
+
+def test_a_panic_reaches_python_as_a_runtime_error():
+    """Issue 19, item 6: no PanicException (a BaseException) reaches the user."""
+    with pytest.raises(RuntimeError, match="boom"):
+        pcsim._pcsim._test_panic("boom")
+    try:
+        pcsim._pcsim._test_panic("boom")
+    except Exception as e:  # noqa: BLE001 - the point: `except Exception` catches it
+        assert isinstance(e, RuntimeError)
 
 
 def test_sweep_locally_equals_single_runs():
@@ -108,7 +137,7 @@ def test_sweep_locally_equals_single_runs():
 
 
 def test_dask_local_cluster_gives_the_clis_sweep(tmp_path):
-    import distributed
+    distributed = pytest.importorskip("distributed")
     cases = [short_case(v) for v in (200.0, 300.0)]
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster, distributed.Client(cluster) as client:

@@ -112,7 +112,14 @@ pub fn run_seeds(
         &out.join("montecarlo.json"),
         serde_json::to_string_pretty(&summary)? + "\n",
     )?;
-    write_manifest(out, "montecarlo", serde_json::json!({ "realisations": n }))?;
+    write_manifest(
+        out,
+        "montecarlo",
+        serde_json::json!({
+            "realisations": n,
+            "overrides": overrides.iter().map(|o| o.flag.clone()).collect::<Vec<_>>(),
+        }),
+    )?;
     println!(
         "{}: {n} realisations at {} km/h",
         crate::common::case_name(case),
@@ -122,10 +129,16 @@ pub fn run_seeds(
         for s in ["std_n", "actual_min_n", "loss_of_contact_percent"] {
             let v: Vec<f64> = real.iter().map(|r| stat_of(&r.output, p, s)).collect();
             if let Some(sp) = Spread::of(&v) {
-                println!(
-                    "  {nm:<10} {s:<24} mean {:8.3}  std {:7.3}  95 % CI [{:.3}, {:.3}]  range [{:.3}, {:.3}]",
-                    sp.mean, sp.std, sp.ci95_low, sp.ci95_high, sp.min, sp.max
-                );
+                match (sp.std, sp.ci95_low, sp.ci95_high) {
+                    (Some(sd), Some(lo), Some(hi)) => println!(
+                        "  {nm:<10} {s:<24} mean {:8.3}  std {sd:7.3}  95 % CI [{lo:.3}, {hi:.3}]  range [{:.3}, {:.3}]",
+                        sp.mean, sp.min, sp.max
+                    ),
+                    _ => println!(
+                        "  {nm:<10} {s:<24} mean {:8.3}  std and 95 % CI undefined (one realisation)",
+                        sp.mean
+                    ),
+                }
             }
         }
     }

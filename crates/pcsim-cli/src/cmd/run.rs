@@ -20,7 +20,10 @@ pub struct RunArgs {
     /// Override the contact-wire tension: kN, or with a unit (20kN, 20000N).
     #[arg(long, value_name = "KN")]
     tension: Option<String>,
-    /// Output directory.
+    /// Override the time step: s, or with a unit (0.5ms).
+    #[arg(long, value_name = "S")]
+    dt: Option<String>,
+    /// Output directory (written as a whole: a directory of an earlier run is replaced).
     #[arg(long, default_value = "out")]
     out: PathBuf,
     /// Also draw the figures (SVG and PNG) into the output directory.
@@ -48,6 +51,9 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
     if let Some(t) = &a.tension {
         overrides.push(Override::tension(t)?);
     }
+    if let Some(dt) = &a.dt {
+        overrides.push(Override::dt(dt)?);
+    }
     let mut case = apply(&base, &overrides)?;
     if let Some(f) = &a.irregularity {
         case.irregularity
@@ -55,9 +61,7 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
         case.validate()
             .map_err(|e| anyhow::anyhow!("{e} (with --irregularity {})", f.display()))?;
     }
-    if a.jobs == Some(0) {
-        anyhow::bail!("--jobs 0: give at least 1 worker (leave it out to use every core)");
-    }
+    crate::common::jobs_flag(a.jobs)?;
     // The output directory is locked before the work starts: a second writer is refused at once.
     if a.seeds.is_some() {
         let n = crate::common::seeds_flag(a.seeds, &case)?;

@@ -33,15 +33,28 @@ pub(crate) const COLOURS: [RGBColor; 4] = [
 ];
 pub(crate) const RAW: RGBColor = RGBColor(170, 170, 170);
 
+/// The smallest and largest finite value (`(0, 1)` when there is none): a non-finite sample
+/// never sets an axis (an infinite axis made the drawing spin forever).
+fn finite_bounds(vals: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = vals
+        .filter(|v| v.is_finite())
+        .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)));
+    if lo > hi {
+        (0.0, 1.0)
+    } else {
+        (lo, hi)
+    }
+}
+
 /// Data range with a margin, and extra head-room at the top for the legend.
 pub(crate) fn range(vals: impl Iterator<Item = f64>) -> (f64, f64) {
-    let (lo, hi) = vals.fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)));
+    let (lo, hi) = finite_bounds(vals);
     let span = (hi - lo).max(1e-9);
     (lo - 0.05 * span, hi + 0.30 * span)
 }
 
 pub(crate) fn xrange(vals: impl Iterator<Item = f64>) -> (f64, f64) {
-    let (lo, hi) = vals.fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)));
+    let (lo, hi) = finite_bounds(vals);
     let pad = 0.01 * (hi - lo).max(1e-9);
     (lo - pad, hi + pad)
 }

@@ -27,7 +27,11 @@ fn parse_csv(path: &Path) -> Result<Table> {
         .collect();
     let rows = lines
         .filter(|l| !l.is_empty())
-        .map(|l| l.split(',').map(|v| v.trim().parse().ok()).collect())
+        .map(|l| {
+            l.split(',')
+                .map(|v| v.trim().parse().ok().filter(|x: &f64| x.is_finite()))
+                .collect()
+        })
         .collect();
     Ok((header, rows))
 }

@@ -507,6 +507,51 @@ pub fn read_run(dir: &Path) -> Result<PlotData> {
             tp.display()
         );
     }
+    // Samples with a non-finite value are left out of the figures, and said so.
+    for t in &mut traces {
+        let keep: Vec<bool> = (0..t.position_m.len())
+            .map(|k| {
+                [
+                    t.position_m[k],
+                    t.force_n[k],
+                    t.force_filtered_n[k],
+                    t.height_m[k],
+                ]
+                .iter()
+                .chain(t.lateral_m.get(k))
+                .all(|v| v.is_finite())
+            })
+            .collect();
+        let dropped = keep.iter().filter(|k| !**k).count();
+        if dropped > 0 {
+            eprintln!(
+                "warning: {}: pantograph {}: {dropped} samples with a non-finite value are left out of the figures",
+                tp.display(),
+                t.name
+            );
+            for v in [
+                &mut t.position_m,
+                &mut t.force_n,
+                &mut t.force_filtered_n,
+                &mut t.height_m,
+                &mut t.lateral_m,
+            ] {
+                if v.len() == keep.len() {
+                    let mut i = 0;
+                    v.retain(|_| {
+                        i += 1;
+                        keep[i - 1]
+                    });
+                }
+            }
+        }
+    }
+    if traces.iter().any(|t| t.position_m.is_empty()) {
+        bail!(
+            "{}: no sample has finite values, there is nothing to plot",
+            tp.display()
+        );
+    }
     let a = &summary["analysis_section_m"];
     Ok(PlotData {
         case_name: summary["case_name"].as_str().unwrap_or("run").to_string(),

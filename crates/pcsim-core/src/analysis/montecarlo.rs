@@ -12,18 +12,19 @@ use crate::error::SimError;
 use crate::input::case::Case;
 
 /// Mean, standard deviation (N − 1) and a 95 % confidence interval of the mean (Student's t).
+/// With one realisation the spread is undefined (`None`, `null` in JSON), never 0.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Spread {
     /// Number of realisations.
     pub n: usize,
     /// Mean over the realisations.
     pub mean: f64,
-    /// Standard deviation (N − 1).
-    pub std: f64,
-    /// Lower end of the 95 % confidence interval of the mean.
-    pub ci95_low: f64,
-    /// Upper end of the 95 % confidence interval of the mean.
-    pub ci95_high: f64,
+    /// Standard deviation (N − 1); `None` (undefined) for one realisation.
+    pub std: Option<f64>,
+    /// Lower end of the 95 % confidence interval of the mean; `None` for one realisation.
+    pub ci95_low: Option<f64>,
+    /// Upper end of the 95 % confidence interval of the mean; `None` for one realisation.
+    pub ci95_high: Option<f64>,
     /// Smallest value.
     pub min: f64,
     /// Largest value.
@@ -54,22 +55,15 @@ impl Spread {
             return None;
         }
         let mean = v.iter().sum::<f64>() / n as f64;
-        let std = if n > 1 {
-            (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt()
-        } else {
-            0.0
-        };
-        let half = if n > 1 {
-            t95(n - 1) * std / (n as f64).sqrt()
-        } else {
-            0.0
-        };
+        let std = (n > 1)
+            .then(|| (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt());
+        let half = std.map(|s| t95(n - 1) * s / (n as f64).sqrt());
         Some(Spread {
             n,
             mean,
             std,
-            ci95_low: mean - half,
-            ci95_high: mean + half,
+            ci95_low: half.map(|h| mean - h),
+            ci95_high: half.map(|h| mean + h),
             min: v.iter().copied().fold(f64::INFINITY, f64::min),
             max: v.iter().copied().fold(f64::NEG_INFINITY, f64::max),
         })

@@ -86,6 +86,16 @@ pub struct RunSummary {
 pub fn run_verdicts(out: &RunOutput) -> Vec<String> {
     let mut v = Vec::new();
     for p in &out.pantographs {
+        if let Some(s) = p
+            .stats
+            .as_ref()
+            .filter(|s| s.loss_of_contact_percent >= 100.0)
+        {
+            v.push(format!(
+                "pantograph {}: it never touched the contact wire in the analysis section (contact lost {:.0} % of the time): its force statistics describe no contact; check its uplift (uplift_n) and aerodynamic force",
+                p.name, s.loss_of_contact_percent
+            ));
+        }
         if let Some(l) = &p.lateral {
             let n = p.position_m.len().max(1);
             if l.samples_off_head > 0 {

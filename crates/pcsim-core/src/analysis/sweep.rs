@@ -6,7 +6,23 @@ use crate::compile::Setup;
 use crate::error::CaseError;
 use crate::input::case::{Case, Damping};
 
-/// Map `f` over `items` on a pool of `jobs` threads (`None`: all cores), keeping the order.
+/// The most worker threads per core a pool takes (each worker runs a whole model).
+pub const MAX_JOBS_PER_CORE: usize = 4;
+
+/// The most workers a pool takes on this machine: [`MAX_JOBS_PER_CORE`] × its cores.
+pub fn max_jobs() -> usize {
+    MAX_JOBS_PER_CORE * std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// The workers a pool of `jobs` (`None`: every core) over `n_items` items really uses: never
+/// more than the items, nor more than [`max_jobs`] (10 000 threads of whole models made no
+/// progress), and at least one.
+pub fn workers(jobs: Option<usize>, n_items: usize) -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    jobs.unwrap_or(cores).min(max_jobs()).min(n_items).max(1)
+}
+
+/// Map `f` over `items` on a pool of [`workers`]`(jobs, items.len())` threads, keeping the order.
 pub fn parallel_map<T: Sync, R: Send>(
     items: &[T],
     jobs: Option<usize>,
@@ -14,7 +30,7 @@ pub fn parallel_map<T: Sync, R: Send>(
 ) -> Vec<R> {
     use rayon::prelude::*;
     match rayon::ThreadPoolBuilder::new()
-        .num_threads(jobs.unwrap_or(0))
+        .num_threads(workers(jobs, items.len()))
         .build()
     {
         Ok(pool) => pool.install(|| items.par_iter().map(&f).collect()),
@@ -200,7 +216,7 @@ impl Grid {
                             // point once.
                             Setup::from_case(&c).map_err(|e| CaseError::InCase {
                                 case: format!("case {index} ({v} km/h, {} kN, {label})", t / 1e3),
-                                source: Box::new(e),
+                                error: Box::new(e),
                             })?;
                         }
                         jobs.push(Job {

@@ -21,7 +21,7 @@ use crate::error::{CaseError, SimError};
 fn in_case(index: usize, what: &str, e: impl std::fmt::Display) -> SimError {
     SimError::Case(CaseError::InCase {
         case: format!("case {index}{what}"),
-        source: Box::new(CaseError::Parse(e.to_string())),
+        error: Box::new(CaseError::Parse(e.to_string())),
     })
 }
 
@@ -59,6 +59,8 @@ pub fn eva_sweep(
     done: &(dyn Fn() + Sync),
 ) -> Result<Vec<EvaCase>, SimError> {
     parallel_map(jobs, threads, |job| {
+        crate::compile::require_contact(&job.case, "the EVA")
+            .map_err(|e| in_case(job.index, "", e))?;
         let setup = Setup::from_case_with(&job.case, budget)?;
         let output =
             run_eva(&setup, settings, &mut |_| true).map_err(|e| in_case(job.index, "", e))?;

@@ -254,6 +254,7 @@ pub fn accuracy_length(
     budget: &Budget,
 ) -> Result<(SearchResult, ContactStats), SimError> {
     let single = crate::compile::window_case(case);
+    crate::compile::require_contact(&single, "the window-length search")?;
     let full = simulate(&Setup::from_case_with(&single, budget)?, &mut |_| true)?;
     let fs = full.pantographs[0].stats.ok_or_else(|| {
         SimError::Case(CaseError::Invalid {

@@ -4,6 +4,7 @@
 //! `--max-memory-gb` on the command line).
 
 use crate::error::CaseError;
+use crate::input::bounds::num;
 use crate::input::case::Case;
 
 /// Limits of a run.
@@ -119,16 +120,16 @@ impl Budget {
             // The cause: the speed if even at Δt = 1 ms the run were too long, else the step.
             let at_1ms = e.simulated_s / 1e-3;
             let (field, value) = if at_1ms > self.max_steps as f64 || r.dt_s >= 1e-3 {
-                ("run.speed_kmh", r.speed_kmh.to_string())
+                ("run.speed_kmh", num(r.speed_kmh))
             } else {
-                ("run.dt_s", r.dt_s.to_string())
+                ("run.dt_s", num(r.dt_s))
             };
             return Err(CaseError::Invalid {
                 field: field.into(),
                 value,
                 reason: format!(
                     "the run would take {:.3e} steps ({:.0} m at {} km/h is {:.3e} s of simulated time, at run.dt_s = {} s), above the limit of {:.1e} steps (raise it with --max-steps)",
-                    e.steps as f64, e.distance_m, r.speed_kmh, e.simulated_s, r.dt_s, self.max_steps as f64
+                    e.steps as f64, e.distance_m, num(r.speed_kmh), e.simulated_s, num(r.dt_s), self.max_steps as f64
                 ),
             });
         }
@@ -147,7 +148,7 @@ impl Budget {
             } else {
                 (
                     "run.dt_s",
-                    case.run.dt_s.to_string(),
+                    num(case.run.dt_s),
                     format!(
                         "recording {:.3e} steps needs about {}",
                         e.steps as f64,

@@ -158,6 +158,45 @@ impl Stepper {
     }
 }
 
+/// The leading pantograph's static push on the contact wire at the run's speed, N: a lumped
+/// pantograph's uplift plus its aerodynamic force (Eq. 17 as a polynomial), or a moving force.
+pub fn static_contact_force_n(case: &Case) -> f64 {
+    use crate::input::case::PantographCase;
+    match case.pantographs.first() {
+        Some(PantographCase::Lumped {
+            uplift_n,
+            aero_coeffs_kmh,
+            ..
+        }) => {
+            uplift_n + crate::model::pantograph::aero_force_n(aero_coeffs_kmh, case.run.speed_kmh)
+        }
+        Some(PantographCase::MovingForce { force_n, .. }) => *force_n,
+        None => 0.0,
+    }
+}
+
+/// Refuse a `study` (the window search, the real-time study, the EVA) of a case whose leading
+/// pantograph never touches the wire: its static push is not upward, so the contact force is
+/// zero throughout, the window's relative errors divide by zero and the EVA measures a catenary
+/// nobody disturbs.
+pub fn require_contact(case: &Case, study: &str) -> Result<(), CaseError> {
+    let f = static_contact_force_n(case);
+    if f > 0.0 {
+        return Ok(());
+    }
+    let field = match case.pantographs.first() {
+        Some(crate::input::case::PantographCase::MovingForce { .. }) => "pantographs[0].force_n",
+        _ => "pantographs[0].uplift_n",
+    };
+    Err(CaseError::Invalid {
+        field: field.into(),
+        value: format!("a static push of {f} N at {} km/h", case.run.speed_kmh),
+        reason: format!(
+            "the leading pantograph never presses on the contact wire (its uplift plus aerodynamic force is not upward), so {study} has nothing to measure: its errors relative to a zero contact force are undefined"
+        ),
+    })
+}
+
 /// The case of a real-time window, and of the full-model run it is compared with: `case` with its
 /// leading pantograph only. The window carries one pantograph (the rig's); this is the one place
 /// that says so, and [`realtime_window`] applies it.

@@ -346,9 +346,11 @@ pub fn model_from_validated(
     let diam = |w: &WireCase| w.section.as_ref().map_or(0.0, |s| s.diameter_m);
     let mut diameters = [diam(&c.messenger), diam(&c.contact_wire)];
     let mut ice_polar = [0.0; 2];
+    let mut ice_mass_kg_m = [0.0; 2];
     if let Some(ice) = &c.ice {
         for (i, t) in [(MESSENGER, ice.messenger_m), (CONTACT, ice.contact_wire_m)] {
             let (m, j) = ice_mass(ice.density_kg_m3, diameters[i], t);
+            ice_mass_kg_m[i] = m;
             let w = if i == MESSENGER {
                 &mut c.messenger
             } else {
@@ -363,10 +365,34 @@ pub fn model_from_validated(
     let stat = StaticSolution::solve(&static_design(c));
     for (i, len) in stat.dropper_length_m.iter().enumerate() {
         if !len.is_finite() || *len <= 0.05 {
+            let what = format!(
+                "the static messenger sags onto the contact wire: dropper {} would be {:.3} m long",
+                i + 1,
+                len
+            );
+            // Whose weight did it: the ice's, when the design holds without it.
+            if let Some(ice) = case.catenary.ice.as_ref().filter(|_| {
+                StaticSolution::solve(&static_design(&case.catenary))
+                    .dropper_length_m
+                    .iter()
+                    .all(|l| l.is_finite() && *l > 0.05)
+            }) {
+                return Err(CaseError::Invalid {
+                    field: "catenary.ice".into(),
+                    value: format!(
+                        "{} m on the contact wire, {} m on the messenger, {} kg/m³",
+                        ice.contact_wire_m, ice.messenger_m, ice.density_kg_m3
+                    ),
+                    reason: format!(
+                        "its weight (+{:.2} kg/m on the messenger, +{:.2} kg/m on the contact wire) is more than the design carries: {what} (without the ice it holds); give less ice, or a larger catenary.encumbrance_m",
+                        ice_mass_kg_m[MESSENGER], ice_mass_kg_m[CONTACT]
+                    ),
+                });
+            }
             return Err(CaseError::Invalid {
                 field: "catenary.encumbrance_m".into(),
                 value: c.encumbrance_m.to_string(),
-                reason: format!("the static messenger sags onto the contact wire: dropper {} would be {:.3} m long", i + 1, len),
+                reason: what,
             });
         }
     }

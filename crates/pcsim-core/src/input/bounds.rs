@@ -222,9 +222,15 @@ pub fn num(v: f64) -> String {
 
 /// An invalid value of `field`: the error every validator returns.
 pub fn inv(field: &str, value: impl std::fmt::Display, reason: &str) -> CaseError {
+    // A number such as 1e-300 is shown as such, not with its 300 decimals.
+    let text = value.to_string();
+    let value = match text.parse::<f64>() {
+        Ok(v) if text.len() > 24 => num(v),
+        _ => text,
+    };
     CaseError::Invalid {
         field: field.to_string(),
-        value: value.to_string(),
+        value,
         reason: reason.to_string(),
     }
 }

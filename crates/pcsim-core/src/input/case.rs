@@ -280,6 +280,41 @@ pub struct RunCase {
         skip_serializing_if = "crate::input::lateral::is_vertical_only"
     )]
     pub dofs: Vec<Dof>,
+    /// Let the analysis section begin less than one span after the leading pantograph's start
+    /// (its start transient then enters the statistics): a warning instead of an error.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub allow_start_transient: bool,
+}
+
+/// The field of `pantographs[i]` (named by `path`) whose value has the wrong type: each field of
+/// the pantograph's table is read alone as its variant's type (`None` when all read, or the path
+/// is not a pantograph's).
+fn pantograph_field_at_fault(pantographs: &toml::Value, path: &str) -> Option<String> {
+    let i: usize = path
+        .strip_prefix("pantographs[")?
+        .strip_suffix(']')?
+        .parse()
+        .ok()?;
+    let table = pantographs.as_array()?.get(i)?.as_table()?;
+    fn reads<T: serde::de::DeserializeOwned>(v: &toml::Value) -> bool {
+        v.clone().try_into::<T>().is_ok()
+    }
+    for (key, v) in table {
+        let ok = match key.as_str() {
+            "kind" | "name" => reads::<String>(v),
+            "masses_kg" | "stiffness_n_per_m" | "damping_ns_per_m" | "aero_coeffs_kmh" => {
+                reads::<Vec<f64>>(v)
+            }
+            "offset_m" | "uplift_n" | "force_n" | "head_half_width_m" | "working_half_width_m" => {
+                reads::<f64>(v)
+            }
+            _ => true,
+        };
+        if !ok {
+            return Some(key.clone());
+        }
+    }
+    None
 }
 
 impl Case {
@@ -290,9 +325,23 @@ impl Case {
             toml::from_str(text).map_err(|e| CaseError::Parse(parse_message(text, &e)))?;
         let mut prov = Provenance::new();
         strip_sources(&mut value, String::new(), &mut prov)?;
+        let pantographs = value.get("pantographs").cloned();
         let case: Case = serde_path_to_error::deserialize(value).map_err(|e| {
-            let path = e.path().to_string();
-            CaseError::Parse(format!("at `{}`: {}", path, e.into_inner()))
+            let mut path = e.path().to_string();
+            // toml's own location ("in `pantographs`") follows on later lines: the path says it.
+            let inner = e.into_inner().to_string();
+            let first = inner.lines().next().unwrap_or_default();
+            // A tagged pantograph is read whole, so serde's path stops at `pantographs[i]`: for a
+            // value of the wrong type, find the field itself.
+            if first.starts_with("invalid ") {
+                if let Some(field) = pantographs
+                    .as_ref()
+                    .and_then(|p| pantograph_field_at_fault(p, &path))
+                {
+                    path = format!("{path}.{field}");
+                }
+            }
+            CaseError::Parse(format!("at `{path}`: {first}"))
         })?;
         Ok((case, prov))
     }

@@ -24,7 +24,7 @@ pub fn case_from_file(path: &str, read: std::io::Result<String>) -> Result<Case,
         .map(|(c, _)| c)
         .map_err(|e| crate::CaseError::InFile {
             path: path.to_string(),
-            source: Box::new(e),
+            error: Box::new(e),
         })
 }
 

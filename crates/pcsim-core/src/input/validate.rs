@@ -574,6 +574,25 @@ pub(super) fn run(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
             &format!("every pantograph must cross the whole section: it must lie within [start_m − offset, end_m] = [{}, {}] m", r.start_m - max_off, r.end_m),
         ));
     }
+    // The start transient: every pantograph settles over one span after its start, and the
+    // leading one starts last (the furthest along), at start_m.
+    let settled = r.start_m + case.catenary.span_m;
+    if a < settled {
+        let what = format!(
+            "starts before the leading pantograph has settled: the section must begin at least one span after its start, at run.start_m + span_m = {settled} m, or the start transient enters the statistics"
+        );
+        if r.allow_start_transient {
+            w.push(Warning(format!(
+                "run.analysis_m = [{a}, {b}] {what} (allowed by run.allow_start_transient)"
+            )));
+        } else {
+            return Err(inv(
+                "run.analysis_m",
+                format!("[{a}, {b}]"),
+                &format!("{what}; set run.allow_start_transient = true to keep it with a warning"),
+            ));
+        }
+    }
     Ok(())
 }
 
