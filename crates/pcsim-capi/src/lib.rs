@@ -102,7 +102,11 @@ pub unsafe extern "C" fn pcsim_rt_new(
             .to_string_lossy()
             .into_owned();
         let case = if is_file != 0 {
-            pcsim_core::input::case_from_file(&name, std::fs::read_to_string(&name))
+            // The core's bounded read: `/dev/zero` is refused at the limit, not read forever.
+            let read = std::fs::File::open(&name).and_then(|f| {
+                pcsim_core::input::read_text_limited(f, pcsim_core::input::MAX_INPUT_BYTES)
+            });
+            pcsim_core::input::case_from_file(&name, read)
         } else {
             pcsim_core::input::case_from_preset(&name)
         }

@@ -230,3 +230,20 @@ fn an_absurd_force_is_refused_with_its_reason() {
     );
     unsafe { pcsim_rt_free(h) };
 }
+
+/// Issue 19, item 2: a case file is read within the core's bound — `/dev/zero` is refused at the
+/// limit with an error that says so, in bounded time and memory (it reached 21.5 GB before).
+#[test]
+fn a_case_file_of_unbounded_size_is_refused_at_the_limit() {
+    let name = CString::new("/dev/zero").unwrap();
+    let mut err = [0i8; 512];
+    let t0 = std::time::Instant::now();
+    let h = unsafe { pcsim_rt_new(name.as_ptr(), 1, 215.0, err.as_mut_ptr(), err.len()) };
+    assert!(h.is_null());
+    let msg = unsafe { std::ffi::CStr::from_ptr(err.as_ptr()) }
+        .to_string_lossy()
+        .into_owned();
+    assert!(msg.contains("/dev/zero") && msg.contains("limit"), "{msg}");
+    assert!(t0.elapsed() < std::time::Duration::from_secs(30));
+    assert!(rss_kib() < 2 * 1024 * 1024, "{} KiB resident", rss_kib());
+}

@@ -831,3 +831,191 @@ fn issue_19_8_every_readme_command_parses_and_its_files_exist() {
     }
     assert!(checked >= 15, "only {checked} commands checked");
 }
+
+/// A seeded stream (xorshift64*), for the mutation runs below.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+}
+
+fn cases_from_env(var: &str, default: usize) -> usize {
+    std::env::var(var)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
+/// A mutated JSON value: another type, a huge or negative number, an empty or huge array.
+fn mutate_json(r: &mut Rng) -> serde_json::Value {
+    match r.below(10) {
+        0 => serde_json::json!(null),
+        1 => serde_json::json!(-1),
+        2 => serde_json::json!(u64::MAX),
+        3 => serde_json::json!(1e300),
+        4 => serde_json::json!("x"),
+        5 => serde_json::json!([]),
+        6 => serde_json::json!([u64::MAX, 0]),
+        7 => serde_json::json!([r.below(5), r.below(5)]),
+        8 => serde_json::json!({}),
+        _ => serde_json::json!(r.below(1_000_000)),
+    }
+}
+
+/// Issue 19, item 3: shards whose manifests are mutated at random (a field set to another type, a
+/// huge or negative number, removed, or the file truncated) are merged or refused — exit status 0
+/// or 2, never a panic, never a hang. `PCSIM_MERGE_FUZZ_CASES` sets the count (CI: 60).
+#[test]
+fn issue_19_3_merges_of_mutated_manifests_never_panic() {
+    let d = scratch("merge-fuzz");
+    let (a, b) = two_shards(&d);
+    let keep = std::fs::read_to_string(b.join("pcsim.json")).unwrap();
+    let n = cases_from_env("PCSIM_MERGE_FUZZ_CASES", 60);
+    let mut r = Rng(0x5EED_2026_1202);
+    let keys = [
+        "shard",
+        "cases",
+        "fingerprint",
+        "complete",
+        "files",
+        "kind",
+        "pcsim_version",
+        "cases_in_shard",
+    ];
+    let (mut merged, mut refused_n) = (0, 0);
+    for _ in 0..n {
+        let mut m: serde_json::Value = serde_json::from_str(&keep).unwrap();
+        let text = match r.below(4) {
+            0 => {
+                let t = serde_json::to_string(&m).unwrap();
+                let cut = r.below(t.len());
+                t[..cut].to_string()
+            }
+            1 => {
+                m.as_object_mut().unwrap().remove(keys[r.below(keys.len())]);
+                serde_json::to_string(&m).unwrap()
+            }
+            _ => {
+                m[keys[r.below(keys.len())]] = mutate_json(&mut r);
+                serde_json::to_string(&m).unwrap()
+            }
+        };
+        std::fs::write(b.join("pcsim.json"), &text).unwrap();
+        let mut child = pcsim()
+            .args(["eva", "merge"])
+            .arg(&a)
+            .arg(&b)
+            .args(["--quiet", "--no-plot", "--out"])
+            .arg(d.join("merged"))
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let t0 = Instant::now();
+        while child.try_wait().unwrap().is_none() {
+            assert!(
+                t0.elapsed() < Duration::from_secs(60),
+                "merge hangs on {text}"
+            );
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        let o = child.wait_with_output().unwrap();
+        match o.status.code() {
+            Some(0) => merged += 1,
+            Some(2) => refused_n += 1,
+            other => panic!("exit {other:?} on {text}: {}", stderr(&o)),
+        }
+        assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+    }
+    assert_eq!(merged + refused_n, n);
+    assert!(
+        refused_n > n / 2,
+        "{refused_n} of {n} mutated manifests refused"
+    );
+}
+
+/// Issue 19, items 2 and 7: `hil` inputs mutated at random (cells replaced by text, huge or
+/// non-finite numbers, lines cut or deleted, bytes flipped) are replayed or refused — exit status
+/// 0 or 2, never a panic or a hang. `PCSIM_HIL_FUZZ_CASES` sets the count (CI: 60).
+#[test]
+fn issue_19_7_mutated_hil_inputs_never_panic() {
+    let d = scratch("hil-fuzz");
+    let base: String = {
+        let mut s = String::from("time_s,contact_force_n,pantograph_position_m\n");
+        for k in 0..300 {
+            let t = k as f64 * 1e-3;
+            s.push_str(&format!(
+                "{t:.3},{:.4},{:.4}\n",
+                85.0 + 10.0 * (7.0 * t).sin(),
+                61.67 * t
+            ));
+        }
+        s
+    };
+    let n = cases_from_env("PCSIM_HIL_FUZZ_CASES", 60);
+    let mut r = Rng(0xC0FF_EE19_2026);
+    for _ in 0..n {
+        let mut lines: Vec<String> = base.lines().map(String::from).collect();
+        for _ in 0..1 + r.below(3) {
+            let k = r.below(lines.len());
+            match r.below(6) {
+                0 => {
+                    lines.remove(k);
+                }
+                1 => {
+                    let cut = r.below(lines[k].len() + 1);
+                    lines[k].truncate(cut);
+                }
+                2 => {
+                    let cells: Vec<&str> = lines[k].split(',').collect();
+                    let c = r.below(cells.len());
+                    let v = ["nan", "inf", "1e300", "-1e300", "x", ""][r.below(6)];
+                    let mut cells: Vec<String> = cells.iter().map(|s| s.to_string()).collect();
+                    cells[c] = v.into();
+                    lines[k] = cells.join(",");
+                }
+                3 => lines.insert(k, lines[k].clone()),
+                4 => lines[k].push_str(",1"),
+                _ => {
+                    let mut b = lines[k].clone().into_bytes();
+                    if !b.is_empty() {
+                        let i = r.below(b.len());
+                        b[i] ^= 1 << r.below(7);
+                    }
+                    lines[k] = String::from_utf8_lossy(&b).into_owned();
+                }
+            }
+        }
+        let p = d.join("in.csv");
+        std::fs::write(&p, lines.join("\n") + "\n").unwrap();
+        let mut child = pcsim()
+            .args(["hil", "--preset", "syt-7.0-9.8", "--input"])
+            .arg(&p)
+            .arg("--out")
+            .arg(d.join("out.csv"))
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let t0 = Instant::now();
+        while child.try_wait().unwrap().is_none() {
+            assert!(t0.elapsed() < Duration::from_secs(60), "hil hangs");
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        let o = child.wait_with_output().unwrap();
+        assert!(
+            matches!(o.status.code(), Some(0) | Some(2)),
+            "exit {:?}: {}",
+            o.status.code(),
+            stderr(&o)
+        );
+        assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+    }
+}

@@ -218,15 +218,19 @@ impl Instance {
             .map_err(|e| (Status::Error, format!("parameter `case`: {e}")))?;
         case.run.dt_s = self.step_s;
         if !self.irregularity_file.is_empty() {
-            let text = std::fs::read_to_string(&self.irregularity_file).map_err(|e| {
-                (
-                    Status::Error,
-                    format!(
-                        "parameter `irregularity_file` = {:?}: cannot read it: {e}",
-                        self.irregularity_file
-                    ),
-                )
-            })?;
+            let text = std::fs::File::open(&self.irregularity_file)
+                .and_then(|f| {
+                    pcsim_core::input::read_text_limited(f, pcsim_core::input::MAX_INPUT_BYTES)
+                })
+                .map_err(|e| {
+                    (
+                        Status::Error,
+                        format!(
+                            "parameter `irregularity_file` = {:?}: cannot read it: {e}",
+                            self.irregularity_file
+                        ),
+                    )
+                })?;
             let ir =
                 pcsim_core::input::case::IrregularityCase::from_csv(&text, &self.irregularity_file)
                     .map_err(|e| (Status::Error, format!("parameter `irregularity_file`: {e}")))?;
