@@ -184,6 +184,30 @@ pub fn complete_manifest(dir: &Path) -> Result<()> {
     )
 }
 
+/// Add `figures` (paths under `dir`) to the file list of the complete manifest of `dir` (after
+/// `pcsim plot` redrew them), leaving every other file as the manifest had it: a file someone
+/// put into the directory by hand is never adopted as pcsim's.
+pub fn add_to_manifest(dir: &Path, figures: &[PathBuf]) -> Result<()> {
+    let m = read_complete_manifest(dir)?;
+    let mut files = m.files;
+    for f in figures {
+        let rel = f.strip_prefix(dir).unwrap_or(f);
+        let rel = rel.to_string_lossy().replace('\\', "/");
+        if !files.contains(&rel) {
+            files.push(rel);
+        }
+    }
+    files.sort();
+    let mut v = m.value;
+    if let Some(o) = v.as_object_mut() {
+        o.insert("files".into(), serde_json::json!(files));
+    }
+    write_file_atomic(
+        &dir.join(MANIFEST),
+        serde_json::to_string_pretty(&v)? + "\n",
+    )
+}
+
 /// The lock of an output directory: a file beside it holding the writer's pid, made with
 /// `create_new` (one writer at a time); a lock whose process has died is taken over.
 #[derive(Debug)]

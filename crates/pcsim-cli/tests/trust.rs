@@ -140,6 +140,14 @@ fn issue_19_1_a_directory_holding_other_files_is_refused_not_deleted() {
         .output()
         .unwrap());
     std::fs::write(out2.join("notes.txt"), "mine").unwrap();
+    // Redrawing the figures lists them, but does not adopt the hand-made file.
+    ok(&pcsim().arg("plot").arg(&out2).output().unwrap());
+    let listed = complete_files(&out2).unwrap();
+    assert!(
+        listed.contains(&"contact_height.png".to_string()),
+        "{listed:?}"
+    );
+    assert!(!listed.contains(&"notes.txt".to_string()), "{listed:?}");
     let o = pcsim()
         .args(["run", "--preset", "syt-7.0-9.8", "--quiet", "--out"])
         .arg(&out2)

@@ -307,7 +307,7 @@ pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
     let _lock = crate::output::Lock::take(dir)?;
     let m = crate::output::read_complete_manifest(dir)?;
     let files = redraw_kind(dir, &m.kind)?;
-    crate::output::complete_manifest(dir)?;
+    crate::output::add_to_manifest(dir, &files)?;
     Ok(files)
 }
 
