@@ -43,14 +43,14 @@ PcsimRt *pcsim_rt_new(const char *case_name, int is_file, double window_m, char 
  * position lies outside the model or the window, or that moves too fast gives PCSIM_ERR_INPUT; a
  * step that gives an unsound state is rolled back (PCSIM_ERR_ROLLED_BACK). Either way the
  * catenary is unchanged. */
-int pcsim_rt_step(PcsimRt *rt, double force_n, double position_m, double *height_m, double *velocity_m_s, double *lateral_m);
+int pcsim_rt_step(PcsimRt *rt, double force_n, double track_position_m, double *height_m, double *velocity_m_s, double *lateral_m);
 
 /* Why the last pcsim_rt_step was not taken: its status with the reason in msg (starting with the
  * reason's code, e.g. "input refused (force_out_of_bound): ..."), or PCSIM_OK if it was taken. */
 int pcsim_rt_last_refusal(const PcsimRt *rt, char *msg, size_t msg_len);
 
 /* Why an input would be refused (PCSIM_ERR_INPUT with the message), or PCSIM_OK. */
-int pcsim_rt_check_input(PcsimRt *rt, double force_n, double position_m, char *err, size_t err_len);
+int pcsim_rt_check_input(PcsimRt *rt, double force_n, double track_position_m, char *err, size_t err_len);
 
 /* The fixed time step, s, and the track position of the first input (the case's start), m. */
 double pcsim_rt_dt(const PcsimRt *rt);

@@ -41,7 +41,7 @@ typedef int (*enter3_t)(void *, bool, double, double, bool, double);
 typedef int (*set64_t)(void *, const uint32_t *, size_t, const double *, size_t);
 typedef int (*do3_t)(void *, double, double, bool, bool *, bool *, bool *, double *);
 
-static const char *TOKEN = "{6b1e4f0a-2c3d-4e5f-8a9b-0c1d2e3f4a5b}";
+static const char *TOKEN = "{6b1e4f0a-2c3d-4e5f-8a9b-0c1d2e3f4a5c}";
 
 int main(int argc, char **argv) {
     if (argc != 2) { fprintf(stderr, "usage: %s libpcsim_fmu.so\n", argv[0]); return 2; }

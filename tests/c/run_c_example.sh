@@ -12,7 +12,7 @@ cc -std=c99 -Wall -Wextra -Werror "$root/examples/c/hil_loop.c" -I"$root/include
 python3 - "$work/in.csv" <<'PY'
 import math, sys
 with open(sys.argv[1], "w") as f:
-    f.write("time_s,contact_force_n,pantograph_position_m\n")
+    f.write("time_s,contact_force_n,position_from_start_m\n")
     for k in range(20000):
         t = k * 0.001
         force = 85.0 + 20.0 * math.sin(2 * math.pi * 1.3 * t) + 10.0 * math.sin(2 * math.pi * 7.0 * t)

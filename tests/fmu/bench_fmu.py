@@ -26,7 +26,7 @@ slave.exitInitializationMode()
 dt, v = 0.001, 222.0 / 3.6
 cycle = np.empty(steps)
 dostep = np.empty(steps)
-inputs = [vr["contact_force"], vr["pantograph_position"]]
+inputs = [vr["contact_force"], vr["position_from_start"]]
 outputs = [vr["wire_height"], vr["wire_velocity"]]
 for k in range(steps):
     t = k * dt

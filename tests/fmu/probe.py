@@ -10,8 +10,8 @@ import os
 import sys
 
 OK, WARNING, DISCARD, ERROR, FATAL = 0, 1, 2, 3, 4
-GUID = b"{6b1e4f0a-2c3d-4e5f-8a9b-0c1d2e3f4a5b}"
-VR = dict(contact_force=1, pantograph_position=2, wire_height=3, wire_velocity=4,
+GUID = b"{6b1e4f0a-2c3d-4e5f-8a9b-0c1d2e3f4a5c}"
+VR = dict(contact_force=1, position_from_start=2, wire_height=3, wire_velocity=4,
           pantograph_contact_force=5, window_length=6, step_size=7, sil=8, case=9)
 
 lib = C.CDLL(sys.argv[1])
@@ -151,7 +151,7 @@ elif probe == "nonfinite_input":
     ready(c)
     for v in [math.nan, math.inf, -math.inf]:
         expect(f"set contact_force={v}", set_real(c, VR["contact_force"], v), ERROR)
-        expect(f"set position={v}", set_real(c, VR["pantograph_position"], v), ERROR)
+        expect(f"set position={v}", set_real(c, VR["position_from_start"], v), ERROR)
     expect("force unchanged", get_real(c, VR["contact_force"]), (OK, 0.0))
     lib.fmi2FreeInstance(c)
 elif probe == "step_contract":
@@ -219,7 +219,7 @@ elif probe == "position_outside":
         c = new()
         ready(c)
         expect("step inside", lib.fmi2DoStep(c, 0.0, 0.001, 1), OK)
-        expect("set position", set_real(c, VR["pantograph_position"], pos), OK)
+        expect("set position", set_real(c, VR["position_from_start"], pos), OK)
         expect(f"step at {pos + 60.0} m", lib.fmi2DoStep(c, 0.001, 0.001, 1), DISCARD)
         expect("time unchanged", time_of(c), (OK, 0.001))
         lib.fmi2FreeInstance(c)
@@ -233,11 +233,11 @@ elif probe == "position_glitch":
         x = v * t
         for c in (a, ref):
             expect("force", set_real(c, VR["contact_force"], 85.0 + 10.0 * math.sin(7.0 * t)), OK)
-            expect("position", set_real(c, VR["pantograph_position"], x), OK)
+            expect("position", set_real(c, VR["position_from_start"], x), OK)
         if k == 100:
-            expect("glitch set", set_real(a, VR["pantograph_position"], 1700.0 - 60.0), OK)
+            expect("glitch set", set_real(a, VR["position_from_start"], 1700.0 - 60.0), OK)
             expect("glitch step refused", lib.fmi2DoStep(a, t, 0.001, 1), DISCARD)
-            expect("back", set_real(a, VR["pantograph_position"], x), OK)
+            expect("back", set_real(a, VR["position_from_start"], x), OK)
         for c in (a, ref):
             expect("step", lib.fmi2DoStep(c, t, 0.001, 1), OK)
         t = round(t + 0.001, 9)
@@ -249,12 +249,12 @@ elif probe == "position_glitch":
 elif probe == "discard_logged":
     c = new(callbacks=CALLBACKS)
     ready(c)
-    expect("set position", set_real(c, VR["pantograph_position"], -500.0), OK)
+    expect("set position", set_real(c, VR["position_from_start"], -500.0), OK)
     expect("step refused", lib.fmi2DoStep(c, 0.0, 0.001, 1), DISCARD)
     if not any(st == DISCARD and "outside" in m for st, m in logged):
         failures.append(f"the Discard was not logged with its reason: {logged}")
     expect("absurd force", set_real(c, VR["contact_force"], 1e9), OK)
-    expect("position back", set_real(c, VR["pantograph_position"], 0.0), OK)
+    expect("position back", set_real(c, VR["position_from_start"], 0.0), OK)
     expect("absurd force refused", lib.fmi2DoStep(c, 0.0, 0.01, 1), DISCARD)
     if not any(st == DISCARD and "force_out_of_bound" in m for st, m in logged):
         failures.append(f"the refusal of the force was not logged with its reason: {logged}")
@@ -282,7 +282,7 @@ elif probe == "realtime_golden":
     for row, w in zip(script, want):
         del logged[:]
         sf = set_real(c, VR["contact_force"], float(row[1]))
-        sp = set_real(c, VR["pantograph_position"], float(row[2]))
+        sp = set_real(c, VR["position_from_start"], float(row[2]))
         if sf != OK or sp != OK:
             codes = re.findall(r"\((\w+)\)", " ".join(m for _, m in logged))
             got = codes[0] if codes else f"set status {sf}/{sp}"

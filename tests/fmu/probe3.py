@@ -10,7 +10,7 @@ import os
 import sys
 
 OK, WARNING, DISCARD, ERROR, FATAL = 0, 1, 2, 3, 4
-TOKEN = b"{6b1e4f0a-2c3d-4e5f-8a9b-0c1d2e3f4a5b}"
+TOKEN = b"{6b1e4f0a-2c3d-4e5f-8a9b-0c1d2e3f4a5c}"
 VR_FORCE, VR_POS, VR_HEIGHT, VR_WINDOW = 1, 2, 3, 6
 TEST_PANIC_VR = 0xFFFFFFF0
 

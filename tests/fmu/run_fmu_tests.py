@@ -37,8 +37,8 @@ dt, stop = 0.001, 4.0
 t = np.round(np.arange(0.0, stop + dt / 2, dt), 9)
 force = 85.0 + 20.0 * np.sin(2 * np.pi * 1.3 * t) + 10.0 * np.sin(2 * np.pi * 7.0 * t)
 position = (222.0 / 3.6) * t
-signals = np.zeros(len(t), dtype=[("time", np.float64), ("contact_force", np.float64), ("pantograph_position", np.float64)])
-signals["time"], signals["contact_force"], signals["pantograph_position"] = t, force, position
+signals = np.zeros(len(t), dtype=[("time", np.float64), ("contact_force", np.float64), ("position_from_start", np.float64)])
+signals["time"], signals["contact_force"], signals["position_from_start"] = t, force, position
 res = simulate_fmu(fmu, start_time=0.0, stop_time=stop, step_size=dt, output_interval=dt, input=signals,
                    output=["wire_height", "wire_velocity", "pantograph_contact_force"])
 with tempfile.TemporaryDirectory() as d:
@@ -46,7 +46,7 @@ with tempfile.TemporaryDirectory() as d:
     out = os.path.join(d, "ref.csv")
     n = len(t) - 1  # FMPy steps from t[0] to t[-1]
     with open(inp, "w") as f:
-        f.write("time_s,contact_force_n,pantograph_position_m\n")
+        f.write("time_s,contact_force_n,position_from_start_m\n")
         for k in range(n):
             f.write(f"{float(t[k])!r},{float(force[k])!r},{float(position[k])!r}\n")
     subprocess.run([pcsim, "hil", "--preset", "syt-7.0-9.8", "--window", "215", "--input", inp, "--out", out], check=True,
@@ -108,8 +108,8 @@ with tempfile.TemporaryDirectory() as d:
         for i in range(0, 3601):
             x = 0.5 * i
             f.write(f"{x},{0.010 * np.sin(2 * np.pi * x / 20.0)}\n")
-    sig = np.zeros(len(t), dtype=[("time", np.float64), ("contact_force", np.float64), ("pantograph_position", np.float64)])
-    sig["time"], sig["contact_force"], sig["pantograph_position"] = t, 90.0, position
+    sig = np.zeros(len(t), dtype=[("time", np.float64), ("contact_force", np.float64), ("position_from_start", np.float64)])
+    sig["time"], sig["contact_force"], sig["position_from_start"] = t, 90.0, position
     plain = simulate_fmu(fmu, stop_time=3.0, step_size=dt, output_interval=dt, input=sig, output=["wire_height"])
     rough = simulate_fmu(fmu, stop_time=3.0, step_size=dt, output_interval=dt, input=sig, output=["wire_height"],
                          start_values={"irregularity_file": prof})

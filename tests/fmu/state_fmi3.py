@@ -38,8 +38,8 @@ check("fmpy validate (FMI 3.0)", not problems, "; ".join(problems))
 
 dt, stop = 0.001, 3.0
 t = np.round(np.arange(0.0, stop + dt / 2, dt), 9)
-sig = np.zeros(len(t), dtype=[("time", np.float64), ("contact_force", np.float64), ("pantograph_position", np.float64)])
-sig["time"], sig["contact_force"], sig["pantograph_position"] = (
+sig = np.zeros(len(t), dtype=[("time", np.float64), ("contact_force", np.float64), ("position_from_start", np.float64)])
+sig["time"], sig["contact_force"], sig["position_from_start"] = (
     t, 85.0 + 20.0 * np.sin(2 * np.pi * 1.3 * t), 222.0 / 3.6 * t)
 out = ["wire_height", "wire_velocity", "pantograph_contact_force"]
 r2 = simulate_fmu(fmu2, stop_time=stop, step_size=dt, output_interval=dt, input=sig, output=out)
@@ -82,7 +82,7 @@ def steps(s, vr, version, k0, n, phase=0.0):
     hs = []
     for k in range(k0, k0 + n):
         tt = k * dt
-        setv([vr["contact_force"], vr["pantograph_position"]],
+        setv([vr["contact_force"], vr["position_from_start"]],
              [90.0 + 15.0 * np.sin(7.3 * tt + phase), 222.0 / 3.6 * (tt + dt)])
         s.doStep(tt, dt)
         hs.append(getv([vr["wire_height"], vr["wire_velocity"]]))

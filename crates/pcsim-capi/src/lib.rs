@@ -186,14 +186,14 @@ unsafe fn put(p: *mut f64, v: f64) {
 pub unsafe extern "C" fn pcsim_rt_step(
     rt: *mut PcsimRt,
     force_n: f64,
-    position_m: f64,
+    track_position_m: f64,
     height_m: *mut f64,
     velocity_m_s: *mut f64,
     lateral_m: *mut f64,
 ) -> c_int {
     // SAFETY: the handle's contract is the caller's, passed on.
     unsafe {
-        with(rt, |h| match h.rt.step(force_n, position_m) {
+        with(rt, |h| match h.rt.step(force_n, track_position_m) {
             Ok(o) => {
                 h.last_refusal = None;
                 // Each pointer is NULL or writable (the caller's contract; inside the unsafe
@@ -253,14 +253,14 @@ pub unsafe extern "C" fn pcsim_rt_last_refusal(
 pub unsafe extern "C" fn pcsim_rt_check_input(
     h: *mut PcsimRt,
     force_n: f64,
-    position_m: f64,
+    track_position_m: f64,
     err: *mut c_char,
     err_len: usize,
 ) -> c_int {
     // SAFETY: the handle's contract is the caller's, passed on.
     unsafe {
         with(h, |h| {
-            match h.rt.check_input(force_n, position_m, h.rt.dt_s()) {
+            match h.rt.check_input(force_n, track_position_m, h.rt.dt_s()) {
                 Ok(()) => PCSIM_OK,
                 Err(e) => {
                     // SAFETY: `err` holds `err_len` bytes or is NULL (the caller's contract).

@@ -452,7 +452,7 @@ fn issue_10_6_an_empty_shard_does_not_claim_files() {
 // Item 7: `pcsim hil` input.
 
 fn hil_input(dir: &Path, name: &str, rows: &[(f64, f64, f64)]) -> PathBuf {
-    let mut s = String::from("time_s,contact_force_n,pantograph_position_m\n");
+    let mut s = String::from("time_s,contact_force_n,position_from_start_m\n");
     for (t, f, x) in rows {
         s.push_str(&format!("{t},{f},{x}\n"));
     }

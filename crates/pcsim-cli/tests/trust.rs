@@ -455,13 +455,22 @@ fn issue_19_7_a_hil_input_needs_its_header_and_rows() {
     refused(
         &run(
             "header.csv",
-            "time_s,contact_force_n,pantograph_position_m\n",
+            "time_s,contact_force_n,position_from_start_m\n",
         ),
         &["no rows"],
     );
     refused(
         &run("abc.csv", "a,b,c\n0,85,0\n"),
         &["line 1", "`a,b,c`", "time_s"],
+    );
+    // A file written for the old column name (whose positions could be either convention) is
+    // refused, never read as positions from the start.
+    refused(
+        &run(
+            "old.csv",
+            "time_s,contact_force_n,pantograph_position_m\n0,85,0\n",
+        ),
+        &["line 1", "position_from_start_m"],
     );
     // A file without a header: its first row is not taken for one.
     refused(&run("noheader.csv", "0,85,0\n0.001,85,0.06\n"), &["line 1"]);
@@ -956,7 +965,7 @@ fn issue_19_3_merges_of_mutated_manifests_never_panic() {
 fn issue_19_7_mutated_hil_inputs_never_panic() {
     let d = scratch("hil-fuzz");
     let base: String = {
-        let mut s = String::from("time_s,contact_force_n,pantograph_position_m\n");
+        let mut s = String::from("time_s,contact_force_n,position_from_start_m\n");
         for k in 0..300 {
             let t = k as f64 * 1e-3;
             s.push_str(&format!(

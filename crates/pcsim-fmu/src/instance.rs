@@ -52,7 +52,7 @@ pub struct Instance {
     position_in: f64,
     rt: Option<RealtimeSession>,
     start_time: f64,
-    /// Track position of the case's start, m (`pantograph_position` is from it).
+    /// Track position of the case's start, m (`position_from_start` is from it).
     x_start: f64,
 }
 
@@ -249,7 +249,7 @@ impl Instance {
                 (
                     Status::Error,
                     format!(
-                        "initial {e} (pantograph_position = {} m from the case's start)",
+                        "initial {e} (position_from_start = {} m from the case's start)",
                         self.position_in
                     ),
                 )
@@ -430,7 +430,7 @@ impl Instance {
             Err(e) => Err((
                 Status::Discard,
                 format!(
-                    "step from t = {now} s: {e} (pantograph_position = {} m from the case's start)",
+                    "step from t = {now} s: {e} (position_from_start = {} m from the case's start)",
                     self.position_in
                 ),
             )),

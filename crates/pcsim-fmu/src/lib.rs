@@ -33,5 +33,6 @@ mod host;
 
 /// The model identifier (the shared library's base name inside the FMU).
 pub const MODEL_IDENTIFIER: &str = "pcsim_fmu";
-/// The GUID written to modelDescription.xml and checked by `fmi2Instantiate`.
-pub const GUID: &str = "{6b1e4f0a-2c3d-4e5f-8a9b-0c1d2e3f4a5b}";
+/// The GUID written to modelDescription.xml and checked by `fmi2Instantiate` (changed when the
+/// interface changed: the input `pantograph_position` became `position_from_start`).
+pub const GUID: &str = "{6b1e4f0a-2c3d-4e5f-8a9b-0c1d2e3f4a5c}";

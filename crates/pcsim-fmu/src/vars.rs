@@ -64,7 +64,7 @@ pub const VARS: &[Var] = &[
         description: "HIL: measured contact force pushing the contact wire up (held over a communication step)",
     },
     Var {
-        name: "pantograph_position",
+        name: "position_from_start",
         vr: VR_PANTOGRAPH_POSITION,
         kind: Kind::Real,
         causality: Causality::Input,

@@ -471,9 +471,9 @@ impl RealtimeCatenary {
     /// track position (m); returns the contact-wire height (m) and vertical velocity (m/s) at
     /// the contact point. An input the window cannot take, or a step rolled back, raises
     /// `ValueError` with the reason (its code in parentheses); the catenary is then unchanged.
-    fn step(&mut self, force_n: f64, position_m: f64) -> PyResult<(f64, f64)> {
+    fn step(&mut self, force_n: f64, track_position_m: f64) -> PyResult<(f64, f64)> {
         guarded(|| {
-            let o = self.inner.step(force_n, position_m).map_err(err)?;
+            let o = self.inner.step(force_n, track_position_m).map_err(err)?;
             Ok((o.wire_height_m, o.wire_velocity_m_s))
         })
     }
@@ -484,9 +484,9 @@ impl RealtimeCatenary {
     fn try_step(
         &mut self,
         force_n: f64,
-        position_m: f64,
+        track_position_m: f64,
     ) -> (&'static str, Option<f64>, Option<f64>) {
-        match self.inner.step(force_n, position_m) {
+        match self.inner.step(force_n, track_position_m) {
             Ok(o) => ("ok", Some(o.wire_height_m), Some(o.wire_velocity_m_s)),
             Err(e) => (e.code(), None, None),
         }

@@ -1,6 +1,6 @@
 """The scripted real-time input replayed through every front end (issue 18).
 
-Writes script.csv: time_s, contact_force_n, pantograph_position_m (from the case's start, as
+Writes script.csv: time_s, contact_force_n, position_from_start_m (from the case's start, as
 `pcsim hil` reads it), one row per internal step of 1 ms, for the preset syt-7.0-9.8 with a
 215 m window at 222 km/h. Rows 0-2999 are normal steps (the window moves at about 1.26 s and
 again later); rows 3000-3004 are inputs the window must not take (a position outside the model,
@@ -22,7 +22,7 @@ def force(k):
 
 
 out = sys.stdout
-out.write("time_s,contact_force_n,pantograph_position_m\n")
+out.write("time_s,contact_force_n,position_from_start_m\n")
 for k in range(4000):
     t = k * DT
     if k < 3000:

@@ -22,7 +22,7 @@ pub struct HilArgs {
     /// Window length: m, or with a unit [default: 215 m].
     #[arg(long, value_name = "M", default_value = "215")]
     window: String,
-    /// Input CSV with a header and the columns time_s, contact_force_n, pantograph_position_m
+    /// Input CSV with a header and the columns time_s, contact_force_n, position_from_start_m
     /// (relative to the case's start), one row per internal step Δt; each row is held over its
     /// step.
     #[arg(long)]
@@ -38,7 +38,7 @@ pub struct HilArgs {
 }
 
 /// The header an input file must start with (the columns, in this order).
-pub const INPUT_HEADER: &str = "time_s,contact_force_n,pantograph_position_m";
+pub const INPUT_HEADER: &str = "time_s,contact_force_n,position_from_start_m";
 
 fn read_input(p: &Path) -> Result<Vec<[f64; 3]>> {
     let text =
@@ -70,7 +70,7 @@ fn read_input(p: &Path) -> Result<Vec<[f64; 3]>> {
             .with_context(|| format!("{} line {}: not three numbers", p.display(), i + 1))?;
         // A non-finite force or position is the step contract's to refuse; the time must be read.
         if v.len() != 3 || !v[0].is_finite() {
-            bail!("{} line {}: need three numbers (time_s, contact_force_n, pantograph_position_m) with a finite time", p.display(), i + 1);
+            bail!("{} line {}: need three numbers (time_s, contact_force_n, position_from_start_m) with a finite time", p.display(), i + 1);
         }
         rows.push([v[0], v[1], v[2]]);
     }

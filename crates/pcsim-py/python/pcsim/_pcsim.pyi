@@ -28,11 +28,11 @@ class RealtimeCatenary:
     """The moving-window catenary (HIL: force and position in, height and velocity out)."""
 
     def __init__(self, case: Case, window_m: float = 215.0, coupling: str = "hil") -> None: ...
-    def step(self, force_n: float, position_m: float) -> Tuple[float, float]:
+    def step(self, force_n: float, track_position_m: float) -> Tuple[float, float]:
         """One fixed step: contact force (N, up) and track position (m) in; contact-wire
         height (m) and vertical velocity (m/s) at the contact point out. A refused input or a
         rolled-back step raises ValueError with the reason; the catenary is then unchanged."""
-    def try_step(self, force_n: float, position_m: float) -> Tuple[str, Optional[float], Optional[float]]:
+    def try_step(self, force_n: float, track_position_m: float) -> Tuple[str, Optional[float], Optional[float]]:
         """step() without raising: ("ok", height_m, velocity_m_s) or (code, None, None)."""
     @property
     def start_position_m(self) -> float: ...
