@@ -118,6 +118,15 @@ def test_ctrl_c_interrupts_a_run_with_keyboard_interrupt():
     assert float(out.stdout.split()[2]) < 10.0, out.stdout
 
 
+def test_a_case_file_of_unbounded_size_is_refused_at_the_limit():
+    """Issue 19, item 2: /dev/zero as a case file is refused at the core's limit, in bounded time
+    and memory."""
+    t0 = time.perf_counter()
+    with pytest.raises(ValueError, match="limit"):
+        pcsim.Case.from_file("/dev/zero")
+    assert time.perf_counter() - t0 < 30.0
+
+
 def test_a_panic_reaches_python_as_a_runtime_error():
     """Issue 19, item 6: no PanicException (a BaseException) reaches the user."""
     with pytest.raises(RuntimeError, match="boom"):
