@@ -23,7 +23,6 @@ pub enum CaseError {
     UnknownPreset(String),
     /// A case file that could not be read (the front end read it; the core words the error).
     #[error("cannot read case file '{path}': {reason}")]
-    /// A file that could not be read.
     Read {
         /// The file.
         path: String,

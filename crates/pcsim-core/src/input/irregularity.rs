@@ -47,7 +47,6 @@ pub enum IrregularityCase {
     /// Height errors at the droppers, the same pattern in every span (a dropper-length error
     /// repeated at each span), random with `rms_m`, seeded, linear between droppers and zero at
     /// the supports.
-    /// RMS of the dropper-height errors (m) and the seed of the random pattern.
     Droppers {
         /// RMS of the dropper-height errors, m.
         rms_m: f64,

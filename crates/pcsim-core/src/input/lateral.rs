@@ -161,13 +161,11 @@ pub struct IceCase {
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum WindProfile {
     /// `U(z) = U_ref ln(z/z0) / ln(z_ref/z0)`.
-    /// A logarithmic profile with the terrain's roughness length, m.
     Log {
         /// Terrain roughness length z0, m.
         roughness_m: f64,
     },
     /// `U(z) = U_ref (z/z_ref)^α`.
-    /// A power-law profile with the exponent α.
     Power {
         /// Exponent α.
         exponent: f64,
@@ -180,7 +178,6 @@ pub enum WindProfile {
 pub enum Spectrum {
     /// Kaimal (IEC form): `f S/σ² = 4 y / (1 + 6 y)^{5/3}`, `y = f L/U`, with the Kaimal length
     /// `L = 8.1 Λ` (`Λ = 0.7 z` below 60 m).
-    /// Kaimal with the integral length Λ, m.
     Kaimal {
         /// Integral length scale Λ, m.
         integral_length_m: f64,

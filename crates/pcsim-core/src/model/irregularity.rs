@@ -45,7 +45,6 @@ pub enum IrregularitySource {
         seed: u64,
     },
     /// Random height errors at the droppers, the same in every span, seeded.
-    /// RMS of the dropper-height errors (m) and the seed of the pattern.
     Droppers {
         /// RMS of the dropper-height errors, m.
         rms_m: f64,

@@ -51,7 +51,6 @@ pub enum Presag {
         zero_at: PresagZero,
     },
     /// Pre-sag at each dropper, in dropper order.
-    /// Pre-sag at each dropper, in dropper order, m.
     Table {
         /// Pre-sag at each dropper, in dropper order, m (downward).
         values_m: Vec<f64>,

@@ -39,7 +39,6 @@ pub enum SpectrumModel {
     /// `f S/σ² = (2/3) x² / (1 + x²)^{4/3}`, `x = 1200 f / U_ref` (Davenport 1961: the form
     /// `f S/(κ U10²) = 4 x²/(1 + x²)^{4/3}` of the reference README §3.6 normalised by its
     /// variance `σ² = 6 κ U10²`, so that the turbulence intensity is the case's).
-    /// Davenport's reference speed U_ref (at 10 m), m/s.
     Davenport {
         /// Davenport's reference speed U_ref, m/s.
         reference_m_s: f64,

@@ -18,7 +18,6 @@ use crate::model::dof::Direction;
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Damping {
     /// `C = αM + βK` on each wire's modal matrices.
-    /// Rayleigh's mass factor α (1/s) and stiffness factor β (s).
     Rayleigh {
         /// Mass factor α, 1/s.
         alpha: f64,
@@ -26,7 +25,6 @@ pub enum Damping {
         beta: f64,
     },
     /// The same damping ratio on every sine mode of each wire.
-    /// The damping ratio ζ.
     Modal {
         /// Damping ratio ζ.
         ratio: f64,

@@ -222,7 +222,6 @@ impl Observer for WindowMover {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum InputError {
     /// Not a finite number.
-    /// What was not finite, and its value.
     NotFinite {
         /// What was not finite.
         what: &'static str,
@@ -231,7 +230,6 @@ pub enum InputError {
     },
     /// The contact force lies outside the bound stated for the case (see
     /// `session::RealtimeSession::force_limit_n`).
-    /// The force given (N) and the bound (N).
     ForceOutOfBound {
         /// The force given, N.
         force_n: f64,
@@ -239,7 +237,6 @@ pub enum InputError {
         limit_n: f64,
     },
     /// The position lies ahead of the window's far end (the wire there is not modelled).
-    /// The position given and the window's far end, m.
     AheadOfWindow {
         /// The position given, m.
         position_m: f64,
@@ -247,7 +244,6 @@ pub enum InputError {
         window_end_m: f64,
     },
     /// The position lies outside the modelled catenary.
-    /// The position given and the model's length, m.
     OutsideModel {
         /// The position given, m.
         position_m: f64,

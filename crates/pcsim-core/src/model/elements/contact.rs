@@ -16,7 +16,6 @@ use crate::model::dof::Direction;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ContactLaw {
     /// Eq. 19: `F = k_n d_r` while the strip presses on the wire (`d_r ≥ 0`), else 0.
-    /// The penalty stiffness k_n, N/m.
     Penalty {
         /// Penalty stiffness k_n, N/m.
         stiffness_n_per_m: f64,
