@@ -612,3 +612,68 @@ fn ice_adds_its_annulus_mass_and_widens_the_wire_for_drag() {
     let drag = |s: &Setup| s.model.wind.as_ref().unwrap().wires[1].lateral_m;
     assert!((drag(&iced) / drag(&bare) - 0.0324 / 0.0124).abs() < 1e-9);
 }
+
+/// Issue 20, item 2: contact exists only on the head. With a stagger of 1.9 m and a head of
+/// ±0.8 m the contact point leaves the head; there the contact force is zero, the run reports a
+/// dewirement (an error-level event), and the statistics differ from the on-head run (they did
+/// not: the force was the 0.3 m-stagger run's to the bit).
+#[test]
+fn contact_exists_only_on_the_head() {
+    let mut wide = short_3d(200.0, 700.0);
+    wide.run.analysis_m = [360.0, 700.0];
+    let hw = match &wide.pantographs[0] {
+        pcsim_core::input::case::PantographCase::Lumped {
+            head_half_width_m, ..
+        } => head_half_width_m.expect("the 3D preset gives the head"),
+        _ => unreachable!(),
+    };
+    let narrow = wide.clone();
+    wide.catenary.lateral.as_mut().unwrap().stagger_m = Some(1.9);
+    let on = run_case(&narrow, &mut |_| true).unwrap();
+    let off = run_case(&wide, &mut |_| true).unwrap();
+    let p = &off.pantographs[0];
+    let (mut beyond, mut touching) = (0, 0);
+    for (k, z) in p.lateral_m.iter().enumerate() {
+        if z.abs() > hw {
+            beyond += 1;
+            assert_eq!(
+                p.force_n[k], 0.0,
+                "a force beyond the head at sample {k} (z = {z} m)"
+            );
+        } else if p.force_n[k] > 0.0 {
+            touching += 1;
+        }
+    }
+    assert!(
+        beyond > 100 && touching > 100,
+        "{beyond} beyond, {touching} touching"
+    );
+    let errors = pcsim_core::analysis::report::run_errors(&off);
+    assert!(
+        errors.len() == 1 && errors[0].contains("dewirement"),
+        "{errors:?}"
+    );
+    assert!(pcsim_core::analysis::report::run_errors(&on).is_empty());
+    let (s_on, s_off) = (
+        on.pantographs[0].stats.unwrap(),
+        off.pantographs[0].stats.unwrap(),
+    );
+    assert_eq!(s_on.loss_of_contact_percent, 0.0);
+    eprintln!(
+        "on the head: Fm {:.1} N, σ {:.1} N, loss {:.2} %; 1.9 m stagger: Fm {:.1} N, σ {:.1} N, loss {:.2} %",
+        s_on.mean_n, s_on.std_n, s_on.loss_of_contact_percent,
+        s_off.mean_n, s_off.std_n, s_off.loss_of_contact_percent
+    );
+    assert!(
+        s_off.loss_of_contact_percent > 5.0,
+        "{}",
+        s_off.loss_of_contact_percent
+    );
+    // The pantograph leaves and meets the wire again: the force spreads far more.
+    assert!(
+        s_off.std_n > 1.5 * s_on.std_n,
+        "σ {} against {}",
+        s_off.std_n,
+        s_on.std_n
+    );
+}

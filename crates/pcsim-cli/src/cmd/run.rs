@@ -37,6 +37,10 @@ pub struct RunArgs {
     /// parallel; writes montecarlo.csv, montecarlo.json and histograms instead of one run.
     #[arg(long, value_name = "N")]
     seeds: Option<usize>,
+    /// Exit 0 even when a pantograph dewired (the contact wire left its head): the run's outputs
+    /// are written either way, with the event in summary.json's `errors`.
+    #[arg(long)]
+    allow_dewirement: bool,
     /// Worker threads for --seeds, at least 1 [default: all cores].
     #[arg(long)]
     jobs: Option<usize>,
@@ -143,5 +147,16 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
         shown(&a.out, "summary.json"),
         shown(&a.out, "timeseries.csv")
     );
+    if let Some(first) = summary.errors.first() {
+        if a.allow_dewirement {
+            for e in &summary.errors {
+                eprintln!("warning: {e} (allowed by --allow-dewirement)");
+            }
+        } else {
+            anyhow::bail!(
+                "{first} (the outputs are written; give --allow-dewirement to accept the run)"
+            );
+        }
+    }
     Ok(0)
 }

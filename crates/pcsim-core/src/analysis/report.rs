@@ -71,6 +71,10 @@ pub struct RunSummary {
     pub overrides: Vec<String>,
     /// Every warning of the case and the run, with the verdicts.
     pub warnings: Vec<String>,
+    /// Error-level events of the run ([`run_errors`]): a dewirement. The CLI's `run` exits
+    /// non-zero when there is one, unless `--allow-dewirement` is given.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub errors: Vec<String>,
     /// Per pantograph: its statistics.
     pub pantographs: Vec<PantographSummary>,
     /// The crosswind (mean speed, spectrum, seed, turbulence intensity achieved).
@@ -98,14 +102,8 @@ pub fn run_verdicts(out: &RunOutput) -> Vec<String> {
         }
         if let Some(l) = &p.lateral {
             let n = p.position_m.len().max(1);
-            if l.samples_off_head > 0 {
-                v.push(format!(
-                    "pantograph {}: the contact wire left the head ({} samples beyond its half-width in the analysis section; closest margin {:.0} mm)",
-                    p.name,
-                    l.samples_off_head,
-                    l.min_head_margin_mm.unwrap_or(f64::NAN)
-                ));
-            } else if l.samples_outside_working_range > 0 {
+            // A contact point beyond the head is an error-level event (`run_errors`).
+            if l.samples_off_head == 0 && l.samples_outside_working_range > 0 {
                 v.push(format!(
                     "pantograph {}: the contact point left the working range in {} samples ({:.2} % of the run; largest offset {:.0} mm)",
                     p.name,
@@ -117,6 +115,24 @@ pub fn run_verdicts(out: &RunOutput) -> Vec<String> {
         }
     }
     v
+}
+
+/// The run's error-level events, built here once for every front end: a dewirement (the contact
+/// wire left a pantograph's head in the analysis section). Beyond the head there is no contact,
+/// so the EN 50318 statistics include those samples as loss of contact.
+pub fn run_errors(out: &RunOutput) -> Vec<String> {
+    out.pantographs
+        .iter()
+        .filter_map(|p| {
+            let l = p.lateral.as_ref().filter(|l| l.samples_off_head > 0)?;
+            Some(format!(
+                "pantograph {}: dewirement: the contact wire left the head in {} samples of the analysis section (closest margin {:.0} mm); there the contact force is zero, and the statistics include those samples as loss of contact",
+                p.name,
+                l.samples_off_head,
+                l.min_head_margin_mm.unwrap_or(f64::NAN)
+            ))
+        })
+        .collect()
 }
 
 impl RunSummary {
@@ -145,6 +161,7 @@ impl RunSummary {
             run_statistics: out.run_statistics,
             overrides,
             warnings: warnings.into_iter().chain(run_verdicts(out)).collect(),
+            errors: run_errors(out),
             pantographs: out
                 .pantographs
                 .iter()

@@ -319,6 +319,7 @@ impl CompiledModel {
             prhs: vec![0.0; self.max_pdof],
             loads: vec![0.0; np],
             external: vec![(0.0, 0.0); np],
+            off_head: vec![false; np],
             samples: vec![ContactSample::default(); np],
             slack: 0,
             eu: vec![0.0; self.n_u],
@@ -550,6 +551,7 @@ impl CompiledModel {
             v: &ws.ev,
             f: &mut ws.ef,
             loads: &ws.loads,
+            off_head: &ws.off_head,
             slack: 0,
         }
     }

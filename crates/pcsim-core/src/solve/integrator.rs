@@ -414,6 +414,7 @@ impl Integrator {
             v: &ws.vel,
             f: &mut ws.f,
             loads: &ws.loads,
+            off_head: &ws.off_head,
             slack: 0,
         };
         for &e in &self.cm.fixed {
@@ -480,8 +481,9 @@ impl Integrator {
         }
     }
 
-    /// Stage 6, moving points: each pantograph's contact row and wire height, the contact force
-    /// (Eq. 19) and its scatter, and the contact samples (height, lateral position).
+    /// Stage 6, moving points: each pantograph's contact row and wire height, the contact point's
+    /// lateral position (on the head or not), the contact force (Eq. 19) and its scatter, and the
+    /// contact samples.
     #[inline(always)]
     fn moving_points(&self, st: &mut State, ws: &mut Workspace) {
         let m = &self.cm.model;
@@ -493,6 +495,24 @@ impl Integrator {
             ws.u[self.cm.moving_u0 + mi] = m.static_height(mp.wire, mp.dir, x, st.track_origin_m)
                 + kernels::dot(isa, &st.modal.u[mp.q_off..mp.q_off + mp.n], row);
             ws.samples[mp.pantograph].position_m = x;
+        }
+        // The contact point's lateral position, before the contact forces: beyond the head
+        // there is no contact (the wire has left the pantograph).
+        for (p, lp) in self.cm.pan_lateral.iter().enumerate() {
+            if let Some(lp) = lp {
+                let mp = &self.cm.moving[lp.moving];
+                let row = &ws.rows[mp.row_off..mp.row_off + mp.n];
+                let x = ws.samples[p].position_m;
+                let mut z = m.static_height(lp.wire, Direction::Lateral, x, st.track_origin_m)
+                    + kernels::dot(isa, &st.modal.u[lp.lat_off..lp.lat_off + lp.n], row);
+                if let Some(t) = lp.tors_off {
+                    z -= lp.eccentricity_m * kernels::dot(isa, &st.modal.u[t..t + lp.n], row);
+                }
+                ws.samples[p].lateral_m = z;
+                ws.off_head[p] = m.pantographs[p]
+                    .head_half_width_m
+                    .is_some_and(|hw| z.abs() > hw);
+            }
         }
         for (p, pan) in m.pantographs.iter().enumerate() {
             ws.u[self.cm.head_u0 + p] = match pan.kind {
@@ -510,6 +530,7 @@ impl Integrator {
             v: &ws.vel,
             f: &mut ws.f,
             loads: &ws.loads,
+            off_head: &ws.off_head,
             slack: 0,
         };
         for &e in &self.cm.moving_kinds {
@@ -529,19 +550,6 @@ impl Integrator {
                 ws.samples[p].force_n = ws.f[self.cm.moving_u0 + mi];
                 ws.samples[p].wire_height_m = ws.u[self.cm.moving_u0 + mi];
                 ws.samples[p].wire_velocity_m_s = 0.0;
-            }
-        }
-        for (p, lp) in self.cm.pan_lateral.iter().enumerate() {
-            if let Some(lp) = lp {
-                let mp = &self.cm.moving[lp.moving];
-                let row = &ws.rows[mp.row_off..mp.row_off + mp.n];
-                let x = ws.samples[p].position_m;
-                let mut z = m.static_height(lp.wire, Direction::Lateral, x, st.track_origin_m)
-                    + kernels::dot(isa, &st.modal.u[lp.lat_off..lp.lat_off + lp.n], row);
-                if let Some(t) = lp.tors_off {
-                    z -= lp.eccentricity_m * kernels::dot(isa, &st.modal.u[t..t + lp.n], row);
-                }
-                ws.samples[p].lateral_m = z;
             }
         }
     }

@@ -91,6 +91,8 @@ pub struct Workspace {
     pub(crate) loads: Vec<f64>,
     /// Position (model coordinates, m) and upward force (N) of each external pantograph.
     pub(crate) external: Vec<(f64, f64)>,
+    /// Per pantograph: the contact point lies beyond the head this step (no contact).
+    pub(crate) off_head: Vec<bool>,
     pub(crate) samples: Vec<ContactSample>,
     pub(crate) slack: usize,
     /// Energy evaluation: displacements and velocities at the displacement slots, forces.

@@ -7,7 +7,9 @@
 //! a rotation φ lifts it by `e_c φ²/2`, so the penetration is `d = y_head − y_wire − e_c φ²/2`
 //! and the contact force twists the wire with `F e_c φ` (it pushes up below the axis: the
 //! moment turns the wire further, a negative torsional stiffness `−F e_c`). Its lateral position
-//! `z − e_c φ` is an output (`solve::Integrator`).
+//! `z − e_c φ` is an output (`solve::Integrator`). Contact exists only on the head: where that
+//! lateral position lies beyond the pantograph's half-width (`head_half_width_m`), the wire has
+//! left the head and the contact force is zero (`Io::off_head`).
 
 use super::{Attach, Io, PointElement, Slot, WindowMap};
 use crate::model::dof::Direction;
@@ -102,6 +104,8 @@ impl PointElement for Contacts {
             let phi = io.u[t];
             let lift = 0.5 * c.eccentricity_m * phi * phi;
             let f = match c.law {
+                // Contact exists only on the head: beyond it the wire has left the pantograph.
+                _ if io.off_head[c.pantograph] => 0.0,
                 ContactLaw::Penalty { stiffness_n_per_m } => {
                     penalty_force(stiffness_n_per_m, io.u[h] - io.u[w] - lift)
                 }
@@ -115,7 +119,9 @@ impl PointElement for Contacts {
     fn energy(&self, slots: &[Slot], io: &Io) -> f64 {
         let mut e = 0.0;
         for (c, s) in self.0.iter().zip(slots.chunks_exact(3)) {
-            if let ContactLaw::Penalty { stiffness_n_per_m } = c.law {
+            if let (ContactLaw::Penalty { stiffness_n_per_m }, false) =
+                (c.law, io.off_head[c.pantograph])
+            {
                 let (w, h, t) = (s[0].u as usize, s[1].u as usize, s[2].u as usize);
                 let lift = 0.5 * c.eccentricity_m * io.u[t] * io.u[t];
                 e += penalty_energy(stiffness_n_per_m, io.u[h] - io.u[w] - lift);

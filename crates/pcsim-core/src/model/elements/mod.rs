@@ -81,6 +81,9 @@ pub struct Io<'a> {
     pub f: &'a mut [f64],
     /// Prescribed loads per pantograph (moving forces, hardware-in-the-loop input), N.
     pub loads: &'a [f64],
+    /// Per pantograph: its contact point lies beyond its head (the wire has left the head), so
+    /// there is no contact (issue 20).
+    pub off_head: &'a [bool],
     /// Droppers found slack in this evaluation.
     pub slack: usize,
 }

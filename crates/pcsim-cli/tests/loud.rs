@@ -1,0 +1,60 @@
+//! Regression tests of issue 20 ("physics that fails loudly"), one per item done, each named after
+//! it.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn pcsim() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_pcsim"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("pcsim-loud-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Item 2: a contact wire beyond the pantograph's head has no contact; the run writes its outputs,
+/// reports the dewirement in summary.json's `errors`, and exits non-zero unless
+/// `--allow-dewirement` is given.
+#[test]
+fn issue_20_2_a_dewirement_is_an_error_unless_allowed() {
+    let d = scratch("dewire");
+    let (mut c, _) = pcsim_core::presets::load("stitched-2018-like-3d").unwrap();
+    c.pantographs.truncate(1);
+    c.catenary.spans = 14;
+    c.run.start_m = 250.0;
+    c.run.end_m = 700.0;
+    c.run.analysis_m = [360.0, 700.0];
+    c.catenary.lateral.as_mut().unwrap().stagger_m = Some(1.9);
+    let p = d.join("wide.toml");
+    std::fs::write(&p, c.to_toml_string()).unwrap();
+    let o = pcsim()
+        .arg("run")
+        .arg(&p)
+        .args(["--quiet", "--out"])
+        .arg(d.join("o"))
+        .output()
+        .unwrap();
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("dewirement") && e.contains("--allow-dewirement"),
+        "{e}"
+    );
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("o/summary.json")).unwrap()).unwrap();
+    assert!(
+        s["errors"][0].as_str().unwrap().contains("dewirement"),
+        "{s}"
+    );
+    let o = pcsim()
+        .arg("run")
+        .arg(&p)
+        .args(["--quiet", "--allow-dewirement", "--out"])
+        .arg(d.join("o"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
