@@ -368,3 +368,28 @@ fn every_section_a_preset_cites_exists_and_no_source_is_a_placeholder() {
     }
     assert!(cited > 100, "only {cited} citations found");
 }
+
+/// Issue 20, item 3: no contact, no numbers — a validation whose pantograph never presses on the
+/// wire is refused before any run, naming the field.
+#[test]
+fn a_validation_of_a_pantograph_that_never_touches_is_refused() {
+    use pcsim_core::analysis::sweeps::{run_quietly, validation_runs};
+    use pcsim_core::analysis::validation::ValidationPlan;
+    let mut plan = ValidationPlan::new("en50318-2002").unwrap();
+    for c in &mut plan.cases {
+        if let pcsim_core::input::case::PantographCase::Lumped { uplift_n, .. } =
+            &mut c.pantographs[0]
+        {
+            *uplift_n = -500.0;
+        }
+    }
+    let budget = pcsim_core::Budget::default();
+    let e = validation_runs(&plan, None, &|c| run_quietly(c, &budget))
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(
+        e.contains("pantographs[0].uplift_n") && e.contains("validation"),
+        "{e}"
+    );
+}

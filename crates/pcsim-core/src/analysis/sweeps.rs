@@ -248,6 +248,10 @@ pub fn validation_runs(
     threads: Option<usize>,
     run: &(dyn Fn(&crate::Case) -> Result<RunOutput, SimError> + Sync),
 ) -> Result<(Vec<(RunOutput, f64)>, ValidationReport), SimError> {
+    // No contact, no numbers: a validation of a pantograph that never touches is refused.
+    for c in &plan.cases {
+        crate::compile::require_contact(c, "the validation")?;
+    }
     let runs: Vec<(RunOutput, f64)> = parallel_map(&plan.cases, threads, |c| {
         let t0 = std::time::Instant::now();
         run(c).map(|o| (o, t0.elapsed().as_secs_f64()))
