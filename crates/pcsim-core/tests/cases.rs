@@ -385,8 +385,7 @@ fn a_validation_of_a_pantograph_that_never_touches_is_refused() {
     }
     let budget = pcsim_core::Budget::default();
     let e = validation_runs(&plan, None, &|c| run_quietly(c, &budget))
-        .err()
-        .expect("refused")
+        .expect_err("refused")
         .to_string();
     assert!(
         e.contains("pantographs[0].uplift_n") && e.contains("validation"),
