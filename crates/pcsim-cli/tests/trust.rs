@@ -168,9 +168,17 @@ fn issue_19_1_a_directory_holding_other_files_is_refused_not_deleted() {
 fn issue_19_1_a_second_writer_to_the_same_directory_is_refused() {
     let d = scratch("lock");
     let out = d.join("out");
-    // A longer run holds the lock while a second one starts.
+    // A longer run (about a second at 100 km/h) holds the lock while a second one starts.
     let mut first = pcsim()
-        .args(["run", "--preset", "stitched-2018-like", "--quiet", "--out"])
+        .args([
+            "run",
+            "--preset",
+            "stitched-2018-like",
+            "--speed",
+            "100",
+            "--quiet",
+            "--out",
+        ])
         .arg(&out)
         .stdout(Stdio::null())
         .stderr(Stdio::null())
