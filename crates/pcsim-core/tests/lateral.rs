@@ -677,3 +677,40 @@ fn contact_exists_only_on_the_head() {
         s_on.std_n
     );
 }
+
+/// Issue 20, item 7: the contact wire's twist at the contact point is an output
+/// (`<pantograph>_twist_rad`), present when torsion is modelled and only then; under a crosswind
+/// moment it moves, and it is the twist that shifts the contact point: without torsion the
+/// column is absent and the other columns stay as they were (the byte goldens, without it).
+#[test]
+fn the_twist_at_the_contact_point_is_an_output() {
+    use pcsim_core::analysis::report::timeseries_columns;
+    let mut case = presets::load("stitched-2018-like-3d-crosswind").unwrap().0;
+    case.catenary.spans = 8;
+    case.pantographs.truncate(1);
+    case.run.start_m = 150.0;
+    case.run.end_m = 360.0;
+    case.run.analysis_m = [210.0, 360.0];
+    case.run.modes = Some(320);
+    let out = run_case(&case, &mut |_| true).unwrap();
+    let p = &out.pantographs[0];
+    assert_eq!(p.twist_rad.len(), out.time_s.len());
+    assert!(p.twist_rad.iter().all(|t| t.is_finite()));
+    let spread = p.twist_rad.iter().cloned().fold(f64::MIN, f64::max)
+        - p.twist_rad.iter().cloned().fold(f64::MAX, f64::min);
+    assert!(spread > 1e-5, "the twist does not move: {spread} rad");
+    let cols = timeseries_columns(&out);
+    assert!(cols.iter().any(|c| c.name == "leading_twist_rad"));
+    // Lateral motion without torsion: no twist column.
+    let mut flat = case.clone();
+    flat.run.dofs = vec![
+        pcsim_core::input::lateral::Dof::Vertical,
+        pcsim_core::input::lateral::Dof::Lateral,
+    ];
+    flat.wind = None;
+    let out = run_case(&flat, &mut |_| true).unwrap();
+    assert!(out.pantographs[0].twist_rad.is_empty());
+    assert!(!timeseries_columns(&out)
+        .iter()
+        .any(|c| c.name.ends_with("_twist_rad")));
+}

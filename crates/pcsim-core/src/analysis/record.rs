@@ -32,6 +32,9 @@ pub struct PantographTrace {
     /// Lateral position of the contact point from the track's centre line, m (empty when
     /// lateral motion is not modelled).
     pub lateral_m: Vec<f64>,
+    /// Rotation of the contact wire at the contact point, rad (empty when torsion is not
+    /// modelled): the twist that 3D checks observe (issue 20, item 7).
+    pub twist_rad: Vec<f64>,
     /// Half-length of the head, m (when given).
     pub head_half_width_m: Option<f64>,
     /// The contact point across the head over the analysis section (lateral motion modelled).
@@ -82,11 +85,14 @@ pub struct Recorder {
     force: Vec<Vec<f64>>,
     height: Vec<Vec<f64>>,
     lateral: Vec<Vec<f64>>,
+    twist: Vec<Vec<f64>>,
     uplift: Vec<f64>,
     /// Largest lateral deflection of the contact wire at the probes inside the section, m.
     blowout: f64,
     /// Whether lateral motion is recorded.
     record_lateral: bool,
+    /// Whether the contact wire's twist is recorded (torsion modelled).
+    record_twist: bool,
     span_m: Option<f64>,
     analysis_m: [f64; 2],
     /// Registration point of support number `j` (`round(x / span)`), by `j`.
@@ -115,16 +121,19 @@ impl Recorder {
             }
         }
         let lateral = cm.model().has(Direction::Lateral);
+        let twist = lateral && cm.model().has(Direction::Torsional);
         Recorder {
             time: Vec::with_capacity(n_steps),
             pos: vec![Vec::with_capacity(n_steps); np],
             force: vec![Vec::with_capacity(n_steps); np],
             height: vec![Vec::with_capacity(n_steps); np],
             lateral: vec![Vec::with_capacity(if lateral { n_steps } else { 0 }); np],
+            twist: vec![Vec::with_capacity(if twist { n_steps } else { 0 }); np],
             uplift: vec![0.0; np],
             blowout: 0.0,
             dt_s,
             record_lateral: lateral,
+            record_twist: twist,
             span_m,
             analysis_m,
             support,
@@ -173,6 +182,7 @@ impl Recorder {
                     max_uplift_at_support_m: self.uplift[p],
                     stats,
                     lateral_m: std::mem::take(&mut self.lateral[p]),
+                    twist_rad: std::mem::take(&mut self.twist[p]),
                     head_half_width_m: pan.head_half_width_m,
                     lateral,
                 }
@@ -219,6 +229,9 @@ impl Observer for Recorder {
             self.height[p].push(s.wire_height_m);
             if self.record_lateral {
                 self.lateral[p].push(s.lateral_m);
+            }
+            if self.record_twist {
+                self.twist[p].push(s.twist_rad);
             }
             if let Some(span) = self.span_m {
                 let j = (s.position_m / span).round();

@@ -222,6 +222,9 @@ pub fn timeseries_columns(out: &RunOutput) -> Vec<Column> {
                 ));
             }
         }
+        if !p.twist_rad.is_empty() {
+            cols.push(col(format!("{tag}_twist_rad"), p.twist_rad.clone(), 9));
+        }
     }
     cols
 }

@@ -506,7 +506,9 @@ impl Integrator {
                 let mut z = m.static_height(lp.wire, Direction::Lateral, x, st.track_origin_m)
                     + kernels::dot(isa, &st.modal.u[lp.lat_off..lp.lat_off + lp.n], row);
                 if let Some(t) = lp.tors_off {
-                    z -= lp.eccentricity_m * kernels::dot(isa, &st.modal.u[t..t + lp.n], row);
+                    let phi = kernels::dot(isa, &st.modal.u[t..t + lp.n], row);
+                    z -= lp.eccentricity_m * phi;
+                    ws.samples[p].twist_rad = phi;
                 }
                 ws.samples[p].lateral_m = z;
                 ws.off_head[p] = m.pantographs[p]

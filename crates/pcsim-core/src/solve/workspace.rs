@@ -20,6 +20,9 @@ pub struct ContactSample {
     /// motion is not modelled): the stagger, the contact wire's lateral deviation, and its
     /// rotation times the depth of the contact point below its axis.
     pub lateral_m: f64,
+    /// Rotation of the contact wire about its axis at the contact point, rad (0 when torsion is
+    /// not modelled).
+    pub twist_rad: f64,
 }
 
 /// Largest plausible deviation of the contact wire from its design height, m: beyond it a run is
