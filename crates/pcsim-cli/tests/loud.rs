@@ -2,17 +2,12 @@
 //! it.
 
 use std::path::PathBuf;
-use std::process::Command;
 
-fn pcsim() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_pcsim"))
-}
+mod common;
+use common::pcsim;
 
 fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("pcsim-loud-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::scratch("loud", name)
 }
 
 /// Item 2: a contact wire beyond the pantograph's head has no contact; the run writes its outputs,

@@ -7,33 +7,11 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-fn pcsim() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_pcsim"))
-}
+mod common;
+use common::{ok, pcsim, refused, run_within, stderr};
 
 fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("pcsim-trust-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// Exit status 2 with every `needle` in the error, and no panic.
-fn refused(o: &Output, needles: &[&str]) {
-    let e = stderr(o);
-    assert_eq!(o.status.code(), Some(2), "{e}");
-    assert!(!e.contains("panicked"), "{e}");
-    for n in needles {
-        assert!(e.contains(n), "`{n}` not in: {e}");
-    }
-}
-
-fn ok(o: &Output) {
-    assert!(o.status.success(), "{}", stderr(o));
+    common::scratch("trust", name)
 }
 
 /// What a reader may take from a directory: `Some(files)` when its manifest says it is complete
@@ -603,21 +581,9 @@ fn issue_19_4_a_non_finite_sample_never_hangs_the_plotting() {
         lines[k] = c.join(",");
     }
     std::fs::write(&p, lines.join("\n") + "\n").unwrap();
-    let mut child = pcsim()
-        .arg("plot")
-        .arg(&out)
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let t0 = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        assert!(
-            t0.elapsed() < Duration::from_secs(60),
-            "pcsim plot hangs on a non-finite sample"
-        );
-        std::thread::sleep(Duration::from_millis(50));
-    }
-    let o = child.wait_with_output().unwrap();
+    let mut cmd = pcsim();
+    cmd.arg("plot").arg(&out);
+    let o = run_within(cmd, Duration::from_secs(60));
     ok(&o);
     assert!(
         stderr(&o).contains("3 samples with a non-finite value"),
@@ -933,25 +899,13 @@ fn issue_19_3_merges_of_mutated_manifests_never_panic() {
             }
         };
         std::fs::write(b.join("pcsim.json"), &text).unwrap();
-        let mut child = pcsim()
-            .args(["eva", "merge"])
+        let mut cmd = pcsim();
+        cmd.args(["eva", "merge"])
             .arg(&a)
             .arg(&b)
             .args(["--quiet", "--no-plot", "--out"])
-            .arg(d.join("merged"))
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        let t0 = Instant::now();
-        while child.try_wait().unwrap().is_none() {
-            assert!(
-                t0.elapsed() < Duration::from_secs(60),
-                "merge hangs on {text}"
-            );
-            std::thread::sleep(Duration::from_millis(5));
-        }
-        let o = child.wait_with_output().unwrap();
+            .arg(d.join("merged"));
+        let o = run_within(cmd, Duration::from_secs(60));
         match o.status.code() {
             Some(0) => merged += 1,
             Some(2) => refused_n += 1,
@@ -1020,21 +974,12 @@ fn issue_19_7_mutated_hil_inputs_never_panic() {
         }
         let p = d.join("in.csv");
         std::fs::write(&p, lines.join("\n") + "\n").unwrap();
-        let mut child = pcsim()
-            .args(["hil", "--preset", "syt-7.0-9.8", "--input"])
+        let mut cmd = pcsim();
+        cmd.args(["hil", "--preset", "syt-7.0-9.8", "--input"])
             .arg(&p)
             .arg("--out")
-            .arg(d.join("out.csv"))
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        let t0 = Instant::now();
-        while child.try_wait().unwrap().is_none() {
-            assert!(t0.elapsed() < Duration::from_secs(60), "hil hangs");
-            std::thread::sleep(Duration::from_millis(5));
-        }
-        let o = child.wait_with_output().unwrap();
+            .arg(d.join("out.csv"));
+        let o = run_within(cmd, Duration::from_secs(60));
         assert!(
             matches!(o.status.code(), Some(0) | Some(2)),
             "exit {:?}: {}",
