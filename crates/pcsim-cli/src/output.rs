@@ -289,10 +289,11 @@ fn check_replaceable(target: &Path) -> Result<()> {
         );
     }
     let present = files_under(target)?;
-    if present.is_empty() && read_manifest(target).ok().flatten().is_none() {
+    let manifest = read_manifest(target).ok().flatten();
+    if present.is_empty() && manifest.is_none() {
         return Ok(());
     }
-    let m = read_manifest(target).ok().flatten().with_context(|| {
+    let m = manifest.with_context(|| {
         format!(
             "--out {} exists and is not an output of pcsim (no {MANIFEST}): choose another directory, or empty it",
             target.display()

@@ -459,10 +459,7 @@ fn lumped_pantograph(
         ));
     }
     let v = speed_kmh;
-    let aero = aero_coeffs_kmh
-        .iter()
-        .rev()
-        .fold(0.0, |acc, ci| acc * v + ci);
+    let aero = crate::model::pantograph::aero_force_n(aero_coeffs_kmh, v);
     check_bound(
         w,
         &format!("{base}.aero_coeffs_kmh (the force at {v} km/h, N)"),
