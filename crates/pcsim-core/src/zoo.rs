@@ -109,7 +109,6 @@ pub fn one_span() -> Setup {
         },
         options: full.options,
         warnings: vec![],
-        stable: None,
     }
 }
 

@@ -187,15 +187,38 @@ fn encumbrance_too_small_for_the_messenger_sag() {
 }
 
 #[test]
-fn blow_up_stops_with_time_and_place() {
-    // Stable wire modes but droppers far too stiff for the explicit step: the run must stop
-    // with an error giving the time and the position instead of writing NaN.
+fn droppers_too_stiff_for_the_step_are_refused_before_the_run() {
+    // Stable wire modes but droppers far too stiff for the explicit step: refused by the
+    // coupled stability check (issue 20) before a step is taken, naming Δt and the droppers
+    // (this case used to run until it blew up).
     let (mut case, _) = presets::load("en50318-2002").unwrap();
     case.catenary.droppers.stiffness_n_per_m = Some(1.0e9);
+    let msg = pcsim_core::run_case(&case, &mut |_| true)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        msg.contains("run.dt_s") && msg.contains("coupled system") && msg.contains("dropper"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn blow_up_stops_with_time_and_place() {
+    // A load no catenary can hold (9 kN of uplift): the contact wire passes the messenger's
+    // height (the system height, 1.2 m here) and the run stops with the time and the position
+    // instead of writing numbers.
+    let (mut case, _) = presets::load("en50318-2002").unwrap();
+    match &mut case.pantographs[0] {
+        pcsim_core::input::case::PantographCase::Lumped { uplift_n, .. } => *uplift_n = 9000.0,
+        _ => unreachable!("the preset's pantograph is lumped"),
+    }
     let err = pcsim_core::run_case(&case, &mut |_| true).unwrap_err();
     let msg = err.to_string();
     assert!(
-        msg.contains("blow-up") && msg.contains("t = ") && msg.contains("x = "),
+        msg.contains("blow-up")
+            && msg.contains("t = ")
+            && msg.contains("x = ")
+            && msg.contains("system height"),
         "{msg}"
     );
 }

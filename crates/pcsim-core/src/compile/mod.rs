@@ -16,7 +16,8 @@ use crate::error::{CaseError, Warning};
 use crate::input::case::Case;
 use crate::model::build::BuilderRun;
 use crate::model::Model;
-use crate::solve::integrator::{self, Integrator, StableStep};
+use crate::solve::integrator::Integrator;
+use crate::solve::stability;
 use crate::solve::realtime::{Coupling, RealtimeCatenary};
 use crate::solve::{ContactSample, Options, Plan, State, Workspace};
 
@@ -50,10 +51,6 @@ pub struct Setup {
     pub options: Options,
     /// Warnings found while building the set-up.
     pub warnings: Vec<Warning>,
-    /// The proof that `options.dt_s` is stable for `model` ([`integrator::check_stability`]),
-    /// when the set-up checked it (`None`: checked when the integrator is built). A set-up whose
-    /// model is changed by hand must reset it to `None`.
-    pub stable: Option<StableStep>,
 }
 
 impl Setup {
@@ -73,16 +70,15 @@ impl Setup {
         let plan = plan_of(case);
         warnings.extend(plan.check(&model)?);
         let options = Options::new(case.run.dt_s);
-        // Δt against the explicit limits, once, here: a set-up never holds an unstable step, and
-        // its integrator is built on this proof (the window and hand-made models are checked by
-        // `Integrator::new`).
-        let stable = integrator::check_stability(&model, options.dt_s)?;
+        // Δt against the local explicit limits, here, so that a case is refused before anything
+        // is compiled; the coupled limit needs the compiled model and is checked when the
+        // integrator is built (`solve::stability`).
+        stability::check_local(&model, options.dt_s)?;
         Ok(Setup {
             model,
             plan,
             options,
             warnings,
-            stable: Some(stable),
         })
     }
 
@@ -100,20 +96,13 @@ impl Setup {
             },
             options: Options::new(run.dt_s),
             warnings: Vec::new(),
-            stable: None,
         }
     }
 
-    /// The integrator of this set-up.
-    /// [`Setup::from_case`] checked the time step once; a set-up made otherwise, or whose Δt
-    /// was changed since, is checked here.
+    /// The integrator of this set-up: the model compiled, the time step checked against the
+    /// local and coupled limits ([`crate::solve::stability`]), the Δt operators built.
     pub fn integrator(&self) -> Result<Integrator, CaseError> {
-        match self.stable {
-            Some(s) if s.dt_s() == self.options.dt_s => {
-                Integrator::new_stable(self.model.clone(), &self.plan, self.options, s)
-            }
-            _ => Integrator::new(self.model.clone(), &self.plan, self.options),
-        }
+        Integrator::new(self.model.clone(), &self.plan, self.options)
     }
 
     /// Number of steps of the run.

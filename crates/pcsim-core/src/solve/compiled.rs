@@ -23,7 +23,7 @@ use crate::solve::kernels::{self, Isa};
 use crate::solve::plan::Plan;
 use crate::solve::sampler::{PointSampler, SamplerScratch};
 use crate::solve::state::State;
-use crate::solve::workspace::{ContactSample, Workspace};
+use crate::solve::workspace::{ContactSample, Workspace, MAX_PLAUSIBLE_HEIGHT_M};
 
 /// Wire points of one basis group, gathered for all its blocks at once.
 #[derive(Debug, Clone)]
@@ -177,6 +177,8 @@ pub struct CompiledModel {
     pub(crate) static_springs: Vec<StaticSpringSlots>,
     /// Static deflection under the mean wind (modal coordinates), the initial state's.
     pub(crate) initial_modal: Option<Vec<f64>>,
+    /// The blow-up bound of the contact wire's deviation from its design height, m.
+    pub(crate) max_deviation_m: f64,
 }
 
 impl CompiledModel {
@@ -279,6 +281,7 @@ impl CompiledModel {
             wind,
             static_springs,
             initial_modal: None,
+            max_deviation_m: system_height_m(&model).unwrap_or(MAX_PLAUSIBLE_HEIGHT_M),
             model,
         };
         cm.initial_modal = cm.static_wind_deflection()?;
@@ -288,6 +291,14 @@ impl CompiledModel {
     /// The model.
     pub fn model(&self) -> &Model {
         &self.model
+    }
+
+    /// How far the contact wire may stray from its design height before a run is treated as
+    /// blown up, m: the system height (the messenger's design height above the contact wire's,
+    /// largest along the model, at the supports), which no contact wire passes without having
+    /// gone through its messenger; [`MAX_PLAUSIBLE_HEIGHT_M`] when the model has no messenger.
+    pub fn max_wire_deviation_m(&self) -> f64 {
+        self.max_deviation_m
     }
 
     /// Instruction set of the hot loops.
@@ -603,6 +614,23 @@ impl CompiledModel {
     pub(crate) fn modal_damping(&self) -> &[f64] {
         &self.c_true
     }
+}
+
+/// The largest design height of the messenger above the contact wire along the model (the system
+/// height at the supports), sampled every metre, m; `None` without a messenger and a contact wire.
+fn system_height_m(model: &Model) -> Option<f64> {
+    let has = |r: WireRole| model.wires.iter().any(|w| w.role == r);
+    if !(has(WireRole::Messenger) && has(WireRole::Contact)) {
+        return None;
+    }
+    let n = model.length_m().ceil().max(1.0) as usize;
+    let h = (0..=n)
+        .map(|i| {
+            let x = i as f64;
+            model.statics.height(WireRole::Messenger, x) - model.statics.height(WireRole::Contact, x)
+        })
+        .fold(f64::NEG_INFINITY, f64::max);
+    (h.is_finite() && h > 0.0).then_some(h)
 }
 
 /// The block of `wire` in direction `dir`, or an error: an element attaches to a direction that

@@ -39,7 +39,7 @@
 
 use crate::error::CaseError;
 use crate::model::dof::Direction;
-use crate::model::elements::{Attach, Io, Weight};
+use crate::model::elements::{Io, Weight};
 use crate::model::pantograph::{ChainOperators, PantographKind};
 use crate::model::Model;
 use crate::solve::compiled::{contact_stiffness, invalid, CompiledModel};
@@ -47,6 +47,7 @@ use crate::solve::implicit::{ImplicitPoints, ImplicitScratch};
 use crate::solve::kernels::{self, Isa};
 use crate::solve::plan::{Options, Plan};
 use crate::solve::sampler::SamplerScratch;
+use crate::solve::stability::check_stability;
 use crate::solve::state::State;
 use crate::solve::workspace::Workspace;
 
@@ -77,20 +78,6 @@ pub struct Integrator {
     max_imp: (usize, usize, usize),
 }
 
-/// A time step that [`check_stability`] accepted for one model: the proof that lets a set-up
-/// build its integrator without checking again.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StableStep {
-    dt_s: f64,
-}
-
-impl StableStep {
-    /// The time step that was checked, s.
-    pub fn dt_s(&self) -> f64 {
-        self.dt_s
-    }
-}
-
 /// One trapezoidal (Cayley) step over `t` of the damped oscillator `m q̈ + c q̇ + k q = 0` as a
 /// matrix on `(q, q̇)`: `(I − t/2 A)⁻¹ (I + t/2 A)` with `A = [[0, 1], [−k/m, −c/m]]`. It turns
 /// the phase plane by `2 atan(ω t / 2) < π` per step, whatever `ω t`, so the point forces kicked
@@ -110,30 +97,19 @@ pub fn oscillator_flow(m: f64, c: f64, k: f64, t: f64) -> [f64; 4] {
 }
 
 impl Integrator {
-    /// Precompute everything a step needs, after checking that the time step is stable for the
-    /// model's explicit parts.
+    /// Precompute everything a step needs: compile the model, check that the time step is
+    /// stable for its explicit parts, local and coupled ([`check_stability`]), and build the Δt
+    /// operators on that proof.
     pub fn new(model: Model, plan: &Plan, options: Options) -> Result<Self, CaseError> {
-        let stable = check_stability(&model, options.dt_s)?;
-        Self::new_stable(model, plan, options, stable)
-    }
-
-    /// [`Integrator::new`] for a model whose time step was already checked (`stable`, from
-    /// [`check_stability`] on this model): the set-up's path, which checks once.
-    pub fn new_stable(
-        model: Model,
-        plan: &Plan,
-        options: Options,
-        stable: StableStep,
-    ) -> Result<Self, CaseError> {
-        debug_assert_eq!(stable.dt_s, options.dt_s);
         let cm = CompiledModel::new(model, plan, options.isa)?;
-        Self::from_compiled(cm, plan, stable.dt_s)
+        let stable = check_stability(&cm, plan, options.dt_s)?;
+        Self::from_compiled(cm, plan, stable.dt_s())
     }
 
     /// The Δt operators over a compiled model: the modal diagonal `M + Δt/2 C` (Eqs. 9–14), the
     /// torsional modes' trapezoidal flow, the implicit point terms with their Δt weights, and the
     /// pantographs' chains (Eq. 16) with their static equilibrium.
-    fn from_compiled(cm: CompiledModel, plan: &Plan, dt: f64) -> Result<Self, CaseError> {
+    pub(crate) fn from_compiled(cm: CompiledModel, plan: &Plan, dt: f64) -> Result<Self, CaseError> {
         let model = &cm.model;
         let lay = &model.layout;
         let isa = cm.isa;
@@ -333,6 +309,20 @@ impl Integrator {
     /// implicit solve and kick, pantographs. Allocation-free; the work is the same every step.
     pub fn step(&self, st: &mut State, ws: &mut Workspace) {
         self.drift(st);
+        self.gather(st, ws);
+        self.fixed_point_forces(st, ws);
+        self.modal_rhs(st, ws);
+        self.wind(st, ws);
+        self.moving_points(st, ws);
+        self.implicit_solve(st, ws);
+        self.pantographs(st, ws);
+    }
+
+    /// The accelerations at `st` without advancing it: stages 2–8 of [`Integrator::step`] with
+    /// no drift (the velocities are half-kicked on the way; callers that only want the
+    /// accelerations reset them). The coupled stability check differences it
+    /// ([`crate::solve::stability`]).
+    pub(crate) fn accelerations(&self, st: &mut State, ws: &mut Workspace) {
         self.gather(st, ws);
         self.fixed_point_forces(st, ws);
         self.modal_rhs(st, ws);
@@ -605,79 +595,3 @@ impl Integrator {
     }
 }
 
-/// The explicit parts of the scheme must be stable at Δt (central differences: ω Δt < 2, with a
-/// margin): the highest mode of every block, every node on its springs, every penalty contact on
-/// its pantograph head, every pantograph spring. Errors name the case field to change.
-pub fn check_stability(model: &Model, dt: f64) -> Result<StableStep, CaseError> {
-    use std::f64::consts::PI;
-    let dt_field = |reason: String| invalid("run.dt_s", dt, reason);
-    // Every block's highest mode.
-    for b in 0..model.layout.blocks.len() {
-        if model.layout.blocks[b].key.dir == Direction::Torsional {
-            continue; // advanced by its exact flow: stable for any Δt
-        }
-        let s = model.series(b);
-        let Some(last) = s.stiffness.len().checked_sub(1) else {
-            continue;
-        };
-        let f = (s.stiffness[last] / s.mass[last]).sqrt() / (2.0 * PI);
-        if 2.0 * PI * f * dt > 1.8 {
-            let key = model.layout.blocks[b].key;
-            let name = &model.wires[key.wire].name;
-            let dir = key.dir.name();
-            return Err(dt_field(format!(
-                "too large for the highest {name} {dir} mode ({f:.0} Hz): the explicit scheme needs Δt < {:.2e} s (with margin)",
-                1.8 / (2.0 * PI * f)
-            )));
-        }
-    }
-    // Nodes on the springs attached to them.
-    let mut node_k = vec![0.0; model.nodes.len()];
-    for e in &model.elements {
-        for i in 0..e.len() {
-            for a in 0..e.arity() {
-                if let Attach::Node(j) = e.attachment(i, a) {
-                    if let Some(k) = node_k.get_mut(j) {
-                        *k += e.stiffness(i);
-                    }
-                }
-            }
-        }
-    }
-    for (j, (n, k)) in model.nodes.iter().zip(&node_k).enumerate() {
-        if (k / n.mass_kg).sqrt() * dt > 1.8 {
-            return Err(dt_field(format!(
-                "too large for node {j} at x = {:.2} m ({} kg on {k:.0} N/m, a stitch node): explicit stability",
-                n.x_m, n.mass_kg
-            )));
-        }
-    }
-    // Penalty contacts and pantograph springs.
-    for (p, pan) in model.pantographs.iter().enumerate() {
-        if let PantographKind::Lumped(l) = &pan.kind {
-            let kn = contact_stiffness(model, p);
-            let m0 = l.masses_kg[0];
-            if (kn / m0).sqrt() * dt > 1.0 {
-                return Err(invalid(
-                    "contact.stiffness_n_per_m",
-                    kn,
-                    format!(
-                        "too stiff for run.dt_s = {dt} s with a {m0} kg head: need √(k/m)·Δt < 1, i.e. Δt < {:.2e} s",
-                        (m0 / kn).sqrt()
-                    ),
-                ));
-            }
-            for j in 0..l.masses_kg.len() {
-                let m_inv = 1.0 / l.masses_kg[j] + l.masses_kg.get(j + 1).map_or(0.0, |m| 1.0 / m);
-                if (l.stiffness_n_per_m[j] * m_inv).sqrt() * dt > 1.8 {
-                    return Err(invalid(
-                        &format!("pantographs[{p}].stiffness_n_per_m[{j}]"),
-                        l.stiffness_n_per_m[j],
-                        format!("too stiff for run.dt_s = {dt} s (explicit stability)"),
-                    ));
-                }
-            }
-        }
-    }
-    Ok(StableStep { dt_s: dt })
-}

@@ -10,7 +10,8 @@
 //! | `sampler.rs` | point sines × modal coordinates over any number of blocks (the hot spot) |
 //! | `implicit.rs` | implicit point masses and dampers (Woodbury) |
 //! | `compiled.rs` | the compiled model: slots, point groups, moving points, monitors, probes, the energy view (no Δt) |
-//! | `integrator.rs` | the stepper: the Δt operators, the step (Eq. 18) in eight named stages, the stability checks |
+//! | `integrator.rs` | the stepper: the Δt operators, the step (Eq. 18) in eight named stages |
+//! | `stability.rs` | Δt against the local limits and the coupled system's highest frequency (power iteration) |
 //! | `run.rs` | the run loop with observers, blow-up checks, run statistics |
 //! | `realtime.rs` | the moving-window catenary for HIL |
 
@@ -22,11 +23,13 @@ pub mod plan;
 pub mod realtime;
 pub mod run;
 pub mod sampler;
+pub mod stability;
 pub mod state;
 pub mod workspace;
 
 pub use compiled::CompiledModel;
-pub use integrator::{Integrator, StableStep};
+pub use integrator::Integrator;
+pub use stability::{CoupledLimit, StableStep};
 pub use kernels::Isa;
 pub use plan::{Options, Plan};
 pub use run::{run, Observer, RunStatistics};

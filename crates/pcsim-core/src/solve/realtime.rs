@@ -687,9 +687,10 @@ impl RealtimeCatenary {
         self.integ.position(&self.st, 0) + self.st.track_origin_m
     }
 
-    /// True when the state is finite and the last step's samples plausible (the wire within 2 m
-    /// of its design height).
+    /// True when the state is finite and the last step's samples plausible (the wire within the
+    /// system height of its design height, [`CompiledModel::max_wire_deviation_m`]).
     pub fn state_is_sound(&self) -> bool {
-        self.st.is_finite() && self.ws.samples().iter().all(|s| s.is_sound())
+        let h = self.integ.compiled().max_wire_deviation_m();
+        self.st.is_finite() && self.ws.samples().iter().all(|s| s.is_sound(h))
     }
 }

@@ -1,8 +1,11 @@
 //! The one run loop: steps an integrator, checks for blow-up, counts what it sees, and hands
 //! every step to its observers (the EN 50318 recorder, the energy sampler, the window mover).
 //!
-//! Blow-up: a non-finite value, a contact force above 1 MN or a contact-wire height more than 2 m
-//! from the design height (no catenary moves that far) stops the run with the time and place.
+//! Blow-up: a non-finite value, a contact force above 1 MN or a contact wire further from its
+//! design height than the system height (it would have passed the messenger;
+//! [`CompiledModel::max_wire_deviation_m`]) stops the run with the time and place. Growth from a
+//! time step too large for the coupled system is refused before the run
+//! ([`crate::solve::stability`]).
 
 use serde::Serialize;
 
@@ -64,6 +67,7 @@ pub fn run(
 ) -> Result<RunStatistics, SimError> {
     let mut rs = RunStatistics::default();
     let pans = &integ.model().pantographs;
+    let max_h = integ.compiled().max_wire_deviation_m();
     for step in 0..n_steps {
         integ.step(st, ws);
         rs.steps += 1;
@@ -80,11 +84,11 @@ pub fn run(
         }
         rs.blow_up_checks += 1;
         for (p, s) in ws.samples().iter().enumerate() {
-            if !s.is_sound() {
+            if !s.is_sound(max_h) {
                 return Err(SimError::BlowUp {
                     time_s: st.t,
                     position_m: s.position_m + st.track_origin_m,
-                    what: s.fault(p).unwrap_or_default(),
+                    what: s.fault(p, max_h).unwrap_or_default(),
                 });
             }
         }

@@ -25,15 +25,16 @@ pub struct ContactSample {
     pub twist_rad: f64,
 }
 
-/// Largest plausible deviation of the contact wire from its design height, m: beyond it a run is
-/// treated as blown up (no catenary moves that far).
+/// Largest plausible deviation of the contact wire from its design height (when the model has no
+/// messenger to bound it, see [`crate::solve::CompiledModel::max_wire_deviation_m`]) and of the
+/// contact point from the track's centre line, m: beyond it a run is treated as blown up.
 pub const MAX_PLAUSIBLE_HEIGHT_M: f64 = 2.0;
 /// Largest plausible contact force, N.
 pub const MAX_PLAUSIBLE_FORCE_N: f64 = 1e6;
 
 impl ContactSample {
     /// What is implausible about this sample, for a blow-up message (`None` when sound).
-    pub fn fault(&self, pantograph: usize) -> Option<String> {
+    pub fn fault(&self, pantograph: usize, max_height_m: f64) -> Option<String> {
         if !(self.force_n.is_finite()
             && self.wire_height_m.is_finite()
             && self.wire_velocity_m_s.is_finite()
@@ -48,9 +49,9 @@ impl ContactSample {
                 "the contact point under pantograph {pantograph} is {:.3} m from the track's centre line (more than {MAX_PLAUSIBLE_HEIGHT_M} m)",
                 self.lateral_m
             ))
-        } else if self.wire_height_m.abs() >= MAX_PLAUSIBLE_HEIGHT_M {
+        } else if self.wire_height_m.abs() >= max_height_m {
             Some(format!(
-                "the contact wire under pantograph {pantograph} is {:.3} m from its design height (more than {MAX_PLAUSIBLE_HEIGHT_M} m)",
+                "the contact wire under pantograph {pantograph} is {:.3} m from its design height (more than {max_height_m:.3} m, the system height: it would have passed the messenger)",
                 self.wire_height_m
             ))
         } else if self.force_n.abs() >= MAX_PLAUSIBLE_FORCE_N {
@@ -63,13 +64,15 @@ impl ContactSample {
         }
     }
 
-    /// Finite and physically plausible (the blow-up test of every run loop).
-    pub fn is_sound(&self) -> bool {
+    /// Finite and physically plausible (the blow-up test of every run loop): the contact wire
+    /// within `max_height_m` of its design height (the model's
+    /// [`crate::solve::CompiledModel::max_wire_deviation_m`]).
+    pub fn is_sound(&self, max_height_m: f64) -> bool {
         self.force_n.is_finite()
             && self.wire_height_m.is_finite()
             && self.wire_velocity_m_s.is_finite()
             && self.force_n.abs() < MAX_PLAUSIBLE_FORCE_N
-            && self.wire_height_m.abs() < MAX_PLAUSIBLE_HEIGHT_M
+            && self.wire_height_m.abs() < max_height_m
             && self.lateral_m.abs() < MAX_PLAUSIBLE_HEIGHT_M
     }
 }

@@ -1,0 +1,447 @@
+//! The time step against the explicit scheme's stability limit, in one place.
+//!
+//! The scheme (central differences, velocity-Verlet form, Eq. 18) is stable while `ω Δt < 2`
+//! for the highest frequency `ω` of the part it treats explicitly. Damping taken as
+//! `(M + Δt/2 C)` does not lower that limit (Newmark with γ = ½, β = 0). Two checks, both here:
+//!
+//! - **Local limits** ([`check_local`]): each wire block's highest mode, each node on the springs
+//!   attached to it, each penalty contact on its pantograph head, each pantograph spring. Cheap,
+//!   from the model alone, and each names the case field to change. The set-up runs them before
+//!   anything is compiled.
+//! - **The coupled limit** ([`coupled_limit`]): the highest frequency of the whole explicit
+//!   system as compiled — the wires' modal stiffness (the torsional modes, advanced by their
+//!   trapezoidal flow, excluded) with every dropper, support, registration, steady-arm mass,
+//!   stitch, penalty contact and pantograph coupling them. A local limit misses it: a stiff
+//!   support acts on the few centimetres of wire that the highest modes resolve at the point, and
+//!   the droppers and contacts add up. It is found by power iteration on `M⁻¹K`, each product
+//!   being the difference of two evaluations of the compiled step's accelerations about the
+//!   static state (where the droppers are taut and the contact is closed: the stiffest the
+//!   system gets). The mode found is then split into the strain energy of each part, and the
+//!   largest share names the element that limits Δt.
+//!
+//! [`check_stability`] runs both and issues the [`StableStep`] proof that the integrator is built
+//! on. A Δt is accepted when `ω Δt ≤ 2 · MARGIN`.
+
+use crate::error::CaseError;
+use crate::model::dof::Direction;
+use crate::model::elements::{Attach, Io};
+use crate::model::pantograph::PantographKind;
+use crate::model::Model;
+use crate::solve::compiled::{contact_stiffness, invalid, CompiledModel};
+use crate::solve::integrator::Integrator;
+use crate::solve::plan::Plan;
+use crate::solve::state::State;
+use crate::solve::workspace::Workspace;
+
+/// The share of the stability limit a time step may use: Δt ≤ `MARGIN` · 2/ω, i.e. ω·Δt ≤ 1.3.
+///
+/// Measured (docs/validation.md, "The time step against the coupled limit"): on `en50318-2002`
+/// at 250 km/h the moving contact already drives the top modes unstable from ω·Δt ≈ 1.78 (σ
+/// 35 N against 32.6 N, 1 % loss of contact), below the linear limit of 2; at 300 km/h σ leaves
+/// 2 % of its converged value from ω·Δt ≈ 1.42. The accepted range keeps every preset within
+/// 2 %.
+pub const MARGIN: f64 = 0.65;
+
+/// The time step of the probe integrator whose accelerations the power iteration differences:
+/// small enough that `Δt/2 C` is negligible beside `M` (the limit is the undamped one).
+const PROBE_DT_S: f64 = 1e-9;
+
+/// Size of the perturbation about the static state (the vector's Euclidean norm, in modal
+/// coordinates, m or rad): far below a dropper's slack (its static force over its stiffness,
+/// about a millimetre) or the contact's opening, so the evaluations stay on one linear branch.
+const PERTURBATION: f64 = 1e-7;
+
+/// Power iterations: at most this many, and at least [`MIN_ITERATIONS`]; the estimate stops when
+/// it has changed by less than [`TOLERANCE`] over the last [`MIN_ITERATIONS`] / 4 iterations.
+const MAX_ITERATIONS: usize = 3000;
+const MIN_ITERATIONS: usize = 60;
+const TOLERANCE: f64 = 1e-5;
+
+/// A time step that [`check_stability`] accepted for one compiled model: the proof the
+/// integrator is built on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StableStep {
+    dt_s: f64,
+}
+
+impl StableStep {
+    /// The time step that was checked, s.
+    pub fn dt_s(&self) -> f64 {
+        self.dt_s
+    }
+}
+
+/// The highest frequency of the coupled explicit system and what limits it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CoupledLimit {
+    /// The highest circular frequency found, rad/s.
+    pub omega_rad_s: f64,
+    /// The largest accepted time step, `MARGIN · 2/ω`, s.
+    pub dt_max_s: f64,
+    /// The part of the model holding the largest share of that mode's strain energy, in words
+    /// ("the droppers (61 % …)").
+    pub limiting: String,
+    /// Power iterations made.
+    pub iterations: usize,
+}
+
+/// Check `dt` against the local limits and the coupled limit of the compiled model: the proof
+/// that an integrator at `dt` is stable, or an error naming `run.dt_s` (or the stiff field), the
+/// limit with its margin and the element that sets it.
+pub fn check_stability(cm: &CompiledModel, plan: &Plan, dt: f64) -> Result<StableStep, CaseError> {
+    check_local(cm.model(), dt)?;
+    let lim = coupled_limit(cm, plan)?;
+    if dt > lim.dt_max_s {
+        let f = lim.omega_rad_s / (2.0 * std::f64::consts::PI);
+        return Err(invalid(
+            "run.dt_s",
+            dt,
+            format!(
+                "too large for the coupled system: its fastest mode is at {f:.0} Hz (ω = {:.0} rad/s), set by {}. The explicit scheme is unstable from ω·Δt = 2 (Δt = {:.3e} s) and loses accuracy before: pcsim accepts ω·Δt ≤ {:.1} (σ within 2 % of the converged value, docs/validation.md), i.e. run.dt_s ≤ {:.3e} s",
+                lim.omega_rad_s,
+                lim.limiting,
+                2.0 / lim.omega_rad_s,
+                2.0 * MARGIN,
+                lim.dt_max_s
+            ),
+        ));
+    }
+    Ok(StableStep { dt_s: dt })
+}
+
+/// The local explicit limits (central differences: ω Δt < 2, with the margin): the highest mode
+/// of every block, every node on its springs, every penalty contact on its pantograph head,
+/// every pantograph spring. Errors name the case field to change.
+pub fn check_local(model: &Model, dt: f64) -> Result<(), CaseError> {
+    use std::f64::consts::PI;
+    let limit = 2.0 * MARGIN;
+    let dt_field = |reason: String| invalid("run.dt_s", dt, reason);
+    // Every block's highest mode.
+    for b in 0..model.layout.blocks.len() {
+        if model.layout.blocks[b].key.dir == Direction::Torsional {
+            continue; // advanced by its trapezoidal flow: stable for any Δt
+        }
+        let s = model.series(b);
+        let Some(last) = s.stiffness.len().checked_sub(1) else {
+            continue;
+        };
+        let f = (s.stiffness[last] / s.mass[last]).sqrt() / (2.0 * PI);
+        if 2.0 * PI * f * dt > limit {
+            let key = model.layout.blocks[b].key;
+            let name = &model.wires[key.wire].name;
+            let dir = key.dir.name();
+            return Err(dt_field(format!(
+                "too large for the highest {name} {dir} mode ({f:.0} Hz): the explicit scheme needs Δt < {:.2e} s (with margin)",
+                limit / (2.0 * PI * f)
+            )));
+        }
+    }
+    // Nodes on the springs attached to them.
+    let mut node_k = vec![0.0; model.nodes.len()];
+    for e in &model.elements {
+        for i in 0..e.len() {
+            for a in 0..e.arity() {
+                if let Attach::Node(j) = e.attachment(i, a) {
+                    if let Some(k) = node_k.get_mut(j) {
+                        *k += e.stiffness(i);
+                    }
+                }
+            }
+        }
+    }
+    for (j, (n, k)) in model.nodes.iter().zip(&node_k).enumerate() {
+        if (k / n.mass_kg).sqrt() * dt > limit {
+            return Err(dt_field(format!(
+                "too large for node {j} at x = {:.2} m ({} kg on {k:.0} N/m, a stitch node): explicit stability",
+                n.x_m, n.mass_kg
+            )));
+        }
+    }
+    // Penalty contacts and pantograph springs.
+    for (p, pan) in model.pantographs.iter().enumerate() {
+        if let PantographKind::Lumped(l) = &pan.kind {
+            let kn = contact_stiffness(model, p);
+            let m0 = l.masses_kg[0];
+            if (kn / m0).sqrt() * dt > 1.0 {
+                return Err(invalid(
+                    "contact.stiffness_n_per_m",
+                    kn,
+                    format!(
+                        "too stiff for run.dt_s = {dt} s with a {m0} kg head: need √(k/m)·Δt < 1, i.e. Δt < {:.2e} s",
+                        (m0 / kn).sqrt()
+                    ),
+                ));
+            }
+            for j in 0..l.masses_kg.len() {
+                let m_inv = 1.0 / l.masses_kg[j] + l.masses_kg.get(j + 1).map_or(0.0, |m| 1.0 / m);
+                if (l.stiffness_n_per_m[j] * m_inv).sqrt() * dt > limit {
+                    return Err(invalid(
+                        &format!("pantographs[{p}].stiffness_n_per_m[{j}]"),
+                        l.stiffness_n_per_m[j],
+                        format!("too stiff for run.dt_s = {dt} s (explicit stability)"),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The coupled system's highest frequency by power iteration on `M⁻¹K` about the static state
+/// (see the module's notes), and the part of the model that sets it. Deterministic: the start
+/// vector comes from a fixed sequence.
+pub fn coupled_limit(cm: &CompiledModel, plan: &Plan) -> Result<CoupledLimit, CaseError> {
+    let probe = Integrator::from_compiled(cm.clone(), plan, PROBE_DT_S)?;
+    let mut ws = probe.workspace();
+    let rest = probe.initial_state(plan.start_m);
+    let mut st = rest.clone();
+    let (nm, nn, np) = (
+        rest.modal.u.len(),
+        rest.nodes.u.len(),
+        rest.pantographs.u.len(),
+    );
+    let n = nm + nn + np;
+    // A fixed pseudo-random start vector (xorshift): it has a component on every mode.
+    let mut x = vec![0.0; n];
+    let mut r: u64 = 0x9E37_79B9_7F4A_7C15;
+    for xi in &mut x {
+        r ^= r << 13;
+        r ^= r >> 7;
+        r ^= r << 17;
+        *xi = (r >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+    }
+    normalise(&mut x);
+    let mut y = vec![0.0; n];
+    let mut history = Vec::with_capacity(MAX_ITERATIONS);
+    let mut lambda = 0.0;
+    for it in 0..MAX_ITERATIONS {
+        apply(&probe, &rest, &mut st, &mut ws, &x, &mut y, None);
+        lambda = norm(&y);
+        if !lambda.is_finite() {
+            return Err(invalid(
+                "run.dt_s",
+                "(stability check)",
+                "the coupled stability check met a non-finite acceleration about the static state".into(),
+            ));
+        }
+        if lambda == 0.0 {
+            break;
+        }
+        history.push(lambda);
+        for (xi, yi) in x.iter_mut().zip(&y) {
+            *xi = yi / lambda;
+        }
+        let w = MIN_ITERATIONS / 4;
+        if it + 1 >= MIN_ITERATIONS && (history[it] - history[it - w]).abs() <= TOLERANCE * lambda
+        {
+            break;
+        }
+    }
+    let omega = lambda.sqrt();
+    let limiting = if omega > 0.0 {
+        let mut shares = Vec::new();
+        apply(&probe, &rest, &mut st, &mut ws, &x, &mut y, Some(&mut shares));
+        describe(cm, shares)
+    } else {
+        "nothing (the model has no stiffness)".to_string()
+    };
+    Ok(CoupledLimit {
+        omega_rad_s: omega,
+        dt_max_s: if omega > 0.0 {
+            2.0 * MARGIN / omega
+        } else {
+            f64::INFINITY
+        },
+        limiting,
+        iterations: history.len(),
+    })
+}
+
+fn norm(x: &[f64]) -> f64 {
+    x.iter().map(|v| v * v).sum::<f64>().sqrt()
+}
+
+fn normalise(x: &mut [f64]) {
+    let s = norm(x);
+    for v in x {
+        *v /= s;
+    }
+}
+
+/// One part of the model and its strain energy in the limiting mode.
+enum Part {
+    Block(usize),
+    Element { e: usize, instance: usize },
+    Pantograph(usize),
+}
+
+/// `y = −M⁻¹K x` by central differences of the accelerations about `rest`; with `shares`, also
+/// the strain energy `½ xᵀK x` of every part (blocks, element kinds, pantograph chains).
+fn apply(
+    probe: &Integrator,
+    rest: &State,
+    st: &mut State,
+    ws: &mut Workspace,
+    x: &[f64],
+    y: &mut [f64],
+    mut shares: Option<&mut Vec<(Part, f64)>>,
+) {
+    let cm = probe.compiled();
+    let (nm, nn) = (rest.modal.u.len(), rest.nodes.u.len());
+    let eval = |sign: f64, st: &mut State, ws: &mut Workspace, out: &mut [f64]| {
+        let e = sign * PERTURBATION;
+        st.t = rest.t;
+        for (u, (u0, xi)) in st.modal.u.iter_mut().zip(rest.modal.u.iter().zip(x)) {
+            *u = u0 + e * xi;
+        }
+        for (u, (u0, xi)) in st.nodes.u.iter_mut().zip(rest.nodes.u.iter().zip(&x[nm..])) {
+            *u = u0 + e * xi;
+        }
+        for (u, (u0, xi)) in st
+            .pantographs
+            .u
+            .iter_mut()
+            .zip(rest.pantographs.u.iter().zip(&x[nm + nn..]))
+        {
+            *u = u0 + e * xi;
+        }
+        st.modal.v.fill(0.0);
+        st.nodes.v.fill(0.0);
+        st.pantographs.v.fill(0.0);
+        probe.accelerations(st, ws);
+        out[..nm].copy_from_slice(&st.modal.a);
+        out[nm..nm + nn].copy_from_slice(&st.nodes.a);
+        out[nm + nn..].copy_from_slice(&st.pantographs.a);
+    };
+    let mut minus = vec![0.0; y.len()];
+    eval(1.0, st, ws, y);
+    let (u_plus, f_plus) = shares
+        .as_ref()
+        .map(|_| (ws.u.clone(), element_forces(cm, ws)))
+        .unzip();
+    eval(-1.0, st, ws, &mut minus);
+    for (a, b) in y.iter_mut().zip(&minus) {
+        *a = (*a - b) / (2.0 * PERTURBATION);
+    }
+    let Some(out) = shares.as_deref_mut() else {
+        return;
+    };
+    let (u_plus, f_plus) = (u_plus.unwrap_or_default(), f_plus.unwrap_or_default());
+    let f_minus = element_forces(cm, ws);
+    let m = cm.model();
+    // The wires' own stiffness (explicit blocks only).
+    for b in 0..m.layout.blocks.len() {
+        if m.layout.blocks[b].key.dir == Direction::Torsional {
+            continue;
+        }
+        let e: f64 = m
+            .layout
+            .range(b)
+            .map(|j| 0.5 * cm.k_true[j] * x[j] * x[j])
+            .sum();
+        out.push((Part::Block(b), e));
+    }
+    // Each element kind, with its instance of largest share.
+    let d = 2.0 * PERTURBATION;
+    for (e, el) in m.elements.iter().enumerate() {
+        let slots = cm.slots(e);
+        let (fp, fm) = (&f_plus[e], &f_minus[e]);
+        let slot_energy = |s: usize| -0.5 * (u_plus[s] - ws.u[s]) / d * (fp[s] - fm[s]) / d;
+        let mut seen = vec![false; ws.u.len()];
+        let mut total = 0.0;
+        let (mut best, mut best_e) = (0, f64::NEG_INFINITY);
+        for i in 0..el.len() {
+            let mut ei = 0.0;
+            for a in 0..el.arity() {
+                let s = slots[i * el.arity() + a].u as usize;
+                let es = slot_energy(s);
+                ei += es;
+                if !seen[s] {
+                    seen[s] = true;
+                    total += es;
+                }
+            }
+            if ei > best_e {
+                (best, best_e) = (i, ei);
+            }
+        }
+        out.push((Part::Element { e, instance: best }, total));
+    }
+    // The pantographs' own springs.
+    for (p, pan) in m.pantographs.iter().enumerate() {
+        if let PantographKind::Lumped(l) = &pan.kind {
+            let r = cm.pantograph_dofs(p);
+            let xs = &x[nm + nn + r.start..nm + nn + r.end];
+            let (_, spring, _) = l.energy(xs, &vec![0.0; xs.len()], 0.0);
+            out.push((Part::Pantograph(p), spring));
+        }
+    }
+}
+
+/// The forces of every element kind alone at the workspace's displacements, by slot.
+fn element_forces(cm: &CompiledModel, ws: &Workspace) -> Vec<Vec<f64>> {
+    let m = cm.model();
+    (0..m.elements.len())
+        .map(|e| {
+            let mut f = vec![0.0; ws.u.len()];
+            let mut io = Io {
+                u: &ws.u,
+                v: &ws.vel,
+                f: &mut f,
+                loads: &ws.loads,
+                off_head: &ws.off_head,
+                slack: 0,
+            };
+            m.elements[e].add_forces(cm.slots(e), &mut io);
+            f
+        })
+        .collect()
+}
+
+/// The part with the largest share of the limiting mode's strain energy, in words.
+fn describe(cm: &CompiledModel, shares: Vec<(Part, f64)>) -> String {
+    let m = cm.model();
+    let total: f64 = shares.iter().map(|s| s.1.max(0.0)).sum();
+    let Some((part, e)) = shares
+        .into_iter()
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+    else {
+        return "the wires".into();
+    };
+    let pct = if total > 0.0 { 100.0 * e / total } else { 0.0 };
+    match part {
+        Part::Block(b) => {
+            let key = m.layout.blocks[b].key;
+            format!(
+                "the {} wire's own {} stiffness (tension and bending of its highest modes, {pct:.0} % of the mode's strain energy; more modes per span raise it)",
+                m.wires[key.wire].name,
+                key.dir.name()
+            )
+        }
+        Part::Element { e, instance } => {
+            let el = &m.elements[e];
+            let at = match el.attachment(instance, 0) {
+                Attach::Wire { wire, x_m, .. } => format!(
+                    "on the {} at x = {:.2} m",
+                    m.wires[wire].name,
+                    x_m - m.track_origin_m
+                ),
+                Attach::Node(j) => format!("at node {j} (x = {:.2} m)", m.nodes[j].x_m),
+                Attach::Head(p) | Attach::Moving { pantograph: p, .. } => {
+                    format!("under pantograph {}", m.pantographs[p].name)
+                }
+                Attach::Ground => String::new(),
+            };
+            format!(
+                "the {} elements ({pct:.0} % of the mode's strain energy; the largest share at {} {instance} {at}, stiffness {:.3e} N/m)",
+                el.kind(),
+                el.kind(),
+                el.stiffness(instance)
+            )
+        }
+        Part::Pantograph(p) => format!(
+            "the springs of pantograph {} ({pct:.0} % of the mode's strain energy)",
+            m.pantographs[p].name
+        ),
+    }
+}
