@@ -66,6 +66,8 @@ pub struct RunOutput {
     pub wind: Option<WindReport>,
     /// The contact-wire irregularity's sources (seeds, RMS achieved).
     pub irregularity: Vec<IrregularityReport>,
+    /// The coupled stability limit the time step was checked against.
+    pub stability: Option<crate::solve::CoupledLimit>,
 }
 
 impl RunOutput {
@@ -204,6 +206,7 @@ impl Recorder {
                 .irregularity
                 .as_ref()
                 .map_or_else(Vec::new, |r| r.reports.clone()),
+            stability: None,
         }
     }
 }
@@ -269,5 +272,7 @@ pub fn simulate(
         setup.plan.analysis_m,
     );
     let rs = run(&integ, &mut st, &mut ws, n_steps, &mut [&mut rec], progress)?;
-    Ok(rec.finish(integ.compiled(), rs))
+    let mut out = rec.finish(integ.compiled(), rs);
+    out.stability = integ.stability().cloned();
+    Ok(out)
 }

@@ -83,6 +83,10 @@ pub struct RunSummary {
     /// The contact-wire irregularity's sources (kind, seed, RMS target and achieved).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub irregularity: Vec<IrregularityReport>,
+    /// The coupled stability limit the time step was checked against: the highest frequency
+    /// of the explicit system, the largest accepted Δt and the element that sets it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stability: Option<crate::solve::CoupledLimit>,
 }
 
 /// The run's verdicts, built here once for every front end: a contact wire that left the
@@ -173,6 +177,7 @@ impl RunSummary {
                 .collect(),
             wind: out.wind.clone(),
             irregularity: out.irregularity.clone(),
+            stability: out.stability.clone(),
         }
     }
 }

@@ -47,7 +47,7 @@ use crate::solve::implicit::{ImplicitPoints, ImplicitScratch};
 use crate::solve::kernels::{self, Isa};
 use crate::solve::plan::{Options, Plan};
 use crate::solve::sampler::SamplerScratch;
-use crate::solve::stability::check_stability;
+use crate::solve::stability::{check_stability, CoupledLimit};
 use crate::solve::state::State;
 use crate::solve::workspace::Workspace;
 
@@ -76,6 +76,8 @@ pub struct Integrator {
     /// Sampler scratch for every sampler of a step, and the implicit terms' largest sizes.
     scratch: SamplerScratch,
     max_imp: (usize, usize, usize),
+    /// The coupled limit Δt was checked against.
+    limit: Option<CoupledLimit>,
 }
 
 /// One trapezoidal (Cayley) step over `t` of the damped oscillator `m q̈ + c q̇ + k q = 0` as a
@@ -103,7 +105,15 @@ impl Integrator {
     pub fn new(model: Model, plan: &Plan, options: Options) -> Result<Self, CaseError> {
         let cm = CompiledModel::new(model, plan, options.isa)?;
         let stable = check_stability(&cm, plan, options.dt_s)?;
-        Self::from_compiled(cm, plan, stable.dt_s())
+        let mut integ = Self::from_compiled(cm, plan, stable.dt_s())?;
+        integ.limit = Some(stable.limit().clone());
+        Ok(integ)
+    }
+
+    /// The coupled stability limit this integrator's Δt was checked against (`None` for the
+    /// stability check's own probe).
+    pub fn stability(&self) -> Option<&CoupledLimit> {
+        self.limit.as_ref()
     }
 
     /// The Δt operators over a compiled model: the modal diagonal `M + Δt/2 C` (Eqs. 9–14), the
@@ -240,6 +250,7 @@ impl Integrator {
             initial_py,
             scratch,
             max_imp,
+            limit: None,
             cm,
         })
     }
