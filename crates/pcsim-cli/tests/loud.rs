@@ -53,3 +53,56 @@ fn issue_20_2_a_dewirement_is_an_error_unless_allowed() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
+
+/// Item 3: a run whose pantograph is off the wire over more than 10 % of the analysis section
+/// (here never on it: a downward uplift) writes its outputs, reports the loss in summary.json's
+/// `errors`, and exits non-zero unless `--allow-contact-loss` is given.
+#[test]
+fn issue_20_3_contact_lost_over_a_tenth_of_the_section_is_an_error_unless_allowed() {
+    let d = scratch("contact-loss");
+    let (mut c, _) = pcsim_core::presets::load("en50318-2002").unwrap();
+    c.catenary.spans = 8;
+    c.run.start_m = 100.0;
+    c.run.end_m = 400.0;
+    c.run.analysis_m = [180.0, 400.0];
+    match &mut c.pantographs[0] {
+        pcsim_core::input::case::PantographCase::Lumped { uplift_n, .. } => *uplift_n = -100.0,
+        _ => unreachable!("the preset's pantograph is lumped"),
+    }
+    let p = d.join("down.toml");
+    std::fs::write(&p, c.to_toml_string()).unwrap();
+    let o = pcsim()
+        .arg("run")
+        .arg(&p)
+        .args(["--quiet", "--out"])
+        .arg(d.join("o"))
+        .output()
+        .unwrap();
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("contact lost over 100.0 %") && e.contains("--allow-contact-loss"),
+        "{e}"
+    );
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("o/summary.json")).unwrap()).unwrap();
+    assert!(
+        s["errors"][0].as_str().unwrap().contains("contact lost"),
+        "{s}"
+    );
+    let o = pcsim()
+        .arg("run")
+        .arg(&p)
+        .args(["--quiet", "--allow-contact-loss", "--out"])
+        .arg(d.join("o"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // An ordinary run has no error.
+    let o = pcsim()
+        .args(["run", "--preset", "en50318-2002", "--quiet", "--out"])
+        .arg(d.join("ok"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}

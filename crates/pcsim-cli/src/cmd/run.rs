@@ -41,6 +41,10 @@ pub struct RunArgs {
     /// are written either way, with the event in summary.json's `errors`.
     #[arg(long)]
     allow_dewirement: bool,
+    /// Exit 0 even when a pantograph lost contact over more than 10 % of the analysis section:
+    /// the outputs are written either way, with the event in summary.json's `errors`.
+    #[arg(long)]
+    allow_contact_loss: bool,
     /// Worker threads for --seeds, at least 1 [default: all cores].
     #[arg(long)]
     jobs: Option<usize>,
@@ -147,16 +151,22 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
         shown(&a.out, "summary.json"),
         shown(&a.out, "timeseries.csv")
     );
-    if let Some(first) = summary.errors.first() {
-        if a.allow_dewirement {
-            for e in &summary.errors {
-                eprintln!("warning: {e} (allowed by --allow-dewirement)");
-            }
-        } else {
-            anyhow::bail!(
-                "{first} (the outputs are written; give --allow-dewirement to accept the run)"
-            );
+    // Error-level events: each kind is refused (exit 2) unless its flag accepts it.
+    use pcsim_core::analysis::report::{run_errors, RunErrorKind};
+    let mut refused = None;
+    for e in run_errors(&out) {
+        let flag = match e.kind {
+            RunErrorKind::Dewirement => ("--allow-dewirement", a.allow_dewirement),
+            RunErrorKind::ContactLoss => ("--allow-contact-loss", a.allow_contact_loss),
+        };
+        if flag.1 {
+            eprintln!("warning: {} (allowed by {})", e.message, flag.0);
+        } else if refused.is_none() {
+            refused = Some((e.message, flag.0));
         }
+    }
+    if let Some((msg, flag)) = refused {
+        anyhow::bail!("{msg} (the outputs are written; give {flag} to accept the run)");
     }
     Ok(0)
 }

@@ -121,22 +121,64 @@ pub fn run_verdicts(out: &RunOutput) -> Vec<String> {
     v
 }
 
+/// Share of the analysis section with contact lost above which a run's contact force statistics
+/// are an error-level event, %: beyond it they describe a pantograph more often in the air than a
+/// contact that was measured (for scale, the TSI Energy's limit on the share of arcing is 0.2 %).
+pub const LOSS_OF_CONTACT_ERROR_PERCENT: f64 = 10.0;
+
+/// What kind of error-level event a run met (each front end may accept a kind on request).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RunErrorKind {
+    /// The contact wire left a pantograph's head.
+    Dewirement,
+    /// Contact lost over more than [`LOSS_OF_CONTACT_ERROR_PERCENT`] of the analysis section.
+    ContactLoss,
+}
+
+/// One error-level event of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunError {
+    /// Its kind.
+    pub kind: RunErrorKind,
+    /// What happened, for `summary.json`'s `errors` and the terminal.
+    pub message: String,
+}
+
 /// The run's error-level events, built here once for every front end: a dewirement (the contact
-/// wire left a pantograph's head in the analysis section). Beyond the head there is no contact,
-/// so the EN 50318 statistics include those samples as loss of contact.
-pub fn run_errors(out: &RunOutput) -> Vec<String> {
-    out.pantographs
-        .iter()
-        .filter_map(|p| {
-            let l = p.lateral.as_ref().filter(|l| l.samples_off_head > 0)?;
-            Some(format!(
-                "pantograph {}: dewirement: the contact wire left the head in {} samples of the analysis section (closest margin {:.0} mm); there the contact force is zero, and the statistics include those samples as loss of contact",
-                p.name,
-                l.samples_off_head,
-                l.min_head_margin_mm.unwrap_or(f64::NAN)
-            ))
-        })
-        .collect()
+/// wire left a pantograph's head in the analysis section; beyond the head there is no contact,
+/// so the EN 50318 statistics include those samples as loss of contact), and otherwise contact
+/// lost over more than [`LOSS_OF_CONTACT_ERROR_PERCENT`] of the section.
+pub fn run_errors(out: &RunOutput) -> Vec<RunError> {
+    let mut v = Vec::new();
+    for p in &out.pantographs {
+        let dewired = p.lateral.as_ref().is_some_and(|l| l.samples_off_head > 0);
+        if let Some(l) = p.lateral.as_ref().filter(|l| l.samples_off_head > 0) {
+            v.push(RunError {
+                kind: RunErrorKind::Dewirement,
+                message: format!(
+                    "pantograph {}: dewirement: the contact wire left the head in {} samples of the analysis section (closest margin {:.0} mm); there the contact force is zero, and the statistics include those samples as loss of contact",
+                    p.name,
+                    l.samples_off_head,
+                    l.min_head_margin_mm.unwrap_or(f64::NAN)
+                ),
+            });
+        }
+        // A dewirement already explains (and reports) the contact it loses.
+        if let Some(s) = p
+            .stats
+            .as_ref()
+            .filter(|s| !dewired && s.loss_of_contact_percent > LOSS_OF_CONTACT_ERROR_PERCENT)
+        {
+            v.push(RunError {
+                kind: RunErrorKind::ContactLoss,
+                message: format!(
+                    "pantograph {}: contact lost over {:.1} % of the analysis section (more than {LOSS_OF_CONTACT_ERROR_PERCENT} %): its force statistics mix contact with flight",
+                    p.name, s.loss_of_contact_percent
+                ),
+            });
+        }
+    }
+    v
 }
 
 impl RunSummary {
@@ -165,7 +207,7 @@ impl RunSummary {
             run_statistics: out.run_statistics,
             overrides,
             warnings: warnings.into_iter().chain(run_verdicts(out)).collect(),
-            errors: run_errors(out),
+            errors: run_errors(out).into_iter().map(|e| e.message).collect(),
             pantographs: out
                 .pantographs
                 .iter()
