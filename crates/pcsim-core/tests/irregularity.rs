@@ -213,6 +213,7 @@ fn the_window_search_is_exact_and_monotone() {
         max_m: 400.0,
         coarse_m: 20.0,
         resolution_m: 1.0,
+        full_scan: false,
     };
     for (c, tol) in [(300.0, 3.0), (300.0, 2.0), (120.0, 3.0), (3000.0, 3.0)] {
         let t = Tolerances {
@@ -255,6 +256,60 @@ fn the_window_search_is_exact_and_monotone() {
         }
         last = l;
     }
+}
+
+/// Issue 20, item 4: the search states the lattice of its claim, and the full scan's claim holds
+/// for every window at the resolution (checked against a 1 m brute-force scan) on an error
+/// curve that fails between coarse points above the coarse answer.
+#[test]
+fn the_window_search_claim_is_what_a_one_metre_scan_confirms() {
+    // σ error: falls with the length, with a narrow bump at 165–169 m above the tolerance.
+    let curve = |w: f64| -> Result<WindowErrors, ()> {
+        let bump = if (165.0..=169.0).contains(&w) { 2.0 } else { 0.0 };
+        Ok(WindowErrors {
+            window_m: w,
+            mean_pct: 0.0,
+            sigma_pct: 300.0 / w + bump,
+            max_pct: 0.0,
+        })
+    };
+    let t = Tolerances {
+        mean_pct: 1.0,
+        sigma_pct: 3.0,
+        max_pct: 5.0,
+    };
+    let passes = |w: f64| curve(w).unwrap().passes(&t);
+    let mut s = SearchSettings {
+        min_m: 50.0,
+        max_m: 400.0,
+        coarse_m: 20.0,
+        resolution_m: 1.0,
+        full_scan: false,
+    };
+    // The brute-force 1 m scan: the shortest L with every window in [L, 400] passing.
+    let lattice: Vec<f64> = (0..=350).map(|k| 50.0 + k as f64).collect();
+    let truth = lattice
+        .iter()
+        .copied()
+        .filter(|&l| lattice.iter().filter(|&&w| w >= l).all(|&w| passes(w)))
+        .fold(f64::INFINITY, f64::min);
+    assert_eq!(truth, 170.0);
+    // The lattice search answers 100 m (the bump lies between its coarse points 150 and 170)
+    // and says so: its claim's fine band ends at the lowest passing coarse window, and every
+    // window it claims passes.
+    let r = search(&s, &t, curve).unwrap();
+    let (l, to) = (r.length_m.unwrap(), r.fine_checked_to_m.unwrap());
+    assert!(l < truth, "{l}");
+    assert!(to < 165.0, "{to}");
+    assert!(lattice.iter().filter(|&&w| w >= l && w <= to).all(|&w| passes(w)));
+    assert!(r.claim(&s).contains("were not run"), "{}", r.claim(&s));
+    // The full scan finds the truth, and claims the whole range.
+    s.full_scan = true;
+    let r = search(&s, &t, curve).unwrap();
+    assert_eq!(r.length_m, Some(truth));
+    assert_eq!(r.fine_checked_to_m, Some(400.0));
+    assert_eq!(r.evaluated.len(), 400 - 170 + 2, "every window from the top to the first failure");
+    assert!(r.claim(&s).contains("every window from 170 m to 400 m"), "{}", r.claim(&s));
 }
 
 #[test]

@@ -368,7 +368,7 @@ fn eva(
 /// `window.csv` as JSON text, by the core's one sweep (the CLI's `pcsim window`). The case's
 /// leading pantograph is used; tolerances in %, lengths in m.
 #[pyfunction]
-#[pyo3(signature = (case, speeds_kmh, tensions_n, mean_tol_pct=1.0, sigma_tol_pct=3.0, max_tol_pct=5.0, min_window_m=None, max_window_m=400.0, coarse_m=20.0, resolution_m=1.0, jobs=None, seeds=None, shard=None, max_steps=None, max_memory_gb=None))]
+#[pyo3(signature = (case, speeds_kmh, tensions_n, mean_tol_pct=1.0, sigma_tol_pct=3.0, max_tol_pct=5.0, min_window_m=None, max_window_m=400.0, coarse_m=20.0, resolution_m=1.0, jobs=None, seeds=None, shard=None, max_steps=None, max_memory_gb=None, full_scan=false))]
 #[allow(clippy::too_many_arguments)]
 fn window(
     py: Python<'_>,
@@ -387,6 +387,7 @@ fn window(
     shard: Option<(usize, usize)>,
     max_steps: Option<u64>,
     max_memory_gb: Option<f64>,
+    full_scan: bool,
 ) -> PyResult<String> {
     guarded(|| {
         let single = pcsim_core::compile::window_case(&case.inner);
@@ -396,6 +397,7 @@ fn window(
                 max_m: max_window_m,
                 coarse_m,
                 resolution_m,
+                full_scan,
             };
             let tol = Tolerances {
                 mean_pct: mean_tol_pct,

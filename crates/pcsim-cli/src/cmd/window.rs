@@ -43,8 +43,9 @@ pub struct WindowArgs {
     /// Shortest window searched, m [default: half a span].
     #[arg(long, value_name = "M")]
     min_window: Option<String>,
-    /// Longest window searched, m: the length found is one that this and every window between
-    /// match [default: 400 m].
+    /// Longest window searched, m: the length found matches, and so does every longer window
+    /// the search ran up to this one (printed with the answer; --full-scan runs them all)
+    /// [default: 400 m].
     #[arg(long, value_name = "M")]
     max_window: Option<String>,
     /// Step of the coarse scan, m.
@@ -53,6 +54,11 @@ pub struct WindowArgs {
     /// Resolution of the refinement, m.
     #[arg(long, default_value = "1", value_name = "M")]
     resolution: String,
+    /// Run every window at the resolution from --max-window down to the first that fails, so
+    /// that the length found holds for every longer window at the resolution (slower: about
+    /// (max − length)/resolution windows per case, against about 20 for the coarse scan).
+    #[arg(long)]
+    full_scan: bool,
     /// Output directory.
     #[arg(long, default_value = "out/window")]
     out: PathBuf,
@@ -86,7 +92,7 @@ enum WindowSub {
 /// The header of `window.csv` (the core's row).
 pub const HEADER: &str = WindowRow::HEADER;
 
-const COLUMNS: &str = "length_m: the accuracy-based window length (empty: not reached within --max-window); *_err_pct: the errors of that window against the full model; eva_*: the energy-based lengths of `pcsim eva` (snapshot, maximum over the passage, time average; step criterion Δd = 1 m, 0.01 J; fraction 0.99); *_total_j: the energies the fraction criteria refer to";
+const COLUMNS: &str = "length_m: the accuracy-based window length (empty: not reached within --max-window); *_err_pct: the errors of that window against the full model; eva_*: the energy-based lengths of `pcsim eva` (snapshot, maximum over the passage, time average; step criterion Δd = 1 m, 0.01 J; fraction 0.99); *_total_j: the energies the fraction criteria refer to; fine_checked_to_m: every window at the resolution from length_m up to this length was run and matches (above it the coarse windows only, up to --max-window; --max-window itself with --full-scan)";
 
 /// The window sweep directory.
 pub const WINDOW: SweepKind = SweepKind {
@@ -134,6 +140,7 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
         },
         coarse_m: metres("--coarse", &a.coarse)?,
         resolution_m: metres("--resolution", &a.resolution)?,
+        full_scan: a.full_scan,
     };
     tol.check()?;
     search.check_for(base.length_m())?;
@@ -235,6 +242,15 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
             show(r.eva_step_m),
             show(r.eva_fraction_m),
             show(r.eva_fraction_max_m)
+        );
+    }
+    for r in &rows {
+        println!(
+            "  {} km/h, {} kN, seed {}: {}",
+            r.speed_kmh,
+            r.tension_kn,
+            r.seed_offset,
+            pcsim_core::analysis::window_length::claim(r.length_m, r.fine_checked_to_m, &search)
         );
     }
     if shard == Shard::ALL {

@@ -127,17 +127,21 @@ pub struct WindowRow {
     pub max_total_j: f64,
     /// Total energy of the time-average view, J.
     pub mean_total_j: f64,
+    /// The claim's lattice: every window at the resolution from `length_m` up to this length
+    /// was run and matches (above it, the coarse windows only; the longest window for a full
+    /// scan), m.
+    pub fine_checked_to_m: Option<f64>,
 }
 
 impl WindowRow {
     /// The header of `window.csv`.
-    pub const HEADER: &'static str = "index,seed_offset,speed_kmh,tension_kn,damping,length_m,mean_err_pct,sigma_err_pct,max_err_pct,windows_run,eva_step_m,eva_fraction_m,eva_step_max_m,eva_fraction_max_m,eva_step_mean_m,eva_fraction_mean_m,snapshot_total_j,max_total_j,mean_total_j";
+    pub const HEADER: &'static str = "index,seed_offset,speed_kmh,tension_kn,damping,length_m,mean_err_pct,sigma_err_pct,max_err_pct,windows_run,eva_step_m,eva_fraction_m,eva_step_max_m,eva_fraction_max_m,eva_step_mean_m,eva_fraction_mean_m,snapshot_total_j,max_total_j,mean_total_j,fine_checked_to_m";
 
     /// The row in `window.csv`'s form (an empty cell for `None`).
     pub fn to_csv(&self) -> String {
         let opt = |v: Option<f64>| v.map(|x| format!("{x:.3}")).unwrap_or_default();
         format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.9e},{:.9e},{:.9e}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.9e},{:.9e},{:.9e},{}",
             self.index,
             self.seed_offset,
             self.speed_kmh,
@@ -156,7 +160,8 @@ impl WindowRow {
             opt(self.eva_fraction_mean_m),
             self.snapshot_total_j,
             self.max_total_j,
-            self.mean_total_j
+            self.mean_total_j,
+            opt(self.fine_checked_to_m)
         )
     }
 }
@@ -226,6 +231,7 @@ pub fn window_sweep(
             snapshot_total_j: curves.snapshot_total_j,
             max_total_j: curves.max_total_j,
             mean_total_j: curves.mean_total_j,
+            fine_checked_to_m: r.fine_checked_to_m,
         };
         done();
         Ok(WindowCase {

@@ -2,11 +2,17 @@
 //!
 //! For a case, the accuracy-based length is the shortest window whose SIL run matches the full
 //! model within stated tolerances on the mean, σ and actual maximum of the 0–20 Hz contact force,
-//! such that every longer window up to a stated maximum matches too. The search ([`search`])
-//! evaluates a coarse lattice from the longest window down to the first failure, then the fine
-//! lattice downward from the shortest passing coarse window until the first failure. It is exact
-//! for an error curve that falls with the length, and monotone in the tolerances: a tighter
-//! tolerance passes a subset of the windows, so it never gives a shorter one.
+//! such that every longer window checked up to a stated maximum matches too. The search
+//! ([`search`]) evaluates a coarse lattice from the longest window down to the first failure,
+//! then the fine lattice downward from the shortest passing coarse window until the first
+//! failure. Its claim is stated with its lattice ([`SearchResult::fine_checked_to_m`]): every
+//! window at the resolution from the length found up to the lowest passing coarse window, and
+//! the coarse windows above; windows between coarse points above that were not run, and an
+//! error curve that is not monotone can fail there (issue 20: 167 m failed σ above a 150 m
+//! answer). With [`SearchSettings::full_scan`] every window of the fine lattice from the longest
+//! down to the first failure is run, and the claim holds for every window at the resolution.
+//! Both are monotone in the tolerances: a tighter tolerance passes a subset of the windows, so
+//! it never gives a shorter one.
 //!
 //! Beside it, the energy-based lengths (Eq. 21 criteria, `analysis::eva`), and the criterion
 //! that, fitted once over a grid of cases, predicts the accuracy-based lengths best
@@ -100,6 +106,10 @@ pub struct SearchSettings {
     pub coarse_m: f64,
     /// Resolution of the search (the lattice spacing), m.
     pub resolution_m: f64,
+    /// Run every window of the fine lattice from the longest down to the first failure (the
+    /// claim then holds at the resolution over the whole range), instead of the coarse scan and
+    /// refinement.
+    pub full_scan: bool,
 }
 
 impl Tolerances {
@@ -187,6 +197,10 @@ pub struct SearchResult {
     pub length_m: Option<f64>,
     /// Every window evaluated, by length.
     pub evaluated: Vec<WindowErrors>,
+    /// The claim's lattice: every window at the resolution from `length_m` up to this length was
+    /// run and matches (above it, only the coarse windows were run, up to the longest). The
+    /// longest window for a full scan; `None` when no length was found.
+    pub fine_checked_to_m: Option<f64>,
 }
 
 /// Find the shortest window of the lattice within `tol` such that every longer evaluated window
@@ -206,6 +220,21 @@ pub fn search<E>(
         memo.insert(k, e);
         Ok(e.passes(tol))
     };
+    if s.full_scan {
+        // Every window at the resolution from the top down to the first failure.
+        let mut best = None;
+        for k in (0..=k_max).rev() {
+            if !get(k, &mut memo)? {
+                break;
+            }
+            best = Some(k);
+        }
+        return Ok(SearchResult {
+            length_m: best.map(|k| s.at(k)),
+            evaluated: memo.into_values().collect(),
+            fine_checked_to_m: best.map(|_| s.at(k_max)),
+        });
+    }
     // Coarse lattice from the top (always including the longest window).
     let mut coarse: Vec<usize> = (0..=k_max).step_by(step).collect();
     if coarse.last() != Some(&k_max) {
@@ -242,7 +271,38 @@ pub fn search<E>(
     Ok(SearchResult {
         length_m: length.map(|k| s.at(k)),
         evaluated: memo.into_values().collect(),
+        fine_checked_to_m: lowest_pass.filter(|_| length.is_some()).map(|k| s.at(k)),
     })
+}
+
+impl SearchResult {
+    /// The claim in words ([`claim`]).
+    pub fn claim(&self, s: &SearchSettings) -> String {
+        claim(self.length_m, self.fine_checked_to_m, s)
+    }
+}
+
+/// What a search's answer claims, in words: which windows above the length found were run and
+/// match (`fine_checked_to_m` as in [`SearchResult`]).
+pub fn claim(length_m: Option<f64>, fine_checked_to_m: Option<f64>, s: &SearchSettings) -> String {
+    match (length_m, fine_checked_to_m) {
+        (Some(l), Some(to)) if s.full_scan || to >= s.max_m - 1e-9 => format!(
+            "every window from {l} m to {} m, every {} m, was run and matches",
+            s.max_m, s.resolution_m
+        ),
+        (Some(l), Some(to)) => {
+            let fine = if to - l < 0.5 * s.resolution_m {
+                format!("the {l} m window")
+            } else {
+                format!("every window from {l} m to {to} m (every {} m)", s.resolution_m)
+            };
+            format!(
+                "{fine} and every {} m from there to {} m were run and match; the windows between those coarse points were not run (--full-scan runs them)",
+                s.coarse_m, s.max_m
+            )
+        }
+        _ => format!("even the longest window ({} m) does not match", s.max_m),
+    }
 }
 
 /// The accuracy-based length of one case: the full model (leading pantograph) once, then SIL
