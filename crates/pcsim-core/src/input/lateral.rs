@@ -119,7 +119,10 @@ pub struct LateralCase {
     /// The steady arm clamp's resistance to the contact wire's rotation, N·m/rad.
     #[serde(default)]
     pub steady_arm_torsional_stiffness_nm_per_rad: f64,
-    /// Depth of the contact point (the wire's running face) below its axis, m.
+    /// Depth below the axis of a contact point fixed to the wire's section (a worn, flat running
+    /// face), m: it rises by ½eφ², moves sideways by eφ and takes the moment F·e·φ as the wire
+    /// turns. 0 (the default) for a round running face, whose lowest point stays under the axis
+    /// whatever the rotation (issue 20).
     #[serde(default)]
     pub contact_point_eccentricity_m: f64,
     /// Height of the contact wire above the rail (for the wind profile), m.

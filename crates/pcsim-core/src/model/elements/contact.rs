@@ -3,11 +3,15 @@
 //! moving force, or the measured force of a hardware-in-the-loop rig) takes its place where the
 //! pantograph is not modelled.
 //!
-//! With torsion modelled, the contact point (the running face) lies `e_c` below the wire's axis:
-//! a rotation φ lifts it by `e_c φ²/2`, so the penetration is `d = y_head − y_wire − e_c φ²/2`
-//! and the contact force twists the wire with `F e_c φ` (it pushes up below the axis: the
-//! moment turns the wire further, a negative torsional stiffness `−F e_c`). Its lateral position
-//! `z − e_c φ` is an output (`solve::Integrator`). Contact exists only on the head: where that
+//! **The running face.** A new contact wire's running face is round: its lowest point stays
+//! under the axis whatever the rotation, so the contact force has no moment about the axis and
+//! the contact point does not move sideways as the wire turns (`e_c = 0`, the default and the
+//! presets'). A contact point fixed to the section `e_c` below the axis (a worn, flat running
+//! face; `catenary.lateral.contact_point_eccentricity_m`) is modelled too: a rotation φ lifts it
+//! by `e_c φ²/2`, so the penetration is `d = y_head − y_wire − e_c φ²/2`, and the contact force
+//! twists the wire with `F e_c φ` (it pushes up below the axis: the moment turns the wire
+//! further, a negative torsional stiffness `−F e_c`); its lateral position is `z − e_c φ`
+//! (`solve::Integrator`). Contact exists only on the head: where that
 //! lateral position lies beyond the pantograph's half-width (`head_half_width_m`), the wire has
 //! left the head and the contact force is zero (`Io::off_head`).
 
@@ -137,5 +141,61 @@ impl PointElement for Contacts {
     }
     fn as_any(&self) -> &dyn std::any::Any {
         self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The contact force and its moment about the wire's axis at a rotation φ, for a contact
+    /// point at depth `e` (0: a round running face).
+    fn force_and_moment(e: f64, phi: f64) -> (f64, f64) {
+        let c = Contacts(vec![Contact {
+            pantograph: 0,
+            wire: 0,
+            dir: Direction::Vertical,
+            law: ContactLaw::Penalty {
+                stiffness_n_per_m: 50_000.0,
+            },
+            eccentricity_m: e,
+            twist: e != 0.0,
+        }]);
+        // Slots: 0 the ground, 1 the wire's height, 2 the head, 3 the rotation.
+        let slots = [
+            Slot { u: 1, v: 0 },
+            Slot { u: 2, v: 0 },
+            Slot {
+                u: if e != 0.0 { 3 } else { 0 },
+                v: 0,
+            },
+        ];
+        let u = [0.0, 0.0, 0.002, phi];
+        let mut f = [0.0; 4];
+        let mut io = Io {
+            u: &u,
+            v: &[0.0; 4],
+            f: &mut f,
+            loads: &[0.0],
+            off_head: &[false],
+            slack: 0,
+        };
+        c.add_forces(&slots, &mut io);
+        (f[1], f[3])
+    }
+
+    #[test]
+    fn a_round_running_face_has_no_moment_and_a_fixed_point_has_f_e_phi() {
+        let phi = 0.05;
+        // Round face: the force is the penalty on the 2 mm penetration, whatever φ; no moment.
+        let (f, m) = force_and_moment(0.0, phi);
+        assert_eq!(f, 100.0);
+        assert_eq!(m, 0.0);
+        // A point fixed 6.2 mm below the axis: lifted by e φ²/2, and the moment F e φ.
+        let e = 0.0062;
+        let (f, m) = force_and_moment(e, phi);
+        let want_f = 50_000.0 * (0.002 - 0.5 * e * phi * phi);
+        assert!((f - want_f).abs() < 1e-12, "{f} vs {want_f}");
+        assert!((m - want_f * e * phi).abs() < 1e-15, "{m}");
     }
 }
