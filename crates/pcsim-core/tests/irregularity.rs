@@ -181,6 +181,7 @@ fn a_harmonic_irregularity_is_followed_at_low_speed() {
         name: "force".into(),
         offset_m: 0.0,
         force_n: 80.0,
+        lateral_force_n: 0.0,
     }];
     let (worst, peak) = following(&force, 0.010, 20.0);
     assert!(worst < 1e-9 && peak > 0.0099, "{worst} {peak}");

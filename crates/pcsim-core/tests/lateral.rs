@@ -719,3 +719,35 @@ fn the_twist_at_the_contact_point_is_an_output() {
         .iter()
         .any(|c| c.name.ends_with("_twist_rad")));
 }
+
+/// Issue 20, item 7: a moving force pushes sideways too. On a wire whose lateral series equals
+/// its vertical one (the builder's), a lateral force F gives the lateral deviation at the contact
+/// point that the vertical force F gives vertically, step by step (exact: two identical
+/// decoupled strings); the lateral force of zero leaves the wire on its centre line.
+#[test]
+fn a_lateral_force_on_a_moving_force_probe_moves_the_wire_as_the_vertical_one() {
+    let build = |fv: f64, fl: f64| {
+        Setup::from_builder(
+            ModelBuilder::single_wire(100.0, 100, 1.35, 20_000.0, 100.0)
+                .lateral()
+                .damping(&pcsim_core::input::case::Damping::Modal { ratio: 0.01 })
+                .moving_force_3d("probe", fv, fl)
+                .run(30.0, 10.0, 1.0, 5e-4)
+                .build(),
+        )
+    };
+    let mut s = Stepper::new(&build(120.0, 120.0)).unwrap();
+    let mut quiet = Stepper::new(&build(120.0, 0.0)).unwrap();
+    let (mut worst, mut peak) = (0.0f64, 0.0f64);
+    for _ in 0..1500 {
+        s.step();
+        quiet.step();
+        let (a, q) = (s.samples()[0], quiet.samples()[0]);
+        worst = worst.max((a.lateral_m - a.wire_height_m).abs());
+        peak = peak.max(a.lateral_m.abs());
+        assert!(q.lateral_m.abs() < 1e-15, "{}", q.lateral_m);
+        assert_eq!(a.wire_height_m, q.wire_height_m, "the lateral force leaves the vertical alone");
+    }
+    assert!(peak > 0.01, "the lateral force moved the wire: {peak} m");
+    assert!(worst < 1e-12 * peak.max(1.0), "lateral against vertical: {worst:e} m");
+}

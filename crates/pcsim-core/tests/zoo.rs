@@ -97,7 +97,7 @@ fn the_goldens_can_tell_a_wrong_answer() {
     // The same string with the moving force 1e-6 larger must fail the comparison.
     let mut m = zoo::model("taut_string").unwrap();
     match &mut m.model.pantographs[0].kind {
-        pcsim_core::model::PantographKind::MovingForce { force_n } => *force_n *= 1.0 + 1e-6,
+        pcsim_core::model::PantographKind::MovingForce { force_n, .. } => *force_n *= 1.0 + 1e-6,
         _ => unreachable!(),
     }
     let (_, rows) = golden("taut_string");

@@ -254,8 +254,10 @@ fn pantographs(
     contact_wire: usize,
     eccentricity_m: f64,
     twist: bool,
+    lateral: bool,
 ) -> (Vec<Pantograph>, Contacts) {
     let mut contacts = Vec::new();
+    let n_pans = case.pantographs.len();
     let pans = case
         .pantographs
         .iter()
@@ -295,11 +297,15 @@ fn pantographs(
                     name,
                     offset_m,
                     force_n,
+                    lateral_force_n,
                 } => (
                     name,
                     offset_m,
-                    PantographKind::MovingForce { force_n: *force_n },
-                    ContactLaw::Prescribed,
+                    PantographKind::MovingForce {
+                        force_n: *force_n,
+                        lateral_force_n: *lateral_force_n,
+                    },
+                    ContactLaw::Prescribed { load: i },
                 ),
             };
             contacts.push(Contact {
@@ -310,6 +316,19 @@ fn pantographs(
                 eccentricity_m,
                 twist,
             });
+            if lateral && matches!(p, PantographCase::MovingForce { .. }) {
+                // The lateral probe, after the vertical contact (the pantograph's first moving
+                // point is its vertical one): a prescribed force on the lateral series at the
+                // point under the pantograph, its load after the vertical ones.
+                contacts.push(Contact {
+                    pantograph: i,
+                    wire: contact_wire,
+                    dir: Direction::Lateral,
+                    law: ContactLaw::Prescribed { load: n_pans + i },
+                    eccentricity_m: 0.0,
+                    twist: false,
+                });
+            }
             Pantograph {
                 name: default_name(name, i),
                 offset_m: *offset_m,
@@ -607,7 +626,7 @@ pub fn model_from_validated(
         (Some(lc), true) => lc.contact_point_eccentricity_m,
         _ => 0.0,
     };
-    let (pans, contacts) = pantographs(case, CONTACT, e_c, torsional && e_c != 0.0);
+    let (pans, contacts) = pantographs(case, CONTACT, e_c, torsional && e_c != 0.0, lateral);
     // The registration of every element kind, in the order their forces are evaluated.
     let mut elements: Vec<Box<dyn PointElement>> = vec![
         Box::new(Droppers(droppers)),

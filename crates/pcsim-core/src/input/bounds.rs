@@ -81,6 +81,8 @@ pub const UPLIFT: Bound = b((-1.0e4, 1.0e4), (20.0, 500.0), "N", "50–150 N");
 pub const AERO: Bound = b((-1.0e4, 1.0e4), (-50.0, 300.0), "N", "0–100 N");
 /// A constant moving force, N.
 pub const MOVING_FORCE: Bound = b((-1.0e5, 1.0e5), (-1000.0, 1000.0), "N", "50–300 N");
+/// The lateral force of a constant moving force (a probe), N.
+pub const MOVING_LATERAL_FORCE: Bound = b((-1.0e5, 1.0e5), (-1000.0, 1000.0), "N", "0–100 N");
 /// The time step, s.
 pub const DT: Bound = b((0.0, 0.01), (1.0e-5, 2.0e-3), "s", "0.2–1 ms");
 

@@ -224,6 +224,10 @@ pub enum PantographCase {
         offset_m: f64,
         /// Upward force, N.
         force_n: f64,
+        /// Lateral force on the contact wire (positive along the model's lateral axis), N: a
+        /// probe of the lateral motion, applied where it is modelled (issue 20).
+        #[serde(default)]
+        lateral_force_n: f64,
     },
 }
 

@@ -373,12 +373,22 @@ pub(super) fn contact_and_pantographs(case: &Case, w: &mut Vec<Warning>) -> Resu
         )?;
         match p {
             PantographCase::Lumped { .. } => lumped_pantograph(w, &base, p, r.speed_kmh)?,
-            PantographCase::MovingForce { force_n, .. } => {
+            PantographCase::MovingForce {
+                force_n,
+                lateral_force_n,
+                ..
+            } => {
                 check_bound(
                     w,
                     &format!("{base}.force_n"),
                     *force_n,
                     &bounds::MOVING_FORCE,
+                )?;
+                check_bound(
+                    w,
+                    &format!("{base}.lateral_force_n"),
+                    *lateral_force_n,
+                    &bounds::MOVING_LATERAL_FORCE,
                 )?;
             }
         }

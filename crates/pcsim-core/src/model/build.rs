@@ -145,11 +145,20 @@ impl ModelBuilder {
     }
 
     /// A constant upward force moving with the run's speed.
-    pub fn moving_force(mut self, name: &str, force_n: f64) -> Self {
+    pub fn moving_force(self, name: &str, force_n: f64) -> Self {
+        self.moving_force_3d(name, force_n, 0.0)
+    }
+
+    /// A constant moving force with a lateral part too (applied when lateral motion is
+    /// modelled, [`Self::lateral`]).
+    pub fn moving_force_3d(mut self, name: &str, force_n: f64, lateral_force_n: f64) -> Self {
         self.pantographs.push(Pantograph {
             name: name.to_string(),
             offset_m: 0.0,
-            kind: PantographKind::MovingForce { force_n },
+            kind: PantographKind::MovingForce {
+                force_n,
+                lateral_force_n,
+            },
             head_half_width_m: None,
             working_half_width_m: None,
         });
@@ -192,16 +201,26 @@ impl ModelBuilder {
                 &[Direction::Vertical],
             ));
         }
+        let np = self.pantographs.len();
+        let lateral_probe = self.dirs.contains(&Direction::Lateral);
         let contacts = Contacts(
-            (0..self.pantographs.len())
+            (0..np)
                 .map(|p| Contact {
                     pantograph: p,
                     wire: 0,
                     dir: Direction::Vertical,
-                    law: ContactLaw::Prescribed,
+                    law: ContactLaw::Prescribed { load: p },
                     eccentricity_m: 0.0,
                     twist: false,
                 })
+                .chain((0..np).filter(|_| lateral_probe).map(|p| Contact {
+                    pantograph: p,
+                    wire: 0,
+                    dir: Direction::Lateral,
+                    law: ContactLaw::Prescribed { load: np + p },
+                    eccentricity_m: 0.0,
+                    twist: false,
+                }))
                 .collect(),
         );
         let mut elements: Vec<Box<dyn PointElement>> = vec![Box::new(SteadyArms(self.arms))];

@@ -32,6 +32,8 @@ pub enum PantographKind {
     MovingForce {
         /// The force, N.
         force_n: f64,
+        /// The lateral force on the contact wire, N (applied where lateral motion is modelled).
+        lateral_force_n: f64,
     },
     /// A force and a position given from outside at every step (hardware in the loop).
     External,

@@ -1,6 +1,7 @@
 //! A window of a model: the real-time catenary's own model (paper §4.2, after Facchinetti &
 //! Bruni 2012).
 
+use crate::model::dof::Direction;
 use crate::model::basis::SineBasis;
 use crate::model::elements::contact::{ContactLaw, Contacts};
 use crate::model::elements::{PointElement, WindowMap};
@@ -74,11 +75,17 @@ impl Model {
                 working_half_width_m: p.working_half_width_m,
             };
         }
+        let np = self.pantographs.len();
         for e in &mut self.elements {
             if let Some(c) = e.as_any().downcast_ref::<Contacts>() {
                 let mut c = c.clone();
                 for k in &mut c.0 {
-                    k.law = ContactLaw::Prescribed;
+                    k.law = ContactLaw::Prescribed {
+                        load: match k.dir {
+                            Direction::Vertical => k.pantograph,
+                            _ => np + k.pantograph,
+                        },
+                    };
                 }
                 *e = Box::new(c);
             }

@@ -328,7 +328,7 @@ impl CompiledModel {
             scr,
             imp,
             prhs: vec![0.0; self.max_pdof],
-            loads: vec![0.0; np],
+            loads: vec![0.0; 2 * np],
             external: vec![(0.0, 0.0); np],
             off_head: vec![false; np],
             samples: vec![ContactSample::default(); np],
@@ -1119,6 +1119,6 @@ pub(crate) fn contact_stiffness(model: &Model, p: usize) -> f64 {
         .and_then(|c| c.0.iter().find(|c| c.pantograph == p))
         .map_or(0.0, |c| match c.law {
             ContactLaw::Penalty { stiffness_n_per_m } => stiffness_n_per_m,
-            ContactLaw::Prescribed => 0.0,
+            ContactLaw::Prescribed { .. } => 0.0,
         })
 }

@@ -522,8 +522,15 @@ impl Integrator {
                 PantographKind::Lumped(_) => st.pantographs.u[self.cm.pan_off[p]],
                 _ => 0.0,
             };
+            let np = m.pantographs.len();
+            ws.loads[np + p] = match pan.kind {
+                PantographKind::MovingForce {
+                    lateral_force_n, ..
+                } => lateral_force_n,
+                _ => 0.0,
+            };
             ws.loads[p] = match pan.kind {
-                PantographKind::MovingForce { force_n } => force_n,
+                PantographKind::MovingForce { force_n, .. } => force_n,
                 PantographKind::External => ws.external[p].1,
                 PantographKind::Lumped(_) => 0.0,
             };

@@ -22,6 +22,7 @@ pub fn with_moving_force(mut c: Case, force_n: f64) -> Case {
         name: "load".into(),
         offset_m: 0.0,
         force_n,
+        lateral_force_n: 0.0,
     }];
     c
 }

@@ -26,8 +26,12 @@ pub enum ContactLaw {
         /// Penalty stiffness k_n, N/m.
         stiffness_n_per_m: f64,
     },
-    /// The pantograph's prescribed load (`Io::loads`).
-    Prescribed,
+    /// A prescribed load: `Io::loads[load]` (the vertical loads of the pantographs first, then
+    /// their lateral ones).
+    Prescribed {
+        /// Index into `Io::loads`.
+        load: usize,
+    },
 }
 
 /// One pantograph on one contact wire.
@@ -99,7 +103,7 @@ impl PointElement for Contacts {
     fn stiffness(&self, i: usize) -> f64 {
         match self.0[i].law {
             ContactLaw::Penalty { stiffness_n_per_m } => stiffness_n_per_m,
-            ContactLaw::Prescribed => 0.0,
+            ContactLaw::Prescribed { .. } => 0.0,
         }
     }
     fn add_forces(&self, slots: &[Slot], io: &mut Io) {
@@ -113,7 +117,7 @@ impl PointElement for Contacts {
                 ContactLaw::Penalty { stiffness_n_per_m } => {
                     penalty_force(stiffness_n_per_m, io.u[h] - io.u[w] - lift)
                 }
-                ContactLaw::Prescribed => io.loads[c.pantograph],
+                ContactLaw::Prescribed { load } => io.loads[load],
             };
             io.f[w] += f;
             io.f[h] += -f;
