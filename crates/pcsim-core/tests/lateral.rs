@@ -751,3 +751,22 @@ fn a_lateral_force_on_a_moving_force_probe_moves_the_wire_as_the_vertical_one() 
     assert!(peak > 0.01, "the lateral force moved the wire: {peak} m");
     assert!(worst < 1e-12 * peak.max(1.0), "lateral against vertical: {worst:e} m");
 }
+
+/// Issue 20, item 8: a case with lateral motion below the mode density that the study needs for
+/// 1 % on the blow-off is warned about, naming the density and the study; at that density not.
+#[test]
+fn a_lateral_case_below_the_studied_mode_density_is_warned_about() {
+    let (mut c, _) = presets::load("stitched-2018-like-3d").unwrap();
+    let has = |c: &Case| {
+        Setup::from_case(c)
+            .unwrap()
+            .warnings
+            .iter()
+            .any(|w| w.0.contains("modes per metre") && w.0.contains("mode-density study"))
+    };
+    assert!(has(&c), "0.67 modes per metre");
+    c.run.modes = None;
+    c.run.modes_per_m = Some(pcsim_core::input::bounds::LATERAL_MODES_PER_M_FOR_1_PCT);
+    c.run.dt_s = 8e-4;
+    assert!(!has(&c));
+}

@@ -236,3 +236,8 @@ pub fn inv(field: &str, value: impl std::fmt::Display, reason: &str) -> CaseErro
         reason: reason.to_string(),
     }
 }
+
+/// Modes per metre from which the contact wire's static lateral blow-off under a steady
+/// crosswind lies within 1 % of its converged value (0.7 %; the mode-density study of
+/// docs/validation.md, `examples/mode_density_study.rs`: 0.67 per metre is 1.6 % low).
+pub const LATERAL_MODES_PER_M_FOR_1_PCT: f64 = 1.25;

@@ -638,6 +638,13 @@ pub(super) fn lateral_dofs(case: &Case, _w: &mut Vec<Warning>) -> Result<(), Cas
 pub(super) fn lateral_sections(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
     let lateral = case.run.dofs.contains(&Dof::Lateral);
     let torsional = case.run.dofs.contains(&Dof::Torsional);
+    let per_m = case.n_modes() as f64 / case.length_m();
+    let need = bounds::LATERAL_MODES_PER_M_FOR_1_PCT;
+    if lateral && per_m < need {
+        w.push(Warning(format!(
+            "run.modes gives {per_m:.2} modes per metre: the lateral blow-off converges within 1 % from {need} per metre (at 0.67 per metre it is 1.6 % low; docs/validation.md, the mode-density study)"
+        )));
+    }
     let c = &case.catenary;
     for (name, wire) in [
         ("contact_wire", &c.contact_wire),
