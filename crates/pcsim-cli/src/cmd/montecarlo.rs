@@ -59,6 +59,9 @@ pub fn run_seeds(
         if let Some(w) = &c.wind {
             seeds.push(format!("wind={}", w.seed));
         }
+        if c.run.perturb_uplift_rel != 0.0 {
+            seeds.push(format!("perturb={}", c.run.perturb_seed));
+        }
         let rms: f64 = r
             .output
             .irregularity

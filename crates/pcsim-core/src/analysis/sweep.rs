@@ -122,7 +122,7 @@ pub fn check_seeds(seeds: Option<usize>, case: &Case) -> Result<usize, String> {
         None => Ok(1),
         Some(0) => Err("run at least 1 realisation".into()),
         Some(n) if n > MAX_SEEDS => Err(format!("at most {MAX_SEEDS} realisations")),
-        Some(_) if !case.is_random() => Err("the case has no seeded random input (an [[irregularity]] of kind psd or droppers, or a [wind] with turbulence), so every realisation would be the same".into()),
+        Some(_) if !case.is_random() => Err("the case has no seeded random input (an [[irregularity]] of kind psd or droppers, a [wind] with turbulence, or run.perturb_uplift_rel), so every realisation would be the same".into()),
         Some(n) => Ok(n),
     }
 }

@@ -286,7 +286,7 @@ fn pantographs(
                         masses_kg: masses_kg.clone(),
                         stiffness_n_per_m: stiffness_n_per_m.clone(),
                         damping_ns_per_m: damping_ns_per_m.clone(),
-                        uplift_n: *uplift_n,
+                        uplift_n: *uplift_n * case.run.uplift_factor(),
                         aero_coeffs_kmh: aero_coeffs_kmh.clone(),
                     }),
                     ContactLaw::Penalty {

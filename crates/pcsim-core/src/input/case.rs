@@ -288,6 +288,40 @@ pub struct RunCase {
     /// (its start transient then enters the statistics): a warning instead of an error.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub allow_start_transient: bool,
+    /// A tiny seeded perturbation of every lumped pantograph's uplift, relative (0: none): the
+    /// uplift is multiplied by `1 + perturb_uplift_rel · (2u − 1)`, `u` uniform from
+    /// `perturb_seed`. With `--seeds N` each realisation draws its own `u` (the seed offset by
+    /// the realisation), so the spread of the statistics puts an error bar on the quantities that
+    /// hang on a threshold (the actual maximum and minimum when droppers go slack; issue 20).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub perturb_uplift_rel: f64,
+    /// The seed of the perturbation (see `perturb_uplift_rel`).
+    #[serde(default, skip_serializing_if = "is_zero_u64")]
+    pub perturb_seed: u64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
+fn is_zero_u64(x: &u64) -> bool {
+    *x == 0
+}
+
+impl RunCase {
+    /// The factor on every lumped pantograph's uplift (1 without a perturbation): `1 + rel ·
+    /// (2u − 1)` with `u` uniform in [0, 1) from `perturb_seed` (splitmix64).
+    pub fn uplift_factor(&self) -> f64 {
+        if self.perturb_uplift_rel == 0.0 {
+            return 1.0;
+        }
+        let mut z = self.perturb_seed.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        let u = (z >> 11) as f64 / (1u64 << 53) as f64;
+        1.0 + self.perturb_uplift_rel * (2.0 * u - 1.0)
+    }
 }
 
 /// The field of `pantographs[i]` (named by `path`) whose value has the wrong type: each field of
@@ -360,8 +394,8 @@ impl Case {
         self.catenary.spans as f64 * self.catenary.span_m
     }
 
-    /// The case of realisation `k` of a Monte Carlo study: every seed (irregularity, wind)
-    /// offset by `k`.
+    /// The case of realisation `k` of a Monte Carlo study: every seed (irregularity, wind,
+    /// perturbation) offset by `k`.
     pub fn with_seed_offset(&self, k: u64) -> Case {
         let mut c = self.clone();
         for ir in &mut c.irregularity {
@@ -370,12 +404,14 @@ impl Case {
         if let Some(w) = c.wind.as_mut() {
             w.seed = w.seed.wrapping_add(k);
         }
+        c.run.perturb_seed = c.run.perturb_seed.wrapping_add(k);
         c
     }
 
     /// Whether the case has a seeded random input (a Monte Carlo study varies it).
     pub fn is_random(&self) -> bool {
-        self.irregularity.iter().any(|i| i.seed().is_some())
+        self.run.perturb_uplift_rel != 0.0
+            || self.irregularity.iter().any(|i| i.seed().is_some())
             || self
                 .wind
                 .as_ref()

@@ -484,6 +484,13 @@ pub(super) fn run(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
     let c = &case.catenary;
     let r = &case.run;
     check_bound(w, "run.dt_s", r.dt_s, &bounds::DT)?;
+    if !(r.perturb_uplift_rel.is_finite() && (0.0..=1e-3).contains(&r.perturb_uplift_rel)) {
+        return Err(inv(
+            "run.perturb_uplift_rel",
+            r.perturb_uplift_rel,
+            "must lie in [0, 1e-3]: a perturbation to put an error bar on threshold-sensitive statistics, not a change of the uplift",
+        ));
+    }
     match (r.modes, r.modes_per_m) {
         (Some(_), Some(_)) => {
             return Err(inv(
