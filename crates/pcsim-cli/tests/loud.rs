@@ -114,10 +114,28 @@ fn issue_20_3_contact_lost_over_a_tenth_of_the_section_is_an_error_unless_allowe
 fn issue_20_4_the_window_search_states_what_it_checked() {
     let d = scratch("window-claim");
     let args = [
-        "window", "--preset", "syt-7.0-9.8", "--speed", "150", "--tension", "9.8",
-        "--max-window", "240", "--coarse", "40", "--resolution", "10", "--no-plot", "--quiet",
+        "window",
+        "--preset",
+        "syt-7.0-9.8",
+        "--speed",
+        "150",
+        "--tension",
+        "9.8",
+        "--max-window",
+        "240",
+        "--coarse",
+        "40",
+        "--resolution",
+        "10",
+        "--no-plot",
+        "--quiet",
     ];
-    let o = pcsim().args(args).arg("--out").arg(d.join("lattice")).output().unwrap();
+    let o = pcsim()
+        .args(args)
+        .arg("--out")
+        .arg(d.join("lattice"))
+        .output()
+        .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(
@@ -143,9 +161,14 @@ fn issue_20_4_the_window_search_states_what_it_checked() {
     // Every window from 240 m down to the first failure, at 10 m: (240 − L)/10 + 1 passing, and
     // the failing one below unless L is the shortest window searched (30 m).
     let passing = ((240.0 - length) / 10.0).round() as usize + 1;
-    assert!(runs == passing + 1 || (length == 30.0 && runs == passing), "{runs} runs for {length} m");
     assert!(
-        text.contains(&format!("every window from {length} m to 240 m, every 10 m, was run and matches")),
+        runs == passing + 1 || (length == 30.0 && runs == passing),
+        "{runs} runs for {length} m"
+    );
+    assert!(
+        text.contains(&format!(
+            "every window from {length} m to 240 m, every 10 m, was run and matches"
+        )),
         "{text}"
     );
 }

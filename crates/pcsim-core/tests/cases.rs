@@ -174,7 +174,9 @@ fn time_step_too_large_for_the_modes() {
         "modes_per_m = { value = 6.0",
     ));
     assert!(
-        e.contains("run.dt_s") && e.contains("0.001") && e.contains("contact_wire wire's own vertical stiffness"),
+        e.contains("run.dt_s")
+            && e.contains("0.001")
+            && e.contains("contact_wire wire's own vertical stiffness"),
         "{e}"
     );
 }

@@ -266,7 +266,11 @@ fn the_window_search_is_exact_and_monotone() {
 fn the_window_search_claim_is_what_a_one_metre_scan_confirms() {
     // σ error: falls with the length, with a narrow bump at 165–169 m above the tolerance.
     let curve = |w: f64| -> Result<WindowErrors, ()> {
-        let bump = if (165.0..=169.0).contains(&w) { 2.0 } else { 0.0 };
+        let bump = if (165.0..=169.0).contains(&w) {
+            2.0
+        } else {
+            0.0
+        };
         Ok(WindowErrors {
             window_m: w,
             mean_pct: 0.0,
@@ -302,15 +306,26 @@ fn the_window_search_claim_is_what_a_one_metre_scan_confirms() {
     let (l, to) = (r.length_m.unwrap(), r.fine_checked_to_m.unwrap());
     assert!(l < truth, "{l}");
     assert!(to < 165.0, "{to}");
-    assert!(lattice.iter().filter(|&&w| w >= l && w <= to).all(|&w| passes(w)));
+    assert!(lattice
+        .iter()
+        .filter(|&&w| w >= l && w <= to)
+        .all(|&w| passes(w)));
     assert!(r.claim(&s).contains("were not run"), "{}", r.claim(&s));
     // The full scan finds the truth, and claims the whole range.
     s.full_scan = true;
     let r = search(&s, &t, curve).unwrap();
     assert_eq!(r.length_m, Some(truth));
     assert_eq!(r.fine_checked_to_m, Some(400.0));
-    assert_eq!(r.evaluated.len(), 400 - 170 + 2, "every window from the top to the first failure");
-    assert!(r.claim(&s).contains("every window from 170 m to 400 m"), "{}", r.claim(&s));
+    assert_eq!(
+        r.evaluated.len(),
+        400 - 170 + 2,
+        "every window from the top to the first failure"
+    );
+    assert!(
+        r.claim(&s).contains("every window from 170 m to 400 m"),
+        "{}",
+        r.claim(&s)
+    );
 }
 
 #[test]
@@ -388,13 +403,25 @@ fn a_tiny_uplift_perturbation_gives_the_spread_of_the_actual_extremes() {
     let runs: Vec<_> = (0..4).map(stats).collect();
     let spread = |f: &dyn Fn(&pcsim_core::analysis::stats::ContactStats) -> f64| {
         let v: Vec<f64> = runs.iter().map(f).collect();
-        let (lo, hi) = v.iter().fold((f64::MAX, f64::MIN), |a, &x| (a.0.min(x), a.1.max(x)));
+        let (lo, hi) = v
+            .iter()
+            .fold((f64::MAX, f64::MIN), |a, &x| (a.0.min(x), a.1.max(x)));
         (hi - lo) / hi.abs()
     };
-    assert!(spread(&|s| s.actual_max_n) > 1e-3, "actual max spread {}", spread(&|s| s.actual_max_n));
-    assert!(spread(&|s| s.mean_n) < 1e-4, "mean spread {}", spread(&|s| s.mean_n));
+    assert!(
+        spread(&|s| s.actual_max_n) > 1e-3,
+        "actual max spread {}",
+        spread(&|s| s.actual_max_n)
+    );
+    assert!(
+        spread(&|s| s.mean_n) < 1e-4,
+        "mean spread {}",
+        spread(&|s| s.mean_n)
+    );
     assert_eq!(stats(2), runs[2], "the same seed gives the same statistics");
     c.run.perturb_uplift_rel = 0.01;
-    let e = pcsim_core::run_case(&c, &mut |_| true).unwrap_err().to_string();
+    let e = pcsim_core::run_case(&c, &mut |_| true)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("run.perturb_uplift_rel"), "{e}");
 }

@@ -746,10 +746,16 @@ fn a_lateral_force_on_a_moving_force_probe_moves_the_wire_as_the_vertical_one() 
         worst = worst.max((a.lateral_m - a.wire_height_m).abs());
         peak = peak.max(a.lateral_m.abs());
         assert!(q.lateral_m.abs() < 1e-15, "{}", q.lateral_m);
-        assert_eq!(a.wire_height_m, q.wire_height_m, "the lateral force leaves the vertical alone");
+        assert_eq!(
+            a.wire_height_m, q.wire_height_m,
+            "the lateral force leaves the vertical alone"
+        );
     }
     assert!(peak > 0.01, "the lateral force moved the wire: {peak} m");
-    assert!(worst < 1e-12 * peak.max(1.0), "lateral against vertical: {worst:e} m");
+    assert!(
+        worst < 1e-12 * peak.max(1.0),
+        "lateral against vertical: {worst:e} m"
+    );
 }
 
 /// Issue 20, item 8: a case with lateral motion below the mode density that the study needs for

@@ -67,8 +67,15 @@ fn power_iteration_finds_the_exact_highest_frequency_of_a_stiff_point() {
         "power iteration ω = {} rad/s, exact {exact} rad/s (rel {rel:e})",
         got.omega_rad_s
     );
-    assert!(got.omega_rad_s > top.sqrt() * 1.01, "the point raises the limit");
-    assert!(got.limiting.contains("steady_arm") || got.limiting.contains("steady arm"), "{}", got.limiting);
+    assert!(
+        got.omega_rad_s > top.sqrt() * 1.01,
+        "the point raises the limit"
+    );
+    assert!(
+        got.limiting.contains("steady_arm") || got.limiting.contains("steady arm"),
+        "{}",
+        got.limiting
+    );
     assert!((got.dt_max_s - stability::MARGIN * 2.0 / exact).abs() < 1e-4 * got.dt_max_s);
 }
 
@@ -126,7 +133,10 @@ fn a_stiff_support_is_refused_before_the_run_naming_the_supports() {
     match setup.integrator() {
         Err(CaseError::Invalid { field, reason, .. }) => {
             assert_eq!(field, "run.dt_s");
-            assert!(reason.contains("support") && reason.contains("1.000e8"), "{reason}");
+            assert!(
+                reason.contains("support") && reason.contains("1.000e8"),
+                "{reason}"
+            );
         }
         other => panic!("a 1e8 N/m support at Δt = 1 ms was not refused: {other:?}"),
     }

@@ -294,7 +294,10 @@ pub fn claim(length_m: Option<f64>, fine_checked_to_m: Option<f64>, s: &SearchSe
             let fine = if to - l < 0.5 * s.resolution_m {
                 format!("the {l} m window")
             } else {
-                format!("every window from {l} m to {to} m (every {} m)", s.resolution_m)
+                format!(
+                    "every window from {l} m to {to} m (every {} m)",
+                    s.resolution_m
+                )
             };
             format!(
                 "{fine} and every {} m from there to {} m were run and match; the windows between those coarse points were not run (--full-scan runs them)",

@@ -17,8 +17,8 @@ use crate::input::case::Case;
 use crate::model::build::BuilderRun;
 use crate::model::Model;
 use crate::solve::integrator::Integrator;
-use crate::solve::stability;
 use crate::solve::realtime::{Coupling, RealtimeCatenary};
+use crate::solve::stability;
 use crate::solve::{ContactSample, Options, Plan, State, Workspace};
 
 /// The plan of a validated case: the run lasts until the rearmost pantograph reaches

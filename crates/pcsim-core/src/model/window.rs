@@ -1,8 +1,8 @@
 //! A window of a model: the real-time catenary's own model (paper §4.2, after Facchinetti &
 //! Bruni 2012).
 
-use crate::model::dof::Direction;
 use crate::model::basis::SineBasis;
+use crate::model::dof::Direction;
 use crate::model::elements::contact::{ContactLaw, Contacts};
 use crate::model::elements::{PointElement, WindowMap};
 use crate::model::pantograph::{Pantograph, PantographKind};

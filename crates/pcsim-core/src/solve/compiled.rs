@@ -627,7 +627,8 @@ fn system_height_m(model: &Model) -> Option<f64> {
     let h = (0..=n)
         .map(|i| {
             let x = i as f64;
-            model.statics.height(WireRole::Messenger, x) - model.statics.height(WireRole::Contact, x)
+            model.statics.height(WireRole::Messenger, x)
+                - model.statics.height(WireRole::Contact, x)
         })
         .fold(f64::NEG_INFINITY, f64::max);
     (h.is_finite() && h > 0.0).then_some(h)

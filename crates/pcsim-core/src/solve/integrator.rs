@@ -119,7 +119,11 @@ impl Integrator {
     /// The Δt operators over a compiled model: the modal diagonal `M + Δt/2 C` (Eqs. 9–14), the
     /// torsional modes' trapezoidal flow, the implicit point terms with their Δt weights, and the
     /// pantographs' chains (Eq. 16) with their static equilibrium.
-    pub(crate) fn from_compiled(cm: CompiledModel, plan: &Plan, dt: f64) -> Result<Self, CaseError> {
+    pub(crate) fn from_compiled(
+        cm: CompiledModel,
+        plan: &Plan,
+        dt: f64,
+    ) -> Result<Self, CaseError> {
         let model = &cm.model;
         let lay = &model.layout;
         let isa = cm.isa;
@@ -612,4 +616,3 @@ impl Integrator {
         }
     }
 }
-

@@ -29,9 +29,9 @@ pub mod workspace;
 
 pub use compiled::CompiledModel;
 pub use integrator::Integrator;
-pub use stability::{CoupledLimit, StableStep};
 pub use kernels::Isa;
 pub use plan::{Options, Plan};
 pub use run::{run, Observer, RunStatistics};
+pub use stability::{CoupledLimit, StableStep};
 pub use state::State;
 pub use workspace::{ContactSample, Workspace};

@@ -112,7 +112,10 @@ pub fn check_stability(cm: &CompiledModel, plan: &Plan, dt: f64) -> Result<Stabl
             ),
         ));
     }
-    Ok(StableStep { dt_s: dt, limit: lim })
+    Ok(StableStep {
+        dt_s: dt,
+        limit: lim,
+    })
 }
 
 /// The local explicit limits (central differences: ω Δt < 2, with the margin): every node on its
@@ -208,7 +211,8 @@ pub fn coupled_limit(cm: &CompiledModel, plan: &Plan) -> Result<CoupledLimit, Ca
             return Err(invalid(
                 "run.dt_s",
                 "(stability check)",
-                "the coupled stability check met a non-finite acceleration about the static state".into(),
+                "the coupled stability check met a non-finite acceleration about the static state"
+                    .into(),
             ));
         }
         if lambda == 0.0 {
@@ -219,15 +223,22 @@ pub fn coupled_limit(cm: &CompiledModel, plan: &Plan) -> Result<CoupledLimit, Ca
             *xi = yi / lambda;
         }
         let w = MIN_ITERATIONS / 4;
-        if it + 1 >= MIN_ITERATIONS && (history[it] - history[it - w]).abs() <= TOLERANCE * lambda
-        {
+        if it + 1 >= MIN_ITERATIONS && (history[it] - history[it - w]).abs() <= TOLERANCE * lambda {
             break;
         }
     }
     let omega = lambda.sqrt();
     let limiting = if omega > 0.0 {
         let mut shares = Vec::new();
-        apply(&probe, &rest, &mut st, &mut ws, &x, &mut y, Some(&mut shares));
+        apply(
+            &probe,
+            &rest,
+            &mut st,
+            &mut ws,
+            &x,
+            &mut y,
+            Some(&mut shares),
+        );
         describe(cm, shares)
     } else {
         "nothing (the model has no stiffness)".to_string()
@@ -271,7 +282,7 @@ fn apply(
     ws: &mut Workspace,
     x: &[f64],
     y: &mut [f64],
-    mut shares: Option<&mut Vec<(Part, f64)>>,
+    shares: Option<&mut Vec<(Part, f64)>>,
 ) {
     let cm = probe.compiled();
     let (nm, nn) = (rest.modal.u.len(), rest.nodes.u.len());
@@ -310,7 +321,7 @@ fn apply(
     for (a, b) in y.iter_mut().zip(&minus) {
         *a = (*a - b) / (2.0 * PERTURBATION);
     }
-    let Some(out) = shares.as_deref_mut() else {
+    let Some(out) = shares else {
         return;
     };
     let (u_plus, f_plus) = (u_plus.unwrap_or_default(), f_plus.unwrap_or_default());
@@ -389,10 +400,7 @@ fn element_forces(cm: &CompiledModel, ws: &Workspace) -> Vec<Vec<f64>> {
 fn describe(cm: &CompiledModel, shares: Vec<(Part, f64)>) -> String {
     let m = cm.model();
     let total: f64 = shares.iter().map(|s| s.1.max(0.0)).sum();
-    let Some((part, e)) = shares
-        .into_iter()
-        .max_by(|a, b| a.1.total_cmp(&b.1))
-    else {
+    let Some((part, e)) = shares.into_iter().max_by(|a, b| a.1.total_cmp(&b.1)) else {
         return "the wires".into();
     };
     let pct = if total > 0.0 { 100.0 * e / total } else { 0.0 };
