@@ -10,6 +10,38 @@ fn scratch(name: &str) -> PathBuf {
     common::scratch("loud", name)
 }
 
+/// `pcsim run CASE` writes its outputs, exits 2 with `stderr_has` and `flag` in its message and
+/// `errors_has` in summary.json's first error; with `flag` it exits 0.
+fn an_error_unless_allowed(
+    case: &std::path::Path,
+    out: &std::path::Path,
+    flag: &str,
+    stderr_has: &str,
+    errors_has: &str,
+) {
+    let o = pcsim()
+        .arg("run")
+        .arg(case)
+        .args(["--quiet", "--out"])
+        .arg(out)
+        .output()
+        .unwrap();
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(e.contains(stderr_has) && e.contains(flag), "{e}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert!(s["errors"][0].as_str().unwrap().contains(errors_has), "{s}");
+    let o = pcsim()
+        .arg("run")
+        .arg(case)
+        .args(["--quiet", flag, "--out"])
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
 /// Item 2: a contact wire beyond the pantograph's head has no contact; the run writes its outputs,
 /// reports the dewirement in summary.json's `errors`, and exits non-zero unless
 /// `--allow-dewirement` is given.
@@ -25,33 +57,13 @@ fn issue_20_2_a_dewirement_is_an_error_unless_allowed() {
     c.catenary.lateral.as_mut().unwrap().stagger_m = Some(1.9);
     let p = d.join("wide.toml");
     std::fs::write(&p, c.to_toml_string()).unwrap();
-    let o = pcsim()
-        .arg("run")
-        .arg(&p)
-        .args(["--quiet", "--out"])
-        .arg(d.join("o"))
-        .output()
-        .unwrap();
-    let e = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{e}");
-    assert!(
-        e.contains("dewirement") && e.contains("--allow-dewirement"),
-        "{e}"
+    an_error_unless_allowed(
+        &p,
+        &d.join("o"),
+        "--allow-dewirement",
+        "dewirement",
+        "dewirement",
     );
-    let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(d.join("o/summary.json")).unwrap()).unwrap();
-    assert!(
-        s["errors"][0].as_str().unwrap().contains("dewirement"),
-        "{s}"
-    );
-    let o = pcsim()
-        .arg("run")
-        .arg(&p)
-        .args(["--quiet", "--allow-dewirement", "--out"])
-        .arg(d.join("o"))
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
 
 /// Item 3: a run whose pantograph is off the wire over more than 10 % of the analysis section
@@ -71,33 +83,13 @@ fn issue_20_3_contact_lost_over_a_tenth_of_the_section_is_an_error_unless_allowe
     }
     let p = d.join("down.toml");
     std::fs::write(&p, c.to_toml_string()).unwrap();
-    let o = pcsim()
-        .arg("run")
-        .arg(&p)
-        .args(["--quiet", "--out"])
-        .arg(d.join("o"))
-        .output()
-        .unwrap();
-    let e = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{e}");
-    assert!(
-        e.contains("contact lost over 100.0 %") && e.contains("--allow-contact-loss"),
-        "{e}"
+    an_error_unless_allowed(
+        &p,
+        &d.join("o"),
+        "--allow-contact-loss",
+        "contact lost over 100.0 %",
+        "contact lost",
     );
-    let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(d.join("o/summary.json")).unwrap()).unwrap();
-    assert!(
-        s["errors"][0].as_str().unwrap().contains("contact lost"),
-        "{s}"
-    );
-    let o = pcsim()
-        .arg("run")
-        .arg(&p)
-        .args(["--quiet", "--allow-contact-loss", "--out"])
-        .arg(d.join("o"))
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     // An ordinary run has no error.
     let o = pcsim()
         .args(["run", "--preset", "en50318-2002", "--quiet", "--out"])

@@ -151,8 +151,8 @@ pub struct RunError {
 pub fn run_errors(out: &RunOutput) -> Vec<RunError> {
     let mut v = Vec::new();
     for p in &out.pantographs {
-        let dewired = p.lateral.as_ref().is_some_and(|l| l.samples_off_head > 0);
-        if let Some(l) = p.lateral.as_ref().filter(|l| l.samples_off_head > 0) {
+        let dewired = p.lateral.as_ref().filter(|l| l.samples_off_head > 0);
+        if let Some(l) = dewired {
             v.push(RunError {
                 kind: RunErrorKind::Dewirement,
                 message: format!(
@@ -164,11 +164,9 @@ pub fn run_errors(out: &RunOutput) -> Vec<RunError> {
             });
         }
         // A dewirement already explains (and reports) the contact it loses.
-        if let Some(s) = p
-            .stats
-            .as_ref()
-            .filter(|s| !dewired && s.loss_of_contact_percent > LOSS_OF_CONTACT_ERROR_PERCENT)
-        {
+        if let Some(s) = p.stats.as_ref().filter(|s| {
+            dewired.is_none() && s.loss_of_contact_percent > LOSS_OF_CONTACT_ERROR_PERCENT
+        }) {
             v.push(RunError {
                 kind: RunErrorKind::ContactLoss,
                 message: format!(

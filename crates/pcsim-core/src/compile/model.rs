@@ -305,7 +305,7 @@ fn pantographs(
                         force_n: *force_n,
                         lateral_force_n: *lateral_force_n,
                     },
-                    ContactLaw::Prescribed { load: i },
+                    ContactLaw::prescribed(Direction::Vertical, i, n_pans),
                 ),
             };
             contacts.push(Contact {
@@ -324,7 +324,7 @@ fn pantographs(
                     pantograph: i,
                     wire: contact_wire,
                     dir: Direction::Lateral,
-                    law: ContactLaw::Prescribed { load: n_pans + i },
+                    law: ContactLaw::prescribed(Direction::Lateral, i, n_pans),
                     eccentricity_m: 0.0,
                     twist: false,
                 });

@@ -209,7 +209,7 @@ impl ModelBuilder {
                     pantograph: p,
                     wire: 0,
                     dir: Direction::Vertical,
-                    law: ContactLaw::Prescribed { load: p },
+                    law: ContactLaw::prescribed(Direction::Vertical, p, np),
                     eccentricity_m: 0.0,
                     twist: false,
                 })
@@ -217,7 +217,7 @@ impl ModelBuilder {
                     pantograph: p,
                     wire: 0,
                     dir: Direction::Lateral,
-                    law: ContactLaw::Prescribed { load: np + p },
+                    law: ContactLaw::prescribed(Direction::Lateral, p, np),
                     eccentricity_m: 0.0,
                     twist: false,
                 }))

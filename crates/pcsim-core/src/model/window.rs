@@ -2,7 +2,6 @@
 //! Bruni 2012).
 
 use crate::model::basis::SineBasis;
-use crate::model::dof::Direction;
 use crate::model::elements::contact::{ContactLaw, Contacts};
 use crate::model::elements::{PointElement, WindowMap};
 use crate::model::pantograph::{Pantograph, PantographKind};
@@ -80,12 +79,7 @@ impl Model {
             if let Some(c) = e.as_any().downcast_ref::<Contacts>() {
                 let mut c = c.clone();
                 for k in &mut c.0 {
-                    k.law = ContactLaw::Prescribed {
-                        load: match k.dir {
-                            Direction::Vertical => k.pantograph,
-                            _ => np + k.pantograph,
-                        },
-                    };
+                    k.law = ContactLaw::prescribed(k.dir, k.pantograph, np);
                 }
                 *e = Box::new(c);
             }

@@ -324,19 +324,13 @@ impl Integrator {
     /// implicit solve and kick, pantographs. Allocation-free; the work is the same every step.
     pub fn step(&self, st: &mut State, ws: &mut Workspace) {
         self.drift(st);
-        self.gather(st, ws);
-        self.fixed_point_forces(st, ws);
-        self.modal_rhs(st, ws);
-        self.wind(st, ws);
-        self.moving_points(st, ws);
-        self.implicit_solve(st, ws);
-        self.pantographs(st, ws);
+        self.accelerations(st, ws);
     }
 
-    /// The accelerations at `st` without advancing it: stages 2–8 of [`Integrator::step`] with
-    /// no drift (the velocities are half-kicked on the way; callers that only want the
-    /// accelerations reset them). The coupled stability check differences it
-    /// ([`crate::solve::stability`]).
+    /// Stages 2–8 of [`Integrator::step`]: the accelerations at `st` (the velocities are
+    /// half-kicked on the way; callers that only want the accelerations reset them). The coupled
+    /// stability check differences it without the drift ([`crate::solve::stability`]).
+    #[inline(always)]
     pub(crate) fn accelerations(&self, st: &mut State, ws: &mut Workspace) {
         self.gather(st, ws);
         self.fixed_point_forces(st, ws);

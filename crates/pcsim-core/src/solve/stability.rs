@@ -202,10 +202,13 @@ pub fn coupled_limit(cm: &CompiledModel, plan: &Plan) -> Result<CoupledLimit, Ca
     }
     normalise(&mut x);
     let mut y = vec![0.0; n];
+    let mut minus = vec![0.0; n];
     let mut history = Vec::with_capacity(MAX_ITERATIONS);
     let mut lambda = 0.0;
     for it in 0..MAX_ITERATIONS {
-        apply(&probe, &rest, &mut st, &mut ws, &x, &mut y, None);
+        apply(
+            &probe, &rest, &mut st, &mut ws, &x, &mut y, &mut minus, None,
+        );
         lambda = norm(&y);
         if !lambda.is_finite() {
             return Err(invalid(
@@ -237,6 +240,7 @@ pub fn coupled_limit(cm: &CompiledModel, plan: &Plan) -> Result<CoupledLimit, Ca
             &mut ws,
             &x,
             &mut y,
+            &mut minus,
             Some(&mut shares),
         );
         describe(cm, shares)
@@ -273,8 +277,10 @@ enum Part {
     Pantograph(usize),
 }
 
-/// `y = −M⁻¹K x` by central differences of the accelerations about `rest`; with `shares`, also
-/// the strain energy `½ xᵀK x` of every part (blocks, element kinds, pantograph chains).
+/// `y = −M⁻¹K x` by central differences of the accelerations about `rest` (`minus`: scratch of
+/// `y`'s length); with `shares`, also the strain energy `½ xᵀK x` of every part (blocks,
+/// element kinds, pantograph chains).
+#[allow(clippy::too_many_arguments)]
 fn apply(
     probe: &Integrator,
     rest: &State,
@@ -282,6 +288,7 @@ fn apply(
     ws: &mut Workspace,
     x: &[f64],
     y: &mut [f64],
+    minus: &mut [f64],
     shares: Option<&mut Vec<(Part, f64)>>,
 ) {
     let cm = probe.compiled();
@@ -311,14 +318,13 @@ fn apply(
         out[nm..nm + nn].copy_from_slice(&st.nodes.a);
         out[nm + nn..].copy_from_slice(&st.pantographs.a);
     };
-    let mut minus = vec![0.0; y.len()];
     eval(1.0, st, ws, y);
     let (u_plus, f_plus) = shares
         .as_ref()
         .map(|_| (ws.u.clone(), element_forces(cm, ws)))
         .unzip();
-    eval(-1.0, st, ws, &mut minus);
-    for (a, b) in y.iter_mut().zip(&minus) {
+    eval(-1.0, st, ws, minus);
+    for (a, b) in y.iter_mut().zip(minus.iter()) {
         *a = (*a - b) / (2.0 * PERTURBATION);
     }
     let Some(out) = shares else {

@@ -69,6 +69,20 @@ pub fn penalty_energy(k_n: f64, d_r: f64) -> f64 {
     }
 }
 
+impl ContactLaw {
+    /// The prescribed law of pantograph `pantograph`'s contact in direction `dir`, among
+    /// `n_pantographs`: `Io::loads` holds the vertical loads of the pantographs first, then
+    /// their lateral ones.
+    pub fn prescribed(dir: Direction, pantograph: usize, n_pantographs: usize) -> Self {
+        ContactLaw::Prescribed {
+            load: match dir {
+                Direction::Vertical => pantograph,
+                _ => n_pantographs + pantograph,
+            },
+        }
+    }
+}
+
 /// All contacts of a model.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Contacts(pub Vec<Contact>);
