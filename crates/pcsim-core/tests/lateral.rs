@@ -776,3 +776,59 @@ fn a_lateral_case_below_the_studied_mode_density_is_warned_about() {
     c.run.dt_s = 8e-4;
     assert!(!has(&c));
 }
+
+/// Issue 20, item 5: the crosswind damps the torsion too. The quasi-steady torsional
+/// aerodynamic damping `½ρ d² R U C_M'(0)` (R = d/2) is uniform along the wire, so every
+/// torsional mode's damping grows by `c L/2`, computed here by hand from the preset's moment table
+/// (C_M from −0.02 to 0.02 over ±10°); the vertical and lateral additions are unchanged by it.
+#[test]
+fn the_crosswind_damps_the_torsion_by_the_moment_slope() {
+    let mut case = presets::load("stitched-2018-like-3d-crosswind").unwrap().0;
+    case.catenary.spans = 8;
+    case.pantographs.truncate(1);
+    case.run.modes = Some(320);
+    case.run.start_m = 150.0;
+    case.run.end_m = 360.0;
+    case.run.analysis_m = [210.0, 360.0];
+    case.wind.as_mut().unwrap().turbulence_intensity = 0.0;
+    let windy = Setup::from_case(&case).unwrap();
+    let mut calm = case.clone();
+    calm.wind = None;
+    let calm = Setup::from_case(&calm).unwrap();
+    let wl = windy.model.wind.as_ref().unwrap();
+    let rho = case.wind.as_ref().unwrap().air_density_kg_m3;
+    let dcm = 0.04 / 20f64.to_radians();
+    let l = windy.model.layout.basis(0).length_m();
+    let mut seen = 0;
+    for ww in &wl.wires {
+        let role = windy.model.wires[ww.wire].role;
+        let b = windy.model.block(role, Direction::Torsional).unwrap();
+        let added: Vec<f64> = windy
+            .model
+            .series(b)
+            .damping
+            .iter()
+            .zip(&calm.model.series(b).damping)
+            .map(|(w, c)| w - c)
+            .collect();
+        let section = if role == WireRole::Contact {
+            case.catenary.contact_wire.section.as_ref().unwrap()
+        } else {
+            case.catenary.messenger.section.as_ref().unwrap()
+        };
+        let slope = if role == WireRole::Contact { dcm } else { 0.0 };
+        let dia = section.diameter_m;
+        let want = 0.5 * rho * dia * dia * (0.5 * dia) * ww.mean_normal_m_s * slope * l / 2.0;
+        for a in &added {
+            assert!(
+                (a - want).abs() <= 1e-9 * want.abs().max(1e-18),
+                "{a} vs {want}"
+            );
+        }
+        if slope != 0.0 {
+            assert!(want > 0.0);
+            seen += 1;
+        }
+    }
+    assert_eq!(seen, 1, "the contact wire's moment table has a slope");
+}

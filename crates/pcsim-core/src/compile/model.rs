@@ -92,6 +92,13 @@ pub const MESSENGER: usize = 0;
 /// Index of the contact wire in the model's wires.
 pub const CONTACT: usize = 1;
 
+/// The quasi-steady torsional aerodynamic damping per metre of a wire of diameter `d` in a
+/// normal wind `u`, N·m·s/m: `½ρ d² R u C_M'(0)` with the characteristic radius `R = d/2`
+/// (`model::wind`; Blevins' quasi-steady torsional galloping, the radius a guess).
+pub fn torsional_aero_damping(rho: f64, d: f64, u: f64, dcm_per_rad: f64) -> f64 {
+    0.5 * rho * d * d * (0.5 * d) * u * dcm_per_rad
+}
+
 /// Mass per metre of radial ice of thickness `t` on a wire of diameter `d` (the annulus), kg/m,
 /// and its polar mass moment per metre, kg·m.
 pub fn ice_mass(density_kg_m3: f64, d: f64, t: f64) -> (f64, f64) {
@@ -162,7 +169,7 @@ fn wind_load(case: &Case, diam: [f64; 2], length_m: f64) -> Option<WindLoad> {
         let aero = w.section.as_ref().and_then(|s| s.aero.as_ref())?;
         let d = diam[wire];
         let (cd, cl, cm) = aero.at(0.0);
-        let (_, dcl) = aero.slopes_at_zero();
+        let (_, dcl, dcm) = aero.slopes_at_zero();
         let u = normal
             * mean_at_height(
                 wd.mean_speed_m_s,
@@ -179,6 +186,7 @@ fn wind_load(case: &Case, diam: [f64; 2], length_m: f64) -> Option<WindLoad> {
             torsional_m2: d * d * cm,
             damping_lateral: rho * d * cd * u,
             damping_vertical: 0.5 * rho * d * u * (dcl + cd),
+            damping_torsional: torsional_aero_damping(rho, d, u, dcm),
         });
     }
     let sigma = wd.turbulence_intensity * wd.mean_speed_m_s;
@@ -381,37 +389,20 @@ pub fn model_from_validated(
         }
     }
     let c = &c;
-    let stat = StaticSolution::solve(&static_design(c));
+    // The design's static shape, dropper lengths and preloads are those of the ice-free line:
+    // the ice's weight is a steady load on that geometry (it lowers the wires, solved in the
+    // start state, `solve::equilibrium`).
+    let stat = StaticSolution::solve(&static_design(&case.catenary));
     for (i, len) in stat.dropper_length_m.iter().enumerate() {
         if !len.is_finite() || *len <= 0.05 {
-            let what = format!(
-                "the static messenger sags onto the contact wire: dropper {} would be {:.3} m long",
-                i + 1,
-                len
-            );
-            // Whose weight did it: the ice's, when the design holds without it.
-            if let Some(ice) = case.catenary.ice.as_ref().filter(|_| {
-                StaticSolution::solve(&static_design(&case.catenary))
-                    .dropper_length_m
-                    .iter()
-                    .all(|l| l.is_finite() && *l > 0.05)
-            }) {
-                return Err(CaseError::Invalid {
-                    field: "catenary.ice".into(),
-                    value: format!(
-                        "{} m on the contact wire, {} m on the messenger, {} kg/m³",
-                        ice.contact_wire_m, ice.messenger_m, ice.density_kg_m3
-                    ),
-                    reason: format!(
-                        "its weight (+{:.2} kg/m on the messenger, +{:.2} kg/m on the contact wire) is more than the design carries: {what} (without the ice it holds); give less ice, or a larger catenary.encumbrance_m",
-                        ice_mass_kg_m[MESSENGER], ice_mass_kg_m[CONTACT]
-                    ),
-                });
-            }
             return Err(CaseError::Invalid {
                 field: "catenary.encumbrance_m".into(),
                 value: c.encumbrance_m.to_string(),
-                reason: what,
+                reason: format!(
+                    "the static messenger sags onto the contact wire: dropper {} would be {:.3} m long",
+                    i + 1,
+                    len
+                ),
             });
         }
     }
@@ -434,7 +425,7 @@ pub fn model_from_validated(
             .map_or(0.0, |ww| match dir {
                 Direction::Lateral => ww.damping_lateral,
                 Direction::Vertical => ww.damping_vertical,
-                Direction::Torsional => 0.0,
+                Direction::Torsional => ww.damping_torsional,
             })
     };
     let wires: Vec<Wire> = [
@@ -466,6 +457,8 @@ pub fn model_from_validated(
         )
         .with_added_damping(Direction::Lateral, aero(i, Direction::Lateral))
         .with_added_damping(Direction::Vertical, aero(i, Direction::Vertical))
+        .with_added_damping(Direction::Torsional, aero(i, Direction::Torsional))
+        .with_static_load(Direction::Vertical, -ice_mass_kg_m[i] * G)
     })
     .collect();
     if let Some(wl) = &wind {
@@ -474,6 +467,12 @@ pub fn model_from_validated(
                 warnings.push(Warning(format!(
                     "wind: the {} has negative vertical aerodynamic damping ({:.3} N·s/m², C_L' + C_D < 0): Den Hartog galloping is possible",
                     wires[ww.wire].name, ww.damping_vertical
+                )));
+            }
+            if ww.damping_torsional < 0.0 && dirs.contains(&Direction::Torsional) {
+                warnings.push(Warning(format!(
+                    "wind: the {} has negative torsional aerodynamic damping ({:.3e} N·m·s/m, C_M' < 0): torsional galloping is possible",
+                    wires[ww.wire].name, ww.damping_torsional
                 )));
             }
         }

@@ -82,13 +82,18 @@ impl AeroCase {
         (lerp(&self.drag), lerp(&self.lift), lerp(&self.moment))
     }
 
-    /// `(dC_D/dα, dC_L/dα)` per radian at 0 (central difference over the table's neighbours).
-    pub fn slopes_at_zero(&self) -> (f64, f64) {
+    /// `(dC_D/dα, dC_L/dα, dC_M/dα)` per radian at 0 (central difference over the table's
+    /// neighbours).
+    pub fn slopes_at_zero(&self) -> (f64, f64, f64) {
         let h = 1.0;
-        let (d1, l1, _) = self.at(h);
-        let (d0, l0, _) = self.at(-h);
+        let (d1, l1, m1) = self.at(h);
+        let (d0, l0, m0) = self.at(-h);
         let per_rad = 180.0 / (2.0 * h * std::f64::consts::PI);
-        ((d1 - d0) * per_rad, (l1 - l0) * per_rad)
+        (
+            (d1 - d0) * per_rad,
+            (l1 - l0) * per_rad,
+            (m1 - m0) * per_rad,
+        )
     }
 }
 

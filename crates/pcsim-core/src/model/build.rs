@@ -41,6 +41,7 @@ pub struct ModelBuilder {
     dirs: Vec<Direction>,
     registrations: Vec<Registration>,
     lateral_load_n_per_m: Option<f64>,
+    vertical_load_n_per_m: f64,
 }
 
 impl ModelBuilder {
@@ -70,6 +71,7 @@ impl ModelBuilder {
             dirs: vec![Direction::Vertical],
             registrations: Vec::new(),
             lateral_load_n_per_m: None,
+            vertical_load_n_per_m: 0.0,
         }
     }
 
@@ -114,6 +116,14 @@ impl ModelBuilder {
     /// initial state is its static deflection.
     pub fn uniform_lateral_load(mut self, q_n_per_m: f64) -> Self {
         self.lateral_load_n_per_m = Some(q_n_per_m);
+        self
+    }
+
+    /// A steady uniform vertical load `q` (N/m, upward positive) that the static shape does not
+    /// carry (as ice's weight, [`Wire::static_load_per_m`]); the initial state is its static
+    /// deflection.
+    pub fn uniform_vertical_load(mut self, q_n_per_m: f64) -> Self {
+        self.vertical_load_n_per_m = q_n_per_m;
         self
     }
 
@@ -189,7 +199,8 @@ impl ModelBuilder {
             self.section,
             self.damping.clone(),
             &dirs,
-        )];
+        )
+        .with_static_load(Direction::Vertical, self.vertical_load_n_per_m)];
         if let Some(m) = self.messenger {
             wires.push(Wire::new(
                 "messenger",

@@ -7,17 +7,21 @@
 //! ```text
 //! lateral  F_z = ½ρ d C_D(0) (U_n + u'_n)|U_n + u'_n| − c_z ż,        c_z = ρ d C_D(0) U_n
 //! vertical F_y = ½ρ d C_L(0) (U_n + u'_n)|U_n + u'_n| − c_y ẏ,        c_y = ½ρ d U_n (C_L'(0) + C_D(0))
-//! moment   M   = ½ρ d² C_M(0) (U_n + u'_n)|U_n + u'_n|
+//! moment   M   = ½ρ d² C_M(0) (U_n + u'_n)|U_n + u'_n| − c_φ φ̇,      c_φ = ½ρ d² R U_n C_M'(0)
 //! ```
 //!
 //! The wire's own motion enters through the relative velocity, linearised about the mean wind:
 //! the lateral aerodynamic damping `c_z` and the vertical one `c_y` (Den Hartog's: negative when
-//! `C_L' + C_D < 0`, galloping). Both are uniform along the wire, so in sine coordinates they are
-//! diagonal: they add `c L/2` to each mode's damping and cost nothing per step — the series is
-//! loaded by projection, not point by point. The fluctuating part is applied on a grid of points
-//! (one scatter per step for all wires); the mean part is projected exactly once. The torsional
-//! aerodynamic damping and the dependence of the coefficients on the wire's rotation are left
-//! out (documented in docs/validation.md).
+//! `C_L' + C_D < 0`, galloping). The torsional one is the quasi-steady theory's (Blevins, *Flow-
+//! Induced Vibration*, torsional galloping): a section turning at `φ̇` meets the wind at an angle
+//! changed by `R φ̇/U`, `R` the characteristic radius, here the wire's radius `d/2` (a round
+//! section's own length: guess), so the moment changes by `½ρ U² d² C_M' R φ̇/U`; negative when
+//! `C_M' < 0` (torsional galloping). All three are uniform along the wire, so in sine coordinates
+//! they are diagonal: they add `c L/2` to each mode's damping and cost nothing per step — the
+//! series is loaded by projection, not point by point. The fluctuating part is applied on a grid
+//! of points (one scatter per step for all wires); the mean part is projected exactly once. The
+//! dependence of the coefficients on the wire's rotation (an aerodynamic torsional stiffness
+//! `½ρ U² d² C_M'`) is left out (documented in docs/validation.md).
 
 use crate::model::wind_field::{SpectrumModel, WindField};
 
@@ -41,6 +45,8 @@ pub struct WireWind {
     pub damping_lateral: f64,
     /// Vertical aerodynamic damping per metre, N·s/m².
     pub damping_vertical: f64,
+    /// Torsional aerodynamic damping per metre, N·m·s/m.
+    pub damping_torsional: f64,
 }
 
 /// The crosswind of a model.
@@ -132,6 +138,7 @@ impl WindLoad {
                 torsional_m2: 0.0,
                 damping_lateral: 0.0,
                 damping_vertical: 0.0,
+                damping_torsional: 0.0,
             }],
             field: WindField::calm(&[], 1.0),
             grid_m: 1.0,

@@ -168,6 +168,11 @@ pub struct Wire {
     /// Damping per metre added uniformly in each direction (vertical, lateral, torsional), such
     /// as the linearised aerodynamic damping of a crosswind (`model::wind`), N·s/m² (N·m·s/m).
     pub added_damping_per_m: [f64; 3],
+    /// A steady uniform load per metre in each direction (vertical, lateral, torsional) that the
+    /// design's static shape does not carry: the ice's weight (downward, so negative), N/m
+    /// (N·m/m). The static start state is solved under it (`solve::equilibrium`) and
+    /// every step applies it.
+    pub static_load_per_m: [f64; 3],
 }
 
 impl Wire {
@@ -190,6 +195,7 @@ impl Wire {
             damping,
             series: Series::default(),
             added_damping_per_m: [0.0; 3],
+            static_load_per_m: [0.0; 3],
         };
         for &d in dirs {
             let s = ModalSeries::tensioned_beam(&w.basis, w.coefficients(d), &w.damping);
@@ -221,7 +227,16 @@ impl Wire {
         for (i, d) in Direction::ALL.into_iter().enumerate() {
             w = w.with_added_damping(d, self.added_damping_per_m[i]);
         }
+        w.static_load_per_m = self.static_load_per_m;
         w
+    }
+
+    /// Add a steady uniform load `f` per metre in direction `dir` that the static design does not
+    /// carry (see [`Wire::static_load_per_m`]), N/m.
+    pub fn with_static_load(mut self, dir: Direction, f_per_m: f64) -> Self {
+        let i = Direction::ALL.iter().position(|&d| d == dir).unwrap_or(0);
+        self.static_load_per_m[i] += f_per_m;
+        self
     }
 
     /// Add a uniform damping `c` per metre in direction `dir`: in sine coordinates it is

@@ -173,10 +173,12 @@ pub struct CompiledModel {
     pub(crate) probes: Vec<usize>,
     pub(crate) probe_x: Vec<f64>,
     pub(crate) wind: Option<WindStep>,
-    /// The lateral springs of the static state, resolved to displacement slots.
-    pub(crate) static_springs: Vec<StaticSpringSlots>,
-    /// Static deflection under the mean wind (modal coordinates), the initial state's.
-    pub(crate) initial_modal: Option<Vec<f64>>,
+    /// The wires' steady loads that the design does not carry (the ice's weight), projected on
+    /// their modes: (offset in the modal vector, load per mode).
+    pub(crate) steady_loads: Vec<(usize, Vec<f64>)>,
+    /// The static state under the steady loads (modal coordinates, node displacements), the
+    /// initial state's; `None` when there are none (the design shape is the equilibrium).
+    pub(crate) initial: Option<crate::solve::equilibrium::StaticStart>,
     /// The blow-up bound of the contact wire's deviation from its design height, m.
     pub(crate) max_deviation_m: f64,
 }
@@ -213,7 +215,6 @@ impl CompiledModel {
         };
         let (monitors, monitor_x) = wire_slots(&points.monitors_at);
         let (probes, probe_x) = wire_slots(&points.probe_at);
-        let static_springs = resolve_static_springs(&model, &points, &sl)?;
         let lay = &model.layout;
         let (mut k_true, mut c_true) = (vec![0.0; lay.len], vec![0.0; lay.len]);
         for b in 0..lay.blocks.len() {
@@ -279,12 +280,12 @@ impl CompiledModel {
             probes,
             probe_x,
             wind,
-            static_springs,
-            initial_modal: None,
+            steady_loads: steady_loads(&model),
+            initial: None,
             max_deviation_m: system_height_m(&model).unwrap_or(MAX_PLAUSIBLE_HEIGHT_M),
             model,
         };
-        cm.initial_modal = cm.static_wind_deflection()?;
+        cm.initial = crate::solve::equilibrium::static_start(&cm)?;
         Ok(cm)
     }
 
@@ -341,114 +342,82 @@ impl CompiledModel {
         }
     }
 
-    /// The static deflection of the lateral and torsional series under the mean wind (the
-    /// drag and the moment), with the linear springs of the static state
-    /// ([`crate::model::elements::StaticSpring`]): `(K + Σ k g gᵀ) q = Q̄`, solved by conjugate
-    /// gradients preconditioned with the modal stiffness, with the step's own gather and
-    /// scatter. The pendulums are linearised about the still-air state (`f0/L`); their
-    /// second-order vertical stretch `k δ²/2L` is left to the dynamics. `None` without wind.
-    fn static_wind_deflection(&self) -> Result<Option<Vec<f64>>, CaseError> {
-        let Some(w) = &self.wind else {
-            return Ok(None);
+    /// The static start state under the steady loads and how it was found (`None` without
+    /// steady loads: the design shape is the start).
+    pub fn static_start(&self) -> Option<&crate::solve::equilibrium::StaticStart> {
+        self.initial.as_ref()
+    }
+
+    /// Whether any steady load acts (the mean crosswind, the ice's weight): then the design
+    /// shape is not the equilibrium and the start state is solved.
+    pub(crate) fn has_steady_loads(&self) -> bool {
+        !self.steady_loads.is_empty() || self.wind.as_ref().is_some_and(|w| !w.blocks.is_empty())
+    }
+
+    /// The static residual at the modal coordinates and node displacements `x` (modal vector,
+    /// then the nodes), every velocity zero: the fixed elements' point forces (Eq. 15 and the
+    /// supports, steady arms, stitches and registrations, by their own force laws) scattered on
+    /// the modes, minus the modal stiffness `K q` (Eqs. 9–14, every direction), plus the steady
+    /// loads (the mean crosswind, the ice's weight); then the nodes' net forces. Contacts and
+    /// pantographs are left out. Zero at a static equilibrium of the wires.
+    pub(crate) fn static_residual(&self, x: &[f64], ws: &mut Workspace, r: &mut [f64]) {
+        let nm = self.model.layout.len;
+        let (q, un) = x.split_at(nm);
+        for g in &self.groups {
+            g.sampler.gather(
+                &q[g.q_off..g.q_off + g.k * g.n],
+                g.k,
+                &mut ws.u[g.u_base..g.u_base + g.k * g.npts],
+                &mut ws.scr,
+            );
+        }
+        ws.u[self.node_u0..self.node_u0 + un.len()].copy_from_slice(un);
+        ws.f.fill(0.0);
+        let mut io = Io {
+            u: &ws.u,
+            v: &ws.vel,
+            f: &mut ws.f,
+            loads: &ws.loads,
+            off_head: &ws.off_head,
+            slack: 0,
         };
-        let lay = &self.model.layout;
-        let n_all = lay.len;
-        let mut mask = vec![false; n_all];
-        for b in 0..lay.blocks.len() {
-            if lay.blocks[b].key.dir != Direction::Vertical {
-                mask[lay.range(b)].fill(true);
-            }
+        for &e in &self.fixed {
+            self.model.elements[e].add_forces(&self.slots[e], &mut io);
         }
-        let mut rhs = vec![0.0; n_all];
-        for &(slot, off, coef) in &w.blocks {
-            if mask[off] {
-                for j in 0..w.n {
-                    rhs[off + j] += coef * w.mean[slot * w.n + j];
-                }
-            }
+        let (rq, rn) = r.split_at_mut(nm);
+        for ((ri, qi), ki) in rq.iter_mut().zip(q).zip(&self.k_true) {
+            *ri = -ki * qi;
         }
-        let bnorm = rhs.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if bnorm == 0.0 {
-            return Ok(None);
+        for g in &self.groups {
+            g.sampler.scatter_add(
+                &ws.f[g.u_base..g.u_base + g.k * g.npts],
+                g.k,
+                &mut rq[g.q_off..g.q_off + g.k * g.n],
+                &mut ws.scr,
+            );
         }
-        let mut ws = self.workspace_with(self.scratch.clone(), ImplicitScratch::new(0, 0, 0));
-        let apply = |x: &[f64], y: &mut [f64], ws: &mut Workspace| {
-            for g in &self.groups {
-                g.sampler.gather(
-                    &x[g.q_off..g.q_off + g.k * g.n],
-                    g.k,
-                    &mut ws.u[g.u_base..g.u_base + g.k * g.npts],
-                    &mut ws.scr,
+        self.add_steady_loads(rq);
+        if let Some(w) = &self.wind {
+            for &(slot, off, coef) in &w.blocks {
+                kernels::axpy(
+                    self.isa,
+                    coef,
+                    &w.mean[slot * w.n..(slot + 1) * w.n],
+                    &mut rq[off..off + w.n],
                 );
             }
-            ws.f.fill(0.0);
-            for (terms, kk) in &self.static_springs {
-                let d: f64 = terms.iter().map(|&(sl, wt)| wt * ws.u[sl]).sum();
-                for &(sl, wt) in terms {
-                    ws.f[sl] += kk * d * wt;
-                }
-            }
-            for (yi, (xi, ki)) in y.iter_mut().zip(x.iter().zip(&self.k_true)) {
-                *yi = ki * xi;
-            }
-            for g in &self.groups {
-                g.sampler.scatter_add(
-                    &ws.f[g.u_base..g.u_base + g.k * g.npts],
-                    g.k,
-                    &mut y[g.q_off..g.q_off + g.k * g.n],
-                    &mut ws.scr,
-                );
-            }
-            for (yi, m) in y.iter_mut().zip(&mask) {
-                if !m {
-                    *yi = 0.0;
-                }
-            }
-        };
-        let precond = |r: &[f64], z: &mut [f64]| {
-            for ((zi, ri), (ki, m)) in z.iter_mut().zip(r).zip(self.k_true.iter().zip(&mask)) {
-                *zi = if *m && *ki > 0.0 { ri / ki } else { 0.0 };
-            }
-        };
-        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
-        let mut x = vec![0.0; n_all];
-        let mut r = rhs.clone();
-        let mut z = vec![0.0; n_all];
-        precond(&r, &mut z);
-        let mut p = z.clone();
-        let mut ap = vec![0.0; n_all];
-        let mut rz = dot(&r, &z);
-        let max_iter = 20 * n_all.max(100);
-        for _ in 0..max_iter {
-            apply(&p, &mut ap, &mut ws);
-            let pap = dot(&p, &ap);
-            if pap.is_nan() || pap <= 0.0 {
-                break;
-            }
-            let alpha = rz / pap;
-            for i in 0..n_all {
-                x[i] += alpha * p[i];
-                r[i] -= alpha * ap[i];
-            }
-            if dot(&r, &r).sqrt() <= 1e-12 * bnorm {
-                return Ok(Some(x));
-            }
-            precond(&r, &mut z);
-            let rz_new = dot(&r, &z);
-            let beta = rz_new / rz;
-            rz = rz_new;
-            for i in 0..n_all {
-                p[i] = z[i] + beta * p[i];
+        }
+        rn.copy_from_slice(&ws.f[self.node_u0..self.node_u0 + rn.len()]);
+    }
+
+    /// Add the wires' steady loads (the ice's weight) to the modal right-hand side `rhs`.
+    #[inline]
+    pub(crate) fn add_steady_loads(&self, rhs: &mut [f64]) {
+        for (off, load) in &self.steady_loads {
+            for (a, l) in rhs[*off..*off + load.len()].iter_mut().zip(load) {
+                *a += l;
             }
         }
-        Err(invalid(
-            "wind",
-            "the static deflection",
-            format!(
-                "the static lateral solve under the mean wind did not converge (residual {:.2e} of the load): a lateral spring of zero or negative stiffness?",
-                dot(&r, &r).sqrt() / bnorm
-            ),
-        ))
     }
 
     /// Power of the crosswind on the wires at the state (after a step: the step's load and
@@ -512,6 +481,27 @@ impl CompiledModel {
             mp.basis.fill_sines(x - mp.origin_m, row);
         }
         row
+    }
+
+    /// The height of moving point `m`'s wire at `x` (model coordinates) in the start state: the
+    /// design's static height plus the static start's deviation under the steady loads, m.
+    pub(crate) fn start_height(&self, m: usize, x: f64) -> f64 {
+        let mp = &self.moving[m];
+        let h = self
+            .model
+            .static_height(mp.wire, mp.dir, x, self.model.track_origin_m);
+        match &self.initial {
+            Some(s0) => {
+                let mut row = vec![0.0; mp.n];
+                mp.basis.fill_sines(x - mp.origin_m, &mut row);
+                h + row
+                    .iter()
+                    .zip(&s0.modal[mp.q_off..mp.q_off + mp.n])
+                    .map(|(a, b)| a * b)
+                    .sum::<f64>()
+            }
+            None => h,
+        }
     }
 
     /// The degrees of freedom of pantograph `p` in the pantograph arrays of the state.
@@ -645,10 +635,6 @@ fn block_of(model: &Model, wire: usize, dir: Direction) -> Result<usize, CaseErr
         )
     })
 }
-
-/// A lateral spring of the static state on displacement slots: (slot, weight) terms and the
-/// stiffness, N/m.
-pub(crate) type StaticSpringSlots = (Vec<(usize, f64)>, f64);
 
 /// Step 1: the points a step reads, in element order — displacement points per basis group,
 /// velocity points per block (group coordinates), the moving points' count, the monitors and
@@ -972,40 +958,34 @@ fn lateral_probes(
         .collect()
 }
 
-/// Step 5: the lateral springs of the static state, resolved to displacement slots (for the
-/// static deflection under wind).
-fn resolve_static_springs(
-    model: &Model,
-    points: &Points,
-    sl: &SlotLayout<'_>,
-) -> Result<Vec<StaticSpringSlots>, CaseError> {
-    let mut springs = Vec::new();
-    for e in &model.elements {
-        e.static_springs(&mut springs);
-    }
-    let mut static_springs = Vec::with_capacity(springs.len());
-    for sp in &springs {
-        let mut terms = Vec::with_capacity(sp.terms.len());
-        for &(a, w) in &sp.terms {
-            match a {
-                Attach::Wire { wire, dir, x_m } => {
-                    block_of(model, wire, dir)?;
-                    terms.push((sl.wire_slot(points, wire, dir, x_m, false).u as usize, w));
-                }
-                Attach::Ground => {}
-                _ => {
-                    return Err(invalid(
-                        "model",
-                        format!("{a:?}"),
-                        "a lateral spring of the static state attaches to a node or a pantograph"
-                            .into(),
-                    ))
-                }
-            }
+/// Step 5: the wires' steady loads per modelled direction, projected exactly on their sine
+/// modes: `∫ f sin(k x) dx = f (1 − cos k L)/k` (`2 f/k` on the odd modes, 0 on the even).
+fn steady_loads(model: &Model) -> Vec<(usize, Vec<f64>)> {
+    let lay = &model.layout;
+    let mut out = Vec::new();
+    for b in 0..lay.blocks.len() {
+        let key = lay.blocks[b].key;
+        let i = Direction::ALL
+            .iter()
+            .position(|&d| d == key.dir)
+            .unwrap_or(0);
+        let f = model.wires[key.wire].static_load_per_m[i];
+        if f == 0.0 {
+            continue;
         }
-        static_springs.push((terms, sp.stiffness_n_per_m));
+        let basis = lay.basis(b);
+        let load = (0..basis.n_modes())
+            .map(|j| {
+                if j % 2 == 0 {
+                    2.0 * f / basis.wavenumber(j)
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        out.push((lay.blocks[b].offset, load));
     }
-    Ok(static_springs)
+    out
 }
 
 /// Step 6: the implicit point terms per block, in element order; blocks of one basis group whose

@@ -214,10 +214,7 @@ impl Integrator {
                     let x = plan.start_m - pan.offset_m + plan.speed_m_s * 0.0;
                     let kn = contact_stiffness(model, p);
                     let h = match cm.pan_point[p] {
-                        Some(m) => {
-                            let mp = &cm.moving[m];
-                            model.static_height(mp.wire, mp.dir, x, model.track_origin_m)
-                        }
+                        Some(m) => cm.start_height(m, x),
                         None => 0.0,
                     };
                     let y = ops.static_equilibrium(kn, h).ok_or_else(|| {
@@ -297,13 +294,26 @@ impl Integrator {
         )
     }
 
-    /// The static state: zero deviation, wires at rest, each pantograph in static equilibrium
-    /// against the rigid static wire at its start position.
+    /// The static state: the wires at rest in their static shape (the design's, or its
+    /// equilibrium under the steady loads, [`crate::solve::equilibrium`]), each pantograph in
+    /// static equilibrium against the static wire at its start position.
+    ///
+    /// Under steady loads the state also carries its accelerations, so that the first half kick
+    /// holds the steady force: the torsional modes' stored acceleration is `M⁻¹Q = ω² q`, not
+    /// zero, and without it the first step would miss half the mean moment's kick and the twist
+    /// would oscillate about its static value with an amplitude ∝ Δt. (Without steady loads the
+    /// start keeps zero accelerations, as the byte goldens were made.)
     pub fn initial_state(&self, start_m: f64) -> State {
         let mut st = State::at_rest(&self.cm.model, start_m);
         st.pantographs.u.copy_from_slice(&self.initial_py);
-        if let Some(q) = &self.cm.initial_modal {
-            st.modal.u.copy_from_slice(q);
+        if let Some(s0) = &self.cm.initial {
+            st.modal.u.copy_from_slice(&s0.modal);
+            st.nodes.u.copy_from_slice(&s0.nodes);
+            let mut ws = self.workspace();
+            self.accelerations(&mut st, &mut ws);
+            st.modal.v.fill(0.0);
+            st.nodes.v.fill(0.0);
+            st.pantographs.v.fill(0.0);
         }
         st
     }
@@ -450,12 +460,14 @@ impl Integrator {
         }
     }
 
-    /// Stage 5, wind: the crosswind's fluctuating pressures on the grid, scattered onto the loaded
-    /// wires (the mean is projected exactly, once).
+    /// Stage 5, steady loads and wind: the wires' steady loads (the ice's weight), and the
+    /// crosswind's fluctuating pressures on the grid, scattered onto the loaded wires (the mean is
+    /// projected exactly, once).
     #[inline(always)]
     fn wind(&self, st: &mut State, ws: &mut Workspace) {
         let m = &self.cm.model;
         let isa = self.cm.isa;
+        self.cm.add_steady_loads(&mut st.modal.a);
         // Crosswind: the grid's pressures (fluctuation about the mean, which is projected
         // exactly), one scatter onto every loaded wire, each block its share.
         if let (Some(w), Some(wl)) = (&self.cm.wind, &m.wind) {

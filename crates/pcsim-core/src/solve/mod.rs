@@ -10,12 +10,14 @@
 //! | `sampler.rs` | point sines × modal coordinates over any number of blocks (the hot spot) |
 //! | `implicit.rs` | implicit point masses and dampers (Woodbury) |
 //! | `compiled.rs` | the compiled model: slots, point groups, moving points, monitors, probes, the energy view (no Δt) |
+//! | `equilibrium.rs` | the static start state under the steady loads (mean crosswind, ice): Newton on the compiled residual |
 //! | `integrator.rs` | the stepper: the Δt operators, the step (Eq. 18) in eight named stages |
 //! | `stability.rs` | Δt against the local limits and the coupled system's highest frequency (power iteration) |
 //! | `run.rs` | the run loop with observers, blow-up checks, run statistics |
 //! | `realtime.rs` | the moving-window catenary for HIL |
 
 pub mod compiled;
+pub mod equilibrium;
 pub mod implicit;
 pub mod integrator;
 pub mod kernels;

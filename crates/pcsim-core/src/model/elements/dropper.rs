@@ -26,7 +26,7 @@
 //! Without lateral motion the lateral and torsional attachments are the ground, `δ = φ = 0`, and
 //! the law is exactly the vertical one.
 
-use super::{Attach, Io, PointElement, Slot, StaticSpring, WindowMap};
+use super::{Attach, Io, PointElement, Slot, WindowMap};
 
 /// One dropper.
 #[derive(Debug, Clone, PartialEq)]
@@ -217,26 +217,6 @@ impl PointElement for Droppers {
             );
         }
         en
-    }
-    fn static_springs(&self, out: &mut Vec<StaticSpring>) {
-        for d in &self.0 {
-            if matches!(d.bottom_lateral, Attach::Wire { .. }) {
-                out.push(StaticSpring {
-                    terms: vec![
-                        (d.top_lateral, 1.0),
-                        (d.bottom_lateral, -1.0),
-                        (d.bottom_twist, -d.eccentricity_m),
-                    ],
-                    stiffness_n_per_m: d.preload_n / d.length_m,
-                });
-                if d.eccentricity_m != 0.0 {
-                    out.push(StaticSpring {
-                        terms: vec![(d.bottom_twist, 1.0)],
-                        stiffness_n_per_m: d.preload_n * d.eccentricity_m,
-                    });
-                }
-            }
-        }
     }
     fn restrict(&self, w: &WindowMap) -> Box<dyn PointElement> {
         Box::new(Droppers(

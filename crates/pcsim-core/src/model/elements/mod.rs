@@ -120,18 +120,6 @@ impl WindowMap {
     }
 }
 
-/// A linear spring of the static state in the lateral and torsional directions: stiffness ×
-/// (Σ weight · displacement at attachment)². The static lateral shape under a steady load
-/// (`solve::Integrator::initial_state`) uses these; the dynamic force laws agree with them at the
-/// static state.
-#[derive(Debug, Clone, PartialEq)]
-pub struct StaticSpring {
-    /// Attachments and their weights.
-    pub terms: Vec<(Attach, f64)>,
-    /// Stiffness, N/m (or N·m/rad for a torsional term).
-    pub stiffness_n_per_m: f64,
-}
-
 /// One kind of point element, holding all its instances.
 pub trait PointElement: std::fmt::Debug + Send + Sync {
     /// Name of the kind ("dropper", "support", …).
@@ -168,9 +156,6 @@ pub trait PointElement: std::fmt::Debug + Send + Sync {
     fn dissipation(&self, _slots: &[Slot], _io: &Io) -> f64 {
         0.0
     }
-    /// The element's springs about the static state in the lateral and torsional directions
-    /// (see [`StaticSpring`]); none by default.
-    fn static_springs(&self, _out: &mut Vec<StaticSpring>) {}
     /// Attachments whose displacement is monitored for the statistics (the registration points of
     /// the steady arms give the uplift at the supports).
     fn monitors(&self) -> Vec<Attach> {

@@ -8,7 +8,7 @@
 //! resists the rotation with a torsional stiffness `k_φ`. The mass is exact (an
 //! implicit point mass, as for the vertical steady arm).
 
-use super::{Attach, Io, PointElement, Slot, StaticSpring, Weight, WindowMap};
+use super::{Attach, Io, PointElement, Slot, Weight, WindowMap};
 
 /// One lateral registration.
 #[derive(Debug, Clone, PartialEq)]
@@ -98,20 +98,6 @@ impl PointElement for Registrations {
                     + 0.5 * r.mass_kg * io.v[s[0].v as usize].powi(2)
             })
             .sum()
-    }
-    fn static_springs(&self, out: &mut Vec<StaticSpring>) {
-        for r in &self.0 {
-            out.push(StaticSpring {
-                terms: vec![(r.at, 1.0), (r.twist, r.eccentricity_m)],
-                stiffness_n_per_m: r.stiffness_n_per_m,
-            });
-            if r.twist_stiffness() != 0.0 {
-                out.push(StaticSpring {
-                    terms: vec![(r.twist, 1.0)],
-                    stiffness_n_per_m: r.twist_stiffness(),
-                });
-            }
-        }
     }
     fn restrict(&self, w: &WindowMap) -> Box<dyn PointElement> {
         Box::new(Registrations(
