@@ -8,6 +8,7 @@
 //! | `state.rs` | the state: modal blocks, nodes, pantographs, time, the model's place on the track |
 //! | `workspace.rs` | scratch sized once, the step's samples, external inputs |
 //! | `sampler.rs` | point sines × modal coordinates over any number of blocks (the hot spot) |
+//! | `nufft.rs` | point sines at arbitrary positions: the non-uniform fast sine transform (gridding, one FFT per two blocks) |
 //! | `implicit.rs` | implicit point masses and dampers (Woodbury) |
 //! | `compiled.rs` | the compiled model: slots, point groups, moving points, monitors, probes, the energy view (no Δt) |
 //! | `equilibrium.rs` | the static start state under the steady loads (mean crosswind, ice): Newton on the compiled residual |
@@ -21,6 +22,7 @@ pub mod equilibrium;
 pub mod implicit;
 pub mod integrator;
 pub mod kernels;
+pub mod nufft;
 pub mod plan;
 pub mod realtime;
 pub mod run;

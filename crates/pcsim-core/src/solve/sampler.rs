@@ -36,9 +36,21 @@ use rustfft::{Fft, FftPlanner, FftPlannerScalar};
 
 use crate::model::basis::SineBasis;
 use crate::solve::kernels::{self, Isa};
+use crate::solve::nufft::{NufftScratch, SineNufft};
 
 /// Smallest number of points sharing an offset for the folded path to pay off.
 pub const MIN_GROUP: usize = 4;
+
+/// Whether `nd` points outside the folded groups, on `n` modes, are better served by the
+/// non-uniform transform than by dense rows. Measured (`examples/sampler_cost.rs`, callgrind, a
+/// gather and a scatter of two blocks): dense rows cost about `2.9·nd·N` instructions, the
+/// transform about `59·N·log₂(4N)` (its FFTs; the taps are a few percent), so the transform pays
+/// from `nd ≈ 20·log₂(4N)` points (about 250 at 1200 modes). Never below 64 points: every model
+/// of the presets and the real-time windows stays on its rows.
+pub fn spread_pays(nd: usize, n: usize) -> bool {
+    let log = ((4 * n.max(1)) as f64).log2();
+    nd >= 64 && nd as f64 > 20.0 * log
+}
 
 #[derive(Clone)]
 struct Group {
@@ -68,6 +80,9 @@ pub struct PointSampler {
     fft_scratch: usize,
     /// Dense rows `sin(κ_k x_j)` for the points outside groups: (output index, row).
     dense: Vec<(usize, Vec<f64>)>,
+    /// The points outside groups when they are too many for dense rows: their output indices
+    /// and the non-uniform transform over them ([`crate::solve::nufft`]).
+    spread: Option<(Vec<usize>, SineNufft)>,
 }
 
 impl std::fmt::Debug for PointSampler {
@@ -78,12 +93,14 @@ impl std::fmt::Debug for PointSampler {
             .field("period", &self.period)
             .field("groups", &self.groups.len())
             .field("dense", &self.dense.len())
+            .field("spread", &self.spread.as_ref().map_or(0, |s| s.0.len()))
             .finish()
     }
 }
 
 /// Scratch for [`PointSampler`]: bins of the current and of the last primary group, and the
-/// complex transform buffers.
+/// complex transform buffers; for the non-uniform transform, its scratch, the points' values of
+/// two blocks and one block of modes.
 #[derive(Debug, Clone)]
 pub struct SamplerScratch {
     /// `[a1 | b1 | a2 | b2]` of the current unit(s).
@@ -94,6 +111,9 @@ pub struct SamplerScratch {
     prim: Vec<f64>,
     buf: Vec<Complex<f64>>,
     fft: Vec<Complex<f64>>,
+    spread: NufftScratch,
+    spread_pts: Vec<f64>,
+    spread_modes: Vec<f64>,
 }
 
 impl SamplerScratch {
@@ -107,13 +127,21 @@ impl SamplerScratch {
     }
     /// The larger of two scratches (one scratch serves several samplers).
     pub fn max(self, o: SamplerScratch) -> SamplerScratch {
-        if o.buf.len() > self.buf.len() || o.fft.len() > self.fft.len() {
+        let grows = o.buf.len() > self.buf.len()
+            || o.fft.len() > self.fft.len()
+            || o.spread_pts.len() > self.spread_pts.len()
+            || o.spread_modes.len() > self.spread_modes.len()
+            || o.spread.is_larger_than(&self.spread);
+        if grows {
             SamplerScratch {
                 cur: vec![0.0; o.cur.len().max(self.cur.len())],
                 second: vec![0.0; o.second.len().max(self.second.len())],
                 prim: vec![0.0; o.prim.len().max(self.prim.len())],
                 buf: vec![Complex::new(0.0, 0.0); o.buf.len().max(self.buf.len())],
                 fft: vec![Complex::new(0.0, 0.0); o.fft.len().max(self.fft.len())],
+                spread: self.spread.max(o.spread),
+                spread_pts: vec![0.0; o.spread_pts.len().max(self.spread_pts.len())],
+                spread_modes: vec![0.0; o.spread_modes.len().max(self.spread_modes.len())],
             }
         } else {
             self
@@ -196,10 +224,15 @@ impl PointSampler {
                 }
             }
         }
-        for (j, &x) in xs.iter().enumerate() {
-            if !used[j] {
+        let rest: Vec<usize> = (0..xs.len()).filter(|&j| !used[j]).collect();
+        let spread = spread_pays(rest.len(), n).then(|| {
+            let pts: Vec<f64> = rest.iter().map(|&j| xs[j]).collect();
+            (rest.clone(), SineNufft::new(basis, &pts, isa))
+        });
+        if spread.is_none() {
+            for &j in &rest {
                 let mut row = vec![0.0; n];
-                basis.fill_sines(x, &mut row);
+                basis.fill_sines(xs[j], &mut row);
                 dense.push((j, row));
             }
         }
@@ -222,6 +255,7 @@ impl PointSampler {
             fft,
             fft_scratch,
             dense,
+            spread,
         }
     }
 
@@ -238,12 +272,19 @@ impl PointSampler {
     /// Scratch sized for this sampler.
     pub fn scratch(&self) -> SamplerScratch {
         let p = self.period;
+        let (spread, np, nm) = match &self.spread {
+            Some((idx, t)) => (t.scratch(), idx.len(), t.n_modes()),
+            None => (NufftScratch::default(), 0, 0),
+        };
         SamplerScratch {
             cur: vec![0.0; 4 * p],
             second: vec![0.0; 4 * p],
             prim: vec![0.0; 4 * p],
             buf: vec![Complex::new(0.0, 0.0); p],
             fft: vec![Complex::new(0.0, 0.0); self.fft_scratch],
+            spread,
+            spread_pts: vec![0.0; 2 * np],
+            spread_modes: vec![0.0; nm],
         }
     }
 
@@ -260,7 +301,81 @@ impl PointSampler {
     /// Whether the folded path covers every point with a single group and no dense row (then
     /// a scaled scatter can be fused, see [`Self::scatter_scaled`]).
     pub fn is_single_group(&self) -> bool {
-        self.groups.len() == 1 && self.dense.is_empty()
+        self.groups.len() == 1 && self.dense.is_empty() && self.spread.is_none()
+    }
+
+    /// Number of points served by the non-uniform transform.
+    pub fn n_spread(&self) -> usize {
+        self.spread.as_ref().map_or(0, |s| s.0.len())
+    }
+
+    /// The spread points of the `k` blocks of `q`: gathered by the non-uniform transform, two
+    /// blocks per transform, and written to their places in `out` (block-major).
+    fn gather_spread(&self, q: &[f64], k: usize, out: &mut [f64], sc: &mut SamplerScratch) {
+        let Some((idx, t)) = &self.spread else {
+            return;
+        };
+        let (n, np, ns) = (self.n_modes, self.n_points, idx.len());
+        let mut b = 0;
+        while b < k {
+            let nb = (k - b).min(2);
+            t.gather(
+                &q[b * n..(b + nb) * n],
+                nb,
+                &mut sc.spread_pts[..nb * ns],
+                &mut sc.spread,
+            );
+            for i in 0..nb {
+                let o = &mut out[(b + i) * np..(b + i + 1) * np];
+                for (v, &j) in sc.spread_pts[i * ns..(i + 1) * ns].iter().zip(idx) {
+                    o[j] = *v;
+                }
+            }
+            b += nb;
+        }
+    }
+
+    /// The spread points' forces of the `k` blocks of `f`, scattered by the non-uniform
+    /// transform onto `out` (`k · N`), two blocks per transform; with `scale` (one block),
+    /// `out += scale ⊙ Φᵀ f`.
+    fn scatter_spread(
+        &self,
+        f: &[f64],
+        k: usize,
+        out: &mut [f64],
+        scale: &[f64],
+        sc: &mut SamplerScratch,
+    ) {
+        let Some((idx, t)) = &self.spread else {
+            return;
+        };
+        let (n, np, ns) = (self.n_modes, self.n_points, idx.len());
+        let mut b = 0;
+        while b < k {
+            let nb = (k - b).min(2);
+            for i in 0..nb {
+                let fb = &f[(b + i) * np..(b + i + 1) * np];
+                for (v, &j) in sc.spread_pts[i * ns..(i + 1) * ns].iter_mut().zip(idx) {
+                    *v = fb[j];
+                }
+            }
+            if scale.is_empty() {
+                t.scatter_add(
+                    &sc.spread_pts[..nb * ns],
+                    nb,
+                    &mut out[b * n..(b + nb) * n],
+                    &mut sc.spread,
+                );
+            } else {
+                let m = &mut sc.spread_modes[..n];
+                m.fill(0.0);
+                t.scatter_add(&sc.spread_pts[..ns], 1, m, &mut sc.spread);
+                for ((o, v), s) in out[..n].iter_mut().zip(m.iter()).zip(scale) {
+                    *o += s * v;
+                }
+            }
+            b += nb;
+        }
     }
 
     /// Mirror bins from primary bins (`k` blocks of `[a | b]`, each `2P`):
@@ -396,6 +511,7 @@ impl PointSampler {
         if b < k {
             self.gather_one(&q[b * n..(b + 1) * n], &mut out[b * np..(b + 1) * np], sc);
         }
+        self.gather_spread(q, k, out, sc);
     }
 
     /// Two blocks: one fold pass and one transform per group.
@@ -500,6 +616,7 @@ impl PointSampler {
                 sc,
             );
         }
+        self.scatter_spread(f, k, out, &[], sc);
     }
 
     /// `out_k += scale_k Σ_j f_j sin(κ_k x_j)` for one block: the Woodbury correction's
@@ -512,6 +629,7 @@ impl PointSampler {
         sc: &mut SamplerScratch,
     ) {
         self.scatter_one(f, out, scale, sc);
+        self.scatter_spread(f, 1, out, scale, sc);
     }
 
     fn scatter_pair(
@@ -719,6 +837,71 @@ mod tests {
                         "scaled k={k}"
                     );
                 }
+            }
+        }
+    }
+
+    /// Points at arbitrary positions (a non-uniform line): beyond a few dozen they go to the
+    /// non-uniform transform, not to dense rows; gather, scatter (one to three blocks) and the
+    /// scaled scatter equal the dense sums within 1e-12 of `Σ|q|` (`Σ|f|`), on both paths.
+    #[test]
+    fn spread_path_equals_dense_sums() {
+        let (l, n, np) = (1300.0, 1500usize, 300usize);
+        let xs: Vec<f64> = (0..np)
+            .map(|j| l * (((j * 7919 + 13) % 1000) as f64 + 0.37) / 1000.0)
+            .collect();
+        let basis = SineBasis::new(l, n);
+        let mut rows = vec![vec![0.0; n]; np];
+        for (r, &x) in rows.iter_mut().zip(&xs) {
+            basis.fill_sines(x, r);
+        }
+        assert!(
+            !spread_pays(35, 143),
+            "the real-time windows stay on dense rows"
+        );
+        for isa in [Isa::Portable, Isa::best_available()] {
+            let sp = PointSampler::new(&basis, &xs, None, isa);
+            assert_eq!(sp.n_spread(), np);
+            let mut sc = sp.scratch();
+            let qs: Vec<f64> = (0..3 * n)
+                .map(|i| ((i * 37 % 101) as f64 - 50.0) / 50.0)
+                .collect();
+            let fs: Vec<f64> = (0..3 * np).map(|j| ((j * 13 % 7) as f64) - 3.0).collect();
+            for k in 1..=3 {
+                let mut out = vec![0.0; k * np];
+                sp.gather(&qs[..k * n], k, &mut out, &mut sc);
+                let mut g = vec![0.25; k * n];
+                sp.scatter_add(&fs[..k * np], k, &mut g, &mut sc);
+                for b in 0..k {
+                    let qb = &qs[b * n..(b + 1) * n];
+                    let fb = &fs[b * np..(b + 1) * np];
+                    let (qn, fnorm): (f64, f64) = (
+                        qb.iter().map(|v| v.abs()).sum(),
+                        fb.iter().map(|v| v.abs()).sum(),
+                    );
+                    for j in 0..np {
+                        let want: f64 = rows[j].iter().zip(qb).map(|(a, b)| a * b).sum();
+                        assert!(
+                            (out[b * np + j] - want).abs() < 1e-12 * qn,
+                            "{isa:?} gather"
+                        );
+                    }
+                    for m in 0..n {
+                        let want = 0.25 + (0..np).map(|j| fb[j] * rows[j][m]).sum::<f64>();
+                        assert!(
+                            (g[b * n + m] - want).abs() < 1e-12 * fnorm,
+                            "{isa:?} scatter"
+                        );
+                    }
+                }
+            }
+            let scale: Vec<f64> = (0..n).map(|m| -1.0 / (1.0 + m as f64)).collect();
+            let mut o = vec![1.0; n];
+            sp.scatter_scaled(&fs[..np], &mut o, &scale, &mut sc);
+            let fnorm: f64 = fs[..np].iter().map(|v| v.abs()).sum();
+            for m in 0..n {
+                let want = 1.0 + scale[m] * (0..np).map(|j| fs[j] * rows[j][m]).sum::<f64>();
+                assert!((o[m] - want).abs() < 1e-12 * fnorm, "{isa:?} scaled");
             }
         }
     }
