@@ -146,8 +146,9 @@ fn iced_sag_error(preset: &str, t_m: f64, ei: Option<f64>, modes_per_m: f64) -> 
 ///   per metre, so the modal sum is the closed form times `1 − 8/(π² ρ S)` (−1.35 % at 1 mode/m
 ///   over 60 m spans, whatever the tensions and supports): within 0.01 % of that at 1 and 2
 ///   modes/m, so the converged solution is the closed form.
-/// - With the presets' bending stiffness at 3 modes per metre: within 1 % of the closed form (EI
-///   adds about −0.4 %: the bending moment at the support, `R/2λ` with `λ = √(T/EI)`).
+/// - With the presets' bending stiffness at 2 modes per metre (where the validation stops
+///   warning): within 1 % of the closed form (EI adds about −0.4 %: the bending moment at the
+///   support, `R/2λ` with `λ = √(T/EI)`); at the presets' 1 mode per metre, more than 1 % short.
 #[test]
 fn the_iced_mid_span_sag_is_the_tensioned_string_closed_form() {
     for (preset, t_m) in [("en50318-2002", 0.020), ("stitched-2018-like", 0.010)] {
@@ -164,8 +165,16 @@ fn the_iced_mid_span_sag_is_the_tensioned_string_closed_form() {
                 1e2 * shortfall(rho)
             );
         }
-        let (e3, _) = iced_sag_error(preset, t_m, None, 3.0);
+        // The density the validation warns below (ICE_MODES_PER_M_FOR_1_PCT).
+        let need = pcsim_core::input::bounds::ICE_MODES_PER_M_FOR_1_PCT;
+        let (e3, _) = iced_sag_error(preset, t_m, None, need);
         assert!(e3.abs() < 0.01, "{preset}: {:.3} %", 1e2 * e3);
+        let (e1, _) = iced_sag_error(preset, t_m, None, 1.0);
+        assert!(
+            e1 < -0.01,
+            "{preset} at 1 mode per metre: {:.3} %",
+            1e2 * e1
+        );
         // A wrong answer is told apart: the old statics (droppers shortened for the ice) gave
         // no sag at all.
         assert!(sag > 0.05, "{sag}");
@@ -298,4 +307,30 @@ fn the_real_time_window_refuses_ice_naming_it() {
         pcsim_core::solve::realtime::Coupling::Hil
     )
     .is_ok());
+}
+
+/// Below the mode density at which the ice's sag is within 1 % of its closed form (2 per metre),
+/// an iced case is warned about, naming the study; at 2 per metre it is not.
+#[test]
+fn an_iced_case_below_the_studied_mode_density_is_warned_about() {
+    let mut case = with_sections(presets::load("en50318-2002").unwrap().0);
+    case.catenary.ice = Some(IceCase {
+        density_kg_m3: 900.0,
+        contact_wire_m: 0.01,
+        messenger_m: 0.01,
+    });
+    let warned = |c: &Case| {
+        Setup::from_case(c)
+            .unwrap()
+            .warnings
+            .iter()
+            .any(|w| w.0.contains("catenary.ice") && w.0.contains("modes per metre"))
+    };
+    assert!(warned(&case), "1 mode per metre");
+    case.run.modes = None;
+    case.run.modes_per_m = Some(pcsim_core::input::bounds::ICE_MODES_PER_M_FOR_1_PCT);
+    assert!(!warned(&case));
+    case.catenary.ice = None;
+    case.run.modes_per_m = Some(1.0);
+    assert!(!warned(&case));
 }

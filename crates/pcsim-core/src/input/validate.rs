@@ -652,6 +652,12 @@ pub(super) fn lateral_sections(case: &Case, w: &mut Vec<Warning>) -> Result<(), 
             "run.modes gives {per_m:.2} modes per metre: the lateral blow-off converges within 1 % from {need} per metre (at 0.67 per metre it is 1.6 % low; docs/validation.md, the mode-density study)"
         )));
     }
+    let need = bounds::ICE_MODES_PER_M_FOR_1_PCT;
+    if case.catenary.ice.is_some() && per_m < need {
+        w.push(Warning(format!(
+            "catenary.ice with {per_m:.2} modes per metre: the ice's sag converges within 1 % from {need} per metre (at 1 per metre it is about 1.5 % short at mid-span; docs/validation.md, the ice sag)"
+        )));
+    }
     let c = &case.catenary;
     for (name, wire) in [
         ("contact_wire", &c.contact_wire),
