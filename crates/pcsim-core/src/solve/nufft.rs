@@ -75,8 +75,8 @@ pub struct SineNufft {
     n_modes: usize,
     /// Grid: `θ_l = π l / K`, `l = 0..=K`.
     k: usize,
-    /// `1 / (2K ψ̂_m)`, `m = 1..=N` (index `m − 1`).
-    deconv: Vec<f64>,
+    /// `½ / (2K ψ̂_m)`, `m = 1..=N` (index `m − 1`): the deconvolution and the DST's ½.
+    half_deconv: Vec<f64>,
     /// Per point: the first tap's index in the extended grid, and its `TAPS` weights.
     start: Vec<usize>,
     weights: Vec<f64>,
@@ -135,14 +135,14 @@ impl SineNufft {
         let nq = 64 * TAPS;
         let dq = alpha / nq as f64;
         let psi: Vec<f64> = (0..=nq).map(|i| kernel(i as f64 * dq, alpha)).collect();
-        let deconv = (1..=n)
+        let half_deconv = (1..=n)
             .map(|m| {
                 let mut s = 0.5 * psi[0];
                 for (i, p) in psi.iter().enumerate().skip(1) {
                     s += p * (m as f64 * i as f64 * dq).cos();
                 }
                 let hat = s * dq / PI;
-                1.0 / (2.0 * k as f64 * hat)
+                0.5 / (2.0 * k as f64 * hat)
             })
             .collect();
         let mut start = Vec::with_capacity(xs.len());
@@ -167,7 +167,7 @@ impl SineNufft {
             isa,
             n_modes: n,
             k,
-            deconv,
+            half_deconv,
             start,
             weights,
             fft,
@@ -199,16 +199,42 @@ impl SineNufft {
     /// results in `grid[b][GHOST + l]`, `l = 0..=K`, with the odd ghost cells filled.
     fn modes_to_grid(&self, c: [Option<&[f64]>; 2], s: &mut NufftScratch) {
         let k = self.k;
-        let buf = &mut s.buf[..2 * k];
-        buf.fill(Complex::new(0.0, 0.0));
-        // y_m = c¹_m + i c²_m, odd: y_{2K−m} = −y_m. The inverse FFT of an odd sequence is
-        // 2i Σ y_m sin(π m l / K); with y = c¹ + i c² that is 2i g¹ − 2 g².
         let n = self.n_modes.min(k - 1);
-        for m in 1..=n {
-            let a = c[0].map_or(0.0, |v| v[m - 1] * self.deconv[m - 1]);
-            let b = c[1].map_or(0.0, |v| v[m - 1] * self.deconv[m - 1]);
-            buf[m] = Complex::new(a, b);
-            buf[2 * k - m] = Complex::new(-a, -b);
+        let buf = &mut s.buf[..2 * k];
+        // y_m = c¹_m + i c²_m, odd: y_{2K−m} = −y_m. The inverse FFT of an odd sequence is
+        // 2i Σ y_m sin(π m l / K); with y = c¹ + i c² that is 2i g¹ − 2 g² (the ½ is in
+        // `half_deconv`). Only the entries not written below are zeroed (the band beyond N).
+        buf[0] = Complex::new(0.0, 0.0);
+        buf[n + 1..2 * k - n].fill(Complex::new(0.0, 0.0));
+        {
+            let (lo, hi) = buf.split_at_mut(k);
+            let pairs = lo[1..=n].iter_mut().zip(hi[k - n..].iter_mut().rev());
+            let d = &self.half_deconv[..n];
+            let zero = [0.0; 0];
+            let (a, b) = (c[0].unwrap_or(&zero), c[1].unwrap_or(&zero));
+            match (a.is_empty(), b.is_empty()) {
+                (false, false) => {
+                    for (((y, ny), (av, bv)), dv) in pairs.zip(a.iter().zip(b)).zip(d) {
+                        let (x, z) = (av * dv, bv * dv);
+                        *y = Complex::new(x, z);
+                        *ny = Complex::new(-x, -z);
+                    }
+                }
+                (false, true) => {
+                    for ((y, ny), (av, dv)) in pairs.zip(a.iter().zip(d)) {
+                        let x = av * dv;
+                        *y = Complex::new(x, 0.0);
+                        *ny = Complex::new(-x, 0.0);
+                    }
+                }
+                (true, _) => {
+                    for ((y, ny), (bv, dv)) in pairs.zip(b.iter().zip(d)) {
+                        let z = bv * dv;
+                        *y = Complex::new(0.0, z);
+                        *ny = Complex::new(0.0, -z);
+                    }
+                }
+            }
         }
         self.fft
             .process_with_scratch(buf, &mut s.fft[..self.fft_scratch]);
@@ -217,12 +243,11 @@ impl SineNufft {
                 continue;
             }
             let g = &mut grid[..k + 1 + 2 * GHOST];
-            for l in 0..=k {
-                g[GHOST + l] = if b == 0 {
-                    0.5 * buf[l].im
-                } else {
-                    -0.5 * buf[l].re
-                };
+            let cells = g[GHOST..=GHOST + k].iter_mut().zip(&buf[..=k]);
+            if b == 0 {
+                cells.for_each(|(gv, y)| *gv = y.im);
+            } else {
+                cells.for_each(|(gv, y)| *gv = -y.re);
             }
             g[GHOST] = 0.0;
             g[GHOST + k] = 0.0;
@@ -250,33 +275,47 @@ impl SineNufft {
             }
         }
         let buf = &mut s.buf[..2 * k];
-        buf.fill(Complex::new(0.0, 0.0));
-        for l in 1..k {
-            let a = if out[0].is_some() {
-                s.grid[0][GHOST + l]
-            } else {
-                0.0
-            };
-            let b = if out[1].is_some() {
-                s.grid[1][GHOST + l]
-            } else {
-                0.0
-            };
-            buf[l] = Complex::new(a, b);
-            buf[2 * k - l] = Complex::new(-a, -b);
+        buf[0] = Complex::new(0.0, 0.0);
+        buf[k] = Complex::new(0.0, 0.0);
+        {
+            let (lo, hi) = buf.split_at_mut(k);
+            let pairs = lo[1..k].iter_mut().zip(hi[1..].iter_mut().rev());
+            let g0 = &s.grid[0][GHOST + 1..GHOST + k];
+            let g1 = &s.grid[1][GHOST + 1..GHOST + k];
+            match (out[0].is_some(), out[1].is_some()) {
+                (true, true) => {
+                    for ((y, ny), (a, b)) in pairs.zip(g0.iter().zip(g1)) {
+                        *y = Complex::new(*a, *b);
+                        *ny = Complex::new(-a, -b);
+                    }
+                }
+                (true, false) => {
+                    for ((y, ny), a) in pairs.zip(g0) {
+                        *y = Complex::new(*a, 0.0);
+                        *ny = Complex::new(-a, 0.0);
+                    }
+                }
+                (false, _) => {
+                    for ((y, ny), b) in pairs.zip(g1) {
+                        *y = Complex::new(0.0, *b);
+                        *ny = Complex::new(0.0, -b);
+                    }
+                }
+            }
         }
         self.fft
             .process_with_scratch(buf, &mut s.fft[..self.fft_scratch]);
         let n = self.n_modes.min(k - 1);
+        let d = &self.half_deconv[..n];
         let [o0, o1] = out;
         if let Some(o) = o0 {
-            for m in 1..=n {
-                o[m - 1] += 0.5 * buf[m].im * self.deconv[m - 1];
+            for ((ov, y), dv) in o[..n].iter_mut().zip(&buf[1..=n]).zip(d) {
+                *ov += y.im * dv;
             }
         }
         if let Some(o) = o1 {
-            for m in 1..=n {
-                o[m - 1] -= 0.5 * buf[m].re * self.deconv[m - 1];
+            for ((ov, y), dv) in o[..n].iter_mut().zip(&buf[1..=n]).zip(d) {
+                *ov -= y.re * dv;
             }
         }
     }
@@ -314,7 +353,7 @@ impl SineNufft {
         while b < nb {
             let two = b + 1 < nb;
             for (j, blk) in (b..b + 1 + two as usize).enumerate() {
-                let g = &mut s.grid[j];
+                let g = &mut s.grid[j][..self.k + 1 + 2 * GHOST];
                 g.fill(0.0);
                 let fb = &f[blk * np..(blk + 1) * np];
                 for (p, fp) in fb.iter().enumerate() {
