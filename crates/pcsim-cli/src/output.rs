@@ -9,7 +9,9 @@
 //! figures and `cases/` files do not survive), and a second writer to the same directory is
 //! refused while the first holds the lock. A run that fails, is interrupted or is killed leaves
 //! the previous complete output as it was (and at most a hidden `.partial-PID` folder, which the
-//! next writer removes). A directory that holds files pcsim did not write is refused, never
+//! next writer removes); killed inside the swap itself, it may leave the previous output moved
+//! aside as `.NAME.previous-PID`, which the next writer puts back (or removes, when the new
+//! output was already in place). A directory that holds files pcsim did not write is refused, never
 //! replaced.
 
 use anyhow::{bail, Context, Result};
@@ -219,6 +221,36 @@ fn pid_alive(pid: u32) -> bool {
     pid == std::process::id() || Path::new(&format!("/proc/{pid}")).exists()
 }
 
+/// A writer killed inside [`OutDir::commit`] leaves its `.NAME.previous-PID` folder (the
+/// previous complete output, moved aside): killed before its new output was moved in, the target
+/// is missing and the previous output is put back; killed after, the previous output is stale
+/// and removed. Called under the lock, for writers that are no longer alive.
+fn recover_killed_commit(target: &Path) {
+    let name = target.file_name().unwrap_or_default().to_string_lossy();
+    let prefix = format!(".{name}.previous-");
+    let Ok(rd) = std::fs::read_dir(
+        target
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new(".")),
+    ) else {
+        return;
+    };
+    for e in rd.flatten() {
+        let n = e.file_name().to_string_lossy().to_string();
+        let Some(pid) = n.strip_prefix(&prefix).and_then(|p| p.parse::<u32>().ok()) else {
+            continue;
+        };
+        if pid_alive(pid) && pid != std::process::id() {
+            continue;
+        }
+        if !target.exists() && std::fs::rename(e.path(), target).is_ok() {
+            continue;
+        }
+        let _ = std::fs::remove_dir_all(e.path());
+    }
+}
+
 fn sibling(target: &Path, suffix: &str) -> PathBuf {
     let name = target.file_name().unwrap_or_default().to_string_lossy();
     target.with_file_name(format!(".{name}.{suffix}"))
@@ -346,6 +378,7 @@ impl OutDir {
                 .with_context(|| format!("cannot create {}", parent.display()))?;
         }
         let lock = Lock::take(target)?;
+        recover_killed_commit(target);
         check_replaceable(target)?;
         // Staging directories left by killed writers of this target.
         let name = target.file_name().unwrap_or_default().to_string_lossy();

@@ -185,6 +185,44 @@ fn issue_19_1_a_second_writer_to_the_same_directory_is_refused() {
     assert!(complete_files(&out).is_some());
 }
 
+/// A writer killed inside the swap of its commit leaves the previous output moved aside as
+/// `.NAME.previous-PID`: the next writer puts it back or removes it, and leaves nothing behind,
+/// whether the kill came before the new output was moved in (the target missing) or after.
+#[test]
+fn issue_19_1_a_commit_killed_in_its_swap_is_recovered_by_the_next_writer() {
+    let d = scratch("killed-swap");
+    let out = d.join("out");
+    let dead = d.join(".out.previous-4294967294");
+    let run = || {
+        pcsim()
+            .args(["run", "--preset", "syt-7.0-9.8", "--quiet", "--out"])
+            .arg(&out)
+            .output()
+            .unwrap()
+    };
+    for target_present in [false, true] {
+        ok(&run());
+        if target_present {
+            // Killed after the new output was moved in: a stale copy beside it.
+            copy_dir(&out, &dead);
+        } else {
+            // Killed before: only the previous output, moved aside.
+            std::fs::rename(&out, &dead).unwrap();
+        }
+        ok(&run());
+        assert!(complete_files(&out).is_some());
+        assert!(!dead.exists(), "the previous output was left behind");
+    }
+}
+
+fn copy_dir(from: &std::path::Path, to: &std::path::Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
+    }
+}
+
 /// A run killed at 20 random moments (computing, writing, committing) never leaves a directory
 /// that a reader takes for complete unless it is whole: a complete manifest lists files that
 /// are all there, and its time series has every row of an undisturbed run.
