@@ -26,8 +26,16 @@
 //! below `2e-13` of `Σ|q_m|` (measured in the tests against the dense sum on random layouts;
 //! 1e-12 with 13 taps).
 //! The scatter runs the same steps transposed: spread, fold the ghosts back, the same DST-I
-//! (symmetric), deconvolve. Cost per block: one FFT of length `2K ≈ 4N` plus `W` multiply-adds
-//! per point, against `N` per point for dense rows. No allocation in `gather`/`scatter_add`.
+//! (symmetric), deconvolve. Cost: one FFT of length `2K ≈ 4N` per two blocks plus `W`
+//! multiply-adds per point and block, against `N` per point and block for dense rows. No
+//! allocation in `gather`/`scatter_add`.
+//!
+//! Written here rather than taken from a crate: the pure-Rust NUFFTs found (the `nufft` modules
+//! of `oxifft` and `scirs2-fft`) are general complex type-1/2/3 transforms whose calls return
+//! newly allocated results, while the step must not allocate, its points are fixed (their taps are
+//! computed once) and its series is a real sine series (the odd extension); both would also bring
+//! a large dependency tree. This is a few hundred lines over `rustfft`, tested against the dense
+//! sums.
 
 use std::f64::consts::PI;
 use std::sync::Arc;
