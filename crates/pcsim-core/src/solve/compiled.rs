@@ -363,39 +363,15 @@ impl CompiledModel {
     pub(crate) fn static_residual(&self, x: &[f64], ws: &mut Workspace, r: &mut [f64]) {
         let nm = self.model.layout.len;
         let (q, un) = x.split_at(nm);
-        for g in &self.groups {
-            g.sampler.gather(
-                &q[g.q_off..g.q_off + g.k * g.n],
-                g.k,
-                &mut ws.u[g.u_base..g.u_base + g.k * g.npts],
-                &mut ws.scr,
-            );
-        }
+        self.gather_points(q, ws);
         ws.u[self.node_u0..self.node_u0 + un.len()].copy_from_slice(un);
         ws.f.fill(0.0);
-        let mut io = Io {
-            u: &ws.u,
-            v: &ws.vel,
-            f: &mut ws.f,
-            loads: &ws.loads,
-            off_head: &ws.off_head,
-            slack: 0,
-        };
-        for &e in &self.fixed {
-            self.model.elements[e].add_forces(&self.slots[e], &mut io);
-        }
+        self.fixed_forces(ws);
         let (rq, rn) = r.split_at_mut(nm);
         for ((ri, qi), ki) in rq.iter_mut().zip(q).zip(&self.k_true) {
             *ri = -ki * qi;
         }
-        for g in &self.groups {
-            g.sampler.scatter_add(
-                &ws.f[g.u_base..g.u_base + g.k * g.npts],
-                g.k,
-                &mut rq[g.q_off..g.q_off + g.k * g.n],
-                &mut ws.scr,
-            );
-        }
+        self.scatter_points(ws, rq);
         self.add_steady_loads(rq);
         if let Some(w) = &self.wind {
             for &(slot, off, coef) in &w.blocks {
@@ -408,6 +384,53 @@ impl CompiledModel {
             }
         }
         rn.copy_from_slice(&ws.f[self.node_u0..self.node_u0 + rn.len()]);
+    }
+
+    /// The wires' displacement at every point of the point groups from the modal coordinates
+    /// `q` (the sampler's gather, the hot spot), into `ws.u`.
+    #[inline(always)]
+    pub(crate) fn gather_points(&self, q: &[f64], ws: &mut Workspace) {
+        for g in &self.groups {
+            g.sampler.gather(
+                &q[g.q_off..g.q_off + g.k * g.n],
+                g.k,
+                &mut ws.u[g.u_base..g.u_base + g.k * g.npts],
+                &mut ws.scr,
+            );
+        }
+    }
+
+    /// The fixed elements' point forces (droppers, Eq. 15; supports, steady arms, stitches,
+    /// registrations), each by its own law, added into `ws.f` at the displacements and
+    /// velocities of `ws`; returns the number of slack droppers.
+    #[inline(always)]
+    pub(crate) fn fixed_forces(&self, ws: &mut Workspace) -> usize {
+        let mut io = Io {
+            u: &ws.u,
+            v: &ws.vel,
+            f: &mut ws.f,
+            loads: &ws.loads,
+            off_head: &ws.off_head,
+            slack: 0,
+        };
+        for &e in &self.fixed {
+            self.model.elements[e].add_forces(&self.slots[e], &mut io);
+        }
+        io.slack
+    }
+
+    /// The point forces of `ws.f` scattered onto the modes of the point groups (Eq. 18's
+    /// generalised forces), added into `rhs`.
+    #[inline(always)]
+    pub(crate) fn scatter_points(&self, ws: &mut Workspace, rhs: &mut [f64]) {
+        for g in &self.groups {
+            g.sampler.scatter_add(
+                &ws.f[g.u_base..g.u_base + g.k * g.npts],
+                g.k,
+                &mut rhs[g.q_off..g.q_off + g.k * g.n],
+                &mut ws.scr,
+            );
+        }
     }
 
     /// Add the wires' steady loads (the ice's weight) to the modal right-hand side `rhs`.

@@ -389,14 +389,7 @@ impl Integrator {
     #[inline(always)]
     fn gather(&self, st: &mut State, ws: &mut Workspace) {
         // Point displacements and velocities.
-        for g in &self.cm.groups {
-            g.sampler.gather(
-                &st.modal.u[g.q_off..g.q_off + g.k * g.n],
-                g.k,
-                &mut ws.u[g.u_base..g.u_base + g.k * g.npts],
-                &mut ws.scr,
-            );
-        }
+        self.cm.gather_points(&st.modal.u, ws);
         ws.f.fill(0.0);
         for vp in &self.cm.vels {
             vp.sampler.gather(
@@ -417,19 +410,7 @@ impl Integrator {
     fn fixed_point_forces(&self, st: &mut State, ws: &mut Workspace) {
         let h = 0.5 * self.dt;
         let m = &self.cm.model;
-        // Point forces of the fixed elements.
-        let mut io = Io {
-            u: &ws.u,
-            v: &ws.vel,
-            f: &mut ws.f,
-            loads: &ws.loads,
-            off_head: &ws.off_head,
-            slack: 0,
-        };
-        for &e in &self.cm.fixed {
-            m.elements[e].add_forces(&self.cm.slots[e], &mut io);
-        }
-        ws.slack = io.slack;
+        ws.slack = self.cm.fixed_forces(ws);
         for (j, node) in m.nodes.iter().enumerate() {
             st.nodes.a[j] = ws.f[self.cm.node_u0 + j] / node.mass_kg;
             st.nodes.v[j] += h * st.nodes.a[j];
@@ -450,14 +431,7 @@ impl Integrator {
             &self.k,
             &self.c,
         );
-        for g in &self.cm.groups {
-            g.sampler.scatter_add(
-                &ws.f[g.u_base..g.u_base + g.k * g.npts],
-                g.k,
-                &mut st.modal.a[g.q_off..g.q_off + g.k * g.n],
-                &mut ws.scr,
-            );
-        }
+        self.cm.scatter_points(ws, &mut st.modal.a);
     }
 
     /// Stage 5, steady loads and wind: the wires' steady loads (the ice's weight), and the
