@@ -96,6 +96,8 @@ pub struct Recorder {
     /// Whether the contact wire's twist is recorded (torsion modelled).
     record_twist: bool,
     span_m: Option<f64>,
+    /// The line's supports (model coordinates) when the spans do not repeat, m.
+    supports_m: Vec<f64>,
     analysis_m: [f64; 2],
     /// Registration point of support number `j` (`round(x / span)`), by `j`.
     support: Vec<Option<usize>>,
@@ -110,6 +112,18 @@ impl Recorder {
         let np = cm.model().pantographs.len();
         let span_m = cm.model().span_m;
         let mut support = Vec::new();
+        let supports_m = cm.model().supports_m.clone();
+        if span_m.is_none() {
+            // Spans that do not repeat: support `j` is the line's `j`-th.
+            for (k, &x) in cm.monitor_positions().iter().enumerate() {
+                if let Some(j) = supports_m.iter().position(|&s| (x - s).abs() < 1e-6) {
+                    if support.len() <= j {
+                        support.resize(j + 1, None);
+                    }
+                    support[j] = Some(k);
+                }
+            }
+        }
         if let Some(span) = span_m {
             for (k, &x) in cm.monitor_positions().iter().enumerate() {
                 let j = (x / span).round();
@@ -137,6 +151,7 @@ impl Recorder {
             record_lateral: lateral,
             record_twist: twist,
             span_m,
+            supports_m,
             analysis_m,
             support,
         }
@@ -235,6 +250,26 @@ impl Observer for Recorder {
             }
             if self.record_twist {
                 self.twist[p].push(s.twist_rad);
+            }
+            if self.span_m.is_none() && !self.supports_m.is_empty() {
+                // The nearest support of the line.
+                let x = s.position_m;
+                let i = self.supports_m.partition_point(|&xs| xs < x);
+                let j = if i == 0 {
+                    0
+                } else if i == self.supports_m.len()
+                    || x - self.supports_m[i - 1] <= self.supports_m[i] - x
+                {
+                    i - 1
+                } else {
+                    i
+                };
+                let xs = self.supports_m[j] + origin;
+                if xs >= self.analysis_m[0] && xs <= self.analysis_m[1] {
+                    if let Some(Some(k)) = self.support.get(j) {
+                        self.uplift[p] = self.uplift[p].max(cm.monitor(ws, *k));
+                    }
+                }
             }
             if let Some(span) = self.span_m {
                 let j = (s.position_m / span).round();

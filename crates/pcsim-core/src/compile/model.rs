@@ -5,7 +5,8 @@
 
 use crate::error::{CaseError, Warning};
 use crate::input::case::{
-    Case, CatenaryCase, Dof, IrregularityCase, PantographCase, Spectrum, WindProfile, WireCase,
+    Case, CatenaryCase, Dof, IrregularityCase, PantographCase, Spectrum, TensionLengthCase,
+    WindProfile, WireCase,
 };
 use crate::model::basis::SineBasis;
 use crate::model::dof::Direction;
@@ -18,8 +19,11 @@ use crate::model::elements::support::{Support, Supports};
 use crate::model::elements::{Attach, PointElement};
 use crate::model::irregularity::{IrregularityProfile, IrregularitySource};
 use crate::model::lateral::LateralGeometry;
+use crate::model::line::{SpanLayout, StitchWire, TensionLengthDesign, TensionLengthStatics};
 use crate::model::pantograph::{Lumped, Pantograph, PantographKind};
-use crate::model::statics::{StaticDesign, StaticSolution, StitchDesign, G};
+use crate::model::statics::{
+    presag_values, StaticDesign, StaticSolution, StitchDesign, StitchStatic, G,
+};
 use crate::model::wind::{mean_at_height, Profile, WindLoad, WindReport, WireWind};
 use crate::model::wind_field::{FieldSpec, SpectrumModel, WindField};
 use crate::model::wire::{Section, Wire, WireRole};
@@ -392,31 +396,10 @@ pub fn model_from_validated(
     // The design's static shape, dropper lengths and preloads are those of the ice-free line:
     // the ice's weight is a steady load on that geometry (it lowers the wires, solved in the
     // start state, `solve::equilibrium`).
-    let stat = StaticSolution::solve(&static_design(&case.catenary));
-    for (i, len) in stat.dropper_length_m.iter().enumerate() {
-        if !len.is_finite() || *len <= 0.05 {
-            return Err(CaseError::Invalid {
-                field: "catenary.encumbrance_m".into(),
-                value: c.encumbrance_m.to_string(),
-                reason: format!(
-                    "the static messenger sags onto the contact wire: dropper {} would be {:.3} m long",
-                    i + 1,
-                    len
-                ),
-            });
-        }
-    }
+    let placed = place(case)?;
     let l = case.length_m();
     let basis = SineBasis::new(l, case.n_modes());
-    let nd = c.droppers.positions_m.len() as f64;
-    let mean_len = stat.dropper_length_m.iter().sum::<f64>() / nd;
-    let half_dropper = 0.5 * c.droppers.mass_per_m_kg * mean_len;
-    let rho_c = c.contact_wire.mass_per_m_kg
-        + nd * (c.droppers.clamp_mass_contact_kg + half_dropper) / c.span_m;
-    // Stitch droppers' upper clamps are the stitch nodes (own degrees of freedom).
-    let n_on_messenger = nd - c.stitch_wire.as_ref().map_or(0, |st| st.droppers.len()) as f64;
-    let rho_m = c.messenger.mass_per_m_kg
-        + (n_on_messenger * c.droppers.clamp_mass_messenger_kg + nd * half_dropper) / c.span_m;
+    let (rho_c, rho_m) = smeared_masses(c, &placed, l);
     let wind = wind_load(case, diameters, l);
     // The linearised aerodynamic damping of the wind joins each wire's modal damping.
     let aero = |wire: usize, dir: Direction| {
@@ -495,10 +478,10 @@ pub fn model_from_validated(
     let mut stitches = Vec::new();
     let mut nodes = Vec::new();
     let sup = &c.messenger_support;
-    for s in 0..c.spans {
-        for (i, &d) in c.droppers.positions_m.iter().enumerate() {
-            let x = s as f64 * c.span_m + d;
-            let top = match stat.stitch[i] {
+    for h in &placed.hangers {
+        {
+            let x = h.x_m;
+            let top = match h.stitch {
                 Some(st) => {
                     let damping = match c.stitch_wire.as_ref().and_then(|w| w.damping_ns_per_m) {
                         Some(cs) => cs,
@@ -527,13 +510,13 @@ pub fn model_from_validated(
                 x_m: x,
                 stiffness_n_per_m: match (c.droppers.stiffness_n_per_m, c.droppers.ea_n) {
                     (Some(k), _) => k,
-                    (None, Some(ea)) => ea / stat.dropper_length_m[i],
+                    (None, Some(ea)) => ea / h.length_m,
                     (None, None) => unreachable!("validated"),
                 },
-                preload_n: stat.dropper_force_contact_n[i],
+                preload_n: h.preload_n,
                 top,
                 bottom: on(CONTACT, x),
-                length_m: stat.dropper_length_m[i],
+                length_m: h.length_m,
                 top_lateral: on_dir(MESSENGER, Direction::Lateral, x, lateral),
                 bottom_lateral: on_dir(CONTACT, Direction::Lateral, x, lateral),
                 bottom_twist: on_dir(
@@ -546,16 +529,20 @@ pub fn model_from_validated(
             });
         }
     }
-    let supports = (1..c.spans)
-        .map(|s| Support {
-            at: on(MESSENGER, s as f64 * c.span_m),
+    let supports = placed
+        .interior_supports_m
+        .iter()
+        .map(|&x| Support {
+            at: on(MESSENGER, x),
             stiffness_n_per_m: c.messenger_support.stiffness_n_per_m,
             damping_ns_per_m: c.messenger_support.damping_ns_per_m,
         })
         .collect();
-    let arms = (1..c.spans)
-        .map(|s| SteadyArm {
-            at: on(CONTACT, s as f64 * c.span_m),
+    let arms = placed
+        .interior_supports_m
+        .iter()
+        .map(|&x| SteadyArm {
+            at: on(CONTACT, x),
             mass_kg: c.steady_arm.mass_kg,
             stiffness_n_per_m: c.steady_arm.stiffness_n_per_m,
         })
@@ -570,8 +557,7 @@ pub fn model_from_validated(
         } else {
             0.0
         };
-        for s in 1..c.spans {
-            let x = s as f64 * c.span_m;
+        for (k, &x) in placed.interior_supports_m.iter().enumerate() {
             let k_phi = lc.steady_arm_torsional_stiffness_nm_per_rad;
             registrations.push(Registration {
                 at: on_dir(CONTACT, Direction::Lateral, x, true),
@@ -586,7 +572,7 @@ pub fn model_from_validated(
                 stiffness_n_per_m: lc.steady_arm_stiffness_n_per_m,
                 mass_kg: lc.steady_arm_mass_kg,
                 vertical_force_n: if c.steady_arm.static_support {
-                    stat.arm_force_n
+                    placed.arm_force_n[k]
                 } else {
                     0.0
                 },
@@ -637,14 +623,8 @@ pub fn model_from_validated(
         elements.push(Box::new(Registrations(registrations)));
     }
     elements.push(Box::new(contacts));
-    let mut model = Model::new(
-        wires,
-        nodes,
-        elements,
-        pans,
-        StaticShape::Catenary(Box::new(stat)),
-        Some(c.span_m),
-    );
+    let mut model = Model::new(wires, nodes, elements, pans, placed.shape, placed.span_m);
+    model.supports_m = placed.supports_m;
     model.lateral = geometry;
     model.wind = wind;
     if !case.irregularity.is_empty() {
@@ -656,6 +636,211 @@ pub fn model_from_validated(
         ));
     }
     Ok((model, warnings))
+}
+
+/// One dropper of the model, where it hangs, with its static data.
+#[derive(Debug, Clone, Copy)]
+struct Hanger {
+    x_m: f64,
+    length_m: f64,
+    preload_n: f64,
+    stitch: Option<StitchStatic>,
+}
+
+/// Where a case's droppers and supports are and what the static shape gives them: the one
+/// hand-over from either static solution (the span-periodic `[catenary]`, or a `[line]`'s
+/// tension length) to the elements.
+struct Placed {
+    hangers: Vec<Hanger>,
+    /// Every support, ends included, model coordinates, m.
+    supports_m: Vec<f64>,
+    /// The interior supports (where the messenger supports and steady arms are), m.
+    interior_supports_m: Vec<f64>,
+    /// The steady arm's static force at each interior support, N.
+    arm_force_n: Vec<f64>,
+    shape: StaticShape,
+    /// The span when the layout repeats every span (the fast sampler's periodic path).
+    span_m: Option<f64>,
+}
+
+/// The droppers and supports of `case` from its static shape; an error when the messenger would
+/// sag onto the contact wire.
+fn place(case: &Case) -> Result<Placed, CaseError> {
+    let c = &case.catenary;
+    let too_short = |field: String, value: String, i: usize, len: f64| CaseError::Invalid {
+        field,
+        value,
+        reason: format!(
+            "the static messenger sags onto the contact wire: dropper {} would be {:.3} m long",
+            i + 1,
+            len
+        ),
+    };
+    if let Some(line) = &case.line {
+        let d = tension_length_design(c, &line.tension_lengths[0]);
+        let st = TensionLengthStatics::solve(&d);
+        for (i, h) in st.droppers.iter().enumerate() {
+            if !h.length_m.is_finite() || h.length_m <= 0.05 {
+                return Err(too_short(
+                    format!("line.tension_lengths[0].encumbrance_m[{}]", h.span),
+                    d.encumbrance_m[h.span].to_string(),
+                    i,
+                    h.length_m,
+                ));
+            }
+        }
+        let ns = d.spans.len();
+        let first = &d.spans[0];
+        let repeats = d.spans.iter().all(|s| s == first)
+            && d.contact_height_m.iter().all(|&h| h == 0.0)
+            && d.encumbrance_m.iter().all(|&e| e == d.encumbrance_m[0]);
+        return Ok(Placed {
+            hangers: st
+                .droppers
+                .iter()
+                .map(|h| Hanger {
+                    x_m: h.x_m,
+                    length_m: h.length_m,
+                    preload_n: h.force_contact_n,
+                    stitch: h.stitch,
+                })
+                .collect(),
+            interior_supports_m: st.supports_m[1..ns].to_vec(),
+            arm_force_n: st.arm_force_n[1..ns].to_vec(),
+            supports_m: st.supports_m.clone(),
+            shape: StaticShape::Line(Box::new(st)),
+            span_m: repeats.then_some(first.length_m),
+        });
+    }
+    let stat = StaticSolution::solve(&static_design(c));
+    for (i, len) in stat.dropper_length_m.iter().enumerate() {
+        if !len.is_finite() || *len <= 0.05 {
+            return Err(too_short(
+                "catenary.encumbrance_m".into(),
+                c.encumbrance_m.to_string(),
+                i,
+                *len,
+            ));
+        }
+    }
+    let mut hangers = Vec::with_capacity(c.spans * c.droppers.positions_m.len());
+    for s in 0..c.spans {
+        for (i, &d) in c.droppers.positions_m.iter().enumerate() {
+            hangers.push(Hanger {
+                x_m: s as f64 * c.span_m + d,
+                length_m: stat.dropper_length_m[i],
+                preload_n: stat.dropper_force_contact_n[i],
+                stitch: stat.stitch[i],
+            });
+        }
+    }
+    Ok(Placed {
+        hangers,
+        supports_m: (0..=c.spans).map(|s| s as f64 * c.span_m).collect(),
+        interior_supports_m: (1..c.spans).map(|s| s as f64 * c.span_m).collect(),
+        arm_force_n: vec![stat.arm_force_n; c.spans.saturating_sub(1)],
+        shape: StaticShape::Catenary(Box::new(stat)),
+        span_m: Some(c.span_m),
+    })
+}
+
+/// Dropper clamp masses and half of each dropper's mass smeared into the wires' mass per metre
+/// (see [`model_from_case`]): `(contact wire, messenger)`, kg/m. Stitch droppers' upper clamps are
+/// the stitch nodes (own degrees of freedom).
+fn smeared_masses(c: &CatenaryCase, placed: &Placed, length_m: f64) -> (f64, f64) {
+    match placed.span_m.filter(|_| placed.shape_is_periodic()) {
+        Some(span) => {
+            let nd = c.droppers.positions_m.len() as f64;
+            let mean_len = placed.hangers[..c.droppers.positions_m.len()]
+                .iter()
+                .map(|h| h.length_m)
+                .sum::<f64>()
+                / nd;
+            let half_dropper = 0.5 * c.droppers.mass_per_m_kg * mean_len;
+            let rho_c = c.contact_wire.mass_per_m_kg
+                + nd * (c.droppers.clamp_mass_contact_kg + half_dropper) / span;
+            let n_on_messenger =
+                nd - c.stitch_wire.as_ref().map_or(0, |st| st.droppers.len()) as f64;
+            let rho_m = c.messenger.mass_per_m_kg
+                + (n_on_messenger * c.droppers.clamp_mass_messenger_kg + nd * half_dropper) / span;
+            (rho_c, rho_m)
+        }
+        None => {
+            let (mut on_c, mut on_m) = (0.0, 0.0);
+            for h in &placed.hangers {
+                let half = 0.5 * c.droppers.mass_per_m_kg * h.length_m;
+                on_c += c.droppers.clamp_mass_contact_kg + half;
+                on_m += half
+                    + if h.stitch.is_some() {
+                        0.0
+                    } else {
+                        c.droppers.clamp_mass_messenger_kg
+                    };
+            }
+            (
+                c.contact_wire.mass_per_m_kg + on_c / length_m,
+                c.messenger.mass_per_m_kg + on_m / length_m,
+            )
+        }
+    }
+}
+
+impl Placed {
+    /// Whether the static shape is the span-periodic solution (every dropper of a span alike).
+    fn shape_is_periodic(&self) -> bool {
+        matches!(self.shape, StaticShape::Catenary(_))
+    }
+}
+
+/// The static design of a `[line]`'s tension length `t`, with what it does not override from
+/// the catenary `c`.
+pub fn tension_length_design(c: &CatenaryCase, t: &TensionLengthCase) -> TensionLengthDesign {
+    let lengths = t.span_lengths_m();
+    let n = lengths.len();
+    let stitched: Vec<usize> = c
+        .stitch_wire
+        .as_ref()
+        .map_or(Vec::new(), |s| s.droppers.clone());
+    let spans = lengths
+        .iter()
+        .enumerate()
+        .map(|(j, &len)| {
+            let d = t.droppers_of_span(j, len, &c.droppers.positions_m, c.span_m);
+            SpanLayout {
+                length_m: len,
+                presag_m: presag_values(&c.presag, len, &d),
+                on_stitch: (0..d.len()).map(|i| stitched.contains(&i)).collect(),
+                dropper_x_m: d,
+            }
+        })
+        .collect();
+    let per_support = |v: &[f64], default: f64| {
+        if v.is_empty() {
+            vec![default; n + 1]
+        } else {
+            v.to_vec()
+        }
+    };
+    TensionLengthDesign {
+        start_m: 0.0,
+        spans,
+        contact_height_m: per_support(&t.contact_height_m, 0.0),
+        encumbrance_m: per_support(&t.encumbrance_m, c.encumbrance_m),
+        arm_holds_contact: c.steady_arm.static_support,
+        contact_mass_per_m_kg: c.contact_wire.mass_per_m_kg,
+        contact_tension_n: c.contact_wire.tension_n,
+        messenger_mass_per_m_kg: c.messenger.mass_per_m_kg,
+        messenger_tension_n: c.messenger.tension_n,
+        dropper_mass_per_m_kg: c.droppers.mass_per_m_kg,
+        clamp_mass_contact_kg: c.droppers.clamp_mass_contact_kg,
+        clamp_mass_messenger_kg: c.droppers.clamp_mass_messenger_kg,
+        stitch: c.stitch_wire.as_ref().map(|s| StitchWire {
+            tension_n: s.tension_n,
+            length_m: s.length_m,
+            clamp_mass_kg: s.clamp_mass_kg,
+            mass_per_m_kg: s.mass_per_m_kg,
+        }),
+    }
 }
 
 /// Total static weight and support forces of a catenary model, for the balance check (N).

@@ -31,6 +31,11 @@ const fn b(hard: (f64, f64), soft: (f64, f64), unit: &'static str, typical: &'st
 
 /// Span length, m.
 pub const SPAN: Bound = b((1.0, 1000.0), (20.0, 100.0), "m", "27–70 m");
+/// The contact-wire height at a support relative to the line's nominal height (a lowering
+/// under a structure, a raising toward an anchor), m. Bounds are a guess: the hard bound is
+/// where the model's small-slope wires stop meaning anything, the soft one beyond the height
+/// changes of ordinary lines.
+pub const CONTACT_HEIGHT_CHANGE: Bound = b((-3.0, 3.0), (-1.0, 1.0), "m", "0 to ±0.5 m");
 /// Encumbrance (system height at the supports), m.
 pub const ENCUMBRANCE: Bound = b((0.05, 20.0), (0.3, 3.5), "m", "0.3–2 m");
 /// A wire's mass per length, kg/m.

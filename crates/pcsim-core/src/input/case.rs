@@ -15,6 +15,7 @@ pub use crate::input::irregularity::{IrregularityCase, PsdTable};
 pub use crate::input::lateral::{
     AeroCase, Dof, IceCase, LateralCase, SectionCase, Spectrum, WindCase, WindProfile,
 };
+pub use crate::input::line::{LineCase, SpanRun, TensionLengthCase};
 pub use crate::model::statics::{Presag, PresagZero, G};
 pub use crate::model::wire::Damping;
 
@@ -28,8 +29,12 @@ pub struct Case {
     #[serde(default)]
     /// Name and description.
     pub meta: Meta,
-    /// The catenary.
+    /// The catenary (with `[line]`: what every tension length shares).
     pub catenary: CatenaryCase,
+    /// A line of spans that need not repeat (`input::line`); without it the catenary is one
+    /// tension length of `catenary.spans` equal spans.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub line: Option<LineCase>,
     /// The pantographs, leading first.
     pub pantographs: Vec<PantographCase>,
     #[serde(default)]
@@ -61,9 +66,11 @@ pub struct Meta {
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct CatenaryCase {
-    /// Number of spans in the model (the model length is `spans × span_m`).
+    /// Number of spans in the model (the model length is `spans × span_m`). With `[line]`:
+    /// omitted, or the line's number of spans (it is set from the line when omitted).
+    #[serde(default)]
     pub spans: usize,
-    /// Span length, m.
+    /// Span length, m. With `[line]`: the span of the reference dropper layout.
     pub span_m: f64,
     /// Height of the messenger above the contact wire at the supports.
     pub encumbrance_m: f64,
@@ -381,6 +388,24 @@ impl Case {
             }
             CaseError::Parse(format!("at `{path}`: {first}"))
         })?;
+        let mut case = case;
+        if let Some(line) = &case.line {
+            // `catenary.spans` is the line's, when omitted.
+            let n = line.n_spans();
+            match case.catenary.spans {
+                0 => case.catenary.spans = n,
+                k if k != n => {
+                    return Err(inv(
+                        "catenary.spans",
+                        k,
+                        &format!(
+                            "the line has {n} spans: omit catenary.spans with [line], or give {n}"
+                        ),
+                    ))
+                }
+                _ => {}
+            }
+        }
         Ok((case, prov))
     }
 
@@ -391,7 +416,10 @@ impl Case {
 
     /// Model length, m.
     pub fn length_m(&self) -> f64 {
-        self.catenary.spans as f64 * self.catenary.span_m
+        match &self.line {
+            Some(l) => l.length_m(),
+            None => self.catenary.spans as f64 * self.catenary.span_m,
+        }
     }
 
     /// The case of realisation `k` of a Monte Carlo study: every seed (irregularity, wind,

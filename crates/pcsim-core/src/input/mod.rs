@@ -5,6 +5,7 @@ pub mod bounds;
 pub mod case;
 pub mod irregularity;
 pub mod lateral;
+pub mod line;
 pub mod overrides;
 pub mod presets;
 pub mod targets;

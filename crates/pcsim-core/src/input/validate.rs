@@ -27,6 +27,7 @@ impl Case {
     pub fn validate(&self) -> Result<Vec<Warning>, CaseError> {
         let mut w = Vec::new();
         finite_all(self)?;
+        line(self, &mut w)?;
         geometry_and_wires(self, &mut w)?;
         droppers(self, &mut w)?;
         presag(self, &mut w)?;
@@ -73,6 +74,177 @@ fn finite_all(case: &Case) -> Result<(), CaseError> {
         }
     }
     walk(&v, "")
+}
+
+/// A `[line]`: one tension length (overlaps are not modelled yet), its spans, dropper layouts
+/// and heights at the supports; and what a line does not carry yet.
+pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let Some(line) = &case.line else {
+        return Ok(());
+    };
+    let c = &case.catenary;
+    match line.tension_lengths.len() {
+        0 => {
+            return Err(inv(
+                "line.tension_lengths",
+                "[]",
+                "give at least one [[line.tension_lengths]]",
+            ))
+        }
+        1 => {}
+        n => {
+            return Err(inv(
+                "line.tension_lengths",
+                format!("{n} tension lengths"),
+                "overlaps between tension lengths are not modelled in this version: give one tension length",
+            ))
+        }
+    }
+    for (field, given) in [
+        (
+            "run.dofs",
+            case.run.dofs.iter().any(|d| *d != Dof::Vertical),
+        ),
+        ("catenary.lateral", c.lateral.is_some()),
+        ("catenary.ice", c.ice.is_some()),
+        ("wind", case.wind.is_some()),
+        ("irregularity", !case.irregularity.is_empty()),
+    ] {
+        if given {
+            return Err(inv(
+                field,
+                "given",
+                "a [line] is vertical only in this version, without ice, wind or irregularity: use [catenary] for those",
+            ));
+        }
+    }
+    let t = &line.tension_lengths[0];
+    let f = |k: &str| format!("line.tension_lengths[0].{k}");
+    let n = t.n_spans();
+    if t.spans_m.is_empty() == t.span_runs.is_empty() {
+        return Err(inv(
+            &f("spans_m"),
+            if t.spans_m.is_empty() {
+                "neither"
+            } else {
+                "both"
+            },
+            "give the spans one by one (spans_m) or as runs (span_runs), one of them",
+        ));
+    }
+    if !(2..=5000).contains(&n) {
+        return Err(inv(
+            &f("spans_m"),
+            format!("{n} spans"),
+            "need 2 to 5000 spans in a tension length",
+        ));
+    }
+    for (k, r) in t.span_runs.iter().enumerate() {
+        if r.count == 0 {
+            return Err(inv(&f(&format!("span_runs[{k}].count")), 0, "must be ≥ 1"));
+        }
+        check_bound(
+            w,
+            &f(&format!("span_runs[{k}].length_m")),
+            r.length_m,
+            &bounds::SPAN,
+        )?;
+    }
+    for (k, &s) in t.spans_m.iter().enumerate() {
+        check_bound(w, &f(&format!("spans_m[{k}]")), s, &bounds::SPAN)?;
+    }
+    let lengths = t.span_lengths_m();
+    if !t.droppers_m.is_empty() && t.droppers_m.len() != n {
+        return Err(inv(
+            &f("droppers_m"),
+            format!("{} layouts", t.droppers_m.len()),
+            &format!("need one dropper layout per span ({n}), or none (the catenary's, scaled)"),
+        ));
+    }
+    let n_ref = c.droppers.positions_m.len();
+    for (j, d) in t.droppers_m.iter().enumerate() {
+        let field = f(&format!("droppers_m[{j}]"));
+        if d.is_empty() {
+            return Err(inv(&field, "[]", "need at least one dropper per span"));
+        }
+        let needs_ref_count = c.stitch_wire.is_some() || matches!(c.presag, Presag::Table { .. });
+        if needs_ref_count && d.len() != n_ref {
+            return Err(inv(
+                &field,
+                format!("{} droppers", d.len()),
+                &format!("the stitch wire's dropper indices and a pre-sag table refer to catenary.droppers.positions_m: give {n_ref} droppers in every span"),
+            ));
+        }
+        let mut prev = 0.0;
+        for (i, &x) in d.iter().enumerate() {
+            if x <= prev || x >= lengths[j] {
+                return Err(inv(
+                    &format!("{field}[{i}]"),
+                    x,
+                    &format!(
+                        "positions must increase inside the span (0, {}) m",
+                        lengths[j]
+                    ),
+                ));
+            }
+            prev = x;
+        }
+    }
+    for (key, v) in [
+        ("contact_height_m", &t.contact_height_m),
+        ("encumbrance_m", &t.encumbrance_m),
+    ] {
+        if !v.is_empty() && v.len() != n + 1 {
+            return Err(inv(
+                &f(key),
+                format!("{} values", v.len()),
+                &format!("need one value per support ({}), or none", n + 1),
+            ));
+        }
+    }
+    for (k, &h) in t.contact_height_m.iter().enumerate() {
+        check_bound(
+            w,
+            &f(&format!("contact_height_m[{k}]")),
+            h,
+            &bounds::CONTACT_HEIGHT_CHANGE,
+        )?;
+    }
+    for (k, &e) in t.encumbrance_m.iter().enumerate() {
+        check_bound(
+            w,
+            &f(&format!("encumbrance_m[{k}]")),
+            e,
+            &bounds::ENCUMBRANCE,
+        )?;
+    }
+    if let Some(st) = &c.stitch_wire {
+        for (j, &len) in lengths.iter().enumerate() {
+            if st.length_m >= len {
+                return Err(inv(
+                    &f(&format!("spans_m[{j}]")),
+                    len,
+                    &format!(
+                        "the stitch wire ({} m) must be shorter than every span",
+                        st.length_m
+                    ),
+                ));
+            }
+            let d = t.droppers_of_span(j, len, &c.droppers.positions_m, c.span_m);
+            for &i in &st.droppers {
+                if let Some(&x) = d.get(i) {
+                    if x.min(len - x) >= 0.5 * st.length_m - 1e-9 {
+                        return Err(inv(
+                            &f(&format!("droppers_m[{j}]")),
+                            x,
+                            &format!("stitch dropper {i} of span {j} is not under a stitch wire (±{} m around the support)", 0.5 * st.length_m),
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The number and length of spans, the system height and the wires.

@@ -12,6 +12,7 @@
 //! | `statics.rs` | the static shape from the design geometry (paper §2.1) |
 //! | `build.rs` | a case becomes a model; a builder for hand-made models |
 //! | `window.rs` | a window of a model (the real-time catenary) |
+//! | `line.rs` | a tension length of spans that need not repeat, and its static shape (issue 21) |
 //! | `lateral.rs` | stagger: the static lateral shape (issue 12) |
 //! | `wind.rs`, `wind_field.rs` | crosswind loads and the turbulent wind field (issue 12) |
 
@@ -21,6 +22,7 @@ pub mod dof;
 pub mod elements;
 pub mod irregularity;
 pub mod lateral;
+pub mod line;
 pub mod pantograph;
 pub mod statics;
 pub mod wind;
@@ -53,6 +55,8 @@ pub enum StaticShape {
     Flat,
     /// The catenary's static solution from its design (the initial condition of Eqs. 9–10).
     Catenary(Box<StaticSolution>),
+    /// One tension length of a line: spans that need not repeat (`line.rs`).
+    Line(Box<line::TensionLengthStatics>),
 }
 
 impl StaticShape {
@@ -63,6 +67,8 @@ impl StaticShape {
             (StaticShape::Flat, _) => 0.0,
             (StaticShape::Catenary(s), WireRole::Contact) => s.contact_height(x),
             (StaticShape::Catenary(s), _) => s.messenger_height(x),
+            (StaticShape::Line(s), WireRole::Contact) => s.contact_height(x),
+            (StaticShape::Line(s), _) => s.messenger_height(x),
         }
     }
 }
@@ -91,6 +97,9 @@ pub struct Model {
     /// Contact-wire irregularity, if any (added to the contact wire's static height), in track
     /// coordinates.
     pub irregularity: Option<irregularity::IrregularityProfile>,
+    /// Every support of the line (ends included), model coordinates, m; empty for hand-made
+    /// models.
+    pub supports_m: Vec<f64>,
     /// Track position of the model's x = 0 when it is built, m (0 for a full model; a window's
     /// origin). Stagger and irregularity are kept in track coordinates, because a window moves
     /// by whole spans but they need not repeat every span.
@@ -127,6 +136,7 @@ impl Model {
             lateral: None,
             wind: None,
             irregularity: None,
+            supports_m: Vec::new(),
             track_origin_m: 0.0,
         }
     }

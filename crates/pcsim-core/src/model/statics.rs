@@ -116,11 +116,56 @@ impl Profile {
                 } else {
                     (self.xs[j + 1], self.hs[j + 1])
                 };
-                let (x, h) = (self.xs[j], self.hs[j]);
-                self.t * ((h - hl) / (x - xl) - (hr - h) / (xr - x)) + self.w * 0.5 * (xr - xl)
+                kink_force(self.t, self.w, (xl, hl), (self.xs[j], self.hs[j]), (xr, hr))
             })
             .collect()
     }
+}
+
+/// Upward point force a tensioned wire (tension `t_n`, weight `w_n_per_m`) needs at a node
+/// `(x, h)` between its neighbours `(xl, hl)` and `(xr, hr)` to hold the piecewise-parabolic shape
+/// (`T y'' = w` between nodes): the kink of the chord slopes plus the weight of half of each
+/// segment, `T (s_left − s_right) + w (h_left + h_right)/2`. The one place of this law, for the
+/// span-periodic profile and a line's.
+#[inline]
+pub fn kink_force(
+    t_n: f64,
+    w_n_per_m: f64,
+    (xl, hl): (f64, f64),
+    (x, h): (f64, f64),
+    (xr, hr): (f64, f64),
+) -> f64 {
+    t_n * ((h - hl) / (x - xl) - (hr - h) / (xr - x)) + w_n_per_m * 0.5 * (xr - xl)
+}
+
+/// Bending moment of a simply supported span of length `span_m` under its weight `w_n_per_m`
+/// and point loads `loads_n` (downward) at `xs_m` (sorted, from the left support), at each of
+/// the same points: `M(x) = R_A x − w x²/2 − Σ_{x_i < x} P_i (x − x_i)` with
+/// `R_A = Σ P_i (S − x_i)/S + w S/2`. The messenger's shape follows as `y = chord − M/T`.
+pub fn simply_supported_moments(
+    span_m: f64,
+    w_n_per_m: f64,
+    xs_m: &[f64],
+    loads_n: &[f64],
+) -> Vec<f64> {
+    let s = span_m;
+    let ra = loads_n
+        .iter()
+        .zip(xs_m)
+        .map(|(p, x)| p * (s - x) / s)
+        .sum::<f64>()
+        + w_n_per_m * s / 2.0;
+    xs_m.iter()
+        .map(|&x| {
+            let mut m = ra * x - w_n_per_m * x * x / 2.0;
+            for (i, &xi) in xs_m.iter().enumerate() {
+                if xi < x {
+                    m -= loads_n[i] * (x - xi);
+                }
+            }
+            m
+        })
+        .collect()
 }
 
 /// Transverse stiffness of a stitch wire (tension `T`, length `L`) at a point `a` from its nearer
@@ -221,8 +266,13 @@ pub struct StitchDesign {
 
 /// Contact-wire pre-sag at each dropper (positive downward), m.
 pub fn presag_at_droppers(c: &StaticDesign) -> Vec<f64> {
-    let d = &c.dropper_x_m;
-    match &c.presag {
+    presag_values(&c.presag, c.span_m, &c.dropper_x_m)
+}
+
+/// Contact-wire pre-sag (positive downward, m) of `presag` at droppers `d` (from the span's
+/// start) of a span of `span_m`.
+pub fn presag_values(presag: &Presag, span_m: f64, d: &[f64]) -> Vec<f64> {
+    match presag {
         Presag::Table { values_m } => values_m.clone(),
         Presag::Parabolic {
             mid_span_m,
@@ -231,7 +281,7 @@ pub fn presag_at_droppers(c: &StaticDesign) -> Vec<f64> {
             .iter()
             .map(|&x| match zero_at {
                 PresagZero::Supports => {
-                    let xi = x / c.span_m;
+                    let xi = x / span_m;
                     4.0 * mid_span_m * xi * (1.0 - xi)
                 }
                 PresagZero::EndDroppers => {
@@ -313,19 +363,8 @@ impl StaticSolution {
                     None => fm[i] + c.clamp_mass_messenger_kg * G,
                 })
                 .collect();
-            let ra = loads
-                .iter()
-                .zip(d)
-                .map(|(p, x)| p * (s - x) / s)
-                .sum::<f64>()
-                + wm * s / 2.0;
-            for (j, &x) in d.iter().enumerate() {
-                let mut m = ra * x - wm * x * x / 2.0;
-                for i in 0..nd {
-                    if d[i] < x {
-                        m -= loads[i] * (x - d[i]);
-                    }
-                }
+            let moments = simply_supported_moments(s, wm, d, &loads);
+            for (j, m) in moments.iter().enumerate() {
                 hm[j] = c.encumbrance_m - m / tm;
             }
             for i in 0..nd {

@@ -1,0 +1,447 @@
+//! A line of spans that need not repeat (issue 21): the static shape of one tension length
+//! against the span-periodic solution, against an independent modal solve of each wire (EI
+//! included) within 1 mm at every dropper, and against the exact vertical balance; a line of
+//! equal spans runs as the `[catenary]` it spells; the line's errors name their field.
+
+mod common;
+
+use pcsim_core::compile::model::{static_design, tension_length_design};
+use pcsim_core::input::case::{Case, LineCase, SpanRun, TensionLengthCase, G};
+use pcsim_core::model::basis::SineBasis;
+use pcsim_core::model::line::{LineProfile, TensionLengthStatics};
+use pcsim_core::model::statics::{modal_static_deflection, StaticSolution};
+use pcsim_core::{presets, run_case, CaseError};
+
+fn tension_length(spans_m: Vec<f64>, heights: Vec<f64>) -> TensionLengthCase {
+    TensionLengthCase {
+        spans_m,
+        span_runs: Vec::new(),
+        droppers_m: Vec::new(),
+        contact_height_m: heights,
+        encumbrance_m: Vec::new(),
+    }
+}
+
+fn with_line(mut case: Case, t: TensionLengthCase) -> Case {
+    case.catenary.spans = t.n_spans();
+    case.line = Some(LineCase {
+        tension_lengths: vec![t],
+    });
+    case
+}
+
+/// Relative difference, against a scale.
+fn close(a: f64, b: f64, scale: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol * scale
+}
+
+/// A line of equal spans and level supports has the span-periodic static shape: every dropper
+/// of every span where the two agree on the boundary (all of them when the steady arms hold the
+/// contact wire; the interior spans of a stitched line, whose ends are anchors there and periodic
+/// in the other) to 1e-12.
+fn equal_spans_match_periodic(preset: &str, interior_only: bool) {
+    let (case, _) = presets::load(preset).unwrap();
+    let c = &case.catenary;
+    let periodic = StaticSolution::solve(&static_design(c));
+    let n = 6;
+    let t = tension_length(vec![c.span_m; n], Vec::new());
+    let line = TensionLengthStatics::solve(&tension_length_design(c, &t));
+    let nd = c.droppers.positions_m.len();
+    assert_eq!(line.droppers.len(), n * nd);
+    let spans = if interior_only { 1..n - 1 } else { 0..n };
+    for j in spans {
+        for i in 0..nd {
+            let d = &line.droppers[j * nd + i];
+            let x = j as f64 * c.span_m + c.droppers.positions_m[i];
+            assert!((d.x_m - x).abs() < 1e-9);
+            let f = periodic.dropper_force_contact_n[i];
+            assert!(
+                close(d.force_contact_n, f, f.abs(), 1e-12),
+                "{preset}: span {j} dropper {i}: {} vs {f}",
+                d.force_contact_n
+            );
+            let len = periodic.dropper_length_m[i];
+            assert!(
+                close(d.length_m, len, 1.0, 1e-12),
+                "{preset}: length {} vs {len}",
+                d.length_m
+            );
+            assert!(close(
+                line.contact_height(x),
+                periodic.contact_height(x),
+                1.0,
+                1e-12
+            ));
+            assert!(close(
+                line.messenger_height(x),
+                periodic.messenger_height(x),
+                1.0,
+                1e-12
+            ));
+            assert_eq!(d.stitch.is_some(), periodic.stitch[i].is_some());
+        }
+    }
+    for j in 2..n - 1 {
+        let f = periodic.support_force_n;
+        assert!(
+            close(line.support_force_n[j], f, f, 1e-12),
+            "{preset}: support {j}"
+        );
+        let a = periodic.arm_force_n;
+        assert!(close(line.arm_force_n[j], a, a.abs().max(1.0), 1e-12));
+    }
+}
+
+#[test]
+fn equal_spans_match_the_periodic_shape_simple() {
+    equal_spans_match_periodic("en50318-2002", false);
+}
+
+#[test]
+fn equal_spans_match_the_periodic_shape_stitched() {
+    equal_spans_match_periodic("stitched-2018-like", true);
+}
+
+/// Upward force of the end support on a wire at its first (`first`) or last node.
+fn end_reaction(p: &LineProfile, first: bool) -> f64 {
+    let n = p.xs.len();
+    let (a, b) = if first { (0, 1) } else { (n - 1, n - 2) };
+    let (xa, ha, xb, hb) = (p.xs[a], p.hs[a], p.xs[b], p.hs[b]);
+    // The parabola's slope at node a, pointing into the wire: T·y' there, plus nothing else.
+    let h = (xb - xa).abs();
+    -p.t * (hb - ha) / h + p.w * h / 2.0
+}
+
+/// The non-uniform test line: spans from 40 to 65 m and a contact-wire lowering under a structure
+/// (two supports 0.2 m down, ramps of 0.1 m per span either side).
+fn test_line(preset: &str) -> (Case, TensionLengthCase) {
+    let (case, _) = presets::load(preset).unwrap();
+    let t = tension_length(
+        vec![50.0, 65.0, 45.0, 55.0, 40.0, 60.0, 65.0],
+        vec![0.0, 0.0, -0.1, -0.2, -0.2, -0.1, 0.0, 0.0],
+    );
+    (case, t)
+}
+
+/// The vertical force balance of a tension length, exactly: the end supports of both wires, the
+/// steady arms and the messenger supports carry the wires, the clamps, the droppers and the
+/// stitch elements.
+fn balance(preset: &str) {
+    let (case, t) = test_line(preset);
+    let c = &case.catenary;
+    let d = tension_length_design(c, &t);
+    let s = TensionLengthStatics::solve(&d);
+    let l: f64 = d.spans.iter().map(|s| s.length_m).sum();
+    let mut weight = (c.contact_wire.mass_per_m_kg + c.messenger.mass_per_m_kg) * G * l;
+    for h in &s.droppers {
+        weight += (c.droppers.clamp_mass_contact_kg + c.droppers.mass_per_m_kg * h.length_m) * G;
+        weight += match h.stitch {
+            Some(st) => st.node_mass_kg * G,
+            None => c.droppers.clamp_mass_messenger_kg * G,
+        };
+    }
+    let supports: f64 = s.arm_force_n.iter().sum::<f64>()
+        + s.support_force_n.iter().sum::<f64>()
+        + end_reaction(&s.contact, true)
+        + end_reaction(&s.contact, false)
+        + end_reaction(&s.messenger, true)
+        + end_reaction(&s.messenger, false);
+    assert!(
+        close(supports, weight, weight, 1e-12),
+        "{preset}: supports {supports} N vs weight {weight} N"
+    );
+}
+
+#[test]
+fn vertical_balance_of_a_non_uniform_line_is_exact_simple() {
+    balance("en50318-2002");
+}
+
+#[test]
+fn vertical_balance_of_a_non_uniform_line_is_exact_stitched() {
+    balance("stitched-2018-like");
+}
+
+/// Each wire of the non-uniform line solved again as a tensioned beam (EI included) on a sine
+/// series over the whole tension length, under the point forces the static solution gives it,
+/// pinned at its end heights: within 1 mm of the design at every dropper (the contact wire: the
+/// straight line between the supports' heights less the pre-sag) and every support.
+fn heights_within_1mm(preset: &str) {
+    let (case, t) = test_line(preset);
+    let c = &case.catenary;
+    let d = tension_length_design(c, &t);
+    let s = TensionLengthStatics::solve(&d);
+    let l: f64 = d.spans.iter().map(|s| s.length_m).sum();
+    let n = (8.0 * l) as usize;
+    let basis = SineBasis::new(l, n);
+    let mut row = vec![0.0; n];
+    let ns = d.spans.len();
+    let interior = &s.supports_m[1..ns];
+
+    // Contact wire: dropper tensions less the clamp weight they carry, the arms, its weight.
+    let mut loads: Vec<(f64, f64)> = s
+        .droppers
+        .iter()
+        .map(|h| {
+            (
+                h.x_m,
+                h.force_contact_n - c.droppers.clamp_mass_contact_kg * G,
+            )
+        })
+        .collect();
+    loads.extend(
+        interior
+            .iter()
+            .zip(&s.arm_force_n[1..ns])
+            .map(|(&x, &f)| (x, f)),
+    );
+    let q = modal_static_deflection(
+        &basis,
+        c.contact_wire.tension_n,
+        c.contact_wire.ei_nm2,
+        -c.contact_wire.mass_per_m_kg * G,
+        &loads,
+    );
+    let (h0, hl) = (d.contact_height_m[0], d.contact_height_m[ns]);
+    let chord = |x: f64, a: f64, b: f64| a * (1.0 - x / l) + b * x / l;
+    let mut k = 0;
+    for (j, span) in d.spans.iter().enumerate() {
+        let (ha, hb) = (d.contact_height_m[j], d.contact_height_m[j + 1]);
+        for (i, &xd) in span.dropper_x_m.iter().enumerate() {
+            let x = s.supports_m[j] + xd;
+            let design = ha + (hb - ha) * xd / span.length_m - span.presag_m[i];
+            let h = basis.eval(&q, x, &mut row) + chord(x, h0, hl);
+            assert!(
+                (h - design).abs() < 1e-3,
+                "{preset}: contact wire at {x} m: {h} vs design {design}"
+            );
+            assert!((s.droppers[k].contact_height_m - design).abs() < 1e-12);
+            k += 1;
+        }
+    }
+    if d.arm_holds_contact {
+        for (j, &x) in interior.iter().enumerate() {
+            let h = basis.eval(&q, x, &mut row) + chord(x, h0, hl);
+            assert!(
+                (h - d.contact_height_m[j + 1]).abs() < 1e-3,
+                "{preset}: support {x}"
+            );
+        }
+    }
+
+    // Messenger: what hangs at each dropper, the supports, its weight.
+    let mut loads: Vec<(f64, f64)> = s
+        .droppers
+        .iter()
+        .map(|h| {
+            let hanging = match h.stitch {
+                Some(st) => st.force_n,
+                None => h.force_messenger_n + c.droppers.clamp_mass_messenger_kg * G,
+            };
+            (h.x_m, -hanging)
+        })
+        .collect();
+    loads.extend(
+        interior
+            .iter()
+            .zip(&s.support_force_n[1..ns])
+            .map(|(&x, &f)| (x, f)),
+    );
+    let q = modal_static_deflection(
+        &basis,
+        c.messenger.tension_n,
+        c.messenger.ei_nm2,
+        -c.messenger.mass_per_m_kg * G,
+        &loads,
+    );
+    let top = |j: usize| d.contact_height_m[j] + d.encumbrance_m[j];
+    for h in &s.droppers {
+        let m = basis.eval(&q, h.x_m, &mut row) + chord(h.x_m, top(0), top(ns));
+        let expect = s.messenger_height(h.x_m);
+        assert!(
+            (m - expect).abs() < 1e-3,
+            "{preset}: messenger at {}: {m} vs {expect}",
+            h.x_m
+        );
+        // The dropper spans the two wires (less the stitch element's sag).
+        let sag = h.stitch.map_or(0.0, |st| st.force_n / st.stiffness_n_per_m);
+        assert!((h.length_m - (expect - sag - h.contact_height_m)).abs() < 1e-12);
+    }
+    // At a support the string's kink is rounded by the bending stiffness the design neglects:
+    // a tensioned beam under a point force F stays F/(2Tκ) below the string's kink, κ = √(T/EI).
+    for (j, &x) in interior.iter().enumerate() {
+        let m = basis.eval(&q, x, &mut row) + chord(x, top(0), top(ns));
+        let (tm, ei) = (c.messenger.tension_n, c.messenger.ei_nm2);
+        let rounding = s.support_force_n[j + 1] * (ei / tm).sqrt() / (2.0 * tm);
+        assert!(
+            (top(j + 1) - m - rounding).abs() < 1e-3,
+            "{preset}: messenger support {x}: {m} vs {} less {rounding}",
+            top(j + 1)
+        );
+    }
+}
+
+#[test]
+fn design_heights_of_a_non_uniform_line_within_1mm_simple() {
+    heights_within_1mm("en50318-2002");
+}
+
+#[test]
+fn design_heights_of_a_non_uniform_line_within_1mm_stitched() {
+    heights_within_1mm("stitched-2018-like");
+}
+
+/// `[catenary]` of equal spans and the `[line]` that spells it out run alike: the statistics
+/// agree to 1e-9 (they differ only in rounding: the smeared clamp masses are summed per dropper
+/// in a line, per span in the catenary).
+#[test]
+fn a_line_of_equal_spans_runs_as_its_catenary() {
+    let case = common::short_en50318(12, 250.0);
+    let c = &case.catenary;
+    let line = with_line(
+        case.clone(),
+        TensionLengthCase {
+            span_runs: vec![SpanRun {
+                count: c.spans,
+                length_m: c.span_m,
+            }],
+            ..tension_length(Vec::new(), Vec::new())
+        },
+    );
+    let a = run_case(&case, &mut |_| true).unwrap().pantographs[0]
+        .stats
+        .unwrap();
+    let b = run_case(&line, &mut |_| true).unwrap().pantographs[0]
+        .stats
+        .unwrap();
+    for (name, x, y) in [
+        ("mean", a.mean_n, b.mean_n),
+        ("std", a.std_n, b.std_n),
+        ("actual max", a.actual_max_n, b.actual_max_n),
+        ("actual min", a.actual_min_n, b.actual_min_n),
+        (
+            "uplift",
+            a.max_uplift_at_support_mm,
+            b.max_uplift_at_support_mm,
+        ),
+    ] {
+        assert!(
+            close(x, y, x.abs().max(1.0), 1e-9),
+            "{name}: catenary {x} vs line {y}"
+        );
+    }
+    assert!(a.max_uplift_at_support_mm > 1.0);
+}
+
+/// A non-uniform line with a height change runs: finite statistics, the uplift measured at its
+/// own supports, contact kept; the mean force is the pantograph's static-plus-aero force within
+/// the EN 50318 tolerance of the catenary run's (the geometry changes the dynamics, not the mean).
+#[test]
+fn a_non_uniform_line_runs() {
+    let (base, t) = test_line("en50318-2002");
+    let mut case = with_line(base, t);
+    let l = case.length_m();
+    case.run.start_m = 50.0;
+    case.run.end_m = l - 60.0;
+    case.run.analysis_m = [115.0, l - 125.0];
+    let out = run_case(&case, &mut |_| true).unwrap();
+    let st = out.pantographs[0].stats.unwrap();
+    for v in [st.mean_n, st.std_n, st.actual_max_n, st.actual_min_n] {
+        assert!(v.is_finite());
+    }
+    assert!(
+        st.max_uplift_at_support_mm > 1.0,
+        "uplift {}",
+        st.max_uplift_at_support_mm
+    );
+    assert!(
+        st.actual_min_n > 0.0,
+        "contact lost: min {}",
+        st.actual_min_n
+    );
+}
+
+fn err(case: &Case) -> (String, String) {
+    match case.validate() {
+        Err(CaseError::Invalid { field, reason, .. }) => (field, reason),
+        other => panic!("expected an invalid field, got {other:?}"),
+    }
+}
+
+#[test]
+fn line_errors_name_their_field() {
+    let (mut base, _) = presets::load("en50318-2002").unwrap();
+    base.pantographs.truncate(1);
+    base.run.start_m = 5.0;
+    base.run.end_m = 150.0;
+    base.run.analysis_m = [70.0, 110.0];
+    let mk = |t: TensionLengthCase| with_line(base.clone(), t);
+    let ok = tension_length(vec![50.0, 60.0, 55.0], Vec::new());
+    if let Err(e) = mk(ok.clone()).validate() {
+        panic!("{e}");
+    }
+    let cases: Vec<(TensionLengthCase, &str)> = vec![
+        (
+            tension_length(vec![50.0, 0.5], Vec::new()),
+            "line.tension_lengths[0].spans_m[1]",
+        ),
+        (
+            tension_length(vec![50.0, 60.0, 55.0], vec![0.0, 0.0]),
+            "line.tension_lengths[0].contact_height_m",
+        ),
+        (
+            tension_length(vec![50.0, 60.0, 55.0], vec![0.0, 5.0, 0.0, 0.0]),
+            "line.tension_lengths[0].contact_height_m[1]",
+        ),
+        (
+            TensionLengthCase {
+                droppers_m: vec![vec![5.0, 25.0], vec![5.0, 70.0], vec![10.0]],
+                ..ok.clone()
+            },
+            "line.tension_lengths[0].droppers_m[1][1]",
+        ),
+        (
+            TensionLengthCase {
+                encumbrance_m: vec![1.2, 1.2, 0.01, 1.2],
+                ..ok.clone()
+            },
+            "line.tension_lengths[0].encumbrance_m[2]",
+        ),
+        (
+            TensionLengthCase {
+                span_runs: vec![SpanRun {
+                    count: 2,
+                    length_m: 50.0,
+                }],
+                ..ok.clone()
+            },
+            "line.tension_lengths[0].spans_m",
+        ),
+    ];
+    for (t, field) in cases {
+        assert_eq!(err(&mk(t)).0, field);
+    }
+    let mut two = mk(ok.clone());
+    two.line.as_mut().unwrap().tension_lengths.push(ok.clone());
+    two.catenary.spans = 6;
+    let (field, reason) = err(&two);
+    assert_eq!(field, "line.tension_lengths");
+    assert!(reason.contains("overlaps"), "{reason}");
+    // From TOML: catenary.spans is the line's when omitted, and a different count is refused.
+    let text = base.to_toml_string();
+    let with = |spans: &str| {
+        let t = text.replace("spans = 20\n", spans);
+        format!("{t}\n[[line.tension_lengths]]\nspans_m = [50.0, 60.0, 55.0]\n")
+    };
+    assert!(
+        text.contains("spans = 20\n"),
+        "the preset's span count is 20"
+    );
+    let (c, _) = Case::from_toml_str(&with("")).unwrap();
+    assert_eq!(c.catenary.spans, 3);
+    assert!((c.length_m() - 165.0).abs() < 1e-12);
+    match Case::from_toml_str(&with("spans = 20\n")) {
+        Err(CaseError::Invalid { field, .. }) => assert_eq!(field, "catenary.spans"),
+        other => panic!("{other:?}"),
+    }
+}
