@@ -4,7 +4,9 @@ that it changed nothing, on both kernel paths.
 
 Run:  python3 scripts/gen_byte_golden.py target/release/pcsim
 Output: data/golden/preset_bytes.json. For each of the five preset runs of preset_runs.json, and
-for the 3D preset `stitched-2018-like-3d` (its summary with its warnings), and for each kernel path
+for the 3D preset `stitched-2018-like-3d` (its summary with its warnings), for the line
+`line-structure-2002` (issue 21: spans that differ, the sampler's non-periodic path), and for each
+kernel path
 (`portable`: PCSIM_PORTABLE=1, the same bytes on every machine; `avx2`: x86-64-v3 with fused
 multiply-add, the same bytes on every machine that has it): the FNV-1a 64-bit hash of
 timeseries.csv and of summary.json less its `wall_time_s` line, and for the 3D
@@ -18,7 +20,8 @@ import sys
 import tempfile
 
 RUNS = [("en50318-2002", 250), ("en50318-2002", 300), ("stitched-2018-like", 320),
-        ("syt-7.0-9.8", 222), ("benchmark-55m", 275), ("stitched-2018-like-3d", None), ("stitched-2018-like-3d-crosswind", None)]
+        ("syt-7.0-9.8", 222), ("benchmark-55m", 275), ("stitched-2018-like-3d", None), ("stitched-2018-like-3d-crosswind", None),
+        ("line-structure-2002", 250)]
 
 
 def fnv1a64(data: bytes) -> str:

@@ -37,7 +37,9 @@ fn bases() -> Vec<String> {
         .iter()
         .map(|p| {
             let (mut c, _) = pcsim_core::presets::load(p.name).unwrap();
-            c.catenary.spans = 6;
+            if c.line.is_none() {
+                c.catenary.spans = 6;
+            }
             let l = c.length_m();
             c.pantographs.truncate(1);
             c.run.modes = None;

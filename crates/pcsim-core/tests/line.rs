@@ -8,7 +8,7 @@ mod common;
 use pcsim_core::compile::model::{static_design, tension_length_design};
 use pcsim_core::input::case::{Case, LineCase, SpanRun, TensionLengthCase, G};
 use pcsim_core::model::basis::SineBasis;
-use pcsim_core::model::line::{LineProfile, TensionLengthStatics};
+use pcsim_core::model::line::TensionLengthStatics;
 use pcsim_core::model::statics::{modal_static_deflection, StaticSolution};
 use pcsim_core::{presets, run_case, CaseError};
 
@@ -102,16 +102,6 @@ fn equal_spans_match_the_periodic_shape_stitched() {
     equal_spans_match_periodic("stitched-2018-like", true);
 }
 
-/// Upward force of the end support on a wire at its first (`first`) or last node.
-fn end_reaction(p: &LineProfile, first: bool) -> f64 {
-    let n = p.xs.len();
-    let (a, b) = if first { (0, 1) } else { (n - 1, n - 2) };
-    let (xa, ha, xb, hb) = (p.xs[a], p.hs[a], p.xs[b], p.hs[b]);
-    // The parabola's slope at node a, pointing into the wire: T·y' there, plus nothing else.
-    let h = (xb - xa).abs();
-    -p.t * (hb - ha) / h + p.w * h / 2.0
-}
-
 /// The non-uniform test line: spans from 40 to 65 m and a contact-wire lowering under a structure
 /// (two supports 0.2 m down, ramps of 0.1 m per span either side).
 fn test_line(preset: &str) -> (Case, TensionLengthCase) {
@@ -142,10 +132,10 @@ fn balance(preset: &str) {
     }
     let supports: f64 = s.arm_force_n.iter().sum::<f64>()
         + s.support_force_n.iter().sum::<f64>()
-        + end_reaction(&s.contact, true)
-        + end_reaction(&s.contact, false)
-        + end_reaction(&s.messenger, true)
-        + end_reaction(&s.messenger, false);
+        + s.contact.end_force(true)
+        + s.contact.end_force(false)
+        + s.messenger.end_force(true)
+        + s.messenger.end_force(false);
     assert!(
         close(supports, weight, weight, 1e-12),
         "{preset}: supports {supports} N vs weight {weight} N"

@@ -30,6 +30,8 @@ pub struct PlotData {
     pub case_name: String,
     pub speed_kmh: f64,
     pub span_m: Option<f64>,
+    /// The supports of a line whose spans differ, m.
+    pub supports_m: Vec<f64>,
     pub analysis_m: [f64; 2],
     /// The flags that overrode case values (named in the titles).
     pub overrides: Vec<String>,
@@ -102,6 +104,17 @@ fn span_marks<DB: DrawingBackend>(
             }))
             .map_err(|e| anyhow!("{e:?}"))?
             .label(format!("supports (every {s} m); shaded: analysis section"))
+            .legend(|(x, y)| PathElement::new(vec![(x, y - 6), (x, y + 6)], BLACK.mix(0.4)));
+    } else if !d.supports_m.is_empty() {
+        chart
+            .draw_series(
+                d.supports_m
+                    .iter()
+                    .filter(|&&s| s >= x.0 && s <= x.1)
+                    .map(|&s| PathElement::new(vec![(s, y.0), (s, y.1)], BLACK.mix(0.18))),
+            )
+            .map_err(|e| anyhow!("{e:?}"))?
+            .label("supports (spans differ); shaded: analysis section")
             .legend(|(x, y)| PathElement::new(vec![(x, y - 6), (x, y + 6)], BLACK.mix(0.4)));
     }
     Ok(())
@@ -557,6 +570,9 @@ pub fn read_run(dir: &Path) -> Result<PlotData> {
         case_name: summary["case_name"].as_str().unwrap_or("run").to_string(),
         speed_kmh: summary["speed_kmh"].as_f64().unwrap_or(0.0),
         span_m: summary["span_m"].as_f64().filter(|s| *s > 0.0),
+        supports_m: summary["supports_m"].as_array().map_or(Vec::new(), |a| {
+            a.iter().filter_map(|v| v.as_f64()).collect()
+        }),
         analysis_m: [a[0].as_f64().unwrap_or(0.0), a[1].as_f64().unwrap_or(0.0)],
         overrides: summary["overrides"]
             .as_array()

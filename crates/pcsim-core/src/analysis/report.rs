@@ -47,8 +47,11 @@ pub struct RunSummary {
     pub speed_kmh: f64,
     /// Contact-wire tension used, N.
     pub contact_wire_tension_n: f64,
-    /// Span length, m.
-    pub span_m: f64,
+    /// Span length, m (none for a `[line]`: its supports are listed in `supports_m`).
+    pub span_m: Option<f64>,
+    /// The supports of a `[line]`, track positions, m (absent for a `[catenary]` of equal spans).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub supports_m: Vec<f64>,
     /// Simulated time, s.
     pub simulated_time_s: f64,
     /// Wall-clock time of the run, s.
@@ -193,7 +196,8 @@ impl RunSummary {
             case_name: case_name(case),
             speed_kmh: case.run.speed_kmh,
             contact_wire_tension_n: case.catenary.contact_wire.tension_n,
-            span_m: case.catenary.span_m,
+            span_m: case.line.is_none().then_some(case.catenary.span_m),
+            supports_m: case.line.as_ref().map_or(Vec::new(), |l| l.supports_m()),
             simulated_time_s: round_ns(out.simulated_time_s()),
             wall_time_s: (wall_time_s * 1e3).round() / 1e3,
             analysis_section_m: out.analysis_m,

@@ -856,6 +856,31 @@ pub struct StaticBalance {
 /// support, steady arm; the end supports carry half a span) against every weight.
 pub fn static_balance(case: &Case) -> StaticBalance {
     let c = &case.catenary;
+    if let Some(line) = &case.line {
+        // A tension length: its anchors carry the wires' end segments.
+        let s = TensionLengthStatics::solve(&tension_length_design(c, &line.tension_lengths[0]));
+        let mut weight =
+            (c.contact_wire.mass_per_m_kg + c.messenger.mass_per_m_kg) * G * case.length_m();
+        for h in &s.droppers {
+            let upper = match h.stitch {
+                Some(st) => st.node_mass_kg,
+                None => c.droppers.clamp_mass_messenger_kg,
+            };
+            weight +=
+                (c.droppers.clamp_mass_contact_kg + upper + c.droppers.mass_per_m_kg * h.length_m)
+                    * G;
+        }
+        let support = s.arm_force_n.iter().sum::<f64>()
+            + s.support_force_n.iter().sum::<f64>()
+            + [&s.contact, &s.messenger]
+                .iter()
+                .map(|p| p.end_force(true) + p.end_force(false))
+                .sum::<f64>();
+        return StaticBalance {
+            weight_n: weight,
+            support_n: support,
+        };
+    }
     let s = StaticSolution::solve(&static_design(c));
     let l = case.length_m();
     let n = c.spans as f64;

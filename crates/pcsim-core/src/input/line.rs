@@ -101,6 +101,16 @@ impl LineCase {
             .fold(0, |a, t| a.saturating_add(t.n_spans()))
     }
 
+    /// Track positions of the line's supports (the first at 0), m.
+    pub fn supports_m(&self) -> Vec<f64> {
+        let mut x = vec![0.0];
+        for s in self.tension_lengths.iter().flat_map(|t| t.span_lengths_m()) {
+            let last = x[x.len() - 1];
+            x.push(last + s);
+        }
+        x
+    }
+
     /// The line's length, m.
     pub fn length_m(&self) -> f64 {
         self.tension_lengths

@@ -46,6 +46,11 @@ pub const PRESETS: &[Preset] = &[
         summary: "stitched-2018-like-3d in a 25 m/s crosswind at 10 % turbulence (Kaimal, Davenport coherence, seeded)",
         toml: include_str!("../../../../presets/stitched-2018-like-3d-crosswind.toml"),
     },
+    Preset {
+        name: "line-structure-2002",
+        summary: "a [line]: en50318-2002's catenary over 15 spans of 40-60 m, the contact wire 0.2 m lower under a structure (issue 21)",
+        toml: include_str!("../../../../presets/line-structure-2002.toml"),
+    },
 ];
 
 /// Find a preset by name.

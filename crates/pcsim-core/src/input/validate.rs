@@ -121,6 +121,13 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
     let t = &line.tension_lengths[0];
     let f = |k: &str| format!("line.tension_lengths[0].{k}");
     let n = t.n_spans();
+    if c.spans != n {
+        return Err(inv(
+            "catenary.spans",
+            c.spans,
+            &format!("the line has {n} spans: omit catenary.spans with [line], or give {n}"),
+        ));
+    }
     if t.spans_m.is_empty() == t.span_runs.is_empty() {
         return Err(inv(
             &f("spans_m"),

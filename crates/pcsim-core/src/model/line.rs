@@ -117,6 +117,16 @@ impl LineProfile {
         h0 + (h1 - h0) / (x1 - x0) * (x - x0) + self.w / (2.0 * self.t) * (x - x0) * (x - x1)
     }
 
+    /// Upward force of the end support on the wire at its first node (`first`) or its last:
+    /// the vertical component of the tension along the end segment's parabola, `−T s + w h/2`
+    /// with `s` the chord slope into the wire and `h` the segment's length.
+    pub fn end_force(&self, first: bool) -> f64 {
+        let n = self.xs.len();
+        let (a, b) = if first { (0, 1) } else { (n - 1, n - 2) };
+        let h = (self.xs[b] - self.xs[a]).abs();
+        -self.t * (self.hs[b] - self.hs[a]) / h + self.w * h / 2.0
+    }
+
     /// Upward force the wire needs at interior node `j` to hold this shape ([`kink_force`]).
     pub fn node_force(&self, j: usize) -> f64 {
         kink_force(
