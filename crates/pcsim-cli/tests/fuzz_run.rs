@@ -44,9 +44,20 @@ fn bases() -> Vec<String> {
             c.pantographs.truncate(1);
             c.run.modes = None;
             c.run.modes_per_m = Some(0.5);
-            c.run.start_m = c.catenary.span_m;
-            c.run.end_m = l - c.catenary.span_m;
-            c.run.analysis_m = [2.0 * c.catenary.span_m, l - 2.0 * c.catenary.span_m];
+            let s = c.catenary.span_m;
+            c.run.start_m = s;
+            c.run.end_m = l - s;
+            c.run.analysis_m = [2.0 * s, l - 2.0 * s];
+            if let Some(line) = &c.line {
+                // A line: six spans of it, through its first overlap if it has one.
+                let from = line
+                    .overlap_sections_m()
+                    .first()
+                    .map_or(s, |o| (o[0] - 2.0 * s).max(s));
+                c.run.start_m = from;
+                c.run.end_m = (from + 6.0 * s).min(l - s);
+                c.run.analysis_m = [from + s, c.run.end_m - 0.5 * s];
+            }
             c.to_toml_string()
         })
         .collect()

@@ -19,6 +19,11 @@ fn tension_length(spans_m: Vec<f64>, heights: Vec<f64>) -> TensionLengthCase {
         droppers_m: Vec::new(),
         contact_height_m: heights,
         encumbrance_m: Vec::new(),
+        contact_wire: None,
+        messenger: None,
+        droppers: None,
+        messenger_support: None,
+        steady_arm: None,
     }
 }
 
@@ -26,6 +31,7 @@ fn with_line(mut case: Case, t: TensionLengthCase) -> Case {
     case.catenary.spans = t.n_spans();
     case.line = Some(LineCase {
         tension_lengths: vec![t],
+        overlaps: Vec::new(),
     });
     case
 }
@@ -411,12 +417,37 @@ fn line_errors_name_their_field() {
     for (t, field) in cases {
         assert_eq!(err(&mk(t)).0, field);
     }
+    // Two tension lengths need their overlap, whose spans are the same spans.
     let mut two = mk(ok.clone());
     two.line.as_mut().unwrap().tension_lengths.push(ok.clone());
-    two.catenary.spans = 6;
+    two.catenary.spans = 5;
     let (field, reason) = err(&two);
-    assert_eq!(field, "line.tension_lengths");
-    assert!(reason.contains("overlaps"), "{reason}");
+    assert_eq!(field, "line.overlaps");
+    assert!(reason.contains("between each two"), "{reason}");
+    for (spans, why) in [
+        (0, "shares 1 to"),
+        (2, "an overlap's spans are the same spans"),
+    ] {
+        let mut t = two.clone();
+        t.catenary.spans = 6 - spans.max(1);
+        t.line.as_mut().unwrap().overlaps = vec![pcsim_core::input::case::OverlapCase {
+            spans,
+            rise_m: 0.3,
+            separation_m: 0.2,
+        }];
+        let (field, reason) = err(&t);
+        assert_eq!(field, "line.overlaps[0].spans");
+        assert!(reason.contains(why), "{reason}");
+    }
+    // An override is checked as the catenary's own field would be, under its own name.
+    let mut t = ok.clone();
+    let mut w = base.catenary.contact_wire.clone();
+    w.tension_n = -1.0;
+    t.contact_wire = Some(w);
+    assert_eq!(
+        err(&mk(t)).0,
+        "line.tension_lengths[0].contact_wire.tension_n"
+    );
     // From TOML: catenary.spans is the line's when omitted, and a different count is refused.
     let text = base.to_toml_string();
     let with = |spans: &str| {
@@ -434,4 +465,210 @@ fn line_errors_name_their_field() {
         Err(CaseError::Invalid { field, .. }) => assert_eq!(field, "catenary.spans"),
         other => panic!("{other:?}"),
     }
+}
+
+/// Item 8's exact check of contact with several wires: two identical coincident tension lengths
+/// (an "overlap" of every span), each with half of every mass, tension, bending stiffness,
+/// dropper, support and arm, and half the contact stiffness, carry the pantograph as one
+/// tension length does: each half wire moves as the whole one, so the total contact force is
+/// the same (to 1e-9).
+#[test]
+fn two_coincident_half_wires_give_the_force_of_one() {
+    use pcsim_core::input::case::OverlapCase;
+    let case = common::short_en50318(10, 250.0);
+    let c = case.catenary.clone();
+    let runs = vec![SpanRun {
+        count: c.spans,
+        length_m: c.span_m,
+    }];
+    let whole = with_line(
+        case.clone(),
+        TensionLengthCase {
+            span_runs: runs.clone(),
+            ..tension_length(Vec::new(), Vec::new())
+        },
+    );
+    let half_wire = |w: &pcsim_core::input::case::WireCase| {
+        let mut w = w.clone();
+        w.mass_per_m_kg *= 0.5;
+        w.tension_n *= 0.5;
+        w.ei_nm2 *= 0.5;
+        w
+    };
+    let mut droppers = c.droppers.clone();
+    droppers.stiffness_n_per_m = droppers.stiffness_n_per_m.map(|k| 0.5 * k);
+    droppers.clamp_mass_contact_kg *= 0.5;
+    droppers.clamp_mass_messenger_kg *= 0.5;
+    droppers.mass_per_m_kg *= 0.5;
+    let mut support = c.messenger_support.clone();
+    support.stiffness_n_per_m *= 0.5;
+    support.damping_ns_per_m *= 0.5;
+    let mut arm = c.steady_arm.clone();
+    arm.mass_kg *= 0.5;
+    arm.stiffness_n_per_m *= 0.5;
+    let half = TensionLengthCase {
+        span_runs: runs,
+        contact_wire: Some(half_wire(&c.contact_wire)),
+        messenger: Some(half_wire(&c.messenger)),
+        droppers: Some(droppers),
+        messenger_support: Some(support),
+        steady_arm: Some(arm),
+        ..tension_length(Vec::new(), Vec::new())
+    };
+    let mut two = case.clone();
+    two.contact.stiffness_n_per_m *= 0.5;
+    two.line = Some(LineCase {
+        tension_lengths: vec![half.clone(), half],
+        overlaps: vec![OverlapCase {
+            spans: c.spans,
+            rise_m: 0.0,
+            separation_m: 0.0,
+        }],
+    });
+    if let Err(e) = two.validate() {
+        panic!("{e}");
+    }
+    let a = run_case(&whole, &mut |_| true).unwrap();
+    let b = run_case(&two, &mut |_| true).unwrap();
+    let (fa, fb) = (&a.pantographs[0].force_n, &b.pantographs[0].force_n);
+    assert_eq!(fa.len(), fb.len());
+    let scale = fa.iter().fold(0.0f64, |m, f| m.max(f.abs()));
+    let worst = fa
+        .iter()
+        .zip(fb)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(
+        worst <= 1e-9 * scale,
+        "largest difference {worst} N of {scale} N"
+    );
+    let (sa, sb) = (
+        a.pantographs[0].stats.unwrap(),
+        b.pantographs[0].stats.unwrap(),
+    );
+    assert!(close(
+        sa.max_uplift_at_support_mm,
+        sb.max_uplift_at_support_mm,
+        1.0,
+        1e-9
+    ));
+}
+
+/// A line of two tension lengths of 6 × 60 m sharing 3 spans (180–360 m): the leaving wire
+/// rises 0.3 m to its anchor at 360 m, the arriving one comes down from 0.3 m at 180 m.
+fn overlap_line() -> Case {
+    use pcsim_core::input::case::OverlapCase;
+    let mut case = common::short_en50318(9, 250.0);
+    let t = TensionLengthCase {
+        span_runs: vec![SpanRun {
+            count: 6,
+            length_m: 60.0,
+        }],
+        ..tension_length(Vec::new(), Vec::new())
+    };
+    case.line = Some(LineCase {
+        tension_lengths: vec![t.clone(), t],
+        overlaps: vec![OverlapCase {
+            spans: 3,
+            rise_m: 0.3,
+            separation_m: 0.2,
+        }],
+    });
+    case.catenary.spans = 9;
+    case.run.start_m = 60.0;
+    case.run.end_m = 480.0;
+    case.run.analysis_m = [120.0, 420.0];
+    case
+}
+
+/// The pantograph runs on the first contact wire, on both in the transfer, then on the second:
+/// each wire's force is zero beyond its tension length, both carry force only inside the
+/// overlap, the total is their sum, and the overlap's statistics are reported.
+#[test]
+fn the_pantograph_passes_an_overlap_from_one_wire_to_the_other() {
+    let case = overlap_line();
+    let out = run_case(&case, &mut |_| true).unwrap();
+    let p = &out.pantographs[0];
+    assert_eq!(p.wire_forces.len(), 2);
+    let (w1, w2) = (&p.wire_forces[0].1, &p.wire_forces[1].1);
+    let mut both = Vec::new();
+    for i in 0..p.position_m.len() {
+        let x = p.position_m[i];
+        assert!(p.force_n[i].is_finite());
+        assert!((p.force_n[i] - (w1[i] + w2[i])).abs() <= 1e-12 * p.force_n[i].abs().max(1.0));
+        if x > 360.0 {
+            assert_eq!(w1[i], 0.0, "the first wire ends at 360 m, force at {x}");
+        }
+        if x < 180.0 {
+            assert_eq!(w2[i], 0.0, "the second wire begins at 180 m, force at {x}");
+        }
+        if w1[i] > 0.0 && w2[i] > 0.0 {
+            both.push(x);
+        }
+    }
+    assert!(!both.is_empty(), "the pantograph never touched both wires");
+    let (a, b) = (both[0], both[both.len() - 1]);
+    assert!(
+        a > 180.0 && b < 360.0,
+        "transfer {a}–{b} m outside the overlap"
+    );
+    // The level middle span is where the wires meet.
+    assert!(
+        a < 300.0 && b > 240.0,
+        "transfer {a}–{b} m misses the middle span"
+    );
+    let o = p.overlaps[0];
+    assert_eq!(o.section_m, [180.0, 360.0]);
+    assert_eq!(o.transfer_m, Some([a, b]));
+    assert!(o.max_force_n > o.min_force_n && o.samples > 100);
+    assert!(o.max_uplift_at_support_mm > 0.0);
+}
+
+/// The energy balance holds with two contacts: a pantograph standing in the transfer span,
+/// pressing on both wires, kicked upward by 5 cm: the system's energy change plus what the
+/// dampers dissipated stays within 0.2 % of the energy exchanged.
+#[test]
+fn energy_balance_across_an_overlap() {
+    use pcsim_core::analysis::energy::{dissipation_rate, system_energy};
+    use pcsim_core::compile::{Setup, Stepper};
+    let mut case = overlap_line();
+    case.catenary.messenger_support.damping_ns_per_m = 200.0;
+    case.run.dt_s = 2.5e-4;
+    let mut setup = Setup::from_case(&case).unwrap();
+    setup.plan.speed_m_s = 0.0;
+    setup.plan.start_m = 270.0;
+    let Stepper {
+        integ,
+        state: mut st,
+        mut ws,
+    } = Stepper::new(&setup).unwrap();
+    st.pantographs.u[0] += 0.05;
+    let e0 = system_energy(integ.compiled(), &st, &mut ws).total();
+    let dt = integ.dt_s();
+    let mut d_prev = dissipation_rate(integ.compiled(), &st, &mut ws);
+    let mut dissipated = 0.0;
+    let (mut worst, mut scale): (f64, f64) = (0.0, 0.0);
+    let mut touched_both = 0;
+    let cm = integ.compiled();
+    for _ in 0..8_000 {
+        integ.step(&mut st, &mut ws);
+        let pts = cm.contact_points(0);
+        if pts.iter().all(|&k| cm.moving_sample(&ws, k).0 > 0.0) {
+            touched_both += 1;
+        }
+        let d = dissipation_rate(cm, &st, &mut ws);
+        dissipated += 0.5 * dt * (d + d_prev);
+        d_prev = d;
+        let e = system_energy(cm, &st, &mut ws).total();
+        worst = worst.max((e - e0 + dissipated).abs());
+        scale = scale.max((e - e0).abs()).max(dissipated);
+    }
+    assert!(
+        touched_both > 1000,
+        "both wires touched in {touched_both} steps"
+    );
+    assert!(scale > 1.0, "scale {scale} J");
+    assert!(
+        worst < 2e-3 * scale,
+        "energy residual {worst} J against {scale} J"
+    );
 }

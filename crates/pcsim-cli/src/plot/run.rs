@@ -32,6 +32,8 @@ pub struct PlotData {
     pub span_m: Option<f64>,
     /// The supports of a line whose spans differ, m.
     pub supports_m: Vec<f64>,
+    /// A line's overlaps (first and last shared support), m.
+    pub overlaps_m: Vec<[f64; 2]>,
     pub analysis_m: [f64; 2],
     /// The flags that overrode case values (named in the titles).
     pub overrides: Vec<String>,
@@ -92,6 +94,21 @@ fn span_marks<DB: DrawingBackend>(
             RGBColor(255, 240, 200).mix(0.35).filled(),
         )))
         .map_err(|e| anyhow!("{e:?}"))?;
+    // A line's overlaps, shaded too (the tension lengths change there).
+    if !d.overlaps_m.is_empty() {
+        let blue = RGBColor(120, 170, 255);
+        chart
+            .draw_series(
+                d.overlaps_m
+                    .iter()
+                    .map(|o| Rectangle::new([(o[0], y.0), (o[1], y.1)], blue.mix(0.22).filled())),
+            )
+            .map_err(|e| anyhow!("{e:?}"))?
+            .label("overlaps (two contact wires; the tension length changes)")
+            .legend(move |(x, y)| {
+                Rectangle::new([(x - 6, y - 5), (x + 6, y + 5)], blue.mix(0.5).filled())
+            });
+    }
     if let Some(s) = d.span_m {
         let first = (x.0 / s).ceil() as i64;
         let last = ((x.1 / s).floor() as i64).min(first + 5000);
@@ -572,6 +589,11 @@ pub fn read_run(dir: &Path) -> Result<PlotData> {
         span_m: summary["span_m"].as_f64().filter(|s| *s > 0.0),
         supports_m: summary["supports_m"].as_array().map_or(Vec::new(), |a| {
             a.iter().filter_map(|v| v.as_f64()).collect()
+        }),
+        overlaps_m: summary["overlaps_m"].as_array().map_or(Vec::new(), |a| {
+            a.iter()
+                .filter_map(|o| Some([o.get(0)?.as_f64()?, o.get(1)?.as_f64()?]))
+                .collect()
         }),
         analysis_m: [a[0].as_f64().unwrap_or(0.0), a[1].as_f64().unwrap_or(0.0)],
         overrides: summary["overrides"]

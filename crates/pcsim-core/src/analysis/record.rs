@@ -2,7 +2,9 @@
 //! [`simulate`], which runs a set-up through the one run loop and takes the statistics.
 
 use crate::analysis::filter::lowpass_zero_phase;
-use crate::analysis::stats::{contact_stats, lateral_stats, ContactStats, LateralStats, CUTOFF_HZ};
+use crate::analysis::stats::{
+    contact_stats, lateral_stats, ContactStats, LateralStats, OverlapStats, CUTOFF_HZ,
+};
 use crate::compile::Setup;
 use crate::error::SimError;
 use crate::input::case::Case;
@@ -39,6 +41,11 @@ pub struct PantographTrace {
     pub head_half_width_m: Option<f64>,
     /// The contact point across the head over the analysis section (lateral motion modelled).
     pub lateral: Option<LateralStats>,
+    /// Per contact wire when there is more than one (a line's tension lengths): its name and
+    /// the raw force on it, N (empty otherwise).
+    pub wire_forces: Vec<(String, Vec<f64>)>,
+    /// The passage through each overlap of a line, in track order (those passed).
+    pub overlaps: Vec<OverlapStats>,
 }
 
 /// Everything a run produced.
@@ -99,10 +106,18 @@ pub struct Recorder {
     /// The line's supports (model coordinates) when the spans do not repeat, m.
     supports_m: Vec<f64>,
     analysis_m: [f64; 2],
-    /// Registration point of support number `j` (`round(x / span)`), by `j`.
-    support: Vec<Option<usize>>,
+    /// Registration points of support number `j` (`round(x / span)`, or the line's `j`-th), by
+    /// `j`: one, or one per tension length at an overlap's shared supports.
+    support: Vec<Vec<usize>>,
     /// The run's time step, s.
     dt_s: f64,
+    /// Per pantograph with several contact wires: the force on each, by step.
+    wire_force: Vec<Vec<Vec<f64>>>,
+    /// Per pantograph: its passage through each overlap.
+    overlaps: Vec<Vec<OverlapStats>>,
+    /// Per pantograph with several contact wires: the gap of the nearest idle wire above the
+    /// contact point, by step, m (infinite when there is none).
+    idle_gap: Vec<Vec<f64>>,
 }
 
 impl Recorder {
@@ -116,11 +131,11 @@ impl Recorder {
         if span_m.is_none() {
             // Spans that do not repeat: support `j` is the line's `j`-th.
             for (k, &x) in cm.monitor_positions().iter().enumerate() {
-                if let Some(j) = supports_m.iter().position(|&s| (x - s).abs() < 1e-6) {
+                if let Some(j) = supports_m.iter().position(|&s| (x - s).abs() < 1e-3) {
                     if support.len() <= j {
-                        support.resize(j + 1, None);
+                        support.resize(j + 1, Vec::new());
                     }
-                    support[j] = Some(k);
+                    support[j].push(k);
                 }
             }
         }
@@ -130,15 +145,29 @@ impl Recorder {
                 if j >= 0.0 && (x - j * span).abs() < 1e-6 {
                     let j = j as usize;
                     if support.len() <= j {
-                        support.resize(j + 1, None);
+                        support.resize(j + 1, Vec::new());
                     }
-                    support[j] = Some(k);
+                    support[j] = vec![k];
                 }
             }
         }
         let lateral = cm.model().has(Direction::Lateral);
         let twist = lateral && cm.model().has(Direction::Torsional);
+        let wire_force = (0..np)
+            .map(|p| vec![Vec::with_capacity(n_steps); cm.contact_points(p).len()])
+            .collect();
+        let overlaps = vec![
+            cm.model()
+                .overlaps_m
+                .iter()
+                .map(|&s| OverlapStats::new(s))
+                .collect::<Vec<_>>();
+            np
+        ];
         Recorder {
+            idle_gap: vec![Vec::new(); np],
+            wire_force,
+            overlaps,
             time: Vec::with_capacity(n_steps),
             pos: vec![Vec::with_capacity(n_steps); np],
             force: vec![Vec::with_capacity(n_steps); np],
@@ -174,6 +203,10 @@ impl Recorder {
                     self.uplift[p],
                 );
                 let pan = &m.pantographs[p];
+                let overlaps = std::mem::take(&mut self.overlaps[p])
+                    .into_iter()
+                    .filter_map(|o| o.finish(&self.pos[p], &self.idle_gap[p]))
+                    .collect();
                 let lateral = if self.lateral[p].is_empty() {
                     None
                 } else {
@@ -202,6 +235,13 @@ impl Recorder {
                     twist_rad: std::mem::take(&mut self.twist[p]),
                     head_half_width_m: pan.head_half_width_m,
                     lateral,
+                    wire_forces: cm
+                        .contact_points(p)
+                        .iter()
+                        .zip(std::mem::take(&mut self.wire_force[p]))
+                        .map(|(&k, f)| (m.wires[cm.moving_wire(k)].name.clone(), f))
+                        .collect(),
+                    overlaps,
                 }
             })
             .collect();
@@ -242,6 +282,26 @@ impl Observer for Recorder {
             }
         }
         for (p, s) in ws.samples().iter().enumerate() {
+            let pts = cm.contact_points(p);
+            if !pts.is_empty() {
+                // Several contact wires: the force on each; inside an overlap, how many carry
+                // force and how far above the contact point the nearest idle one is.
+                let (mut touching, mut gap) = (0, f64::INFINITY);
+                for (k, &mi) in pts.iter().enumerate() {
+                    let (f, h, present) = cm.moving_sample(ws, mi);
+                    self.wire_force[p][k].push(f);
+                    if f > 0.0 {
+                        touching += 1;
+                    } else if present {
+                        gap = gap.min(h - s.wire_height_m);
+                    }
+                }
+                self.idle_gap[p].push(gap);
+                let x = s.position_m + origin;
+                for o in self.overlaps[p].iter_mut().filter(|o| o.contains(x)) {
+                    o.add(x, s.force_n, touching);
+                }
+            }
             self.pos[p].push(s.position_m + origin);
             self.force[p].push(s.force_n);
             self.height[p].push(s.wire_height_m);
@@ -265,9 +325,16 @@ impl Observer for Recorder {
                     i
                 };
                 let xs = self.supports_m[j] + origin;
+                let monitors = self.support.get(j).map_or(&[][..], |v| &v[..]);
                 if xs >= self.analysis_m[0] && xs <= self.analysis_m[1] {
-                    if let Some(Some(k)) = self.support.get(j) {
-                        self.uplift[p] = self.uplift[p].max(cm.monitor(ws, *k));
+                    for &k in monitors {
+                        self.uplift[p] = self.uplift[p].max(cm.monitor(ws, k));
+                    }
+                }
+                for o in self.overlaps[p].iter_mut().filter(|o| o.contains(xs)) {
+                    for &k in monitors {
+                        o.max_uplift_at_support_mm =
+                            o.max_uplift_at_support_mm.max(cm.monitor(ws, k) * 1e3);
                     }
                 }
             }
@@ -275,8 +342,8 @@ impl Observer for Recorder {
                 let j = (s.position_m / span).round();
                 let xs = j * span + origin;
                 if j >= 0.0 && xs >= self.analysis_m[0] && xs <= self.analysis_m[1] {
-                    if let Some(Some(k)) = self.support.get(j as usize) {
-                        self.uplift[p] = self.uplift[p].max(cm.monitor(ws, *k));
+                    if let Some(&[k]) = self.support.get(j as usize).map(|v| &v[..]) {
+                        self.uplift[p] = self.uplift[p].max(cm.monitor(ws, k));
                     }
                 }
             }

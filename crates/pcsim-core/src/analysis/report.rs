@@ -5,7 +5,7 @@
 use serde::Serialize;
 
 use crate::analysis::record::RunOutput;
-use crate::analysis::stats::{ContactStats, LateralStats};
+use crate::analysis::stats::{ContactStats, LateralStats, OverlapStats};
 use crate::input::case::Case;
 use crate::model::irregularity::IrregularityReport;
 use crate::model::wind::WindReport;
@@ -36,6 +36,9 @@ pub struct PantographSummary {
     /// histogram.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lateral: Option<LateralStats>,
+    /// Its passage through each overlap of a line (issue 21).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub overlaps: Vec<OverlapStats>,
 }
 
 #[derive(Serialize)]
@@ -52,6 +55,9 @@ pub struct RunSummary {
     /// The supports of a `[line]`, track positions, m (absent for a `[catenary]` of equal spans).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub supports_m: Vec<f64>,
+    /// The overlaps of a `[line]`: first and last shared support of each, m.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub overlaps_m: Vec<[f64; 2]>,
     /// Simulated time, s.
     pub simulated_time_s: f64,
     /// Wall-clock time of the run, s.
@@ -198,6 +204,10 @@ impl RunSummary {
             contact_wire_tension_n: case.catenary.contact_wire.tension_n,
             span_m: case.line.is_none().then_some(case.catenary.span_m),
             supports_m: case.line.as_ref().map_or(Vec::new(), |l| l.supports_m()),
+            overlaps_m: case
+                .line
+                .as_ref()
+                .map_or(Vec::new(), |l| l.overlap_sections_m()),
             simulated_time_s: round_ns(out.simulated_time_s()),
             wall_time_s: (wall_time_s * 1e3).round() / 1e3,
             analysis_section_m: out.analysis_m,
@@ -217,6 +227,7 @@ impl RunSummary {
                     name: p.name.clone(),
                     stats: p.stats,
                     lateral: p.lateral.clone(),
+                    overlaps: p.overlaps.clone(),
                 })
                 .collect(),
             wind: out.wind.clone(),
@@ -273,6 +284,9 @@ pub fn timeseries_columns(out: &RunOutput) -> Vec<Column> {
         }
         if !p.twist_rad.is_empty() {
             cols.push(col(format!("{tag}_twist_rad"), p.twist_rad.clone(), 9));
+        }
+        for (wire, f) in &p.wire_forces {
+            cols.push(col(format!("{tag}_force_on_{wire}_n"), f.clone(), 4));
         }
     }
     cols

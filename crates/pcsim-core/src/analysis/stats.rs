@@ -182,3 +182,86 @@ pub fn lateral_stats(
         },
     })
 }
+
+/// One pantograph's passage through one overlap of a line (issue 21): the raw contact force
+/// (the sum over the wires) while the pantograph is between the overlap's first and last shared
+/// supports.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct OverlapStats {
+    /// The overlap: its first and last shared support, track coordinates, m.
+    pub section_m: [f64; 2],
+    /// Largest raw contact force inside it, N.
+    pub max_force_n: f64,
+    /// Smallest raw contact force inside it, N.
+    pub min_force_n: f64,
+    /// Share of its samples with no contact force, %.
+    pub loss_of_contact_percent: f64,
+    /// Where both contact wires carried force: the first and last such position, m (none when
+    /// the pantograph never touched both at once).
+    pub transfer_m: Option<[f64; 2]>,
+    /// The out-of-running wire's clearance: the smallest height of a wire carrying no force
+    /// above the wire the pantograph runs on, inside the overlap but outside the transfer
+    /// region, mm (none when there is no such sample).
+    pub min_clearance_mm: Option<f64>,
+    /// Largest uplift of a steady arm at the overlap's supports while the pantograph passed, mm.
+    pub max_uplift_at_support_mm: f64,
+    /// Samples inside it.
+    pub samples: usize,
+}
+
+impl OverlapStats {
+    /// An overlap not yet passed.
+    pub fn new(section_m: [f64; 2]) -> Self {
+        OverlapStats {
+            section_m,
+            max_force_n: f64::NEG_INFINITY,
+            min_force_n: f64::INFINITY,
+            loss_of_contact_percent: 0.0,
+            transfer_m: None,
+            min_clearance_mm: None,
+            max_uplift_at_support_mm: 0.0,
+            samples: 0,
+        }
+    }
+
+    /// Whether track position `x` lies inside the overlap.
+    pub fn contains(&self, x: f64) -> bool {
+        x >= self.section_m[0] && x <= self.section_m[1]
+    }
+
+    /// Add a sample at `x` of total force `force_n`, with `touching` wires carrying force.
+    pub fn add(&mut self, x: f64, force_n: f64, touching: usize) {
+        self.samples += 1;
+        self.max_force_n = self.max_force_n.max(force_n);
+        self.min_force_n = self.min_force_n.min(force_n);
+        if force_n <= 0.0 {
+            // Counted as a count until `finish`.
+            self.loss_of_contact_percent += 1.0;
+        }
+        if touching >= 2 {
+            self.transfer_m = Some(match self.transfer_m {
+                Some([a, b]) => [a.min(x), b.max(x)],
+                None => [x, x],
+            });
+        }
+    }
+
+    /// The statistics of the passage (`None` when the pantograph never entered the overlap),
+    /// with the clearance from the positions `x` of the run and, per sample, the gap `gap_m` of
+    /// the nearest idle wire above the contact point (infinite when none).
+    pub fn finish(mut self, x: &[f64], gap_m: &[f64]) -> Option<Self> {
+        if self.samples == 0 {
+            return None;
+        }
+        self.loss_of_contact_percent *= 100.0 / self.samples as f64;
+        let outside = |xi: f64| self.transfer_m.is_none_or(|[a, b]| xi < a || xi > b);
+        let c = x
+            .iter()
+            .zip(gap_m)
+            .filter(|&(&xi, g)| self.contains(xi) && outside(xi) && g.is_finite())
+            .map(|(_, &g)| g)
+            .fold(f64::INFINITY, f64::min);
+        self.min_clearance_mm = c.is_finite().then_some(c * 1e3);
+        Some(self)
+    }
+}

@@ -19,7 +19,9 @@ use crate::model::elements::support::{Support, Supports};
 use crate::model::elements::{Attach, PointElement};
 use crate::model::irregularity::{IrregularityProfile, IrregularitySource};
 use crate::model::lateral::LateralGeometry;
-use crate::model::line::{SpanLayout, StitchWire, TensionLengthDesign, TensionLengthStatics};
+use crate::model::line::{
+    LineStatics, SpanLayout, StitchWire, TensionLengthDesign, TensionLengthStatics,
+};
 use crate::model::pantograph::{Lumped, Pantograph, PantographKind};
 use crate::model::statics::{
     presag_values, StaticDesign, StaticSolution, StitchDesign, StitchStatic, G,
@@ -260,10 +262,10 @@ fn default_name(name: &str, i: usize) -> String {
     }
 }
 
-/// The pantographs of a case, and one contact per pantograph on the contact wire.
+/// The pantographs of a case, and one contact per pantograph and contact wire.
 fn pantographs(
     case: &Case,
-    contact_wire: usize,
+    contact_wires: &[usize],
     eccentricity_m: f64,
     twist: bool,
     lateral: bool,
@@ -320,21 +322,25 @@ fn pantographs(
                     ContactLaw::prescribed(Direction::Vertical, i, n_pans),
                 ),
             };
-            contacts.push(Contact {
-                pantograph: i,
-                wire: contact_wire,
-                dir: Direction::Vertical,
-                law,
-                eccentricity_m,
-                twist,
-            });
+            // One contact per contact wire (a line's tension lengths; in an overlap the head
+            // meets one wire, both, then the other).
+            for &wire in contact_wires {
+                contacts.push(Contact {
+                    pantograph: i,
+                    wire,
+                    dir: Direction::Vertical,
+                    law,
+                    eccentricity_m,
+                    twist,
+                });
+            }
             if lateral && matches!(p, PantographCase::MovingForce { .. }) {
                 // The lateral probe, after the vertical contact (the pantograph's first moving
                 // point is its vertical one): a prescribed force on the lateral series at the
                 // point under the pantograph, its load after the vertical ones.
                 contacts.push(Contact {
                     pantograph: i,
-                    wire: contact_wire,
+                    wire: contact_wires[0],
                     dir: Direction::Lateral,
                     law: ContactLaw::prescribed(Direction::Lateral, i, n_pans),
                     eccentricity_m: 0.0,
@@ -398,8 +404,6 @@ pub fn model_from_validated(
     // start state, `solve::equilibrium`).
     let placed = place(case)?;
     let l = case.length_m();
-    let basis = SineBasis::new(l, case.n_modes());
-    let (rho_c, rho_m) = smeared_masses(c, &placed, l);
     let wind = wind_load(case, diameters, l);
     // The linearised aerodynamic damping of the wind joins each wire's modal damping.
     let aero = |wire: usize, dir: Direction| {
@@ -411,39 +415,60 @@ pub fn model_from_validated(
                 Direction::Torsional => ww.damping_torsional,
             })
     };
-    let wires: Vec<Wire> = [
-        (
-            "messenger",
-            WireRole::Messenger,
-            rho_m,
-            &c.messenger,
-            MESSENGER,
-        ),
-        (
-            "contact_wire",
-            WireRole::Contact,
-            rho_c,
-            &c.contact_wire,
-            CONTACT,
-        ),
-    ]
-    .into_iter()
-    .map(|(name, role, rho, wc, i)| {
-        Wire::new(
-            name,
-            role,
-            0.0,
-            basis.clone(),
-            section(rho, wc, ice_polar[i]),
-            c.damping.clone(),
-            &dirs,
-        )
-        .with_added_damping(Direction::Lateral, aero(i, Direction::Lateral))
-        .with_added_damping(Direction::Vertical, aero(i, Direction::Vertical))
-        .with_added_damping(Direction::Torsional, aero(i, Direction::Torsional))
-        .with_static_load(Direction::Vertical, -ice_mass_kg_m[i] * G)
-    })
-    .collect();
+    // Two wires per tension length, the messenger then the contact wire: wire 2k is tension
+    // length k's messenger, 2k + 1 its contact wire (MESSENGER, CONTACT for the first).
+    let one = placed.tls.len() == 1;
+    let mut wires: Vec<Wire> = Vec::with_capacity(2 * placed.tls.len());
+    for (k, tl) in placed.tls.iter().enumerate() {
+        // The first tension length of a `[catenary]` carries the ice (its masses in `c`).
+        let ck = if case.line.is_none() { c } else { &tl.catenary };
+        let periodic = matches!(placed.shape, StaticShape::Catenary(_)).then_some(c.span_m);
+        let (rho_c, rho_m) = smeared_masses(ck, tl, periodic);
+        let basis = if case.line.is_none() || one {
+            SineBasis::new(l, case.n_modes())
+        } else {
+            let n = (case.n_modes() as f64 * tl.length_m / l).round().max(1.0) as usize;
+            SineBasis::new(tl.length_m, n)
+        };
+        let suffix = if one {
+            String::new()
+        } else {
+            format!("-{}", k + 1)
+        };
+        for (name, role, rho, wc, i) in [
+            (
+                "messenger",
+                WireRole::Messenger,
+                rho_m,
+                &ck.messenger,
+                MESSENGER,
+            ),
+            (
+                "contact_wire",
+                WireRole::Contact,
+                rho_c,
+                &ck.contact_wire,
+                CONTACT,
+            ),
+        ] {
+            let w = 2 * k + i;
+            wires.push(
+                Wire::new(
+                    &format!("{name}{suffix}"),
+                    role,
+                    tl.start_m,
+                    basis.clone(),
+                    section(rho, wc, ice_polar[i]),
+                    c.damping.clone(),
+                    &dirs,
+                )
+                .with_added_damping(Direction::Lateral, aero(w, Direction::Lateral))
+                .with_added_damping(Direction::Vertical, aero(w, Direction::Vertical))
+                .with_added_damping(Direction::Torsional, aero(w, Direction::Torsional))
+                .with_static_load(Direction::Vertical, -ice_mass_kg_m[i] * G),
+            );
+        }
+    }
     if let Some(wl) = &wind {
         for ww in &wl.wires {
             if ww.damping_vertical < 0.0 {
@@ -477,13 +502,17 @@ pub fn model_from_validated(
     let mut droppers = Vec::new();
     let mut stitches = Vec::new();
     let mut nodes = Vec::new();
-    let sup = &c.messenger_support;
-    for h in &placed.hangers {
-        {
+    let mut supports = Vec::new();
+    let mut arms = Vec::new();
+    for (k, tl) in placed.tls.iter().enumerate() {
+        let (mw, cw) = (2 * k + MESSENGER, 2 * k + CONTACT);
+        let ck = &tl.catenary;
+        let sup = &ck.messenger_support;
+        for h in &tl.hangers {
             let x = h.x_m;
             let top = match h.stitch {
                 Some(st) => {
-                    let damping = match c.stitch_wire.as_ref().and_then(|w| w.damping_ns_per_m) {
+                    let damping = match ck.stitch_wire.as_ref().and_then(|w| w.damping_ns_per_m) {
                         Some(cs) => cs,
                         None if sup.stiffness_n_per_m > 0.0 => {
                             sup.damping_ns_per_m / sup.stiffness_n_per_m * st.stiffness_n_per_m
@@ -497,56 +526,42 @@ pub fn model_from_validated(
                     });
                     let node = Attach::Node(nodes.len() - 1);
                     stitches.push(Stitch {
-                        wire: on(MESSENGER, x),
+                        wire: on(mw, x),
                         node,
                         stiffness_n_per_m: st.stiffness_n_per_m,
                         damping_ns_per_m: damping,
                     });
                     node
                 }
-                None => on(MESSENGER, x),
+                None => on(mw, x),
             };
             droppers.push(Dropper {
                 x_m: x,
-                stiffness_n_per_m: match (c.droppers.stiffness_n_per_m, c.droppers.ea_n) {
-                    (Some(k), _) => k,
-                    (None, Some(ea)) => ea / h.length_m,
-                    (None, None) => unreachable!("validated"),
-                },
+                stiffness_n_per_m: h.stiffness_n_per_m,
                 preload_n: h.preload_n,
                 top,
-                bottom: on(CONTACT, x),
+                bottom: on(cw, x),
                 length_m: h.length_m,
-                top_lateral: on_dir(MESSENGER, Direction::Lateral, x, lateral),
-                bottom_lateral: on_dir(CONTACT, Direction::Lateral, x, lateral),
-                bottom_twist: on_dir(
-                    CONTACT,
-                    Direction::Torsional,
-                    x,
-                    torsional && dropper_ecc != 0.0,
-                ),
+                top_lateral: on_dir(mw, Direction::Lateral, x, lateral),
+                bottom_lateral: on_dir(cw, Direction::Lateral, x, lateral),
+                bottom_twist: on_dir(cw, Direction::Torsional, x, torsional && dropper_ecc != 0.0),
                 eccentricity_m: if torsional { dropper_ecc } else { 0.0 },
             });
         }
+        for &x in &tl.interior_supports_m {
+            supports.push(Support {
+                at: on(mw, x),
+                stiffness_n_per_m: sup.stiffness_n_per_m,
+                damping_ns_per_m: sup.damping_ns_per_m,
+            });
+            arms.push(SteadyArm {
+                at: on(cw, x),
+                mass_kg: ck.steady_arm.mass_kg,
+                stiffness_n_per_m: ck.steady_arm.stiffness_n_per_m,
+            });
+        }
     }
-    let supports = placed
-        .interior_supports_m
-        .iter()
-        .map(|&x| Support {
-            at: on(MESSENGER, x),
-            stiffness_n_per_m: c.messenger_support.stiffness_n_per_m,
-            damping_ns_per_m: c.messenger_support.damping_ns_per_m,
-        })
-        .collect();
-    let arms = placed
-        .interior_supports_m
-        .iter()
-        .map(|&x| SteadyArm {
-            at: on(CONTACT, x),
-            mass_kg: c.steady_arm.mass_kg,
-            stiffness_n_per_m: c.steady_arm.stiffness_n_per_m,
-        })
-        .collect();
+    let first = &placed.tls[0];
     // Lateral registration at the inner supports (the model's ends are pinned by the sine
     // series): the contact wire's steady arm, eccentric by e_s, and the messenger's support.
     let mut registrations = Vec::new();
@@ -557,7 +572,7 @@ pub fn model_from_validated(
         } else {
             0.0
         };
-        for (k, &x) in placed.interior_supports_m.iter().enumerate() {
+        for (k, &x) in first.interior_supports_m.iter().enumerate() {
             let k_phi = lc.steady_arm_torsional_stiffness_nm_per_rad;
             registrations.push(Registration {
                 at: on_dir(CONTACT, Direction::Lateral, x, true),
@@ -572,7 +587,7 @@ pub fn model_from_validated(
                 stiffness_n_per_m: lc.steady_arm_stiffness_n_per_m,
                 mass_kg: lc.steady_arm_mass_kg,
                 vertical_force_n: if c.steady_arm.static_support {
-                    placed.arm_force_n[k]
+                    first.arm_force_n[k]
                 } else {
                     0.0
                 },
@@ -611,7 +626,8 @@ pub fn model_from_validated(
         (Some(lc), true) => lc.contact_point_eccentricity_m,
         _ => 0.0,
     };
-    let (pans, contacts) = pantographs(case, CONTACT, e_c, torsional && e_c != 0.0, lateral);
+    let contact_wires: Vec<usize> = (0..placed.tls.len()).map(|k| 2 * k + CONTACT).collect();
+    let (pans, contacts) = pantographs(case, &contact_wires, e_c, torsional && e_c != 0.0, lateral);
     // The registration of every element kind, in the order their forces are evaluated.
     let mut elements: Vec<Box<dyn PointElement>> = vec![
         Box::new(Droppers(droppers)),
@@ -625,6 +641,10 @@ pub fn model_from_validated(
     elements.push(Box::new(contacts));
     let mut model = Model::new(wires, nodes, elements, pans, placed.shape, placed.span_m);
     model.supports_m = placed.supports_m;
+    model.overlaps_m = case
+        .line
+        .as_ref()
+        .map_or(Vec::new(), |l| l.overlap_sections_m());
     model.lateral = geometry;
     model.wind = wind;
     if !case.irregularity.is_empty() {
@@ -644,20 +664,30 @@ struct Hanger {
     x_m: f64,
     length_m: f64,
     preload_n: f64,
+    stiffness_n_per_m: f64,
     stitch: Option<StitchStatic>,
 }
 
-/// Where a case's droppers and supports are and what the static shape gives them: the one
-/// hand-over from either static solution (the span-periodic `[catenary]`, or a `[line]`'s
-/// tension length) to the elements.
-struct Placed {
+/// One tension length placed on the line: its catenary (with its own overrides), where its
+/// wires begin and how long they are, its droppers and its interior supports.
+struct PlacedTl {
+    catenary: CatenaryCase,
+    start_m: f64,
+    length_m: f64,
     hangers: Vec<Hanger>,
-    /// Every support, ends included, model coordinates, m.
-    supports_m: Vec<f64>,
     /// The interior supports (where the messenger supports and steady arms are), m.
     interior_supports_m: Vec<f64>,
     /// The steady arm's static force at each interior support, N.
     arm_force_n: Vec<f64>,
+}
+
+/// Where a case's droppers and supports are and what the static shape gives them: the one
+/// hand-over from either static solution (the span-periodic `[catenary]`, or a `[line]`'s
+/// tension lengths) to the wires and elements.
+struct Placed {
+    tls: Vec<PlacedTl>,
+    /// Every support of the line, ends included, model coordinates, m.
+    supports_m: Vec<f64>,
     shape: StaticShape,
     /// The span when the layout repeats every span (the fast sampler's periodic path).
     span_m: Option<f64>,
@@ -677,39 +707,70 @@ fn place(case: &Case) -> Result<Placed, CaseError> {
         ),
     };
     if let Some(line) = &case.line {
-        let d = tension_length_design(c, &line.tension_lengths[0]);
-        let st = TensionLengthStatics::solve(&d);
-        for (i, h) in st.droppers.iter().enumerate() {
-            if !h.length_m.is_finite() || h.length_m <= 0.05 {
-                return Err(too_short(
-                    format!("line.tension_lengths[0].encumbrance_m[{}]", h.span),
-                    d.encumbrance_m[h.span].to_string(),
-                    i,
-                    h.length_m,
-                ));
+        let starts = line.starts_m();
+        let mut tls = Vec::new();
+        let mut statics = Vec::new();
+        let mut repeats = line.tension_lengths.len() == 1;
+        let mut first_span = None;
+        for (k, t) in line.tension_lengths.iter().enumerate() {
+            let ck = t.catenary(c);
+            let mut d = tension_length_design(&ck, t);
+            d.start_m = starts[k];
+            let ns = d.spans.len();
+            // The overlaps' out-of-running wires rise toward their anchors.
+            if let Some(o) = k.checked_sub(1).and_then(|j| line.overlaps.get(j)) {
+                d.contact_height_m[0] += o.rise_m;
             }
+            if let Some(o) = line.overlaps.get(k) {
+                d.contact_height_m[ns] += o.rise_m;
+            }
+            let st = TensionLengthStatics::solve(&d);
+            for (i, h) in st.droppers.iter().enumerate() {
+                if !h.length_m.is_finite() || h.length_m <= 0.05 {
+                    return Err(too_short(
+                        format!("line.tension_lengths[{k}].encumbrance_m[{}]", h.span),
+                        d.encumbrance_m[h.span].to_string(),
+                        i,
+                        h.length_m,
+                    ));
+                }
+            }
+            let first = &d.spans[0];
+            repeats = repeats
+                && d.spans.iter().all(|s| s == first)
+                && d.contact_height_m.iter().all(|&h| h == 0.0)
+                && d.encumbrance_m.iter().all(|&e| e == d.encumbrance_m[0]);
+            first_span.get_or_insert(first.length_m);
+            let stiffness = |len: f64| match (ck.droppers.stiffness_n_per_m, ck.droppers.ea_n) {
+                (Some(k), _) => k,
+                (None, Some(ea)) => ea / len,
+                (None, None) => unreachable!("validated"),
+            };
+            tls.push(PlacedTl {
+                start_m: starts[k],
+                length_m: st.supports_m[ns] - st.supports_m[0],
+                hangers: st
+                    .droppers
+                    .iter()
+                    .map(|h| Hanger {
+                        x_m: h.x_m,
+                        length_m: h.length_m,
+                        preload_n: h.force_contact_n,
+                        stiffness_n_per_m: stiffness(h.length_m),
+                        stitch: h.stitch,
+                    })
+                    .collect(),
+                interior_supports_m: st.supports_m[1..ns].to_vec(),
+                arm_force_n: st.arm_force_n[1..ns].to_vec(),
+                catenary: ck,
+            });
+            statics.push(st);
         }
-        let ns = d.spans.len();
-        let first = &d.spans[0];
-        let repeats = d.spans.iter().all(|s| s == first)
-            && d.contact_height_m.iter().all(|&h| h == 0.0)
-            && d.encumbrance_m.iter().all(|&e| e == d.encumbrance_m[0]);
         return Ok(Placed {
-            hangers: st
-                .droppers
-                .iter()
-                .map(|h| Hanger {
-                    x_m: h.x_m,
-                    length_m: h.length_m,
-                    preload_n: h.force_contact_n,
-                    stitch: h.stitch,
-                })
-                .collect(),
-            interior_supports_m: st.supports_m[1..ns].to_vec(),
-            arm_force_n: st.arm_force_n[1..ns].to_vec(),
-            supports_m: st.supports_m.clone(),
-            shape: StaticShape::Line(Box::new(st)),
-            span_m: repeats.then_some(first.length_m),
+            tls,
+            supports_m: line.supports_m(),
+            shape: StaticShape::Line(Box::new(LineStatics::new(statics))),
+            span_m: if repeats { first_span } else { None },
         });
     }
     let stat = StaticSolution::solve(&static_design(c));
@@ -730,28 +791,39 @@ fn place(case: &Case) -> Result<Placed, CaseError> {
                 x_m: s as f64 * c.span_m + d,
                 length_m: stat.dropper_length_m[i],
                 preload_n: stat.dropper_force_contact_n[i],
+                stiffness_n_per_m: match (c.droppers.stiffness_n_per_m, c.droppers.ea_n) {
+                    (Some(k), _) => k,
+                    (None, Some(ea)) => ea / stat.dropper_length_m[i],
+                    (None, None) => unreachable!("validated"),
+                },
                 stitch: stat.stitch[i],
             });
         }
     }
     Ok(Placed {
-        hangers,
+        tls: vec![PlacedTl {
+            catenary: c.clone(),
+            start_m: 0.0,
+            length_m: case.length_m(),
+            hangers,
+            interior_supports_m: (1..c.spans).map(|s| s as f64 * c.span_m).collect(),
+            arm_force_n: vec![stat.arm_force_n; c.spans.saturating_sub(1)],
+        }],
         supports_m: (0..=c.spans).map(|s| s as f64 * c.span_m).collect(),
-        interior_supports_m: (1..c.spans).map(|s| s as f64 * c.span_m).collect(),
-        arm_force_n: vec![stat.arm_force_n; c.spans.saturating_sub(1)],
         shape: StaticShape::Catenary(Box::new(stat)),
         span_m: Some(c.span_m),
     })
 }
 
 /// Dropper clamp masses and half of each dropper's mass smeared into the wires' mass per metre
-/// (see [`model_from_case`]): `(contact wire, messenger)`, kg/m. Stitch droppers' upper clamps are
-/// the stitch nodes (own degrees of freedom).
-fn smeared_masses(c: &CatenaryCase, placed: &Placed, length_m: f64) -> (f64, f64) {
-    match placed.span_m.filter(|_| placed.shape_is_periodic()) {
+/// (see [`model_from_case`]): `(contact wire, messenger)` of tension length `tl` with the wire
+/// data of `c`, kg/m. Stitch droppers' upper clamps are the stitch nodes (own degrees of
+/// freedom). The span-periodic catenary sums one span's droppers (`periodic_span_m`).
+fn smeared_masses(c: &CatenaryCase, tl: &PlacedTl, periodic_span_m: Option<f64>) -> (f64, f64) {
+    match periodic_span_m {
         Some(span) => {
             let nd = c.droppers.positions_m.len() as f64;
-            let mean_len = placed.hangers[..c.droppers.positions_m.len()]
+            let mean_len = tl.hangers[..c.droppers.positions_m.len()]
                 .iter()
                 .map(|h| h.length_m)
                 .sum::<f64>()
@@ -767,7 +839,7 @@ fn smeared_masses(c: &CatenaryCase, placed: &Placed, length_m: f64) -> (f64, f64
         }
         None => {
             let (mut on_c, mut on_m) = (0.0, 0.0);
-            for h in &placed.hangers {
+            for h in &tl.hangers {
                 let half = 0.5 * c.droppers.mass_per_m_kg * h.length_m;
                 on_c += c.droppers.clamp_mass_contact_kg + half;
                 on_m += half
@@ -778,17 +850,10 @@ fn smeared_masses(c: &CatenaryCase, placed: &Placed, length_m: f64) -> (f64, f64
                     };
             }
             (
-                c.contact_wire.mass_per_m_kg + on_c / length_m,
-                c.messenger.mass_per_m_kg + on_m / length_m,
+                c.contact_wire.mass_per_m_kg + on_c / tl.length_m,
+                c.messenger.mass_per_m_kg + on_m / tl.length_m,
             )
         }
-    }
-}
-
-impl Placed {
-    /// Whether the static shape is the span-periodic solution (every dropper of a span alike).
-    fn shape_is_periodic(&self) -> bool {
-        matches!(self.shape, StaticShape::Catenary(_))
     }
 }
 
@@ -856,26 +921,38 @@ pub struct StaticBalance {
 /// support, steady arm; the end supports carry half a span) against every weight.
 pub fn static_balance(case: &Case) -> StaticBalance {
     let c = &case.catenary;
-    if let Some(line) = &case.line {
-        // A tension length: its anchors carry the wires' end segments.
-        let s = TensionLengthStatics::solve(&tension_length_design(c, &line.tension_lengths[0]));
-        let mut weight =
-            (c.contact_wire.mass_per_m_kg + c.messenger.mass_per_m_kg) * G * case.length_m();
-        for h in &s.droppers {
-            let upper = match h.stitch {
-                Some(st) => st.node_mass_kg,
-                None => c.droppers.clamp_mass_messenger_kg,
+    if case.line.is_some() {
+        // Tension lengths: their anchors carry the wires' end segments.
+        let Ok(placed) = place(case) else {
+            return StaticBalance {
+                weight_n: f64::NAN,
+                support_n: f64::NAN,
             };
-            weight +=
-                (c.droppers.clamp_mass_contact_kg + upper + c.droppers.mass_per_m_kg * h.length_m)
+        };
+        let StaticShape::Line(ls) = &placed.shape else {
+            unreachable!("a line's shape")
+        };
+        let (mut weight, mut support) = (0.0, 0.0);
+        for (tl, s) in placed.tls.iter().zip(&ls.tension_lengths) {
+            let c = &tl.catenary;
+            weight += (c.contact_wire.mass_per_m_kg + c.messenger.mass_per_m_kg) * G * tl.length_m;
+            for h in &s.droppers {
+                let upper = match h.stitch {
+                    Some(st) => st.node_mass_kg,
+                    None => c.droppers.clamp_mass_messenger_kg,
+                };
+                weight += (c.droppers.clamp_mass_contact_kg
+                    + upper
+                    + c.droppers.mass_per_m_kg * h.length_m)
                     * G;
+            }
+            support += s.arm_force_n.iter().sum::<f64>()
+                + s.support_force_n.iter().sum::<f64>()
+                + [&s.contact, &s.messenger]
+                    .iter()
+                    .map(|p| p.end_force(true) + p.end_force(false))
+                    .sum::<f64>();
         }
-        let support = s.arm_force_n.iter().sum::<f64>()
-            + s.support_force_n.iter().sum::<f64>()
-            + [&s.contact, &s.messenger]
-                .iter()
-                .map(|p| p.end_force(true) + p.end_force(false))
-                .sum::<f64>();
         return StaticBalance {
             weight_n: weight,
             support_n: support,

@@ -36,6 +36,13 @@ pub const SPAN: Bound = b((1.0, 1000.0), (20.0, 100.0), "m", "27–70 m");
 /// where the model's small-slope wires stop meaning anything, the soft one beyond the height
 /// changes of ordinary lines.
 pub const CONTACT_HEIGHT_CHANGE: Bound = b((-3.0, 3.0), (-1.0, 1.0), "m", "0 to ±0.5 m");
+/// Rise of an overlap's out-of-running contact wire at its anchor support, m. A guess: public
+/// designs raise it by a few decimetres; the hard bound is where the small-slope wire stops
+/// meaning anything.
+pub const OVERLAP_RISE: Bound = b((0.0, 3.0), (0.0, 1.0), "m", "0.2–0.5 m");
+/// Lateral separation of an overlap's two contact wires, m (a guess: public designs keep them
+/// 0.1–0.5 m apart).
+pub const OVERLAP_SEPARATION: Bound = b((0.0, 3.0), (0.0, 0.8), "m", "0.1–0.5 m");
 /// Encumbrance (system height at the supports), m.
 pub const ENCUMBRANCE: Bound = b((0.05, 20.0), (0.3, 3.5), "m", "0.3–2 m");
 /// A wire's mass per length, kg/m.

@@ -15,7 +15,7 @@ pub use crate::input::irregularity::{IrregularityCase, PsdTable};
 pub use crate::input::lateral::{
     AeroCase, Dof, IceCase, LateralCase, SectionCase, Spectrum, WindCase, WindProfile,
 };
-pub use crate::input::line::{LineCase, SpanRun, TensionLengthCase};
+pub use crate::input::line::{LineCase, OverlapCase, SpanRun, TensionLengthCase};
 pub use crate::model::statics::{Presag, PresagZero, G};
 pub use crate::model::wire::Damping;
 

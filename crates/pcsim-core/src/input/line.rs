@@ -1,25 +1,56 @@
 //! A line in the case file (issue 21): `[line]` with its tension lengths, each with spans given
-//! one by one or as runs of equal spans, an optional dropper layout per span, and the contact-wire
-//! height and system height at each support. The `[catenary]` table supplies everything a tension
-//! length does not override: the wires, the droppers' data and their reference layout (positions
-//! on a span of `catenary.span_m`, scaled to each span), the supports, the arms, the stitch wires
-//! and the damping. Without `[line]`, `[catenary]` is a line of one tension length of
-//! `catenary.spans` equal spans (every preset).
+//! one by one or as runs of equal spans, an optional dropper layout per span, the contact-wire
+//! height and system height at each support, and its own wires where they differ; and the
+//! overlaps between consecutive tension lengths. The `[catenary]` table supplies everything a
+//! tension length does not override: the wires, the droppers' data and their reference layout
+//! (positions on a span of `catenary.span_m`, scaled to each span), the supports, the arms, the
+//! stitch wires and the damping. Without `[line]`, `[catenary]` is a line of one tension length
+//! of `catenary.spans` equal spans (every preset).
+//!
+//! An overlap of `n` spans: the last `n` spans of a tension length are the first `n` of the
+//! next (the same supports, their lengths equal); the wire that leaves the track rises by
+//! `rise_m` at its last support (its anchor), the one that arrives comes down from `rise_m` at its
+//! first. Each tension length's wires end at its first and last supports.
 //!
 //! ```toml
 //! [[line.tension_lengths]]
 //! span_runs = [{ count = 4, length_m = 60.0 }, { count = 1, length_m = 45.0 }]
 //! contact_height_m = [0.0, 0.0, 0.0, -0.15, -0.3, -0.3]   # one per support, m
+//! [[line.tension_lengths]]
+//! spans_m = [60.0, 45.0, 60.0, 60.0]
+//! [[line.overlaps]]
+//! spans = 2
+//! rise_m = 0.5
 //! ```
 
+use crate::input::case::{ArmCase, CatenaryCase, DropperCase, SupportCase, WireCase};
 use serde::{Deserialize, Serialize};
 
-/// The line: its tension lengths in track order.
+/// The line: its tension lengths in track order, and the overlaps between them.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct LineCase {
     /// The tension lengths, in track order.
     pub tension_lengths: Vec<TensionLengthCase>,
+    /// The overlap between tension lengths `k` and `k + 1`, for each `k`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub overlaps: Vec<OverlapCase>,
+}
+
+/// An overlap between two consecutive tension lengths.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct OverlapCase {
+    /// Number of spans the two tension lengths share.
+    pub spans: usize,
+    /// Rise of the out-of-running contact wire at its anchor support, m (above its working
+    /// height; added to that support's `contact_height_m`).
+    #[serde(default)]
+    pub rise_m: f64,
+    /// Lateral separation of the two contact wires in the overlap, m (reported with the
+    /// clearance; the vertical model does not use it).
+    #[serde(default)]
+    pub separation_m: f64,
 }
 
 /// A run of equal spans.
@@ -54,9 +85,66 @@ pub struct TensionLengthCase {
     /// default `catenary.encumbrance_m`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub encumbrance_m: Vec<f64>,
+    /// This tension length's contact wire, where it differs from `catenary.contact_wire`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_wire: Option<WireCase>,
+    /// Its messenger, where it differs from `catenary.messenger`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub messenger: Option<WireCase>,
+    /// Its droppers, where they differ from `catenary.droppers`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub droppers: Option<DropperCase>,
+    /// Its messenger supports, where they differ from `catenary.messenger_support`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub messenger_support: Option<SupportCase>,
+    /// Its steady arms, where they differ from `catenary.steady_arm`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub steady_arm: Option<ArmCase>,
 }
 
+/// The keys of `[catenary]` a tension length may override.
+pub const OVERRIDES: [&str; 5] = [
+    "contact_wire",
+    "messenger",
+    "droppers",
+    "messenger_support",
+    "steady_arm",
+];
+
 impl TensionLengthCase {
+    /// The catenary of this tension length: `base` with this tension length's overrides.
+    pub fn catenary(&self, base: &CatenaryCase) -> CatenaryCase {
+        let mut c = base.clone();
+        if let Some(w) = &self.contact_wire {
+            c.contact_wire = w.clone();
+        }
+        if let Some(w) = &self.messenger {
+            c.messenger = w.clone();
+        }
+        if let Some(d) = &self.droppers {
+            c.droppers = d.clone();
+        }
+        if let Some(s) = &self.messenger_support {
+            c.messenger_support = s.clone();
+        }
+        if let Some(a) = &self.steady_arm {
+            c.steady_arm = a.clone();
+        }
+        c
+    }
+
+    /// Whether this tension length overrides `[catenary]`'s `key` (one of [`OVERRIDES`]).
+    pub fn overrides(&self, key: &str) -> bool {
+        match key {
+            "contact_wire" => self.contact_wire.is_some(),
+            "messenger" => self.messenger.is_some(),
+            "droppers" => self.droppers.is_some(),
+            "messenger_support" => self.messenger_support.is_some(),
+            "steady_arm" => self.steady_arm.is_some(),
+            _ => false,
+        }
+    }
+
     /// The span lengths, m, runs expanded.
     pub fn span_lengths_m(&self) -> Vec<f64> {
         let mut s = self.spans_m.clone();
@@ -94,28 +182,78 @@ impl TensionLengthCase {
 }
 
 impl LineCase {
-    /// The number of spans of the whole line (no overlap counted twice: one tension length).
+    /// The number of spans of the whole line (an overlap's spans counted once).
     pub fn n_spans(&self) -> usize {
-        self.tension_lengths
+        let all = self
+            .tension_lengths
             .iter()
-            .fold(0, |a, t| a.saturating_add(t.n_spans()))
+            .fold(0usize, |a, t| a.saturating_add(t.n_spans()));
+        let shared = self
+            .overlaps
+            .iter()
+            .fold(0usize, |a, o| a.saturating_add(o.spans));
+        all.saturating_sub(shared)
     }
 
-    /// Track positions of the line's supports (the first at 0), m.
-    pub fn supports_m(&self) -> Vec<f64> {
-        let mut x = vec![0.0];
-        for s in self.tension_lengths.iter().flat_map(|t| t.span_lengths_m()) {
+    /// The track position of each tension length's first support (the first at 0), m: the
+    /// next one starts `overlaps[k].spans` spans before the end of tension length `k`.
+    pub fn starts_m(&self) -> Vec<f64> {
+        let mut starts = Vec::with_capacity(self.tension_lengths.len());
+        let mut x0 = 0.0;
+        for (k, t) in self.tension_lengths.iter().enumerate() {
+            starts.push(x0);
+            let lengths = t.span_lengths_m();
+            let shared = self
+                .overlaps
+                .get(k)
+                .map_or(0, |o| o.spans)
+                .min(lengths.len());
+            x0 += lengths[..lengths.len() - shared].iter().sum::<f64>();
+        }
+        starts
+    }
+
+    /// Track positions of the supports of tension length `k`, m.
+    pub fn tension_length_supports_m(&self, k: usize) -> Vec<f64> {
+        let mut x = vec![self.starts_m()[k]];
+        for s in self.tension_lengths[k].span_lengths_m() {
             let last = x[x.len() - 1];
             x.push(last + s);
         }
         x
     }
 
-    /// The line's length, m.
+    /// Track positions of every support of the line (an overlap's shared supports once), m.
+    pub fn supports_m(&self) -> Vec<f64> {
+        let mut x: Vec<f64> = (0..self.tension_lengths.len())
+            .flat_map(|k| self.tension_length_supports_m(k))
+            .collect();
+        x.sort_by(f64::total_cmp);
+        x.dedup_by(|a, b| (*a - *b).abs() < 1e-3);
+        x
+    }
+
+    /// The line's length (to the last tension length's last support), m.
     pub fn length_m(&self) -> f64 {
-        self.tension_lengths
-            .iter()
-            .flat_map(|t| t.span_lengths_m())
-            .sum()
+        let k = self.tension_lengths.len();
+        if k == 0 {
+            return 0.0;
+        }
+        let last: f64 = self.tension_lengths[k - 1].span_lengths_m().iter().sum();
+        self.starts_m()[k - 1] + last
+    }
+
+    /// The overlaps as track sections `[first shared support, last shared support]`, m.
+    pub fn overlap_sections_m(&self) -> Vec<[f64; 2]> {
+        (0..self
+            .overlaps
+            .len()
+            .min(self.tension_lengths.len().saturating_sub(1)))
+            .map(|k| {
+                let next = self.tension_length_supports_m(k + 1);
+                let n = self.overlaps[k].spans.min(next.len() - 1);
+                [next[0], next[n]]
+            })
+            .collect()
     }
 }

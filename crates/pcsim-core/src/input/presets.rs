@@ -51,6 +51,16 @@ pub const PRESETS: &[Preset] = &[
         summary: "a [line]: en50318-2002's catenary over 15 spans of 40-60 m, the contact wire 0.2 m lower under a structure (issue 21)",
         toml: include_str!("../../../../presets/line-structure-2002.toml"),
     },
+    Preset {
+        name: "en50318-2018-like-simple",
+        summary: "the EN 50318:2018 structure, simple: three tension lengths, two 3-span overlaps, 31 x 60 m, two pantographs (public data, not the standard's; issue 21)",
+        toml: include_str!("../../../../presets/en50318-2018-like-simple.toml"),
+    },
+    Preset {
+        name: "en50318-2018-like-stitched",
+        summary: "the EN 50318:2018 structure, stitched: three tension lengths, two 3-span overlaps, 31 x 60 m, two pantographs (public data, not the standard's; issue 21)",
+        toml: include_str!("../../../../presets/en50318-2018-like-stitched.toml"),
+    },
 ];
 
 /// Find a preset by name.

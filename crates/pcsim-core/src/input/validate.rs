@@ -8,6 +8,7 @@ use crate::input::bounds::{self, check_bound, inv, Bound};
 use crate::input::case::*;
 use crate::input::irregularity::IrregularityCase;
 use crate::input::lateral::*;
+use crate::input::line::{TensionLengthCase, OVERRIDES};
 
 /// A positive finite number, or an error naming the field.
 fn pos(field: &str, v: f64) -> Result<(), CaseError> {
@@ -76,29 +77,27 @@ fn finite_all(case: &Case) -> Result<(), CaseError> {
     walk(&v, "")
 }
 
-/// A `[line]`: one tension length (overlaps are not modelled yet), its spans, dropper layouts
-/// and heights at the supports; and what a line does not carry yet.
+/// A `[line]`: its tension lengths (spans, dropper layouts, heights at the supports, the wires
+/// they override), the overlaps between them, and what a line does not carry yet.
 pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
     let Some(line) = &case.line else {
         return Ok(());
     };
     let c = &case.catenary;
-    match line.tension_lengths.len() {
-        0 => {
-            return Err(inv(
-                "line.tension_lengths",
-                "[]",
-                "give at least one [[line.tension_lengths]]",
-            ))
-        }
-        1 => {}
-        n => {
-            return Err(inv(
-                "line.tension_lengths",
-                format!("{n} tension lengths"),
-                "overlaps between tension lengths are not modelled in this version: give one tension length",
-            ))
-        }
+    let ntl = line.tension_lengths.len();
+    if ntl == 0 {
+        return Err(inv(
+            "line.tension_lengths",
+            "[]",
+            "give at least one [[line.tension_lengths]]",
+        ));
+    }
+    if ntl > 64 {
+        return Err(inv(
+            "line.tension_lengths",
+            format!("{ntl} tension lengths"),
+            "more than 64 tension lengths (about 90 km) is not a line this tool runs in one model",
+        ));
     }
     for (field, given) in [
         (
@@ -118,16 +117,151 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
             ));
         }
     }
-    let t = &line.tension_lengths[0];
-    let f = |k: &str| format!("line.tension_lengths[0].{k}");
-    let n = t.n_spans();
-    if c.spans != n {
+    if ntl > 1 {
+        if let Some(i) = case
+            .pantographs
+            .iter()
+            .position(|p| !matches!(p, PantographCase::Lumped { .. }))
+        {
+            return Err(inv(
+                &format!("pantographs[{i}].kind"),
+                "moving_force",
+                "a prescribed load has no one wire to act on where tension lengths overlap: use a lumped pantograph on a line of several tension lengths",
+            ));
+        }
+    }
+    for (k, t) in line.tension_lengths.iter().enumerate() {
+        tension_length(case, k, t, w)?;
+    }
+    if line.overlaps.len() != ntl - 1 {
+        return Err(inv(
+            "line.overlaps",
+            format!("{} overlaps", line.overlaps.len()),
+            &format!(
+                "need one [[line.overlaps]] between each two consecutive tension lengths ({})",
+                ntl - 1
+            ),
+        ));
+    }
+    for (k, o) in line.overlaps.iter().enumerate() {
+        let f = |key: &str| format!("line.overlaps[{k}].{key}");
+        let (a, b) = (
+            line.tension_lengths[k].span_lengths_m(),
+            line.tension_lengths[k + 1].span_lengths_m(),
+        );
+        if o.spans == 0 || o.spans > a.len() || o.spans > b.len() {
+            return Err(inv(
+                &f("spans"),
+                o.spans,
+                &format!(
+                    "an overlap shares 1 to min({}, {}) spans (the two tension lengths' spans)",
+                    a.len(),
+                    b.len()
+                ),
+            ));
+        }
+        for i in 0..o.spans {
+            let (la, lb) = (a[a.len() - o.spans + i], b[i]);
+            if (la - lb).abs() > 1e-3 {
+                return Err(inv(
+                    &f("spans"),
+                    o.spans,
+                    &format!(
+                        "shared span {} is {la} m in tension length {k} but {lb} m in tension length {}: an overlap's spans are the same spans",
+                        i + 1,
+                        k + 1
+                    ),
+                ));
+            }
+        }
+        check_bound(w, &f("rise_m"), o.rise_m, &bounds::OVERLAP_RISE)?;
+        check_bound(
+            w,
+            &f("separation_m"),
+            o.separation_m,
+            &bounds::OVERLAP_SEPARATION,
+        )?;
+        if k + 1 < line.overlaps.len() {
+            let next = &line.overlaps[k + 1];
+            if o.spans + next.spans > b.len() {
+                return Err(inv(
+                    &f("spans"),
+                    o.spans,
+                    &format!(
+                        "tension length {} has {} spans: its two overlaps ({} and {} spans) may not meet",
+                        k + 1,
+                        b.len(),
+                        o.spans,
+                        next.spans
+                    ),
+                ));
+            }
+        }
+    }
+    if c.spans != line.n_spans() {
         return Err(inv(
             "catenary.spans",
             c.spans,
-            &format!("the line has {n} spans: omit catenary.spans with [line], or give {n}"),
+            &format!(
+                "the line has {} spans: omit catenary.spans with [line], or give {}",
+                line.n_spans(),
+                line.n_spans()
+            ),
         ));
     }
+    Ok(())
+}
+
+/// Tension length `k` of a line.
+fn tension_length(
+    case: &Case,
+    k: usize,
+    t: &TensionLengthCase,
+    w: &mut Vec<Warning>,
+) -> Result<(), CaseError> {
+    let base = &case.catenary;
+    let c = t.catenary(base);
+    let f = |key: &str| format!("line.tension_lengths[{k}].{key}");
+    // The catenary's own checks on what this tension length overrides, named as its fields.
+    if OVERRIDES.iter().any(|key| t.overrides(key)) {
+        let mut alone = case.clone();
+        alone.line = None;
+        alone.catenary = c.clone();
+        let rename = |e: CaseError| match e {
+            CaseError::Invalid {
+                field,
+                value,
+                reason,
+            } => {
+                let key = OVERRIDES
+                    .iter()
+                    .find(|key| t.overrides(key) && field.starts_with(&format!("catenary.{key}")));
+                CaseError::Invalid {
+                    field: match key {
+                        Some(key) => field.replacen(&format!("catenary.{key}"), &f(key), 1),
+                        None => field,
+                    },
+                    value,
+                    reason,
+                }
+            }
+            other => other,
+        };
+        let mut scratch = Vec::new();
+        geometry_and_wires(&alone, &mut scratch).map_err(rename)?;
+        droppers(&alone, &mut scratch).map_err(rename)?;
+        supports_and_arms(&alone, &mut scratch).map_err(rename)?;
+        stitch_wire(&alone, &mut scratch).map_err(rename)?;
+        for Warning(text) in scratch {
+            if let Some(key) = OVERRIDES
+                .iter()
+                .find(|key| t.overrides(key) && text.contains(&format!("catenary.{key}")))
+            {
+                w.push(Warning(text.replace(&format!("catenary.{key}"), &f(key))));
+            }
+        }
+    }
+    let n = t.n_spans();
     if t.spans_m.is_empty() == t.span_runs.is_empty() {
         return Err(inv(
             &f("spans_m"),
@@ -146,19 +280,19 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
             "need 2 to 5000 spans in a tension length",
         ));
     }
-    for (k, r) in t.span_runs.iter().enumerate() {
+    for (j, r) in t.span_runs.iter().enumerate() {
         if r.count == 0 {
-            return Err(inv(&f(&format!("span_runs[{k}].count")), 0, "must be ≥ 1"));
+            return Err(inv(&f(&format!("span_runs[{j}].count")), 0, "must be ≥ 1"));
         }
         check_bound(
             w,
-            &f(&format!("span_runs[{k}].length_m")),
+            &f(&format!("span_runs[{j}].length_m")),
             r.length_m,
             &bounds::SPAN,
         )?;
     }
-    for (k, &s) in t.spans_m.iter().enumerate() {
-        check_bound(w, &f(&format!("spans_m[{k}]")), s, &bounds::SPAN)?;
+    for (j, &s) in t.spans_m.iter().enumerate() {
+        check_bound(w, &f(&format!("spans_m[{j}]")), s, &bounds::SPAN)?;
     }
     let lengths = t.span_lengths_m();
     if !t.droppers_m.is_empty() && t.droppers_m.len() != n {
@@ -209,18 +343,18 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
             ));
         }
     }
-    for (k, &h) in t.contact_height_m.iter().enumerate() {
+    for (j, &h) in t.contact_height_m.iter().enumerate() {
         check_bound(
             w,
-            &f(&format!("contact_height_m[{k}]")),
+            &f(&format!("contact_height_m[{j}]")),
             h,
             &bounds::CONTACT_HEIGHT_CHANGE,
         )?;
     }
-    for (k, &e) in t.encumbrance_m.iter().enumerate() {
+    for (j, &e) in t.encumbrance_m.iter().enumerate() {
         check_bound(
             w,
-            &f(&format!("encumbrance_m[{k}]")),
+            &f(&format!("encumbrance_m[{j}]")),
             e,
             &bounds::ENCUMBRANCE,
         )?;

@@ -15,6 +15,7 @@
 use crate::model::statics::{
     kink_force, simply_supported_moments, stitch_stiffness, StitchStatic, G,
 };
+use crate::model::wire::WireRole;
 
 /// One span of a tension length.
 #[derive(Debug, Clone, PartialEq)]
@@ -349,5 +350,39 @@ impl TensionLengthStatics {
     /// Static messenger height at track position `x`, m.
     pub fn messenger_height(&self, x: f64) -> f64 {
         self.messenger.height(x)
+    }
+}
+
+/// The static shape of a whole line: each tension length's. Its wires are numbered as the
+/// model's: wire `2k` is tension length `k`'s messenger, `2k + 1` its contact wire.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LineStatics {
+    /// The tension lengths, in track order.
+    pub tension_lengths: Vec<TensionLengthStatics>,
+}
+
+impl LineStatics {
+    /// The line of these tension lengths.
+    pub fn new(tension_lengths: Vec<TensionLengthStatics>) -> Self {
+        LineStatics { tension_lengths }
+    }
+
+    /// Static height of wire `wire` (role `role`) at track position `x`, m.
+    pub fn height(&self, wire: usize, role: WireRole, x: f64) -> f64 {
+        let t = &self.tension_lengths[(wire / 2).min(self.tension_lengths.len() - 1)];
+        match role {
+            WireRole::Contact => t.contact_height(x),
+            _ => t.messenger_height(x),
+        }
+    }
+
+    /// The system height (messenger above contact wire) at `x`, the largest of the tension
+    /// lengths whose wires reach there, m.
+    pub fn system_height(&self, x: f64) -> f64 {
+        self.tension_lengths
+            .iter()
+            .filter(|t| x >= t.supports_m[0] && x <= t.supports_m[t.supports_m.len() - 1])
+            .map(|t| t.messenger_height(x) - t.contact_height(x))
+            .fold(f64::NEG_INFINITY, f64::max)
     }
 }

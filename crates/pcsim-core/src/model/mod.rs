@@ -55,20 +55,28 @@ pub enum StaticShape {
     Flat,
     /// The catenary's static solution from its design (the initial condition of Eqs. 9–10).
     Catenary(Box<StaticSolution>),
-    /// One tension length of a line: spans that need not repeat (`line.rs`).
-    Line(Box<line::TensionLengthStatics>),
+    /// A line: tension lengths of spans that need not repeat, overlapping (`line.rs`).
+    Line(Box<line::LineStatics>),
 }
 
 impl StaticShape {
-    /// Static height of a wire of role `role` at model coordinate `x`, m (0 at the contact-wire
-    /// design height at the supports).
-    pub fn height(&self, role: WireRole, x: f64) -> f64 {
+    /// Static height of wire `wire`, of role `role`, at model coordinate `x`, m (0 at the
+    /// contact-wire design height at the supports).
+    pub fn height(&self, wire: usize, role: WireRole, x: f64) -> f64 {
         match (self, role) {
             (StaticShape::Flat, _) => 0.0,
             (StaticShape::Catenary(s), WireRole::Contact) => s.contact_height(x),
             (StaticShape::Catenary(s), _) => s.messenger_height(x),
-            (StaticShape::Line(s), WireRole::Contact) => s.contact_height(x),
-            (StaticShape::Line(s), _) => s.messenger_height(x),
+            (StaticShape::Line(s), _) => s.height(wire, role, x),
+        }
+    }
+
+    /// The system height (messenger above contact wire) at `x`, m; `None` for flat wires.
+    pub fn system_height(&self, x: f64) -> Option<f64> {
+        match self {
+            StaticShape::Flat => None,
+            StaticShape::Catenary(s) => Some(s.messenger_height(x) - s.contact_height(x)),
+            StaticShape::Line(s) => Some(s.system_height(x)),
         }
     }
 }
@@ -100,6 +108,8 @@ pub struct Model {
     /// Every support of the line (ends included), model coordinates, m; empty for hand-made
     /// models.
     pub supports_m: Vec<f64>,
+    /// A line's overlaps: `[first, last]` shared support of each, model coordinates, m.
+    pub overlaps_m: Vec<[f64; 2]>,
     /// Track position of the model's x = 0 when it is built, m (0 for a full model; a window's
     /// origin). Stagger and irregularity are kept in track coordinates, because a window moves
     /// by whole spans but they need not repeat every span.
@@ -137,6 +147,7 @@ impl Model {
             wind: None,
             irregularity: None,
             supports_m: Vec::new(),
+            overlaps_m: Vec::new(),
             track_origin_m: 0.0,
         }
     }
@@ -189,7 +200,7 @@ impl Model {
         match dir {
             Direction::Vertical => {
                 let role = self.wires[wire].role;
-                let h = self.statics.height(role, x);
+                let h = self.statics.height(wire, role, x);
                 match (&self.irregularity, role) {
                     (Some(ir), WireRole::Contact) => h + ir.at(xt),
                     _ => h,

@@ -64,6 +64,14 @@ pub(crate) struct MovingPoint {
     pub(crate) fills_row: bool,
 }
 
+impl MovingPoint {
+    /// Whether model coordinate `x` lies on the wire (between its ends).
+    #[inline]
+    pub(crate) fn covers(&self, x: f64) -> bool {
+        x >= self.origin_m && x <= self.origin_m + self.basis.length_m()
+    }
+}
+
 /// The contact wire's lateral position under a pantograph, read with the sine row of the
 /// pantograph's vertical moving point.
 #[derive(Debug, Clone)]
@@ -156,8 +164,11 @@ pub struct CompiledModel {
     /// The implicit point terms, grouped for their corrections.
     pub(crate) implicit: Vec<ImplicitGroup>,
     pub(crate) pan_off: Vec<usize>,
-    /// Per pantograph: its moving point (for the samples).
+    /// Per pantograph: its first moving point (for the samples, and the lateral probe).
     pub(crate) pan_point: Vec<Option<usize>>,
+    /// Per pantograph with more than one contact wire (a line's overlaps): its vertical moving
+    /// points, one per contact wire; empty otherwise.
+    pub(crate) pan_points: Vec<Vec<usize>>,
     /// Displacement slots of the monitored attachments, and their positions.
     pub(crate) monitors: Vec<usize>,
     pub(crate) monitor_x: Vec<f64>,
@@ -200,6 +211,17 @@ impl CompiledModel {
         for (m, mp) in el.moving.iter().enumerate() {
             if pan_point[mp.pantograph].is_none() {
                 pan_point[mp.pantograph] = Some(m);
+            }
+        }
+        let mut pan_points = vec![Vec::new(); np];
+        for (m, mp) in el.moving.iter().enumerate() {
+            if mp.dir == Direction::Vertical {
+                pan_points[mp.pantograph].push(m);
+            }
+        }
+        for pts in &mut pan_points {
+            if pts.len() < 2 {
+                pts.clear();
             }
         }
         let pan_lateral = lateral_probes(&model, &el.moving, &pan_point);
@@ -270,6 +292,7 @@ impl CompiledModel {
             implicit,
             pan_off,
             pan_point,
+            pan_points,
             monitors,
             monitor_x,
             scratch,
@@ -332,6 +355,8 @@ impl CompiledModel {
             loads: vec![0.0; 2 * np],
             external: vec![(0.0, 0.0); np],
             off_head: vec![false; np],
+            absent: vec![false; self.n_u],
+            sample_point: self.pan_point.iter().map(|p| p.unwrap_or(0)).collect(),
             samples: vec![ContactSample::default(); np],
             slack: 0,
             eu: vec![0.0; self.n_u],
@@ -411,6 +436,7 @@ impl CompiledModel {
             f: &mut ws.f,
             loads: &ws.loads,
             off_head: &ws.off_head,
+            absent: &ws.absent,
             slack: 0,
         };
         for &e in &self.fixed {
@@ -527,6 +553,24 @@ impl CompiledModel {
         }
     }
 
+    /// Pantograph `p`'s contact points when it has more than one contact wire (a line's
+    /// overlaps), one per contact wire; empty otherwise.
+    pub fn contact_points(&self, p: usize) -> &[usize] {
+        &self.pan_points[p]
+    }
+
+    /// The wire of moving point `m`.
+    pub fn moving_wire(&self, m: usize) -> usize {
+        self.moving[m].wire
+    }
+
+    /// Moving point `m` in the last step: its force on its wire (N), its wire's height under
+    /// the pantograph (m), and whether the wire reaches there.
+    pub fn moving_sample(&self, ws: &Workspace, m: usize) -> (f64, f64, bool) {
+        let i = self.moving_u0 + m;
+        (ws.f[i], ws.u[i], !ws.absent[i])
+    }
+
     /// The degrees of freedom of pantograph `p` in the pantograph arrays of the state.
     pub fn pantograph_dofs(&self, p: usize) -> std::ops::Range<usize> {
         let o = self.pan_off[p];
@@ -576,6 +620,7 @@ impl CompiledModel {
             f: &mut ws.ef,
             loads: &ws.loads,
             off_head: &ws.off_head,
+            absent: &ws.absent,
             slack: 0,
         }
     }
@@ -609,6 +654,7 @@ impl CompiledModel {
         }
         for (mi, mp) in self.moving.iter().enumerate() {
             let x = self.moving_x(st, &ws.external, mp);
+            ws.absent[self.moving_u0 + mi] = !mp.covers(x);
             let row = self.moving_row(&mut ws.rows, mp, x);
             ws.eu[self.moving_u0 + mi] = m.static_height(mp.wire, mp.dir, x, st.track_origin_m)
                 + kernels::dot(self.isa, &st.modal.u[mp.q_off..mp.q_off + mp.n], row);
@@ -639,9 +685,10 @@ fn system_height_m(model: &Model) -> Option<f64> {
     let n = model.length_m().ceil().max(1.0) as usize;
     let h = (0..=n)
         .map(|i| {
-            let x = i as f64;
-            model.statics.height(WireRole::Messenger, x)
-                - model.statics.height(WireRole::Contact, x)
+            model
+                .statics
+                .system_height(i as f64)
+                .unwrap_or(f64::NEG_INFINITY)
         })
         .fold(f64::NEG_INFINITY, f64::max);
     (h.is_finite() && h > 0.0).then_some(h)
@@ -1117,10 +1164,19 @@ fn wind_step(model: &Model, isa: Isa) -> Result<Option<WindStep>, CaseError> {
 
 /// The penalty stiffness of pantograph `p`'s contact (0 if it has none).
 pub(crate) fn contact_stiffness(model: &Model, p: usize) -> f64 {
+    contact_stiffness_on(model, p, None)
+}
+
+/// The penalty stiffness of pantograph `p`'s contact with `wire` (its first contact when
+/// `None`), N/m; 0 for a prescribed load.
+pub(crate) fn contact_stiffness_on(model: &Model, p: usize, wire: Option<usize>) -> f64 {
     use crate::model::elements::contact::{ContactLaw, Contacts};
     model
         .element::<Contacts>()
-        .and_then(|c| c.0.iter().find(|c| c.pantograph == p))
+        .and_then(|c| {
+            c.0.iter()
+                .find(|c| c.pantograph == p && wire.is_none_or(|w| w == c.wire))
+        })
         .map_or(0.0, |c| match c.law {
             ContactLaw::Penalty { stiffness_n_per_m } => stiffness_n_per_m,
             ContactLaw::Prescribed { .. } => 0.0,

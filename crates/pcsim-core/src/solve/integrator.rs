@@ -42,7 +42,7 @@ use crate::model::dof::Direction;
 use crate::model::elements::{Io, Weight};
 use crate::model::pantograph::{ChainOperators, PantographKind};
 use crate::model::Model;
-use crate::solve::compiled::{contact_stiffness, invalid, CompiledModel};
+use crate::solve::compiled::{contact_stiffness, contact_stiffness_on, invalid, CompiledModel};
 use crate::solve::implicit::{ImplicitPoints, ImplicitScratch};
 use crate::solve::kernels::{self, Isa};
 use crate::solve::plan::{Options, Plan};
@@ -212,10 +212,37 @@ impl Integrator {
                         )
                     })?;
                     let x = plan.start_m - pan.offset_m + plan.speed_m_s * 0.0;
-                    let kn = contact_stiffness(model, p);
-                    let h = match cm.pan_point[p] {
-                        Some(m) => cm.start_height(m, x),
-                        None => 0.0,
+                    let (kn, h) = match cm.pan_point[p] {
+                        Some(m) if cm.pan_points[p].is_empty() => {
+                            (contact_stiffness(model, p), cm.start_height(m, x))
+                        }
+                        // Several contact wires: the head rests on the lowest of those present
+                        // at the start, and on every other at that height (their penalty
+                        // springs in parallel).
+                        Some(_) => {
+                            let present: Vec<(usize, f64)> = cm.pan_points[p]
+                                .iter()
+                                .filter(|&&k| cm.moving[k].covers(x))
+                                .map(|&k| (k, cm.start_height(k, x)))
+                                .collect();
+                            let low = present
+                                .iter()
+                                .map(|&(_, h)| h)
+                                .fold(f64::INFINITY, f64::min);
+                            let kn: f64 = present
+                                .iter()
+                                .filter(|&&(_, h)| h <= low + 1e-9)
+                                .map(|&(k, _)| {
+                                    contact_stiffness_on(model, p, Some(cm.moving[k].wire))
+                                })
+                                .sum();
+                            if low.is_finite() {
+                                (kn, low)
+                            } else {
+                                (contact_stiffness(model, p), 0.0)
+                            }
+                        }
+                        None => (contact_stiffness(model, p), 0.0),
                     };
                     let y = ops.static_equilibrium(kn, h).ok_or_else(|| {
                         invalid(
@@ -476,6 +503,7 @@ impl Integrator {
         // Moving points (contacts, Eq. 19): rows, heights, forces.
         for (mi, mp) in self.cm.moving.iter().enumerate() {
             let x = self.cm.moving_x(st, &ws.external, mp);
+            ws.absent[self.cm.moving_u0 + mi] = !mp.covers(x);
             let row = self.cm.moving_row(&mut ws.rows, mp, x);
             ws.u[self.cm.moving_u0 + mi] = m.static_height(mp.wire, mp.dir, x, st.track_origin_m)
                 + kernels::dot(isa, &st.modal.u[mp.q_off..mp.q_off + mp.n], row);
@@ -525,6 +553,7 @@ impl Integrator {
             f: &mut ws.f,
             loads: &ws.loads,
             off_head: &ws.off_head,
+            absent: &ws.absent,
             slack: 0,
         };
         for &e in &self.cm.moving_kinds {
@@ -541,8 +570,26 @@ impl Integrator {
         }
         for (p, pm) in self.cm.pan_point.iter().enumerate() {
             if let Some(mi) = *pm {
-                ws.samples[p].force_n = ws.f[self.cm.moving_u0 + mi];
-                ws.samples[p].wire_height_m = ws.u[self.cm.moving_u0 + mi];
+                let pts = &self.cm.pan_points[p];
+                if pts.is_empty() {
+                    ws.samples[p].force_n = ws.f[self.cm.moving_u0 + mi];
+                    ws.samples[p].wire_height_m = ws.u[self.cm.moving_u0 + mi];
+                } else {
+                    // Several contact wires: the force is theirs together; the height is the
+                    // lowest wire's among those present (the one the head meets first).
+                    let u0 = self.cm.moving_u0;
+                    ws.samples[p].force_n = pts.iter().map(|&k| ws.f[u0 + k]).sum();
+                    let mut best = mi;
+                    let mut low = f64::INFINITY;
+                    for &k in pts {
+                        if !ws.absent[u0 + k] && ws.u[u0 + k] < low {
+                            low = ws.u[u0 + k];
+                            best = k;
+                        }
+                    }
+                    ws.sample_point[p] = best;
+                    ws.samples[p].wire_height_m = ws.u[u0 + best];
+                }
                 ws.samples[p].wire_velocity_m_s = 0.0;
             }
         }
@@ -570,6 +617,11 @@ impl Integrator {
         let isa = self.cm.isa;
         for (p, pm) in self.cm.pan_point.iter().enumerate() {
             if let Some(mi) = *pm {
+                let mi = if self.cm.pan_points[p].is_empty() {
+                    mi
+                } else {
+                    ws.sample_point[p]
+                };
                 let mp = &self.cm.moving[mi];
                 ws.samples[p].wire_velocity_m_s = kernels::dot(
                     isa,

@@ -394,6 +394,7 @@ fn element_forces(cm: &CompiledModel, ws: &Workspace) -> Vec<Vec<f64>> {
                 f: &mut f,
                 loads: &ws.loads,
                 off_head: &ws.off_head,
+                absent: &ws.absent,
                 slack: 0,
             };
             m.elements[e].add_forces(cm.slots(e), &mut io);

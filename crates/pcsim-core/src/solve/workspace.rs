@@ -99,6 +99,10 @@ pub struct Workspace {
     pub(crate) external: Vec<(f64, f64)>,
     /// Per pantograph: the contact point lies beyond the head this step (no contact).
     pub(crate) off_head: Vec<bool>,
+    /// By displacement slot: a moving point beyond its wire's ends this step (no contact).
+    pub(crate) absent: Vec<bool>,
+    /// Per pantograph: the moving point its sample reads this step (the lowest wire present).
+    pub(crate) sample_point: Vec<usize>,
     pub(crate) samples: Vec<ContactSample>,
     pub(crate) slack: usize,
     /// Energy evaluation: displacements and velocities at the displacement slots, forces.

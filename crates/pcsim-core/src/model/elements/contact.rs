@@ -13,7 +13,10 @@
 //! further, a negative torsional stiffness `−F e_c`); its lateral position is `z − e_c φ`
 //! (`solve::Integrator`). Contact exists only on the head: where that
 //! lateral position lies beyond the pantograph's half-width (`head_half_width_m`), the wire has
-//! left the head and the contact force is zero (`Io::off_head`).
+//! left the head and the contact force is zero (`Io::off_head`). Nor is there contact where the
+//! pantograph is beyond the wire's ends (`Io::absent`: a line's tension lengths end, issue 21):
+//! a pantograph has one contact per contact wire, and in an overlap it touches one, both or the
+//! other.
 
 use super::{Attach, Io, PointElement, Slot, WindowMap};
 use crate::model::dof::Direction;
@@ -127,7 +130,7 @@ impl PointElement for Contacts {
             let lift = 0.5 * c.eccentricity_m * phi * phi;
             let f = match c.law {
                 // Contact exists only on the head: beyond it the wire has left the pantograph.
-                _ if io.off_head[c.pantograph] => 0.0,
+                _ if io.off_head[c.pantograph] || io.absent[w] => 0.0,
                 ContactLaw::Penalty { stiffness_n_per_m } => {
                     penalty_force(stiffness_n_per_m, io.u[h] - io.u[w] - lift)
                 }
@@ -141,10 +144,10 @@ impl PointElement for Contacts {
     fn energy(&self, slots: &[Slot], io: &Io) -> f64 {
         let mut e = 0.0;
         for (c, s) in self.0.iter().zip(slots.chunks_exact(3)) {
+            let (w, h, t) = (s[0].u as usize, s[1].u as usize, s[2].u as usize);
             if let (ContactLaw::Penalty { stiffness_n_per_m }, false) =
-                (c.law, io.off_head[c.pantograph])
+                (c.law, io.off_head[c.pantograph] || io.absent[w])
             {
-                let (w, h, t) = (s[0].u as usize, s[1].u as usize, s[2].u as usize);
                 let lift = 0.5 * c.eccentricity_m * io.u[t] * io.u[t];
                 e += penalty_energy(stiffness_n_per_m, io.u[h] - io.u[w] - lift);
             }
@@ -196,6 +199,7 @@ mod tests {
             f: &mut f,
             loads: &[0.0],
             off_head: &[false],
+            absent: &[false; 4],
             slack: 0,
         };
         c.add_forces(&slots, &mut io);

@@ -84,6 +84,9 @@ pub struct Io<'a> {
     /// Per pantograph: its contact point lies beyond its head (the wire has left the head), so
     /// there is no contact (issue 20).
     pub off_head: &'a [bool],
+    /// By displacement slot: a moving point that lies beyond its wire's ends (a pantograph
+    /// outside a tension length), so there is no wire to touch there (issue 21).
+    pub absent: &'a [bool],
     /// Droppers found slack in this evaluation.
     pub slack: usize,
 }
