@@ -742,3 +742,42 @@ fn issue_10_17_validate_json_rows_carry_a_unit() {
         }
     }
 }
+
+#[test]
+fn issue_21_6_validate_targets_reads_a_users_ranges_and_says_which_are_missing() {
+    // One case of the 2018 simple template, one range typed in (wide), one left empty.
+    let d = scratch("targets");
+    let text = "[mine]\nsource = \"typed in by hand\"\npreset = \"en50318-2018-like-simple\"\n\n\
+                [mine.v275_leading]\nspeed_kmh = 275\nmean = [50.0, 400.0]\nstd = []\n";
+    let f = write(&d, "targets.toml", text);
+    let o = pcsim()
+        .args(["validate", "--quiet", "--targets"])
+        .arg(&f)
+        .output()
+        .unwrap();
+    let out = stdout(&o);
+    assert_eq!(o.status.code(), Some(0), "{out}{}", stderr(&o));
+    assert!(out.contains("1 of 1 rows pass"), "{out}");
+    assert!(out.contains("1 ranges are missing"), "{out}");
+    assert!(out.contains("no range given"), "{out}");
+    // --strict: a missing range is not a pass.
+    let o = pcsim()
+        .args(["validate", "--quiet", "--strict", "--targets"])
+        .arg(&f)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    // A malformed range: refused, naming its key.
+    let f = write(&d, "bad.toml", &text.replace("std = []", "std = [1.0]"));
+    let o = pcsim()
+        .args(["validate", "--quiet", "--targets"])
+        .arg(&f)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("mine.v275_leading.std"),
+        "{}",
+        stderr(&o)
+    );
+}

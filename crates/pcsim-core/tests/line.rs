@@ -672,3 +672,52 @@ fn energy_balance_across_an_overlap() {
         "energy residual {worst} J against {scale} J"
     );
 }
+
+/// Item 6: a user's targets file in the format of the embedded targets. The 2018 templates name
+/// the standard's cases and quantities with empty ranges: read as missing, never as a range; a
+/// range typed in is compared; a malformed one is refused naming its key.
+#[test]
+fn targets_files_and_the_2018_templates() {
+    use pcsim_core::analysis::validation::{compare, targets_file, ValidationPlan};
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    for kind in ["simple", "stitched"] {
+        let path = root.join(format!("data/targets-en50318-2018-{kind}-template.toml"));
+        let text = std::fs::read_to_string(&path).unwrap();
+        let f = targets_file(&text).unwrap();
+        assert_eq!(f.preset, format!("en50318-2018-like-{kind}"));
+        assert_eq!(f.cases.len(), 4, "275 and 320 km/h, leading and trailing");
+        for c in &f.cases {
+            assert!(c.ranges.is_empty(), "the template invents no range");
+            assert_eq!(c.missing.len(), 8);
+            assert!(c.pantograph.is_some());
+        }
+        let plan = ValidationPlan::from_targets(&text, "template").unwrap();
+        assert_eq!(plan.cases.len(), 2, "one run per speed");
+        assert!(plan.cases.iter().all(|c| c.line.is_some()));
+        // A range typed in is compared; the others stay missing.
+        let filled = text.replacen("mean = []", "mean = [140.0, 150.0]", 1);
+        let f = targets_file(&filled).unwrap();
+        let t = f.cases.iter().find(|c| !c.ranges.is_empty()).unwrap();
+        assert_eq!(t.ranges, vec![("mean".to_string(), [140.0, 150.0])]);
+        let out = run_case(&common::short_en50318(6, 250.0), &mut |_| true).unwrap();
+        let mut s = out.pantographs[0].stats.unwrap();
+        s.mean_n = 145.0;
+        let rows = compare(&s, t);
+        assert!(rows.rows[0].pass && rows.missing.len() == 7);
+        s.mean_n = 139.0;
+        assert!(!compare(&s, t).rows[0].pass);
+        // A malformed range, a stray key, two tables: refused, naming what.
+        let bad = text.replacen("std = []", "std = [1.0]", 1);
+        match targets_file(&bad) {
+            Err(CaseError::Invalid { field, .. }) => assert!(field.ends_with(".std"), "{field}"),
+            other => panic!("{other:?}"),
+        }
+        let stray = text.replacen("std = []", "sdt = [1.0, 2.0]", 1);
+        match targets_file(&stray) {
+            Err(CaseError::Invalid { field, .. }) => assert!(field.ends_with(".sdt"), "{field}"),
+            other => panic!("{other:?}"),
+        }
+        let two = format!("{text}\n[other]\npreset = \"en50318-2002\"\n");
+        assert!(matches!(targets_file(&two), Err(CaseError::Invalid { .. })));
+    }
+}

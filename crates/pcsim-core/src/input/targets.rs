@@ -34,6 +34,8 @@ pub struct TargetCase {
     pub ranges: Vec<(String, [f64; 2])>,
     /// `paper_value` entries, by quantity.
     pub paper: Vec<(String, f64)>,
+    /// Quantities the table names without a range (`mean = []`: a template not yet filled).
+    pub missing: Vec<String>,
 }
 
 fn num(x: &toml::Value) -> Option<f64> {
@@ -42,8 +44,77 @@ fn num(x: &toml::Value) -> Option<f64> {
 
 /// Read the target cases of a table (e.g. `en50318_2002`) from the embedded targets.
 pub fn target_cases(table: &str) -> Result<Vec<TargetCase>, CaseError> {
-    let v: toml::Value =
-        toml::from_str(TARGETS_TOML).map_err(|e| CaseError::Parse(e.to_string()))?;
+    target_cases_in(TARGETS_TOML, table)
+}
+
+/// A user's targets file (`pcsim validate --targets FILE`), in the format of the embedded
+/// targets: one table with the preset it runs, `source`, and its cases `vNNN[_leading|_trailing]`
+/// with `speed_kmh` and a range `[low, high]` per quantity (or `[]` where the range is not known
+/// yet: reported as missing, never invented).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TargetsFile {
+    /// The table's name.
+    pub table: String,
+    /// The preset it runs (`preset = "…"`).
+    pub preset: String,
+    /// Where its ranges come from (`source = "…"`).
+    pub source: String,
+    /// Its cases.
+    pub cases: Vec<TargetCase>,
+}
+
+/// Read a user's targets file (see [`TargetsFile`]); errors name the key at fault.
+pub fn targets_file(text: &str) -> Result<TargetsFile, CaseError> {
+    let bad = |field: &str, value: &str, reason: &str| CaseError::Invalid {
+        field: field.into(),
+        value: value.into(),
+        reason: reason.into(),
+    };
+    let v: toml::Value = toml::from_str(text).map_err(|e| CaseError::Parse(e.to_string()))?;
+    let tables: Vec<&String> = v
+        .as_table()
+        .map(|t| {
+            t.iter()
+                .filter(|(_, x)| x.is_table())
+                .map(|(k, _)| k)
+                .collect()
+        })
+        .unwrap_or_default();
+    let [table] = tables[..] else {
+        return Err(bad(
+            "targets",
+            &format!("{} tables", tables.len()),
+            "a targets file holds one table (e.g. [en50318_2018_simple]) with its cases",
+        ));
+    };
+    let t = &v[table.as_str()];
+    let text_of = |key: &str| t.get(key).and_then(|x| x.as_str()).map(str::to_string);
+    let preset = text_of("preset").ok_or_else(|| {
+        bad(
+            &format!("{table}.preset"),
+            "missing",
+            "name the preset the targets are for (preset = \"…\")",
+        )
+    })?;
+    let cases = target_cases_in(text, table)?;
+    if cases.is_empty() {
+        return Err(bad(
+            table,
+            "no cases",
+            "give at least one case table with speed_kmh (e.g. [TABLE.v275_leading])",
+        ));
+    }
+    Ok(TargetsFile {
+        table: table.clone(),
+        preset,
+        source: text_of("source").unwrap_or_default(),
+        cases,
+    })
+}
+
+/// Read the target cases of table `table` of targets text `text`.
+pub fn target_cases_in(text: &str, table: &str) -> Result<Vec<TargetCase>, CaseError> {
+    let v: toml::Value = toml::from_str(text).map_err(|e| CaseError::Parse(e.to_string()))?;
     let t = v
         .get(table)
         .and_then(|t| t.as_table())
@@ -55,13 +126,34 @@ pub fn target_cases(table: &str) -> Result<Vec<TargetCase>, CaseError> {
             continue;
         };
         let mut ranges = Vec::new();
+        let mut missing = Vec::new();
         for q in QUANTITIES {
             if let Some(r) = c.get(*q).and_then(|r| r.as_array()) {
                 let f: Vec<f64> = r.iter().filter_map(num).collect();
-                if f.len() == 2 {
-                    ranges.push((q.to_string(), [f[0], f[1]]));
+                match f[..] {
+                    [lo, hi] if lo.is_finite() && hi.is_finite() => {
+                        ranges.push((q.to_string(), [lo, hi]))
+                    }
+                    [] if r.is_empty() => missing.push(q.to_string()),
+                    _ => {
+                        return Err(CaseError::Invalid {
+                            field: format!("{table}.{key}.{q}"),
+                            value: format!("{r:?}"),
+                            reason: "a range is [low, high], or [] where it is not known".into(),
+                        })
+                    }
                 }
             }
+        }
+        if let Some(k) = c
+            .keys()
+            .find(|k| !QUANTITIES.contains(&k.as_str()) && *k != "speed_kmh" && *k != "paper_value")
+        {
+            return Err(CaseError::Invalid {
+                field: format!("{table}.{key}.{k}"),
+                value: "given".into(),
+                reason: format!("not a quantity pcsim reports ({})", QUANTITIES.join(", ")),
+            });
         }
         let paper = c
             .get("paper_value")
@@ -82,6 +174,7 @@ pub fn target_cases(table: &str) -> Result<Vec<TargetCase>, CaseError> {
             pantograph,
             ranges,
             paper,
+            missing,
         });
     }
     Ok(out)
