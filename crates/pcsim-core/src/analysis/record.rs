@@ -125,10 +125,13 @@ impl Recorder {
     /// section (track coordinates).
     pub fn new(cm: &CompiledModel, dt_s: f64, n_steps: usize, analysis_m: [f64; 2]) -> Self {
         let np = cm.model().pantographs.len();
-        let span_m = cm.model().span_m;
+        // A line's supports are its own (an overlap's carry two arms): found in its list, not
+        // at multiples of a span.
+        let line = matches!(cm.model().statics, crate::model::StaticShape::Line(_));
+        let span_m = cm.model().span_m.filter(|_| !line);
         let mut support = Vec::new();
         let supports_m = cm.model().supports_m.clone();
-        if span_m.is_none() {
+        if line {
             // Spans that do not repeat: support `j` is the line's `j`-th.
             for (k, &x) in cm.monitor_positions().iter().enumerate() {
                 if let Some(j) = supports_m.iter().position(|&s| (x - s).abs() < 1e-3) {

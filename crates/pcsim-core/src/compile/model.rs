@@ -710,8 +710,11 @@ fn place(case: &Case) -> Result<Placed, CaseError> {
         let starts = line.starts_m();
         let mut tls = Vec::new();
         let mut statics = Vec::new();
-        let mut repeats = line.tension_lengths.len() == 1;
-        let mut first_span = None;
+        // The sampler's periodic path needs the points to repeat every span: every span of
+        // every tension length of one length with one dropper layout (heights do not matter:
+        // they move no point).
+        let mut repeats = true;
+        let mut first_span: Option<SpanLayout> = None;
         for (k, t) in line.tension_lengths.iter().enumerate() {
             let ck = t.catenary(c);
             let mut d = tension_length_design(&ck, t);
@@ -736,11 +739,11 @@ fn place(case: &Case) -> Result<Placed, CaseError> {
                 }
             }
             let first = &d.spans[0];
+            let reference = first_span.get_or_insert_with(|| first.clone());
             repeats = repeats
-                && d.spans.iter().all(|s| s == first)
-                && d.contact_height_m.iter().all(|&h| h == 0.0)
-                && d.encumbrance_m.iter().all(|&e| e == d.encumbrance_m[0]);
-            first_span.get_or_insert(first.length_m);
+                && d.spans.iter().all(|s| {
+                    s.length_m == reference.length_m && s.dropper_x_m == reference.dropper_x_m
+                });
             let stiffness = |len: f64| match (ck.droppers.stiffness_n_per_m, ck.droppers.ea_n) {
                 (Some(k), _) => k,
                 (None, Some(ea)) => ea / len,
@@ -770,7 +773,7 @@ fn place(case: &Case) -> Result<Placed, CaseError> {
             tls,
             supports_m: line.supports_m(),
             shape: StaticShape::Line(Box::new(LineStatics::new(statics))),
-            span_m: if repeats { first_span } else { None },
+            span_m: first_span.filter(|_| repeats).map(|s| s.length_m),
         });
     }
     let stat = StaticSolution::solve(&static_design(c));
