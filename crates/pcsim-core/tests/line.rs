@@ -537,6 +537,7 @@ fn two_coincident_half_wires_give_the_force_of_one() {
         .iter()
         .zip(fb)
         .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    eprintln!("coincident half wires: largest difference {worst:.3e} N of {scale:.1} N");
     assert!(
         worst <= 1e-9 * scale,
         "largest difference {worst} N of {scale} N"
@@ -662,6 +663,9 @@ fn energy_balance_across_an_overlap() {
         worst = worst.max((e - e0 + dissipated).abs());
         scale = scale.max((e - e0).abs()).max(dissipated);
     }
+    eprintln!(
+        "overlap energy residual {worst:.4e} J of {scale:.4e} J; both wires touched in {touched_both} of 8000 steps"
+    );
     assert!(
         touched_both > 1000,
         "both wires touched in {touched_both} steps"

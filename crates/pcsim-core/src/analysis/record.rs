@@ -295,7 +295,8 @@ impl Observer for Recorder {
                     self.wire_force[p][k].push(f);
                     if f > 0.0 {
                         touching += 1;
-                    } else if present {
+                    } else if present && h != s.wire_height_m {
+                        // An idle wire other than the one the pantograph runs on.
                         gap = gap.min(h - s.wire_height_m);
                     }
                 }
