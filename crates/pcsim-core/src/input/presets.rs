@@ -61,6 +61,11 @@ pub const PRESETS: &[Preset] = &[
         summary: "the EN 50318:2018 structure, stitched: three tension lengths, two 3-span overlaps, 31 x 60 m, two pantographs (public data, not the standard's; issue 21)",
         toml: include_str!("../../../../presets/en50318-2018-like-stitched.toml"),
     },
+    Preset {
+        name: "line-10km-2002",
+        summary: "a 10.4 km line for scale: 10 tension lengths of 20 x 60 m, 3-span overlaps, en50318-2002's catenary and pantograph (issue 21)",
+        toml: include_str!("../../../../presets/line-10km-2002.toml"),
+    },
 ];
 
 /// Find a preset by name.
