@@ -725,3 +725,19 @@ fn targets_files_and_the_2018_templates() {
         assert!(matches!(targets_file(&two), Err(CaseError::Invalid { .. })));
     }
 }
+
+/// The energy density (EVA) needs every wire over the whole model: on a line of several tension
+/// lengths it is refused, saying why, rather than computed on the wrong grid.
+#[test]
+fn the_energy_density_of_a_line_of_several_tension_lengths_is_refused() {
+    use pcsim_core::analysis::energy::DensityGrid;
+    use pcsim_core::compile::model::model_from_case;
+    let (model, _) = model_from_case(&overlap_line()).unwrap();
+    match DensityGrid::new(&model, 4) {
+        Err(CaseError::Invalid { field, reason, .. }) => {
+            assert_eq!(field, "model");
+            assert!(reason.contains("tension lengths"), "{reason}");
+        }
+        other => panic!("expected a refusal, got {:?}", other.map(|_| ())),
+    }
+}

@@ -69,7 +69,7 @@ impl DensityGrid {
             return Err(CaseError::Invalid {
                 field: "model".into(),
                 value: format!("{} basis groups", lay.groups.len()),
-                reason: "the energy density grid needs every wire over the whole model".into(),
+                reason: "the energy density grid needs every wire over the whole model (a [line] of several tension lengths has its own wires per tension length: its EVA is not computed in this version)".into(),
             });
         }
         let n = g.basis.n_modes();
