@@ -744,11 +744,7 @@ fn place(case: &Case) -> Result<Placed, CaseError> {
                 && d.spans.iter().all(|s| {
                     s.length_m == reference.length_m && s.dropper_x_m == reference.dropper_x_m
                 });
-            let stiffness = |len: f64| match (ck.droppers.stiffness_n_per_m, ck.droppers.ea_n) {
-                (Some(k), _) => k,
-                (None, Some(ea)) => ea / len,
-                (None, None) => unreachable!("validated"),
-            };
+            let stiffness = |len: f64| dropper_stiffness(&ck, len);
             tls.push(PlacedTl {
                 start_m: starts[k],
                 length_m: st.supports_m[ns] - st.supports_m[0],
@@ -794,11 +790,7 @@ fn place(case: &Case) -> Result<Placed, CaseError> {
                 x_m: s as f64 * c.span_m + d,
                 length_m: stat.dropper_length_m[i],
                 preload_n: stat.dropper_force_contact_n[i],
-                stiffness_n_per_m: match (c.droppers.stiffness_n_per_m, c.droppers.ea_n) {
-                    (Some(k), _) => k,
-                    (None, Some(ea)) => ea / stat.dropper_length_m[i],
-                    (None, None) => unreachable!("validated"),
-                },
+                stiffness_n_per_m: dropper_stiffness(c, stat.dropper_length_m[i]),
                 stitch: stat.stitch[i],
             });
         }
@@ -816,6 +808,16 @@ fn place(case: &Case) -> Result<Placed, CaseError> {
         shape: StaticShape::Catenary(Box::new(stat)),
         span_m: Some(c.span_m),
     })
+}
+
+/// A dropper's stiffness in tension (Eq. 15): the catenary's, or `EA / length` with its static
+/// length, N/m.
+fn dropper_stiffness(c: &CatenaryCase, length_m: f64) -> f64 {
+    match (c.droppers.stiffness_n_per_m, c.droppers.ea_n) {
+        (Some(k), _) => k,
+        (None, Some(ea)) => ea / length_m,
+        (None, None) => unreachable!("validated"),
+    }
 }
 
 /// Dropper clamp masses and half of each dropper's mass smeared into the wires' mass per metre

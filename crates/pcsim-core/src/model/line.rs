@@ -13,7 +13,7 @@
 //! the steady arms do (its end is the anchor's), and the messenger too.
 
 use crate::model::statics::{
-    kink_force, simply_supported_moments, stitch_stiffness, StitchStatic, G,
+    between_nodes, kink_force, simply_supported_moments, stitch_stiffness, StitchStatic, G,
 };
 use crate::model::wire::WireRole;
 
@@ -115,7 +115,7 @@ impl LineProfile {
         }
         let j = self.xs.partition_point(|&xn| xn <= x) - 1;
         let (x0, h0, x1, h1) = (self.xs[j], self.hs[j], self.xs[j + 1], self.hs[j + 1]);
-        h0 + (h1 - h0) / (x1 - x0) * (x - x0) + self.w / (2.0 * self.t) * (x - x0) * (x - x1)
+        between_nodes(self.w, self.t, (x0, h0), (x1, h1), x)
     }
 
     /// Upward force of the end support on the wire at its first node (`first`) or its last:

@@ -97,7 +97,7 @@ impl Profile {
         let k = (x / s).floor().clamp(0.0, self.n_spans as f64);
         let xi = x - k * s;
         let (x0, h0, x1, h1) = self.segment(xi);
-        h0 + (h1 - h0) / (x1 - x0) * (xi - x0) + self.w / (2.0 * self.t) * (xi - x0) * (xi - x1)
+        between_nodes(self.w, self.t, (x0, h0), (x1, h1), xi)
     }
 
     /// Upward point force the wire needs at each node to hold this shape:
@@ -120,6 +120,20 @@ impl Profile {
             })
             .collect()
     }
+}
+
+/// Height at `x` of a tensioned wire (tension `t_n`, weight `w_n_per_m`) between the nodes
+/// `(x0, h0)` and `(x1, h1)`: the chord plus the parabola of `T y'' = w`. The one place of this
+/// law, for the span-periodic profile and a line's.
+#[inline]
+pub fn between_nodes(
+    w_n_per_m: f64,
+    t_n: f64,
+    (x0, h0): (f64, f64),
+    (x1, h1): (f64, f64),
+    x: f64,
+) -> f64 {
+    h0 + (h1 - h0) / (x1 - x0) * (x - x0) + w_n_per_m / (2.0 * t_n) * (x - x0) * (x - x1)
 }
 
 /// Upward point force a tensioned wire (tension `t_n`, weight `w_n_per_m`) needs at a node
