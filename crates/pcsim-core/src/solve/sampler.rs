@@ -841,6 +841,83 @@ mod tests {
         }
     }
 
+    /// Issue 21, item 8: the points of random line layouts (runs of equal spans of 40–70 m, the
+    /// dropper layout scaled to each span, the supports, the line's ends), through the sampler
+    /// as a line's model builds it (no period), equal the dense sums within 1e-12 of `Σ|q|`
+    /// (`Σ|f|`), gather and scatter of two blocks, both instruction-set paths; the larger
+    /// layouts take the non-uniform transform, the smaller dense rows.
+    #[test]
+    fn random_line_layouts_equal_the_dense_sums() {
+        let mut state = 0x5eed_u64;
+        let mut rnd = move || {
+            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            z ^= z >> 31;
+            (z >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let layout = [2.5, 9.0, 16.0, 23.0, 30.0, 37.0, 44.0, 51.0, 57.5];
+        let mut took_spread = 0;
+        for spans_wanted in [6usize, 14, 31] {
+            let mut spans = Vec::new();
+            while spans.len() < spans_wanted {
+                let count = 1 + (rnd() * 5.0) as usize;
+                let len = (40.0 + 30.0 * rnd()).round();
+                spans.extend(std::iter::repeat_n(len, count));
+            }
+            spans.truncate(spans_wanted);
+            let l: f64 = spans.iter().sum();
+            let mut xs = vec![0.0];
+            let mut x0 = 0.0;
+            for &s in &spans {
+                xs.extend(layout.iter().map(|d| x0 + d * s / 60.0));
+                x0 += s;
+                xs.push(x0.min(l));
+            }
+            let n = l.round() as usize;
+            let basis = SineBasis::new(l, n);
+            for isa in [Isa::Portable, Isa::best_available()] {
+                let sp = PointSampler::new(&basis, &xs, None, isa);
+                took_spread += usize::from(sp.n_spread() > 0);
+                let mut sc = sp.scratch();
+                let np = xs.len();
+                let q: Vec<f64> = (0..2 * n).map(|_| 2.0 * rnd() - 1.0).collect();
+                let f: Vec<f64> = (0..2 * np).map(|_| 2.0 * rnd() - 1.0).collect();
+                let mut out = vec![0.0; 2 * np];
+                sp.gather(&q, 2, &mut out, &mut sc);
+                let mut g = vec![0.0; 2 * n];
+                sp.scatter_add(&f, 2, &mut g, &mut sc);
+                let mut row = vec![0.0; n];
+                for b in 0..2 {
+                    let qb = &q[b * n..(b + 1) * n];
+                    let fb = &f[b * np..(b + 1) * np];
+                    let qn: f64 = qb.iter().map(|v| v.abs()).sum();
+                    let fnorm: f64 = fb.iter().map(|v| v.abs()).sum();
+                    let mut dense = vec![0.0; n];
+                    for (j, &x) in xs.iter().enumerate() {
+                        basis.fill_sines(x, &mut row);
+                        let want: f64 = row.iter().zip(qb).map(|(a, c)| a * c).sum();
+                        assert!(
+                            (out[b * np + j] - want).abs() < 1e-12 * qn,
+                            "{isa:?} {spans:?}: gather at {x}"
+                        );
+                        for (d, r) in dense.iter_mut().zip(&row) {
+                            *d += fb[j] * r;
+                        }
+                    }
+                    for m in 0..n {
+                        assert!(
+                            (g[b * n + m] - dense[m]).abs() < 1e-12 * fnorm,
+                            "{isa:?} {spans:?}: scatter mode {m}"
+                        );
+                    }
+                }
+            }
+        }
+        assert!(took_spread >= 2, "the largest layout takes the transform");
+    }
+
     /// Points at arbitrary positions (a non-uniform line): beyond a few dozen they go to the
     /// non-uniform transform, not to dense rows; gather, scatter (one to three blocks) and the
     /// scaled scatter equal the dense sums within 1e-12 of `Σ|q|` (`Σ|f|`), on both paths.
