@@ -731,7 +731,7 @@ impl Points {
                             let b = block_of(model, wire, dir)?;
                             let g = lay.blocks[b].group;
                             index_of(&mut gpts[g], x_m - lay.groups[g].origin_m);
-                            if e.needs_velocity(a) {
+                            if e.needs_velocity(i, a) {
                                 index_of(&mut vpts[b], x_m - lay.groups[g].origin_m);
                             }
                         }
@@ -911,7 +911,7 @@ fn resolve_elements(
             for a in 0..e.arity() {
                 let slot = match e.attachment(i, a) {
                     Attach::Wire { wire, dir, x_m } => {
-                        sl.wire_slot(points, wire, dir, x_m, e.needs_velocity(a))
+                        sl.wire_slot(points, wire, dir, x_m, e.needs_velocity(i, a))
                     }
                     Attach::Node(j) => {
                         if j >= nn {

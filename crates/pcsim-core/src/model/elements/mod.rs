@@ -137,8 +137,9 @@ pub trait PointElement: std::fmt::Debug + Send + Sync {
     fn arity(&self) -> usize;
     /// Attachment `a` of instance `i`.
     fn attachment(&self, i: usize, a: usize) -> Attach;
-    /// Whether the force law reads the velocity at attachment `a`.
-    fn needs_velocity(&self, _a: usize) -> bool {
+    /// Whether the force law of instance `i` reads the velocity at attachment `a` (a velocity
+    /// point costs a gather per step: an undamped spring needs none).
+    fn needs_velocity(&self, _i: usize, _a: usize) -> bool {
         false
     }
     /// Stiffness of instance `i` between its attachments (or to the ground), N/m: the

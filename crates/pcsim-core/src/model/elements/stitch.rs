@@ -39,8 +39,8 @@ impl PointElement for Stitches {
             self.0[i].node
         }
     }
-    fn needs_velocity(&self, _a: usize) -> bool {
-        true
+    fn needs_velocity(&self, i: usize, _a: usize) -> bool {
+        self.0[i].damping_ns_per_m != 0.0
     }
     fn stiffness(&self, i: usize) -> f64 {
         self.0[i].stiffness_n_per_m

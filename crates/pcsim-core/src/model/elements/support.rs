@@ -39,8 +39,8 @@ impl PointElement for Supports {
     fn attachment(&self, i: usize, _a: usize) -> Attach {
         self.0[i].at
     }
-    fn needs_velocity(&self, _a: usize) -> bool {
-        true
+    fn needs_velocity(&self, i: usize, _a: usize) -> bool {
+        self.0[i].damping_ns_per_m != 0.0
     }
     fn implicit(&self, i: usize) -> Option<(usize, Weight)> {
         let c = self.0[i].damping_ns_per_m;
