@@ -454,11 +454,12 @@ impl SineNufft {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    /// A deterministic pseudo-random sequence in [−1, 1) (splitmix64).
-    fn rng(seed: u64) -> impl FnMut() -> f64 {
+    /// A deterministic pseudo-random sequence in [−1, 1) (splitmix64); the sampler's tests use
+    /// it too.
+    pub(crate) fn rng(seed: u64) -> impl FnMut() -> f64 {
         let mut s = seed;
         move || {
             s = s.wrapping_add(0x9e37_79b9_7f4a_7c15);

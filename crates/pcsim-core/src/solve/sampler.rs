@@ -850,15 +850,8 @@ mod tests {
     /// layouts take the non-uniform transform, the smaller dense rows.
     #[test]
     fn random_line_layouts_equal_the_dense_sums() {
-        let mut state = 0x5eed_u64;
-        let mut rnd = move || {
-            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-            let mut z = state;
-            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-            z ^= z >> 31;
-            (z >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut r = crate::solve::nufft::tests::rng(0x5eed);
+        let mut rnd = move || 0.5 * (r() + 1.0);
         let layout = [2.5, 9.0, 16.0, 23.0, 30.0, 37.0, 44.0, 51.0, 57.5];
         let mut took_spread = 0;
         for spans_wanted in [6usize, 14, 31] {
