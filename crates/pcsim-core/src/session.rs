@@ -408,9 +408,11 @@ impl RealtimeSession {
         b
     }
 
-    /// The size of [`Self::state_bytes`] for this session, bytes.
+    /// The size of [`Self::state_bytes`] for this session, bytes: on a line, the largest over
+    /// the window's positions (a buffer of this size holds a state saved anywhere).
     pub fn state_size(&self) -> usize {
-        Self::state_bytes(&self.state([0.0; 4])).len()
+        let (now, most) = self.cat.snapshot_len();
+        Self::state_bytes(&self.state([0.0; 4])).len() - now + most
     }
 
     /// A state read back from [`Self::state_bytes`]: refused, with the reason, when it was

@@ -625,6 +625,39 @@ fn the_pantograph_passes_an_overlap_from_one_wire_to_the_other() {
     assert!(o.max_uplift_at_support_mm > 0.0);
 }
 
+/// A prescribed load (a constant moving force, or a rig's measured force) is the total on the
+/// head: through an overlap it acts on one wire, the lower one present (`Contacts::carries`),
+/// never on both at once; each wire carries it only inside its tension length, and the first
+/// wire hands it over inside the overlap.
+#[test]
+fn a_moving_force_through_an_overlap_acts_once() {
+    use pcsim_core::input::case::PantographCase;
+    let mut case = overlap_line();
+    case.pantographs = vec![PantographCase::MovingForce {
+        name: "force".into(),
+        offset_m: 0.0,
+        force_n: 120.0,
+        lateral_force_n: 0.0,
+    }];
+    let out = run_case(&case, &mut |_| true).unwrap();
+    let p = &out.pantographs[0];
+    let (w1, w2) = (&p.wire_forces[0].1, &p.wire_forces[1].1);
+    let mut handover = None;
+    for i in 0..p.position_m.len() {
+        let x = p.position_m[i];
+        assert_eq!(w1[i] + w2[i], 120.0, "at {x} m: {} + {} N", w1[i], w2[i]);
+        assert!(w1[i] == 0.0 || w2[i] == 0.0, "both wires loaded at {x} m");
+        if w2[i] > 0.0 && handover.is_none() {
+            handover = Some(x);
+        }
+    }
+    let x = handover.expect("the second wire never took the force");
+    assert!(
+        x > 180.0 && x < 360.0,
+        "handover at {x} m, outside the overlap"
+    );
+}
+
 /// The energy balance holds with two contacts: a pantograph standing in the transfer span,
 /// pressing on both wires, kicked upward by 5 cm: the system's energy change plus what the
 /// dampers dissipated stays within 0.2 % of the energy exchanged.
@@ -814,4 +847,206 @@ fn a_string_over_non_uniform_spans_under_a_moving_force_matches_the_analytic_sol
     );
     assert!(peak > 1e-2, "peak {peak}");
     assert!(worst < 6e-3 * peak, "worst {worst} against peak {peak}");
+}
+
+/// The filtered (0–20 Hz) force's largest and smallest value while the pantograph is inside
+/// `[a, b]`, N.
+fn extremes_inside(force_n: &[f64], position_m: &[f64], dt_s: f64, [a, b]: [f64; 2]) -> [f64; 2] {
+    use pcsim_core::analysis::filter::lowpass_zero_phase;
+    let f = lowpass_zero_phase(force_n, 1.0 / dt_s, 20.0);
+    let inside = f
+        .iter()
+        .zip(position_m)
+        .filter(|(_, &x)| x >= a && x <= b)
+        .map(|(&v, _)| v);
+    [
+        inside.clone().fold(f64::NEG_INFINITY, f64::max),
+        inside.fold(f64::INFINITY, f64::min),
+    ]
+}
+
+/// Issue 21, item 7: the real-time window over a line of three tension lengths, in SIL mode,
+/// against the full model (leading pantograph): it moves across both overlaps, carrying every
+/// wire inside it. At 400 m it meets the window study's goals (mean within 1 %, σ within 3 %) and
+/// gives the 0–20 Hz force's largest and smallest value inside each overlap within 3 %; at
+/// 240 m (short for this catenary at 275 km/h) its σ errs, but no more than on the same catenary
+/// without overlaps. `docs/validation.md` has the table (180–400 m).
+#[test]
+fn the_real_time_window_crosses_the_overlaps_of_a_line() {
+    use pcsim_core::analysis::studies::window_study;
+    let case = presets::load("en50318-2018-like-simple").unwrap().0;
+    let windows = [240.0, 400.0];
+    let study = window_study(&case, &windows, Some(2), &mut |_| true).unwrap();
+    let plain = window_study(&without_overlaps(&case), &[240.0], Some(1), &mut |_| true).unwrap();
+    let plain_240 = plain.errors_percent()[0].unwrap().1;
+    let full = &study.full.pantographs[0];
+    let fs = full.stats.unwrap();
+    let dt = study.full.dt_s;
+    let overlaps: Vec<[f64; 2]> = full.overlaps.iter().map(|o| o.section_m).collect();
+    assert_eq!(overlaps.len(), 2);
+    let full_ext: Vec<[f64; 2]> = overlaps
+        .iter()
+        .map(|&o| extremes_inside(&full.force_n, &full.position_m, dt, o))
+        .collect();
+    eprintln!(
+        "full: mean {:.2} σ {:.2}; overlaps {overlaps:?}: max/min {full_ext:.1?}; without overlaps, 240 m: Δσ {plain_240:+.2} %",
+        fs.mean_n, fs.std_n
+    );
+    for (r, e) in study.windows.iter().zip(study.errors_percent()) {
+        let (dm, ds) = e.unwrap();
+        let de: Vec<f64> = overlaps
+            .iter()
+            .zip(&full_ext)
+            .flat_map(|(&o, f)| {
+                let w = extremes_inside(&r.force_n, &r.position_m, dt, o);
+                [100.0 * (w[0] - f[0]) / f[0], 100.0 * (w[1] - f[1]) / f[1]]
+            })
+            .collect();
+        eprintln!(
+            "window {} m: {} modes, {} moves, Δmean {dm:+.2} %, Δσ {ds:+.2} %, overlaps' max/min {de:+.1?} %",
+            r.window_m, r.n_modes, r.moves
+        );
+        // Both overlaps (600–780 and 1 200–1 380 m) lie behind the window's last position.
+        assert!(r.moves >= 6, "{} moves", r.moves);
+        assert!(dm.abs() < 1.0, "window {} m: mean {dm} %", r.window_m);
+        if r.window_m == 400.0 {
+            assert!(ds.abs() < 3.0, "σ {ds} %");
+            assert!(
+                de.iter().all(|d| d.abs() < 3.0),
+                "overlaps' extremes {de:?} %"
+            );
+        } else {
+            assert!(
+                ds.abs() <= plain_240.abs(),
+                "σ {ds} % against {plain_240} % without overlaps"
+            );
+        }
+    }
+}
+
+/// Issue 21, item 7: on a line of one tension length of equal spans the window takes the same
+/// positions as on the catenary it spells, each a model of its own, and carries the state
+/// between them by the general projection of each wire's basis onto the next
+/// (`solve::realtime::basis_projection`) where the catenary's window projects its one basis by
+/// a shift: the same contact force statistics.
+#[test]
+fn the_window_on_a_line_of_equal_spans_runs_as_on_its_catenary() {
+    use pcsim_core::analysis::studies::run_window_sil;
+    let case = common::short_en50318(12, 250.0);
+    let c = &case.catenary;
+    let line = with_line(
+        case.clone(),
+        TensionLengthCase {
+            span_runs: vec![SpanRun {
+                count: c.spans,
+                length_m: c.span_m,
+            }],
+            ..tension_length(Vec::new(), Vec::new())
+        },
+    );
+    let a = run_window_sil(&case, 240.0).unwrap();
+    let b = run_window_sil(&line, 240.0).unwrap();
+    assert_eq!(a.n_modes, b.n_modes);
+    // The catenary's window moves on past the model's end (its shape repeats); the line's
+    // stops where its window reaches the anchor, 660 m: compare the raw force before that.
+    let scale = a.force_n.iter().fold(0.0f64, |m, f| m.max(f.abs()));
+    let mut compared = 0;
+    for k in 0..a.force_n.len() {
+        assert_eq!(a.position_m[k], b.position_m[k]);
+        if a.position_m[k] < 655.0 {
+            assert!(
+                (a.force_n[k] - b.force_n[k]).abs() < 1e-9 * scale,
+                "at {} m: catenary's window {} N, line's {} N",
+                a.position_m[k],
+                a.force_n[k],
+                b.force_n[k]
+            );
+            compared += 1;
+        }
+    }
+    assert!(
+        compared > a.force_n.len() / 2 && b.moves >= 4,
+        "{compared} steps, {} moves",
+        b.moves
+    );
+}
+
+/// The 2018-like simple line's catenary without its line: one tension length of its 31 equal
+/// spans, no overlaps (the window's own error, for comparison).
+fn without_overlaps(case: &Case) -> Case {
+    let mut uni = case.clone();
+    uni.line = None;
+    uni.catenary.spans = 31;
+    uni
+}
+
+/// The window's (HIL) error in the contact-wire height at the contact point, fed with the full
+/// model's contact force and position: RMS and largest over the analysis section, largest inside
+/// the overlaps, and the height's σ, m; and the window's moves.
+fn hil_height_error(case: &Case, window_m: f64) -> ([f64; 4], usize) {
+    use pcsim_core::solve::realtime::Coupling;
+    let single = pcsim_core::compile::window_case(case);
+    let full = run_case(&single, &mut |_| true).unwrap();
+    let p = &full.pantographs[0];
+    let overlaps: Vec<[f64; 2]> = p.overlaps.iter().map(|o| o.section_m).collect();
+    let mut rt = pcsim_core::compile::realtime_window(case, window_m, Coupling::Hil).unwrap();
+    let sec = case.run.analysis_m;
+    let (mut sum2, mut n, mut worst, mut var, mut worst_overlap) =
+        (0.0, 0usize, 0.0f64, 0.0, 0.0f64);
+    let mean_h: f64 = p.wire_height_m.iter().sum::<f64>() / p.wire_height_m.len() as f64;
+    for k in 0..p.force_n.len() {
+        rt.set_input(p.force_n[k], p.position_m[k]);
+        let o = rt.step();
+        assert!((o.position_m - p.position_m[k]).abs() < 1e-9);
+        let x = p.position_m[k];
+        if x >= sec[0] && x <= sec[1] {
+            let e = o.wire_height_m - p.wire_height_m[k];
+            sum2 += e * e;
+            worst = worst.max(e.abs());
+            var += (p.wire_height_m[k] - mean_h).powi(2);
+            n += 1;
+            if overlaps.iter().any(|o| x >= o[0] && x <= o[1]) {
+                worst_overlap = worst_overlap.max(e.abs());
+            }
+        }
+    }
+    let rms = (sum2 / n as f64).sqrt();
+    let std = (var / n as f64).sqrt();
+    ([rms, worst, worst_overlap, std], rt.moves())
+}
+
+/// Issue 21, item 7, hardware in the loop: fed with the full model's contact force and position
+/// over the 2018-like line, a 400 m window returns the contact-wire height at the contact point,
+/// overlaps included, within 5 % of the height's σ (RMS over the analysis section, the bound of
+/// the span-periodic check in `tests/realtime.rs`), and no worse than on the same catenary
+/// without overlaps: the overlaps add no error of their own. The measured force is the total on
+/// the head: in an overlap it acts on the lower wire (`Contacts::carries`), where the full model
+/// shares it between both in the transfer region.
+#[test]
+fn the_hil_window_returns_the_wire_height_across_the_overlaps() {
+    let case = presets::load("en50318-2018-like-simple").unwrap().0;
+    let uni = without_overlaps(&case);
+    let ((line, moves), (plain, _)) = std::thread::scope(|s| {
+        let a = s.spawn(|| hil_height_error(&case, 400.0));
+        (a.join().unwrap(), hil_height_error(&uni, 400.0))
+    });
+    let mm = |e: [f64; 4]| e.map(|v| (v * 1e4).round() / 10.0);
+    eprintln!(
+        "HIL height error, 400 m window, [rms, max, max in overlaps, height σ] mm: line {:?} ({moves} moves), without overlaps {:?}",
+        mm(line),
+        mm(plain)
+    );
+    assert!(moves >= 6, "{moves} moves");
+    assert!(
+        line[0] < 0.05 * line[3],
+        "rms {} m against σ {} m",
+        line[0],
+        line[3]
+    );
+    assert!(
+        line[0] <= plain[0],
+        "line {} m, without overlaps {} m",
+        line[0],
+        plain[0]
+    );
 }

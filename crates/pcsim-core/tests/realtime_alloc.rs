@@ -39,10 +39,26 @@ static GLOBAL: Counting = Counting;
 
 #[test]
 fn ten_thousand_realtime_steps_allocate_nothing() {
-    let (case, _) = presets::load("syt-7.0-9.8").unwrap();
+    realtime_steps_allocate_nothing("syt-7.0-9.8", 215.0, 10_000);
+}
+
+/// On a line the window moves between a model per position (issue 21, item 7): across both
+/// overlaps of the 2018-like line, in both coupling modes.
+#[test]
+fn realtime_steps_across_a_lines_overlaps_allocate_nothing() {
+    let (case, _) = presets::load("en50318-2018-like-simple").unwrap();
+    let rt = pcsim_core::compile::realtime_window(&case, 240.0, Coupling::Sil).unwrap();
+    assert!(rt.is_line());
+    // From the start to beyond the second overlap (1 200–1 380 m).
+    let steps = ((1400.0 - case.run.start_m) / (case.run.speed_kmh / 3.6) / rt.dt_s()) as usize;
+    realtime_steps_allocate_nothing("en50318-2018-like-simple", 240.0, steps);
+}
+
+fn realtime_steps_allocate_nothing(preset: &str, window_m: f64, steps: usize) {
+    let (case, _) = presets::load(preset).unwrap();
     for coupling in [Coupling::Sil, Coupling::Hil] {
         let c0 = allocs();
-        let mut rt = pcsim_core::compile::realtime_window(&case, 215.0, coupling).unwrap();
+        let mut rt = pcsim_core::compile::realtime_window(&case, window_m, coupling).unwrap();
         assert!(
             allocs() > c0,
             "the counter must see the set-up's allocations"
@@ -52,7 +68,7 @@ fn ten_thousand_realtime_steps_allocate_nothing() {
         let dt = rt.dt_s();
         let before = allocs();
         let mut check = 0.0;
-        for k in 0..10_000 {
+        for k in 0..steps {
             let t = k as f64 * dt;
             rt.set_input(85.0 + 15.0 * (7.0 * t).sin(), x0 + v * t);
             let o = rt.step();
@@ -68,7 +84,7 @@ fn ten_thousand_realtime_steps_allocate_nothing() {
         assert_eq!(
             after - before,
             0,
-            "{coupling:?}: {} allocations in 10 000 steps",
+            "{preset}, {coupling:?}: {} allocations in {steps} steps",
             after - before
         );
     }

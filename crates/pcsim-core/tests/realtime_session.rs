@@ -144,3 +144,51 @@ fn the_window_carries_the_leading_pantograph_only() {
         "{e}"
     );
 }
+
+/// On a line (issue 21, item 7) the window is a model per position, so a saved state carries its
+/// position: a state saved before the first overlap, restored into a fresh session after the
+/// window has crossed it, continues bit for bit through both overlaps; every state fits the
+/// size the session states; a state rolled back across a move continues as before.
+#[test]
+fn a_lines_state_carries_the_windows_position_across_the_overlaps() {
+    let (case, _) = presets::load("en50318-2018-like-simple").unwrap();
+    let new = || RealtimeSession::new(&case, 240.0, Coupling::Hil).unwrap();
+    let mut a = new();
+    let x0 = a.start_position_m();
+    let dx = case.run.speed_kmh / 3.6 * a.dt_s();
+    let x = |k: usize| x0 + dx * k as f64;
+    let f = |k: usize| 140.0 + 30.0 * (0.01 * k as f64).sin();
+    let until = |xe: f64| ((xe - x0) / dx) as usize;
+    let k_save = until(500.0);
+    for k in 0..k_save {
+        a.step(f(k), x(k)).unwrap();
+    }
+    let size = a.state_size();
+    let saved = a.state([0.0; 4]);
+    let bytes = RealtimeSession::state_bytes(&saved);
+    assert!(bytes.len() <= size, "{} > {size}", bytes.len());
+    let moves_at_save = a.moves();
+    // On past both overlaps, recording the outputs.
+    let mut outputs = Vec::new();
+    for k in k_save..until(1450.0) {
+        outputs.push(a.step(f(k), x(k)).unwrap());
+        let b = RealtimeSession::state_bytes(&a.state([0.0; 4]));
+        assert!(
+            b.len() <= size,
+            "{} > {size} after {} moves",
+            b.len(),
+            a.moves()
+        );
+    }
+    assert!(a.moves() >= moves_at_save + 8, "{} moves", a.moves());
+    // A fresh session restored from the bytes, and the first one rolled back: both continue
+    // as the first did.
+    let mut b = new();
+    b.restore(&b.state_from_bytes(&bytes).unwrap()).unwrap();
+    a.restore(&saved).unwrap();
+    assert_eq!(a.moves(), moves_at_save);
+    for (i, k) in (k_save..until(1450.0)).enumerate() {
+        assert_eq!(a.step(f(k), x(k)).unwrap(), outputs[i], "step {k}");
+        assert_eq!(b.step(f(k), x(k)).unwrap(), outputs[i], "step {k}");
+    }
+}

@@ -212,13 +212,6 @@ pub fn realtime_window_with(
     coupling: Coupling,
     budget: &Budget,
 ) -> Result<RealtimeCatenary, CaseError> {
-    if case.line.is_some() {
-        return Err(CaseError::Invalid {
-            field: "line".into(),
-            value: "given".into(),
-            reason: "the real-time window moves by whole equal spans; a [line] of spans that need not repeat is not carried by the window in this version: use [catenary]".into(),
-        });
-    }
     if case.wind.is_some() {
         return Err(CaseError::Invalid {
             field: "wind".into(),

@@ -117,19 +117,6 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
             ));
         }
     }
-    if ntl > 1 {
-        if let Some(i) = case
-            .pantographs
-            .iter()
-            .position(|p| !matches!(p, PantographCase::Lumped { .. }))
-        {
-            return Err(inv(
-                &format!("pantographs[{i}].kind"),
-                "moving_force",
-                "a prescribed load has no one wire to act on where tension lengths overlap: use a lumped pantograph on a line of several tension lengths",
-            ));
-        }
-    }
     for (k, t) in line.tension_lengths.iter().enumerate() {
         tension_length(case, k, t, w)?;
     }

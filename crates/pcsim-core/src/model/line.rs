@@ -354,31 +354,58 @@ impl TensionLengthStatics {
 }
 
 /// The static shape of a whole line: each tension length's. Its wires are numbered as the
-/// model's: wire `2k` is tension length `k`'s messenger, `2k + 1` its contact wire.
+/// full model's: wire `2k` is tension length `k`'s messenger, `2k + 1` its contact wire. A
+/// window of the line (the real-time catenary, `Model::window`) reads it at its own origin and
+/// with its own wire numbers.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LineStatics {
     /// The tension lengths, in track order.
     pub tension_lengths: Vec<TensionLengthStatics>,
+    /// Line position of the model's x = 0, m (0 for the full model; a window's origin).
+    pub origin_m: f64,
+    /// For each wire of the model: its number in the full model (empty: the same numbers).
+    pub full_wire: Vec<usize>,
 }
 
 impl LineStatics {
     /// The line of these tension lengths.
     pub fn new(tension_lengths: Vec<TensionLengthStatics>) -> Self {
-        LineStatics { tension_lengths }
+        LineStatics {
+            tension_lengths,
+            origin_m: 0.0,
+            full_wire: Vec::new(),
+        }
     }
 
-    /// Static height of wire `wire` (role `role`) at track position `x`, m.
+    /// The same shape read by a window that starts at line position `origin_m` and whose wire
+    /// `i` is the full model's `full_wire[i]`.
+    pub fn window(&self, origin_m: f64, full_wire: Vec<usize>) -> Self {
+        LineStatics {
+            tension_lengths: self.tension_lengths.clone(),
+            origin_m: self.origin_m + origin_m,
+            full_wire: if self.full_wire.is_empty() {
+                full_wire
+            } else {
+                full_wire.iter().map(|&i| self.full_wire[i]).collect()
+            },
+        }
+    }
+
+    /// Static height of wire `wire` (role `role`) at model coordinate `x`, m.
     pub fn height(&self, wire: usize, role: WireRole, x: f64) -> f64 {
+        let wire = self.full_wire.get(wire).copied().unwrap_or(wire);
         let t = &self.tension_lengths[(wire / 2).min(self.tension_lengths.len() - 1)];
+        let x = x + self.origin_m;
         match role {
             WireRole::Contact => t.contact_height(x),
             _ => t.messenger_height(x),
         }
     }
 
-    /// The system height (messenger above contact wire) at `x`, the largest of the tension
-    /// lengths whose wires reach there, m.
+    /// The system height (messenger above contact wire) at model coordinate `x`, the largest of
+    /// the tension lengths whose wires reach there, m.
     pub fn system_height(&self, x: f64) -> f64 {
+        let x = x + self.origin_m;
         self.tension_lengths
             .iter()
             .filter(|t| x >= t.supports_m[0] && x <= t.supports_m[t.supports_m.len() - 1])

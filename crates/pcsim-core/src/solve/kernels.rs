@@ -753,23 +753,24 @@ lanes_kernel! {
 #[inline(always)]
 unsafe fn project_rows<S: Lanes, const F: bool, const NV: usize>(
     p: &[f64],
-    n: usize,
+    (n, m): (usize, usize),
     xs: [&[f64]; NV],
     out: &mut [f64],
 ) {
+    // `n` rows of `m` columns: `out[v] (n) = P x_v (m)`.
     assert!(
-        p.len() >= n * n && out.len() >= NV * n && xs.iter().all(|x| x.len() >= n),
+        p.len() >= n * m && out.len() >= NV * n && xs.iter().all(|x| x.len() >= m),
         "project: operands too short"
     );
     let xp: [*const f64; NV] = xs.map(|x| x.as_ptr());
     let (pp, op) = (p.as_ptr(), out.as_mut_ptr());
-    let tail = n / 4 * 4;
+    let tail = m / 4 * 4;
     unsafe {
         let mut k = 0;
         while k < n {
             let two = k + 1 < n;
-            let r0 = pp.add(k * n);
-            let r1 = if two { pp.add((k + 1) * n) } else { r0 };
+            let r0 = pp.add(k * m);
+            let r1 = if two { pp.add((k + 1) * m) } else { r0 };
             let mut acc0 = [S::zero(); NV];
             let mut acc1 = [S::zero(); NV];
             let mut j = 0;
@@ -785,7 +786,7 @@ unsafe fn project_rows<S: Lanes, const F: bool, const NV: usize>(
             for v in 0..NV {
                 let mut s0 = acc0[v].sum();
                 let mut s1 = acc1[v].sum();
-                for j in tail..n {
+                for j in tail..m {
                     let x = *xp[v].add(j);
                     s0 = mad::<F>(*r0.add(j), x, s0);
                     s1 = mad::<F>(*r1.add(j), x, s1);
@@ -810,7 +811,7 @@ unsafe fn project2_body<S: Lanes, const F: bool>(
     x1: &[f64],
     out: &mut [f64],
 ) {
-    unsafe { project_rows::<S, F, 2>(p, n, [x0, x1], out) }
+    unsafe { project_rows::<S, F, 2>(p, (n, n), [x0, x1], out) }
 }
 
 /// # Safety
@@ -822,7 +823,7 @@ unsafe fn project4_body<S: Lanes, const F: bool>(
     x: [&[f64]; 4],
     out: &mut [f64],
 ) {
-    unsafe { project_rows::<S, F, 4>(p, n, x, out) }
+    unsafe { project_rows::<S, F, 4>(p, (n, n), x, out) }
 }
 
 lanes_kernel! {
@@ -834,6 +835,25 @@ lanes_kernel! {
 lanes_kernel! {
     /// `out[v] = P x_v` for four vectors, every row of `P` read once for all of them.
     pub fn project4(p: &[f64], n: usize, x: [&[f64]; 4], out: &mut [f64]) = project4_body;
+}
+
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
+unsafe fn project2_rect_body<S: Lanes, const F: bool>(
+    p: &[f64],
+    shape: (usize, usize),
+    x0: &[f64],
+    x1: &[f64],
+    out: &mut [f64],
+) {
+    unsafe { project_rows::<S, F, 2>(p, shape, [x0, x1], out) }
+}
+
+lanes_kernel! {
+    /// `out[v] = P x_v` for two vectors, `P` row-major of shape `(rows, columns)` (a line's
+    /// window move: a wire's basis onto the next position's), every row read once for both.
+    pub fn project2_rect(p: &[f64], shape: (usize, usize), x0: &[f64], x1: &[f64], out: &mut [f64]) = project2_rect_body;
 }
 
 #[cfg(test)]
@@ -904,6 +924,17 @@ mod tests {
         project2(best, &pm, n, &x, &y, &mut o1);
         let mut o4 = vec![0.0; 4 * n];
         project4(best, &pm, n, [&y, &x, &y, &x], &mut o4);
+        // A rectangular P (rows × columns, both odd and not multiples of four) on both paths.
+        let (rows, cols) = (23, 37);
+        for isa in [Isa::Portable, best] {
+            let mut o = vec![0.0; 2 * rows];
+            project2_rect(isa, &pm, (rows, cols), &x, &y, &mut o);
+            for k in 0..rows {
+                let ex: f64 = (0..cols).map(|j| pm[k * cols + j] * x[j]).sum();
+                let ey: f64 = (0..cols).map(|j| pm[k * cols + j] * y[j]).sum();
+                assert!((o[k] - ex).abs() < 1e-12 && (o[rows + k] - ey).abs() < 1e-12);
+            }
+        }
         for k in 0..n {
             let e: f64 = (0..n).map(|j| pm[k * n + j] * y[j]).sum();
             assert!((o0[n + k] - e).abs() < 1e-12 && (o1[n + k] - e).abs() < 1e-12);

@@ -22,6 +22,18 @@
 //! move is the [`WindowMover`], an observer of the one run loop. A move is a
 //! fixed `O(N²)` cost, so every step has a fixed bound on its work.
 //!
+//! # On a line
+//! A line's spans need not repeat and its tension lengths end, so each window position is a
+//! model of its own (`Model::window` gives each wire's part inside the window its own basis, and
+//! leaves out the wires that do not reach in), built with its compiled operators before the
+//! first step. The positions start at supports: the next is the furthest support within half a
+//! window ahead, and the move fires at `W/2 + Δ/2` as above. A move carries each wire's state
+//! onto the next position's basis of the same wire by the projection of one sine basis onto
+//! another over their common part ([`basis_projection`], closed form, shared between moves of
+//! the same geometry); a wire that enters starts at its static shape. Every contact wire inside
+//! the window is carried, so the pantograph passes an overlap as in the full model. The move's
+//! work is fixed (`Σ n_to · n_from` per wire) and allocation-free.
+//!
 //! # Where the error comes from
 //! - the pinned window ends reflect the waves that would travel on (the main error when the
 //!   window is shorter than the effective vibration area);
@@ -32,9 +44,10 @@
 //!   cut off at the overlap's end carries a small Gibbs error.
 
 use crate::error::{CaseError, SimError};
-use crate::model::WireRole;
+use crate::model::{StaticShape, WireRole};
 use crate::solve::compiled::CompiledModel;
 use crate::solve::integrator::Integrator;
+use crate::solve::kernels::Isa;
 use crate::solve::plan::Plan;
 use crate::solve::run::Observer;
 use crate::solve::state::State;
@@ -327,6 +340,291 @@ impl std::fmt::Display for InputError {
     }
 }
 
+/// One position of the window: its model (compiled), state and scratch.
+#[derive(Debug, Clone)]
+struct Frame {
+    integ: Integrator,
+    st: State,
+    ws: Workspace,
+    /// Track position of the window's start, m.
+    origin_m: f64,
+}
+
+impl Frame {
+    /// The window `[origin, origin + window]` of `full_model`, at rest at its static shape.
+    fn new(
+        full_model: &crate::model::Model,
+        full_plan: &Plan,
+        options: crate::solve::Options,
+        origin_m: f64,
+        window_m: f64,
+        n: usize,
+        hil: bool,
+    ) -> Result<Self, CaseError> {
+        let model = full_model.window(origin_m, window_m, n, hil);
+        let plan = Plan {
+            start_m: full_plan.start_m - origin_m,
+            ..full_plan.clone()
+        };
+        let integ = Integrator::new(model, &plan, options)?;
+        let mut st = integ.initial_state(plan.start_m);
+        st.track_origin_m = origin_m;
+        let ws = integ.workspace();
+        Ok(Frame {
+            integ,
+            st,
+            ws,
+            origin_m,
+        })
+    }
+}
+
+/// The window's positions on a line, track coordinates of their starts: from the last support
+/// at or behind half a window before the start, each next one the furthest support within half
+/// a window ahead (at least the next support), until the window reaches the line's end. The
+/// window moves by one or more whole spans, as on a span-periodic catenary, but the spans need
+/// not be equal, so each position is a model of its own.
+fn line_origins(
+    full_model: &crate::model::Model,
+    window_m: f64,
+    x_start_m: f64,
+) -> Result<Vec<f64>, CaseError> {
+    let l = full_model.length_m();
+    let mut sup = full_model.supports_m.clone();
+    sup.sort_by(f64::total_cmp);
+    sup.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
+    let longest = sup.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max);
+    if !(window_m.is_finite() && window_m > longest && window_m < l) {
+        return Err(CaseError::Invalid {
+            field: "window_m".into(),
+            value: window_m.to_string(),
+            reason: format!(
+                "on a line the window must be longer than its longest span ({longest} m), so that it moves by whole spans, and shorter than the line ({l} m)"
+            ),
+        });
+    }
+    let behind = (x_start_m - 0.5 * window_m).max(0.0);
+    let mut origins = vec![sup.iter().copied().rfind(|&s| s <= behind).unwrap_or(0.0)];
+    while let Some(&o) = origins.last() {
+        if o + window_m >= l - 1e-9 {
+            break;
+        }
+        let next = sup
+            .iter()
+            .copied()
+            .rfind(|&s| s > o + 1e-6 && s <= o + 0.5 * window_m)
+            .or_else(|| sup.iter().copied().find(|&s| s > o + 1e-6));
+        match next {
+            Some(x) => origins.push(x),
+            None => break,
+        }
+    }
+    Ok(origins)
+}
+
+/// `∫_0^A cos(ω x + φ) dx = 2 cos(φ + ωA/2) sin(ωA/2) / ω`, in a form without cancellation
+/// when ω is small (the wires' bases on a line differ a little in length).
+fn int_cos_stable(omega: f64, phi: f64, a: f64) -> f64 {
+    let half = 0.5 * omega * a;
+    let sinc = if half.abs() < 1e-8 {
+        1.0 - half * half / 6.0
+    } else {
+        half.sin() / half
+    };
+    a * (phi + half).cos() * sinc
+}
+
+/// The projection of a wire's modes from one sine basis onto another over the part they share
+/// (row-major `n_to × n_from`): the bases cover `[a_from, a_from + l_from]` and
+/// `[a_to, a_to + l_to]` (track coordinates), and
+/// `P_kj = (2/l_to) ∫ sin(κ_j (x − a_from)) sin(κ'_k (x − a_to)) dx` over their common part.
+/// On equal bases shifted by `d` it is [`shift_projection`].
+pub fn basis_projection(
+    (a_from, l_from, n_from): (f64, f64, usize),
+    (a_to, l_to, n_to): (f64, f64, usize),
+) -> Vec<f64> {
+    use std::f64::consts::PI;
+    let x0 = a_from.max(a_to);
+    let len = ((a_from + l_from).min(a_to + l_to) - x0).max(0.0);
+    let mut p = vec![0.0; n_to * n_from];
+    for k in 0..n_to {
+        let kk = (k + 1) as f64 * PI / l_to;
+        let pk = kk * (x0 - a_to);
+        for j in 0..n_from {
+            let kj = (j + 1) as f64 * PI / l_from;
+            let pj = kj * (x0 - a_from);
+            p[k * n_from + j] = (int_cos_stable(kj - kk, pj - pk, len)
+                - int_cos_stable(kj + kk, pj + pk, len))
+                / l_to;
+        }
+    }
+    p
+}
+
+/// How a line's window carries its state from one position to the next, built once: each
+/// block of the next position's model takes the same wire's block (same direction) projected
+/// onto its basis ([`basis_projection`]), or starts at rest when the wire enters; nodes are
+/// carried over by position; the pantograph's state, the time and the positions are kept.
+#[derive(Debug, Clone)]
+struct Transfer {
+    /// Per block of the next model: its offset and modes, and the source block's offset and
+    /// modes with the projection (`None`: the wire enters the window).
+    blocks: Vec<(usize, usize, Option<Source>)>,
+    /// For each node of the next model: the node it takes its state from.
+    node_from: Vec<Option<usize>>,
+    /// How far the window moves, m.
+    shift_m: f64,
+}
+
+/// The full model's wire of window wire `i`.
+fn full_wire(m: &crate::model::Model, i: usize) -> usize {
+    match &m.statics {
+        StaticShape::Line(l) => l.full_wire.get(i).copied().unwrap_or(i),
+        _ => i,
+    }
+}
+
+/// A projection matrix, shared between the moves of equal geometry (on a tension length of
+/// equal spans most moves are the same shift of the same bases).
+type Projection = std::sync::Arc<[f64]>;
+
+/// Where a block of the next position takes its state from: the source block's offset and modes,
+/// and the projection onto the block's basis.
+type Source = (usize, usize, Projection);
+
+/// The projections made so far, by the geometry they depend on: the target basis's start
+/// relative to the source's, both lengths (to 1 nm) and both mode counts.
+type Projections = std::collections::HashMap<(i64, i64, i64, usize, usize), Projection>;
+
+impl Transfer {
+    fn new(from: &Frame, to: &Frame, made: &mut Projections) -> Self {
+        let (mf, mt) = (from.integ.model(), to.integ.model());
+        let span = |m: &crate::model::Model, o: f64, b: usize| {
+            let blk = &m.layout.blocks[b];
+            let w = &m.wires[blk.key.wire];
+            (o + w.origin_m, w.basis.length_m(), blk.n_modes)
+        };
+        let blocks = (0..mt.layout.blocks.len())
+            .map(|b| {
+                let bt = &mt.layout.blocks[b];
+                let key = (full_wire(mt, bt.key.wire), bt.key.dir);
+                let src = (0..mf.layout.blocks.len()).find(|&j| {
+                    let bf = &mf.layout.blocks[j];
+                    (full_wire(mf, bf.key.wire), bf.key.dir) == key
+                });
+                let src = src.map(|j| {
+                    let (f, t) = (span(mf, from.origin_m, j), span(mt, to.origin_m, b));
+                    let nm = |x: f64| (x * 1e9).round() as i64;
+                    let key = (nm(t.0 - f.0), nm(f.1), nm(t.1), f.2, t.2);
+                    let p = made
+                        .entry(key)
+                        .or_insert_with(|| basis_projection(f, t).into())
+                        .clone();
+                    (mf.layout.blocks[j].offset, mf.layout.blocks[j].n_modes, p)
+                });
+                (bt.offset, bt.n_modes, src)
+            })
+            .collect();
+        let node_from = mt
+            .nodes
+            .iter()
+            .map(|nt| {
+                let x = nt.x_m + to.origin_m;
+                mf.nodes
+                    .iter()
+                    .position(|nf| nf.dir == nt.dir && (nf.x_m + from.origin_m - x).abs() < 1e-6)
+            })
+            .collect();
+        Transfer {
+            blocks,
+            node_from,
+            shift_m: to.origin_m - from.origin_m,
+        }
+    }
+
+    /// Carry `from` over into `to` (`h = Δt/2`): the modal coordinates and the half-kicked
+    /// velocities `v + h a` are projected (`kernels::project2_rect`), the accelerations start at
+    /// zero (as `State::project_group`). `buf` holds at least three times the most modes of a
+    /// block. Allocation-free; the work is fixed (`Σ n_to · n_from`).
+    fn apply(&self, from: &State, to: &mut State, h: f64, isa: Isa, buf: &mut [f64]) {
+        to.modal.a.fill(0.0);
+        for (ot, nt, src) in &self.blocks {
+            let (ot, nt) = (*ot, *nt);
+            let Some((of, nf, p)) = src else {
+                to.modal.u[ot..ot + nt].fill(0.0);
+                to.modal.v[ot..ot + nt].fill(0.0);
+                continue;
+            };
+            let (of, nf) = (*of, *nf);
+            let (half, out) = buf.split_at_mut(nf);
+            half.copy_from_slice(&from.modal.v[of..of + nf]);
+            crate::solve::kernels::kick(isa, half, &from.modal.a[of..of + nf], h);
+            let out = &mut out[..2 * nt];
+            crate::solve::kernels::project2_rect(
+                isa,
+                p,
+                (nt, nf),
+                &from.modal.u[of..of + nf],
+                half,
+                out,
+            );
+            to.modal.u[ot..ot + nt].copy_from_slice(&out[..nt]);
+            to.modal.v[ot..ot + nt].copy_from_slice(&out[nt..]);
+        }
+        let (nf, nt) = (&from.nodes, &mut to.nodes);
+        for (i, f) in self.node_from.iter().enumerate() {
+            nt.u[i] = f.map_or(0.0, |j| nf.u[j]);
+            nt.v[i] = f.map_or(0.0, |j| nf.v[j]);
+            nt.a[i] = f.map_or(0.0, |j| nf.a[j]);
+        }
+        to.pantographs.u.copy_from_slice(&from.pantographs.u);
+        to.pantographs.v.copy_from_slice(&from.pantographs.v);
+        to.pantographs.a.copy_from_slice(&from.pantographs.a);
+        to.t = from.t;
+        to.x0_m = from.x0_m - self.shift_m;
+        to.track_origin_m = from.track_origin_m + self.shift_m;
+    }
+}
+
+/// A line's window moves: from each position to the next when the pantograph passes the
+/// position's trigger (window coordinates, `W/2 + Δ/2` with `Δ` the move, as the
+/// [`WindowMover`]'s), by its [`Transfer`].
+#[derive(Debug, Clone)]
+struct LineMoves {
+    transfers: Vec<Transfer>,
+    trigger_m: Vec<f64>,
+    /// Half the time step, s.
+    h: f64,
+    /// Scratch of the projections (three times the most modes of a block).
+    buf: Vec<f64>,
+}
+
+impl LineMoves {
+    fn new(frames: &[Frame], origins: &[f64], window_m: f64, h: f64) -> Self {
+        let mut made = Projections::new();
+        let transfers = frames
+            .windows(2)
+            .map(|f| Transfer::new(&f[0], &f[1], &mut made))
+            .collect();
+        let trigger_m = (0..frames.len())
+            .map(|k| match origins.get(k + 1) {
+                Some(&next) => (0.5 * window_m + 0.5 * (next - origins[k])).min(window_m),
+                None => f64::INFINITY,
+            })
+            .collect();
+        let most = (frames.iter())
+            .flat_map(|f| f.integ.model().layout.blocks.iter().map(|b| b.n_modes))
+            .max()
+            .unwrap_or(0);
+        LineMoves {
+            transfers,
+            trigger_m,
+            h,
+            buf: vec![0.0; 3 * most],
+        }
+    }
+}
+
 /// The plausible speed limit of a hardware-in-the-loop pantograph position, km/h (the fastest
 /// trains run at 350–400 km/h; records are near 575 km/h).
 pub const DEFAULT_MAX_SPEED_KMH: f64 = 600.0;
@@ -334,10 +632,14 @@ pub const DEFAULT_MAX_SPEED_KMH: f64 = 600.0;
 /// The moving-window catenary with a fixed-step, allocation-free [`RealtimeCatenary::step`].
 #[derive(Debug, Clone)]
 pub struct RealtimeCatenary {
-    integ: Integrator,
-    st: State,
-    ws: Workspace,
+    /// The window's positions: one for a span-periodic catenary (the window moves over the same
+    /// model), one per position on a line (`LineMoves`).
+    frames: Vec<Frame>,
+    /// The current position, an index into `frames`.
+    cur: usize,
     mover: WindowMover,
+    /// A line's moves from each position to the next (`None`: a span-periodic catenary).
+    line: Option<LineMoves>,
     coupling: Coupling,
     window_m: f64,
     n: usize,
@@ -389,36 +691,77 @@ impl RealtimeCatenary {
         let static_force = static_force_n;
         let span = span_m;
         let l = full_model.length_m();
-        if !(window_m.is_finite() && window_m >= 0.5 * span && window_m < l) {
-            return Err(CaseError::Invalid {
-                field: "window_m".into(),
-                value: window_m.to_string(),
-                reason: format!("the window must be at least half a span ({} m) and shorter than the model ({l} m)", 0.5 * span),
-            });
-        }
-        let density = full_model.n_modes() as f64 / l;
-        let n = ((density * window_m).round() as usize).max(1);
-        let m = ((window_m / (2.0 * span)).floor() as usize).max(1);
-        let shift_m = m as f64 * span;
-        let trigger_m = (0.5 * window_m + 0.5 * shift_m).min(window_m);
+        let line = matches!(full_model.statics, StaticShape::Line(_));
         let lead_offset = full_model.pantographs.first().map_or(0.0, |p| p.offset_m);
         let x_start = full_plan.start_m - lead_offset + full_plan.speed_m_s * 0.0;
-        let origin_m = span * ((x_start - 0.5 * window_m).max(0.0) / span).floor();
-        let model = full_model.window(origin_m, window_m, n, coupling == Coupling::Hil);
-        let plan = Plan {
-            start_m: full_plan.start_m - origin_m,
-            ..full_plan.clone()
+        // The contact wire's mode density (a line's wires each cover one tension length).
+        let density = full_model
+            .wire_index(WireRole::Contact)
+            .map_or(full_model.n_modes() as f64 / l, |w| {
+                full_model.n_modes() as f64 / full_model.wires[w].basis.length_m()
+            });
+        let n = ((density * window_m).round() as usize).max(1);
+        let hil = coupling == Coupling::Hil;
+        let (frames, mover, line) = if line {
+            let origins = line_origins(full_model, window_m, x_start)?;
+            let frames = origins
+                .iter()
+                .map(|&o| Frame::new(full_model, full_plan, options, o, window_m, n, hil))
+                .collect::<Result<Vec<_>, _>>()?;
+            if let Some(f) = frames
+                .iter()
+                .find(|f| f.integ.dt_s() != frames[0].integ.dt_s())
+            {
+                return Err(CaseError::Invalid {
+                    field: "window_m".into(),
+                    value: window_m.to_string(),
+                    reason: format!(
+                        "the window at {} m needs a time step of {} s, the first one {} s: one real-time step must serve every position",
+                        f.st.track_origin_m,
+                        f.integ.dt_s(),
+                        frames[0].integ.dt_s()
+                    ),
+                });
+            }
+            let moves = LineMoves::new(&frames, &origins, window_m, 0.5 * options.dt_s);
+            // The periodic mover never fires on a line (its trigger lies beyond the window).
+            let mover = WindowMover::new(
+                frames[0].integ.model(),
+                options.dt_s,
+                window_m,
+                1,
+                0.0,
+                f64::INFINITY,
+            );
+            (frames, mover, Some(moves))
+        } else {
+            if !(window_m.is_finite() && window_m >= 0.5 * span && window_m < l) {
+                return Err(CaseError::Invalid {
+                    field: "window_m".into(),
+                    value: window_m.to_string(),
+                    reason: format!("the window must be at least half a span ({} m) and shorter than the model ({l} m)", 0.5 * span),
+                });
+            }
+            let m = ((window_m / (2.0 * span)).floor() as usize).max(1);
+            let shift_m = m as f64 * span;
+            let trigger_m = (0.5 * window_m + 0.5 * shift_m).min(window_m);
+            let origin_m = span * ((x_start - 0.5 * window_m).max(0.0) / span).floor();
+            let frame = Frame::new(full_model, full_plan, options, origin_m, window_m, n, hil)?;
+            let mover = WindowMover::new(
+                frame.integ.model(),
+                options.dt_s,
+                window_m,
+                n,
+                shift_m,
+                trigger_m,
+            );
+            (vec![frame], mover, None)
         };
-        let mover = WindowMover::new(&model, options.dt_s, window_m, n, shift_m, trigger_m);
-        let integ = Integrator::new(model, &plan, options)?;
-        let mut st = integ.initial_state(plan.start_m);
-        st.track_origin_m = origin_m;
-        let ws = integ.workspace();
         Ok(Self {
-            integ,
-            st,
-            ws,
+            frames,
+            cur: 0,
             mover,
+            line,
             coupling,
             window_m,
             n,
@@ -432,9 +775,22 @@ impl RealtimeCatenary {
         })
     }
 
+    /// Whether the window runs on a line (a model per position, `step` moves between them); the
+    /// span-periodic window moves over one model, so the one run loop can step it with the
+    /// [`WindowMover`] ([`Self::parts_mut`]).
+    pub fn is_line(&self) -> bool {
+        self.line.is_some()
+    }
+
+    /// The window's positions along the track (their origins), m: one for a span-periodic
+    /// catenary, whose window moves over one model.
+    pub fn positions_m(&self) -> Vec<f64> {
+        self.frames.iter().map(|f| f.origin_m).collect()
+    }
+
     /// The window's model (one pantograph).
     pub fn model(&self) -> &crate::model::Model {
-        self.integ.model()
+        self.frames[self.cur].integ.model()
     }
 
     /// How the window is coupled to the pantograph.
@@ -490,13 +846,13 @@ impl RealtimeCatenary {
                 length_m: self.length_m,
             });
         }
-        if position_m < self.st.track_origin_m {
+        if position_m < self.frames[self.cur].st.track_origin_m {
             return Err(InputError::BehindWindow {
                 position_m,
-                window_start_m: self.st.track_origin_m,
+                window_start_m: self.frames[self.cur].st.track_origin_m,
             });
         }
-        let window_end_m = self.st.track_origin_m + self.window_m;
+        let window_end_m = self.frames[self.cur].st.track_origin_m + self.window_m;
         if position_m > window_end_m {
             return Err(InputError::AheadOfWindow {
                 position_m,
@@ -510,7 +866,9 @@ impl RealtimeCatenary {
             });
         }
         let previous_m = self.input.0;
-        let speed_kmh = (position_m - previous_m).abs() / elapsed_s.max(self.integ.dt_s()) * 3.6;
+        let speed_kmh = (position_m - previous_m).abs()
+            / elapsed_s.max(self.frames[self.cur].integ.dt_s())
+            * 3.6;
         // A little slack for rounding: the limit applies to the step's displacement.
         if speed_kmh > self.max_speed_kmh * (1.0 + 1e-9) + 1e-6 {
             return Err(InputError::TooFast {
@@ -525,7 +883,7 @@ impl RealtimeCatenary {
 
     /// Fixed time step, s.
     pub fn dt_s(&self) -> f64 {
-        self.integ.dt_s()
+        self.frames[self.cur].integ.dt_s()
     }
 
     /// Window length, m.
@@ -545,12 +903,15 @@ impl RealtimeCatenary {
 
     /// Global position of the window's start, m.
     pub fn origin_m(&self) -> f64 {
-        self.st.track_origin_m
+        self.frames[self.cur].st.track_origin_m
     }
 
-    /// Number of window moves so far.
+    /// Number of window moves so far (on a line: the index of the current position).
     pub fn moves(&self) -> usize {
-        self.mover.moves as usize
+        match self.line {
+            Some(_) => self.cur,
+            None => self.mover.moves as usize,
+        }
     }
 
     /// The full model's duration and analysis section (track coordinates).
@@ -558,9 +919,17 @@ impl RealtimeCatenary {
         (self.full_duration_s, self.analysis_m)
     }
 
-    /// The integrator, the state, the workspace and the mover, for the run loop.
-    pub fn parts_mut(&mut self) -> (&Integrator, &mut State, &mut Workspace, &mut WindowMover) {
-        (&self.integ, &mut self.st, &mut self.ws, &mut self.mover)
+    /// The integrator, the state, the workspace and the mover, for the run loop: a
+    /// span-periodic window, which moves over one model. `None` on a line (its window moves
+    /// between models: step it with [`Self::step`]).
+    pub fn parts_mut(
+        &mut self,
+    ) -> Option<(&Integrator, &mut State, &mut Workspace, &mut WindowMover)> {
+        if self.line.is_some() {
+            return None;
+        }
+        let f = &mut self.frames[self.cur];
+        Some((&f.integ, &mut f.st, &mut f.ws, &mut self.mover))
     }
 
     /// HIL input for the next step: the measured contact force (N, pushing the wire up) and the
@@ -572,24 +941,37 @@ impl RealtimeCatenary {
     /// Advance one fixed step. Allocation-free; the work is bounded (a window move adds a fixed
     /// `O(N²)` projection).
     pub fn step(&mut self) -> RealtimeOutput {
+        let f = &mut self.frames[self.cur];
         if self.coupling == Coupling::Hil {
-            let (x, f) = self.input;
-            self.ws.set_external(0, x - self.st.track_origin_m, f);
+            let (x, force) = self.input;
+            f.ws.set_external(0, x - f.st.track_origin_m, force);
         }
-        self.integ.step(&mut self.st, &mut self.ws);
-        let s = self.ws.samples()[0];
+        f.integ.step(&mut f.st, &mut f.ws);
+        let s = f.ws.samples()[0];
         let out = RealtimeOutput {
-            time_s: self.st.t,
-            position_m: s.position_m + self.st.track_origin_m,
+            time_s: f.st.t,
+            position_m: s.position_m + f.st.track_origin_m,
             wire_height_m: s.wire_height_m,
             wire_velocity_m_s: s.wire_velocity_m_s,
             contact_force_n: s.force_n,
             lateral_m: s.lateral_m,
         };
-        // The mover never fails.
-        let _ = self
-            .mover
-            .observe(self.integ.compiled(), &mut self.st, &self.ws);
+        match &mut self.line {
+            Some(lm) => {
+                if s.position_m > lm.trigger_m[self.cur] {
+                    // The next position exists: the last one's trigger is infinite.
+                    let isa = f.integ.compiled().isa();
+                    let (done, next) = self.frames.split_at_mut(self.cur + 1);
+                    let t = &lm.transfers[self.cur];
+                    t.apply(&done[self.cur].st, &mut next[0].st, lm.h, isa, &mut lm.buf);
+                    self.cur += 1;
+                }
+            }
+            None => {
+                // The mover never fails.
+                let _ = self.mover.observe(f.integ.compiled(), &mut f.st, &f.ws);
+            }
+        }
         out
     }
 }
@@ -599,15 +981,23 @@ impl RealtimeCatenary {
 /// [`RealtimeCatenary::restore`] copy without allocating.
 #[derive(Debug, Clone)]
 pub struct Snapshot {
-    st: State,
+    /// The state of each of the window's positions (one on a span-periodic catenary); the
+    /// current one's is saved.
+    st: Vec<State>,
+    /// The current position.
+    cur: usize,
     moves: u64,
     input: (f64, f64),
 }
 
 impl Snapshot {
-    /// Append the snapshot to `out` (the state, the window moves, the last input).
+    /// Append the snapshot to `out` (on a line, the position first; the state, the window
+    /// moves, the last input).
     pub fn write_bytes(&self, out: &mut Vec<u8>) {
-        self.st.write_bytes(out);
+        if self.st.len() > 1 {
+            out.extend_from_slice(&(self.cur as u64).to_le_bytes());
+        }
+        self.st[self.cur].write_bytes(out);
         out.extend_from_slice(&self.moves.to_le_bytes());
         out.extend_from_slice(&self.input.0.to_le_bytes());
         out.extend_from_slice(&self.input.1.to_le_bytes());
@@ -618,24 +1008,50 @@ impl RealtimeCatenary {
     /// A snapshot buffer holding the current state.
     pub fn snapshot(&self) -> Snapshot {
         Snapshot {
-            st: self.st.clone(),
-            moves: self.mover.moves,
+            st: self.frames.iter().map(|f| f.st.clone()).collect(),
+            cur: self.cur,
+            moves: self.moves() as u64,
             input: self.input,
         }
     }
 
     /// Copy the current state into `s` (no allocation).
     pub fn save(&self, s: &mut Snapshot) {
-        s.st.copy_from(&self.st);
-        s.moves = self.mover.moves;
+        s.st[self.cur].copy_from(&self.frames[self.cur].st);
+        s.cur = self.cur;
+        s.moves = self.moves() as u64;
         s.input = self.input;
     }
 
-    /// Return to the state saved in `s` (no allocation).
+    /// Return to the state saved in `s` (no allocation), at its position on a line.
     pub fn restore(&mut self, s: &Snapshot) {
-        self.st.copy_from(&s.st);
+        self.cur = s.cur;
+        self.frames[self.cur].st.copy_from(&s.st[s.cur]);
         self.mover.moves = s.moves;
         self.input = s.input;
+    }
+
+    /// The length of [`Snapshot::write_bytes`] at the current position and the largest over
+    /// the window's positions (they differ on a line, whose positions carry different wires),
+    /// bytes (allocates).
+    pub fn snapshot_len(&self) -> (usize, usize) {
+        let s = self.snapshot();
+        let mut buf = Vec::new();
+        s.write_bytes(&mut buf);
+        let header = buf.len() - {
+            let mut b = Vec::new();
+            s.st[s.cur].write_bytes(&mut b);
+            b.len()
+        };
+        let most = (s.st.iter())
+            .map(|st| {
+                let mut b = Vec::new();
+                st.write_bytes(&mut b);
+                b.len()
+            })
+            .max()
+            .unwrap_or(0);
+        (buf.len(), header + most)
     }
 
     /// A snapshot read from bytes written by [`Snapshot::write_bytes`] for this window (the same
@@ -645,12 +1061,30 @@ impl RealtimeCatenary {
         r: &mut crate::solve::state::ByteReader,
     ) -> Result<Snapshot, String> {
         let mut s = self.snapshot();
-        s.st.read_bytes(r)?;
+        if self.line.is_some() {
+            let k = r.u64()?;
+            if k >= self.frames.len() as u64 {
+                return Err(format!(
+                    "the window's position {k} does not exist: the line has {} positions",
+                    self.frames.len()
+                ));
+            }
+            s.cur = k as usize;
+        }
+        let st = &mut s.st[s.cur];
+        st.read_bytes(r)?;
         s.moves = r.u64()?;
         s.input = (r.f64()?, r.f64()?);
-        if !(s.st.is_finite()
-            && s.st.x0_m.is_finite()
-            && s.st.track_origin_m.is_finite()
+        if self.line.is_some() && s.moves != s.cur as u64 {
+            return Err(format!(
+                "the window's moves ({}) do not match its position ({}) on the line",
+                s.moves, s.cur
+            ));
+        }
+        let st = &s.st[s.cur];
+        if !(st.is_finite()
+            && st.x0_m.is_finite()
+            && st.track_origin_m.is_finite()
             && s.input.0.is_finite()
             && s.input.1.is_finite())
         {
@@ -661,7 +1095,8 @@ impl RealtimeCatenary {
 
     /// Static lateral position (stagger) of the contact wire at a track position, m.
     pub fn static_lateral_at(&self, x_m: f64) -> f64 {
-        self.integ
+        self.frames[self.cur]
+            .integ
             .model()
             .lateral
             .as_ref()
@@ -670,13 +1105,13 @@ impl RealtimeCatenary {
 
     /// Static contact-wire height at track position `x_m` (irregularity included), m.
     pub fn static_height_at(&self, x_m: f64) -> f64 {
-        let m = self.integ.model();
+        let m = self.frames[self.cur].integ.model();
         match m.wire_index(WireRole::Contact) {
             Some(w) => m.static_height(
                 w,
                 crate::model::Direction::Vertical,
-                x_m - self.st.track_origin_m,
-                self.st.track_origin_m,
+                x_m - self.frames[self.cur].st.track_origin_m,
+                self.frames[self.cur].st.track_origin_m,
             ),
             None => 0.0,
         }
@@ -684,13 +1119,35 @@ impl RealtimeCatenary {
 
     /// Track position of pantograph 0 in SIL mode at the current time, m.
     pub fn sil_position_m(&self) -> f64 {
-        self.integ.position(&self.st, 0) + self.st.track_origin_m
+        self.frames[self.cur]
+            .integ
+            .position(&self.frames[self.cur].st, 0)
+            + self.frames[self.cur].st.track_origin_m
+    }
+
+    /// What is wrong with the state after the last step, if anything: a non-finite state, or
+    /// the sample's fault ([`Self::state_is_sound`]).
+    pub fn fault(&self) -> Option<String> {
+        let f = &self.frames[self.cur];
+        let h = f.integ.compiled().max_wire_deviation_m();
+        if !f.st.is_finite() {
+            return Some("non-finite state".into());
+        }
+        (f.ws.samples().iter().enumerate()).find_map(|(p, s)| s.fault(p, h))
     }
 
     /// True when the state is finite and the last step's samples plausible (the wire within the
     /// system height of its design height, [`CompiledModel::max_wire_deviation_m`]).
     pub fn state_is_sound(&self) -> bool {
-        let h = self.integ.compiled().max_wire_deviation_m();
-        self.st.is_finite() && self.ws.samples().iter().all(|s| s.is_sound(h))
+        let h = self.frames[self.cur]
+            .integ
+            .compiled()
+            .max_wire_deviation_m();
+        self.frames[self.cur].st.is_finite()
+            && self.frames[self.cur]
+                .ws
+                .samples()
+                .iter()
+                .all(|s| s.is_sound(h))
     }
 }

@@ -90,6 +90,32 @@ impl ContactLaw {
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Contacts(pub Vec<Contact>);
 
+impl Contacts {
+    /// Whether the contact whose wire point is slot `w` carries prescribed load `load`: a
+    /// measured (or constant moving) force is the total on the head, so where a pantograph runs
+    /// under two contact wires (an overlap) it acts on one, the lowest present wire, which a
+    /// rigid strip meets first (the first of equal heights; in the other directions the first
+    /// present one). Without a second wire under the head it is the only one.
+    fn carries(&self, slots: &[Slot], io: &Io, load: usize, w: usize) -> bool {
+        let mut best: Option<(usize, f64)> = None;
+        for (c, s) in self.0.iter().zip(slots.chunks_exact(3)) {
+            let k = s[0].u as usize;
+            if c.law != (ContactLaw::Prescribed { load }) || io.absent[k] {
+                continue;
+            }
+            let h = if c.dir == Direction::Vertical {
+                io.u[k]
+            } else {
+                0.0
+            };
+            if best.is_none_or(|(_, hb)| h < hb) {
+                best = Some((k, h));
+            }
+        }
+        best.is_some_and(|(k, _)| k == w)
+    }
+}
+
 impl PointElement for Contacts {
     fn kind(&self) -> &'static str {
         "contact"
@@ -134,7 +160,10 @@ impl PointElement for Contacts {
                 ContactLaw::Penalty { stiffness_n_per_m } => {
                     penalty_force(stiffness_n_per_m, io.u[h] - io.u[w] - lift)
                 }
-                ContactLaw::Prescribed { load } => io.loads[load],
+                ContactLaw::Prescribed { load } if self.carries(slots, io, load, w) => {
+                    io.loads[load]
+                }
+                ContactLaw::Prescribed { .. } => 0.0,
             };
             io.f[w] += f;
             io.f[h] += -f;
@@ -154,8 +183,19 @@ impl PointElement for Contacts {
         }
         e
     }
-    fn restrict(&self, _w: &WindowMap) -> Box<dyn PointElement> {
-        Box::new(self.clone())
+    fn restrict(&self, w: &WindowMap) -> Box<dyn PointElement> {
+        // Contact with the wires that reach into the window (a line's tension lengths end).
+        Box::new(Contacts(
+            self.0
+                .iter()
+                .filter_map(|c| {
+                    Some(Contact {
+                        wire: w.wire_map[c.wire]?,
+                        ..c.clone()
+                    })
+                })
+                .collect(),
+        ))
     }
     fn clone_box(&self) -> Box<dyn PointElement> {
         Box::new(self.clone())

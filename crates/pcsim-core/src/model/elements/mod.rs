@@ -101,6 +101,9 @@ pub struct WindowMap {
     pub length_m: f64,
     /// For each node of the full model: its index in the window, or `None`.
     pub node_map: Vec<Option<usize>>,
+    /// For each wire of the full model: its index in the window, or `None` when none of it lies
+    /// inside (a line's tension lengths end).
+    pub wire_map: Vec<Option<usize>>,
 }
 
 impl WindowMap {
@@ -112,10 +115,22 @@ impl WindowMap {
     /// An attachment in window coordinates, or `None` when it falls outside.
     pub fn map(&self, a: Attach) -> Option<Attach> {
         match a {
-            Attach::Wire { wire, dir, x_m } => self.inside(x_m).then_some(Attach::Wire {
+            Attach::Wire { wire, dir, x_m } => match self.wire_map[wire] {
+                Some(wire) if self.inside(x_m) => Some(Attach::Wire {
+                    wire,
+                    dir,
+                    x_m: x_m - self.origin_m,
+                }),
+                _ => None,
+            },
+            Attach::Moving {
                 wire,
                 dir,
-                x_m: x_m - self.origin_m,
+                pantograph,
+            } => self.wire_map[wire].map(|wire| Attach::Moving {
+                wire,
+                dir,
+                pantograph,
             }),
             Attach::Node(k) => self.node_map[k].map(Attach::Node),
             other => Some(other),
