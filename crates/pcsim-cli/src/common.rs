@@ -2,7 +2,7 @@
 //! flags (with their units), and running a case with progress.
 
 use anyhow::{bail, Context, Result};
-use pcsim_core::analysis::record::{simulate, RunOutput};
+use pcsim_core::analysis::record::RunOutput;
 use pcsim_core::compile::Budget;
 use pcsim_core::input::overrides::{with_overrides, OverrideValue};
 use pcsim_core::input::units::{parse_quantity, Dimension};
@@ -236,6 +236,18 @@ pub fn run_with_progress_quietly(
     ctx: &Ctx,
     quiet_warnings: bool,
 ) -> Result<(RunOutput, f64, Vec<String>)> {
+    run_with_droppers(case, overrides, label, ctx, quiet_warnings, None)
+}
+
+/// [`run_with_progress_quietly`], following every dropper's tension as `droppers` asks.
+pub fn run_with_droppers(
+    case: &Case,
+    overrides: &[Override],
+    label: &str,
+    ctx: &Ctx,
+    quiet_warnings: bool,
+    droppers: Option<pcsim_core::analysis::record::DropperOptions>,
+) -> Result<(RunOutput, f64, Vec<String>)> {
     let setup = setup(case, overrides, ctx)?;
     let warnings: Vec<String> = setup.warnings.iter().map(|w| w.to_string()).collect();
     if !quiet_warnings {
@@ -245,7 +257,7 @@ pub fn run_with_progress_quietly(
     }
     let pb = Progress::run(label, ctx.progress);
     let t0 = Instant::now();
-    let out = simulate(&setup, &mut |f| {
+    let out = pcsim_core::analysis::record::simulate_with(&setup, droppers, &mut |f| {
         pb.set((f * 1000.0) as u64);
         true
     })

@@ -492,3 +492,80 @@ pub fn write_run(dir: &Path, out: &RunOutput, summary: &Summary) -> Result<()> {
         serde_json::json!({ "overrides": summary.overrides }),
     )
 }
+
+/// The most numbers `dropper_forces.csv` may hold (droppers × steps: about 100 MB of text);
+/// beyond it only `droppers.csv` is written, and the run says so.
+pub const DROPPER_HISTORY_LIMIT: usize = 10_000_000;
+
+/// Write a run's dropper outputs: `droppers.csv` (each dropper's position, wire, preload,
+/// extremes, slack steps, rainflow cycles, largest range and Miner's damage when the case gives
+/// an S–N curve) and, when the history was kept, `dropper_forces.csv` (time and every dropper's
+/// tension, N). Returns what was left out and why, if anything.
+pub fn write_droppers(dir: &Path, out: &RunOutput) -> Result<Option<String>> {
+    let Some(d) = &out.droppers else {
+        return Ok(None);
+    };
+    let path = dir.join("droppers.csv");
+    let named = |e: csv::Error| anyhow::anyhow!("cannot write {}: {e}", path.display());
+    let mut w = csv::Writer::from_path(&path).map_err(named)?;
+    w.write_record([
+        "dropper",
+        "x_m",
+        "wire",
+        "preload_n",
+        "min_n",
+        "max_n",
+        "slack_steps",
+        "cycles",
+        "max_range_n",
+        "damage",
+    ])
+    .map_err(named)?;
+    for (i, f) in d.droppers.iter().enumerate() {
+        w.write_record([
+            i.to_string(),
+            format!("{:.3}", f.x_m),
+            f.wire.clone(),
+            format!("{:.3}", f.preload_n),
+            format!("{:.3}", f.min_n),
+            format!("{:.3}", f.max_n),
+            f.slack_steps.to_string(),
+            format!("{}", f.cycles),
+            format!("{:.3}", f.max_range_n),
+            f.damage.map_or(String::new(), |v| format!("{v:e}")),
+        ])
+        .map_err(named)?;
+    }
+    w.flush()
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    let n = d.droppers.len();
+    let Some(h) = &d.history else {
+        return Ok(Some(format!(
+            "dropper_forces.csv not written: {n} droppers × {} steps = {} numbers, more than the limit of {}; droppers.csv has each dropper's extremes, slack steps and cycles",
+            out.time_s.len(),
+            n * out.time_s.len(),
+            d.history_limit
+        )));
+    };
+    let path = dir.join("dropper_forces.csv");
+    let named = |e: csv::Error| anyhow::anyhow!("cannot write {}: {e}", path.display());
+    let mut w = csv::Writer::from_path(&path).map_err(named)?;
+    let mut head = vec!["time_s".to_string()];
+    head.extend(
+        d.droppers
+            .iter()
+            .enumerate()
+            .map(|(i, f)| format!("d{i}_at_{:.2}m_n", f.x_m)),
+    );
+    w.write_record(&head).map_err(named)?;
+    let mut rec = Vec::with_capacity(n + 1);
+    for (k, t) in out.time_s.iter().enumerate() {
+        rec.clear();
+        rec.push(format!("{t:.6}"));
+        rec.extend(h[k * n..(k + 1) * n].iter().map(|v| format!("{v:.3}")));
+        w.write_record(&rec).map_err(named)?;
+    }
+    w.flush()
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(None)
+}

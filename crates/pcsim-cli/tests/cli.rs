@@ -762,3 +762,83 @@ fn window_shards_merge_to_the_unsharded_result() {
     assert!(!r.status.success());
     assert!(String::from_utf8_lossy(&r.stderr).contains("--sigma-tol"));
 }
+
+/// `pcsim run --dropper-forces` (issue 22, item 5) over a line with two overlaps and a (guessed)
+/// S–N curve: `droppers.csv` has every dropper with its damage, `dropper_forces.csv` every
+/// dropper's tension from its preload on, the figure is drawn, the worst droppers are printed;
+/// a bad S–N value is refused naming its field and value.
+#[test]
+fn dropper_forces_and_damage_over_a_line() {
+    let d = scratch("droppers");
+    let case = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/cases/dropper-fatigue/en50318-2018-like-simple-sn-guess.toml");
+    let out_dir = d.join("out");
+    let out = pcsim()
+        .arg("run")
+        .arg(&case)
+        .args(["--dropper-forces", "--plot", "--quiet", "--out"])
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    let so = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{so}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(so.contains("by Miner's damage"), "{so}");
+    let rows: Vec<Vec<String>> = std::fs::read_to_string(out_dir.join("droppers.csv"))
+        .unwrap()
+        .lines()
+        .map(|l| l.split(',').map(str::to_owned).collect())
+        .collect();
+    assert_eq!(
+        rows[0],
+        "dropper,x_m,wire,preload_n,min_n,max_n,slack_steps,cycles,max_range_n,damage"
+            .split(',')
+            .collect::<Vec<_>>()
+    );
+    let forces = std::fs::read_to_string(out_dir.join("dropper_forces.csv")).unwrap();
+    let mut lines = forces.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let first: Vec<f64> = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    assert_eq!(head.len(), rows.len(), "time column + one per dropper");
+    let wires: std::collections::BTreeSet<&str> = rows[1..].iter().map(|r| r[2].as_str()).collect();
+    assert_eq!(wires.len(), 3, "three tension lengths: {wires:?}");
+    for (i, r) in rows[1..].iter().enumerate() {
+        let f0: f64 = r[3].parse().unwrap();
+        let damage: f64 = r[9].parse().unwrap();
+        assert!(damage.is_finite() && damage >= 0.0, "{r:?}");
+        assert!(
+            (first[i + 1] - f0).abs() < 0.05 * f0,
+            "dropper {i}: {} vs {f0}",
+            first[i + 1]
+        );
+    }
+    assert!(out_dir.join("droppers.png").is_file() && out_dir.join("droppers.svg").is_file());
+    // A bad S–N value names its field.
+    let text = std::fs::read_to_string(&case)
+        .unwrap()
+        .replace("sn_slope = { value = 5.0", "sn_slope = { value = -5.0");
+    let bad = d.join("bad.toml");
+    std::fs::write(&bad, text).unwrap();
+    let out = pcsim()
+        .arg("run")
+        .arg(&bad)
+        .args(["--dropper-forces", "--quiet", "--out"])
+        .arg(d.join("bad"))
+        .output()
+        .unwrap();
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("dropper_fatigue.sn_slope") && e.contains("-5"),
+        "{e}"
+    );
+}

@@ -558,28 +558,7 @@ fn two_coincident_half_wires_give_the_force_of_one() {
 /// A line of two tension lengths of 6 × 60 m sharing 3 spans (180–360 m): the leaving wire
 /// rises 0.3 m to its anchor at 360 m, the arriving one comes down from 0.3 m at 180 m.
 fn overlap_line() -> Case {
-    use pcsim_core::input::case::OverlapCase;
-    let mut case = common::short_en50318(9, 250.0);
-    let t = TensionLengthCase {
-        span_runs: vec![SpanRun {
-            count: 6,
-            length_m: 60.0,
-        }],
-        ..tension_length(Vec::new(), Vec::new())
-    };
-    case.line = Some(LineCase {
-        tension_lengths: vec![t.clone(), t],
-        overlaps: vec![OverlapCase {
-            spans: 3,
-            rise_m: 0.3,
-            separation_m: 0.2,
-        }],
-    });
-    case.catenary.spans = 9;
-    case.run.start_m = 60.0;
-    case.run.end_m = 480.0;
-    case.run.analysis_m = [120.0, 420.0];
-    case
+    common::overlap_line()
 }
 
 /// The pantograph runs on the first contact wire, on both in the transfer, then on the second:

@@ -4,7 +4,7 @@ use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
 
-use crate::common::{apply, case_name, load_case, run_with_progress, shown, Ctx, Override};
+use crate::common::{apply, case_name, load_case, shown, Ctx, Override};
 use crate::output::{write_run, Summary};
 
 #[derive(Args)]
@@ -48,6 +48,12 @@ pub struct RunArgs {
     /// Worker threads for --seeds, at least 1 [default: all cores].
     #[arg(long)]
     jobs: Option<usize>,
+    /// Follow every dropper's tension: droppers.csv (extremes, slack steps, rainflow cycles, and
+    /// Miner's damage when the case has a dropper_fatigue S–N curve), dropper_forces.csv (each
+    /// dropper's tension at every step, when it holds at most 10 million numbers), and with
+    /// --plot the figure along the line.
+    #[arg(long)]
+    dropper_forces: bool,
 }
 
 pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
@@ -78,13 +84,25 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
         );
     }
     let od = crate::output::OutDir::begin(&a.out)?;
-    let (out, wall, warnings) = run_with_progress(&case, &overrides, "run", ctx)?;
+    let droppers = a
+        .dropper_forces
+        .then(|| pcsim_core::analysis::record::DropperOptions {
+            history: true,
+            history_limit: crate::output::DROPPER_HISTORY_LIMIT,
+            curve: case
+                .dropper_fatigue
+                .as_ref()
+                .map(pcsim_core::analysis::fatigue::SnCurve::from),
+        });
+    let (out, wall, warnings) =
+        crate::common::run_with_droppers(&case, &overrides, "run", ctx, false, droppers)?;
     for w in pcsim_core::analysis::report::run_verdicts(&out) {
         eprintln!("warning: {w}");
     }
     let flags = overrides.iter().map(|o| o.flag.clone()).collect();
     let summary = Summary::new(&case, &out, wall, flags, warnings);
     write_run(od.path(), &out, &summary)?;
+    let dropper_note = crate::output::write_droppers(od.path(), &out)?;
     let files = if a.plot {
         // From the files just written: exactly what `pcsim plot DIR` draws.
         od.in_target(&crate::plot::redraw_kind(od.path(), "run")?)
@@ -151,6 +169,12 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
         shown(&a.out, "summary.json"),
         shown(&a.out, "timeseries.csv")
     );
+    if let Some(d) = &out.droppers {
+        print_droppers(d, out.analysis_m, &a.out);
+        if let Some(note) = dropper_note {
+            println!("  {note}");
+        }
+    }
     // Error-level events: each kind is refused (exit 2) unless its flag accepts it.
     use pcsim_core::analysis::report::{run_errors, RunErrorKind};
     let mut refused = None;
@@ -169,4 +193,49 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
         anyhow::bail!("{msg} (the outputs are written; give {flag} to accept the run)");
     }
     Ok(0)
+}
+
+/// The droppers inside the analysis section that suffer most: by Miner's damage when the case
+/// gives an S–N curve, else by their largest tension range. (Outside it the pantographs start
+/// and stop: those droppers carry the run's transients, not a passage.)
+fn print_droppers(
+    d: &pcsim_core::analysis::record::DropperRun,
+    section: [f64; 2],
+    out: &std::path::Path,
+) {
+    let mut worst: Vec<&pcsim_core::analysis::fatigue::DropperFatigue> = d
+        .droppers
+        .iter()
+        .filter(|f| f.x_m >= section[0] && f.x_m <= section[1])
+        .collect();
+    let key = |f: &pcsim_core::analysis::fatigue::DropperFatigue| f.damage.unwrap_or(f.max_range_n);
+    worst.sort_by(|a, b| key(b).total_cmp(&key(a)));
+    let by = if d.curve.is_some() {
+        "Miner's damage of this passage"
+    } else {
+        "largest tension range (no [dropper_fatigue] S–N curve in the case: no damage)"
+    };
+    println!(
+        "  droppers: {} followed; the worst inside the analysis section {section:?} m by {by}:",
+        d.droppers.len()
+    );
+    println!(
+        "  {:>9} {:<22} {:>8} {:>8} {:>8} {:>6} {:>7} {:>9} {:>10}",
+        "x [m]", "wire", "F0 [N]", "min [N]", "max [N]", "slack", "cycles", "ΔFmax [N]", "damage"
+    );
+    for f in worst.iter().take(10) {
+        println!(
+            "  {:>9.2} {:<22} {:>8.1} {:>8.1} {:>8.1} {:>6} {:>7} {:>9.1} {:>10}",
+            f.x_m,
+            f.wire,
+            f.preload_n,
+            f.min_n,
+            f.max_n,
+            f.slack_steps,
+            f.cycles,
+            f.max_range_n,
+            f.damage.map_or("—".to_string(), |v| format!("{v:.3e}"))
+        );
+    }
+    println!("  every dropper: {}", shown(out, "droppers.csv"));
 }

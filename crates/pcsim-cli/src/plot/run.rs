@@ -377,6 +377,150 @@ fn wear_figure(dir: &Path, d: &PlotData, t: &Trace) -> Result<Vec<PathBuf>> {
     )
 }
 
+/// One dropper's row of `droppers.csv`: position, wire, largest tension range, damage.
+struct DropperRow {
+    x_m: f64,
+    wire: String,
+    max_range_n: f64,
+    damage: Option<f64>,
+}
+
+/// `droppers.csv` of a run with `--dropper-forces`, if there is one.
+fn read_droppers(dir: &Path) -> Result<Option<Vec<DropperRow>>> {
+    let path = dir.join("droppers.csv");
+    if !path.is_file() {
+        return Ok(None);
+    }
+    let mut r =
+        csv::Reader::from_path(&path).with_context(|| format!("cannot read {}", path.display()))?;
+    let mut rows = Vec::new();
+    for rec in r.records() {
+        let rec = rec.with_context(|| format!("cannot read {}", path.display()))?;
+        let num = |i: usize| -> Result<f64> {
+            rec.get(i)
+                .and_then(|v| v.parse().ok())
+                .with_context(|| format!("{}: column {i} of a row is not a number", path.display()))
+        };
+        rows.push(DropperRow {
+            x_m: num(1)?,
+            wire: rec.get(2).unwrap_or_default().to_string(),
+            max_range_n: num(8)?,
+            damage: rec.get(9).and_then(|v| v.parse().ok()),
+        });
+    }
+    Ok(Some(rows))
+}
+
+/// Every dropper along the line: Miner's damage of the run's passage (per million passages,
+/// when the case gives an S–N curve), else its largest tension range; one colour and marker per
+/// wire (tension length), the overlaps shaded.
+fn dropper_chart<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    d: &PlotData,
+    rows: &[DropperRow],
+) -> Result<()> {
+    root.fill(&WHITE).map_err(|e| anyhow!("{e:?}"))?;
+    let damage = rows.iter().all(|r| r.damage.is_some()) && !rows.is_empty();
+    let v = |r: &DropperRow| {
+        if damage {
+            r.damage.unwrap_or(0.0) * 1e6
+        } else {
+            r.max_range_n
+        }
+    };
+    let x = xrange(rows.iter().map(|r| r.x_m));
+    let (_, hi) = range(rows.iter().map(v));
+    let y = (0.0, hi.max(1e-12));
+    let (what, unit) = if damage {
+        (
+            "Miner's damage of one passage",
+            "Damage per million passages (Miner's sum × 1e6)",
+        )
+    } else {
+        (
+            "largest tension range (no S–N curve in the case)",
+            "Largest rainflow range of the tension [N]",
+        )
+    };
+    let title = format!(
+        "{}: droppers, {what}, {} km/h{}",
+        d.case_name,
+        d.speed_kmh,
+        d.with()
+    );
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 22))
+        .margin(15)
+        .x_label_area_size(50)
+        .y_label_area_size(80)
+        .build_cartesian_2d(x.0..x.1, y.0..y.1)
+        .map_err(|e| anyhow!("{e:?}"))?;
+    chart
+        .configure_mesh()
+        .x_desc("Position along the track [m]")
+        .y_desc(unit)
+        .x_label_formatter(&|v| format!("{v:.0}"))
+        .y_label_formatter(&|v| format!("{v:.3}"))
+        .x_labels(20)
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 17))
+        .light_line_style(WHITE)
+        .draw()
+        .map_err(|e| anyhow!("{e:?}"))?;
+    span_marks(&mut chart, d, x, y)?;
+    let mut wires: Vec<&str> = rows.iter().map(|r| r.wire.as_str()).collect();
+    wires.dedup();
+    wires.sort_unstable();
+    wires.dedup();
+    for (k, w) in wires.iter().enumerate() {
+        let c = COLOURS[k % COLOURS.len()];
+        let pts: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| r.wire == *w)
+            .map(|r| (r.x_m, v(r)))
+            .collect();
+        chart
+            .draw_series(
+                pts.iter()
+                    .map(|&(xi, yi)| PathElement::new(vec![(xi, 0.0), (xi, yi)], c.mix(0.6))),
+            )
+            .map_err(|e| anyhow!("{e:?}"))?;
+        // Circles, squares and triangles in turn: the wires differ in shape as well as colour.
+        let label = format!("droppers on {w}");
+        let err = |e| anyhow!("{e:?}");
+        match k % 3 {
+            0 => {
+                chart
+                    .draw_series(pts.iter().map(|&p| Circle::new(p, 4, c.filled())))
+                    .map_err(err)?
+                    .label(label)
+                    .legend(move |(lx, ly)| Circle::new((lx + 10, ly), 4, c.filled()));
+            }
+            1 => {
+                chart
+                    .draw_series(pts.iter().map(|&p| {
+                        EmptyElement::at(p) + Rectangle::new([(-4, -4), (4, 4)], c.filled())
+                    }))
+                    .map_err(err)?
+                    .label(label)
+                    .legend(move |(lx, ly)| {
+                        Rectangle::new([(lx + 6, ly - 4), (lx + 14, ly + 4)], c.filled())
+                    });
+            }
+            _ => {
+                chart
+                    .draw_series(pts.iter().map(|&p| TriangleMarker::new(p, 6, c.filled())))
+                    .map_err(err)?
+                    .label(label)
+                    .legend(move |(lx, ly)| TriangleMarker::new((lx + 10, ly), 6, c.filled()));
+            }
+        }
+    }
+    legend(&mut chart)?;
+    root.present().map_err(|e| anyhow!("{e:?}"))?;
+    Ok(())
+}
+
 /// Draw all plots into `dir` as SVG and PNG; returns the files written.
 pub fn draw_all(dir: &Path, d: &PlotData) -> Result<Vec<PathBuf>> {
     register_font();
@@ -410,6 +554,16 @@ pub fn draw_all(dir: &Path, d: &PlotData) -> Result<Vec<PathBuf>> {
             .with_context(|| format!("drawing {}", png.display()))?;
         files.extend([svg, png]);
         files.extend(wear_figure(dir, d, t)?);
+    }
+    if let Some(rows) = read_droppers(dir)? {
+        let stem = dir.join("droppers");
+        let svg = stem.with_extension("svg");
+        dropper_chart(SVGBackend::new(&svg, size).into_drawing_area(), d, &rows)
+            .with_context(|| format!("drawing {}", svg.display()))?;
+        let png = stem.with_extension("png");
+        dropper_chart(BitMapBackend::new(&png, size).into_drawing_area(), d, &rows)
+            .with_context(|| format!("drawing {}", png.display()))?;
+        files.extend([svg, png]);
     }
     Ok(files)
 }

@@ -8,6 +8,7 @@
 //! | `record.rs` | the EN 50318 recorder (an observer) and `simulate` |
 //! | `energy.rs` | the energy density (Eq. 20), system energy and dissipation |
 //! | `eva.rs` | window energy (Eq. 21), the EVA criteria, the energy sampler (an observer) |
+//! | `fatigue.rs` | dropper tensions through a run, rainflow cycles, Miner's damage |
 //! | `validation.rs` | which cases, which targets, the validation table |
 //! | `sweep.rs` | grids of cases, shards, parallel execution, merge |
 //! | `studies.rs` | the real-time window against the full model |
@@ -17,6 +18,7 @@
 
 pub mod energy;
 pub mod eva;
+pub mod fatigue;
 pub mod filter;
 pub mod montecarlo;
 pub mod record;

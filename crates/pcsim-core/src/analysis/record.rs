@@ -75,6 +75,23 @@ pub struct RunOutput {
     pub irregularity: Vec<IrregularityReport>,
     /// The coupled stability limit the time step was checked against.
     pub stability: Option<crate::solve::CoupledLimit>,
+    /// Every dropper's tension through the run, its cycles and damage, when asked for
+    /// ([`simulate_with`]).
+    pub droppers: Option<DropperRun>,
+}
+
+/// The droppers' fatigue of a run ([`crate::analysis::fatigue`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DropperRun {
+    /// Per dropper, in model order.
+    pub droppers: Vec<crate::analysis::fatigue::DropperFatigue>,
+    /// The S–N curve the damage was taken from, if the case gives one.
+    pub curve: Option<crate::analysis::fatigue::SnCurve>,
+    /// Every dropper's tension at every step (step after step, all droppers per step), N, when
+    /// asked for and within the limit; `None` otherwise.
+    pub history: Option<Vec<f64>>,
+    /// The limit on the history's numbers, and whether it was asked for.
+    pub history_limit: usize,
 }
 
 impl RunOutput {
@@ -265,6 +282,7 @@ impl Recorder {
                 .as_ref()
                 .map_or_else(Vec::new, |r| r.reports.clone()),
             stability: None,
+            droppers: None,
         }
     }
 }
@@ -367,6 +385,29 @@ pub fn simulate(
     setup: &Setup,
     progress: &mut dyn FnMut(f64) -> bool,
 ) -> Result<RunOutput, SimError> {
+    simulate_with(setup, None, progress)
+}
+
+/// What a run records of its droppers ([`simulate_with`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DropperOptions {
+    /// Keep every dropper's tension at every step (else only the cycles and the extremes).
+    pub history: bool,
+    /// The most numbers the history may hold (droppers × steps); beyond it only the cycles and
+    /// the extremes are kept, and [`DropperRun::history`] is `None`.
+    pub history_limit: usize,
+    /// The S–N curve for Miner's damage (the case's `[dropper_fatigue]`).
+    pub curve: Option<crate::analysis::fatigue::SnCurve>,
+}
+
+/// [`simulate`], and with `droppers` every dropper's tension through the run, its rainflow
+/// cycles and its damage ([`crate::analysis::fatigue::DropperRecorder`], a second observer of
+/// the same run loop).
+pub fn simulate_with(
+    setup: &Setup,
+    droppers: Option<DropperOptions>,
+    progress: &mut dyn FnMut(f64) -> bool,
+) -> Result<RunOutput, SimError> {
     let integ = setup.integrator()?;
     let mut st = integ.initial_state(setup.plan.start_m);
     let mut ws = integ.workspace();
@@ -377,8 +418,34 @@ pub fn simulate(
         n_steps,
         setup.plan.analysis_m,
     );
-    let rs = run(&integ, &mut st, &mut ws, n_steps, &mut [&mut rec], progress)?;
+    let mut drec = droppers.map(|o| {
+        crate::analysis::fatigue::DropperRecorder::new(
+            integ.compiled(),
+            n_steps,
+            o.history,
+            o.history_limit,
+        )
+    });
+    let rs = match &mut drec {
+        Some(d) => run(
+            &integ,
+            &mut st,
+            &mut ws,
+            n_steps,
+            &mut [&mut rec, d],
+            progress,
+        )?,
+        None => run(&integ, &mut st, &mut ws, n_steps, &mut [&mut rec], progress)?,
+    };
     let mut out = rec.finish(integ.compiled(), rs);
     out.stability = integ.stability().cloned();
+    if let (Some(d), Some(o)) = (drec, droppers) {
+        out.droppers = Some(DropperRun {
+            droppers: d.finish(integ.compiled(), o.curve.as_ref()),
+            curve: o.curve,
+            history: d.into_history(),
+            history_limit: o.history_limit,
+        });
+    }
     Ok(out)
 }

@@ -77,6 +77,19 @@ pub const STITCH_LENGTH: Bound = b((0.1, 1000.0), (5.0, 30.0), "m", "12–25 m")
 pub const STITCH_TENSION: Bound = b((10.0, 1.0e6), (300.0, 10_000.0), "N", "1–5 kN");
 /// The contact's penalty stiffness (Eq. 19), N/m.
 pub const CONTACT_STIFFNESS: Bound = b((100.0, 1.0e9), (1.0e4, 5.0e5), "N/m", "5e4 N/m");
+/// A dropper wire's cross-section, mm².
+pub const DROPPER_AREA: Bound = b(
+    (0.1, 1000.0),
+    (2.0, 100.0),
+    "mm²",
+    "about 10 mm² for a dropper wire",
+);
+/// An S–N curve's slope m.
+pub const SN_SLOPE: Bound = b((1.0, 50.0), (2.0, 20.0), "", "3–10");
+/// An S–N curve's reference stress range, MPa.
+pub const SN_STRESS_RANGE: Bound = b((1e-3, 1e4), (1.0, 1000.0), "MPa", "10–300 MPa");
+/// Cycles to failure at an S–N curve's reference stress range.
+pub const SN_CYCLES: Bound = b((1.0, 1e13), (1e3, 1e10), "cycles", "1e5–1e8");
 /// Train speed, km/h.
 pub const SPEED: Bound = b((0.0, 1000.0), (10.0, 400.0), "km/h", "50–350 km/h");
 /// A pantograph's distance behind the leading one, m.

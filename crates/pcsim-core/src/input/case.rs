@@ -48,6 +48,26 @@ pub struct Case {
     /// Contact-wire irregularity: sources that add up.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub irregularity: Vec<IrregularityCase>,
+    /// The dropper wire's S–N curve, for Miner's damage (`pcsim run --dropper-forces`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dropper_fatigue: Option<DropperFatigueCase>,
+}
+
+/// The dropper wire's fatigue: a Basquin S–N curve in stress range,
+/// `N(Δσ) = sn_cycles (sn_stress_range_mpa / Δσ)^sn_slope`, and the cross-section that turns a
+/// tension range into a stress range (`analysis::fatigue`). pcsim has no default: each value
+/// needs its source (a test of the dropper wire, its maker's data).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DropperFatigueCase {
+    /// The dropper wire's load-bearing cross-section, mm².
+    pub area_mm2: f64,
+    /// The S–N curve's slope `m`.
+    pub sn_slope: f64,
+    /// The reference stress range, MPa.
+    pub sn_stress_range_mpa: f64,
+    /// Cycles to failure at the reference stress range.
+    pub sn_cycles: f64,
 }
 
 /// Free-text description of a case.

@@ -36,6 +36,7 @@ impl Case {
         supports_and_arms(self, &mut w)?;
         stitch_wire(self, &mut w)?;
         contact_and_pantographs(self, &mut w)?;
+        dropper_fatigue(self, &mut w)?;
         run(self, &mut w)?;
         lateral_dofs(self, &mut w)?;
         lateral_sections(self, &mut w)?;
@@ -645,6 +646,32 @@ pub(super) fn stitch_wire(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseE
         }
     }
     Ok(())
+}
+
+/// The dropper wire's S–N curve.
+fn dropper_fatigue(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let Some(f) = &case.dropper_fatigue else {
+        return Ok(());
+    };
+    check_bound(
+        w,
+        "dropper_fatigue.area_mm2",
+        f.area_mm2,
+        &bounds::DROPPER_AREA,
+    )?;
+    check_bound(w, "dropper_fatigue.sn_slope", f.sn_slope, &bounds::SN_SLOPE)?;
+    check_bound(
+        w,
+        "dropper_fatigue.sn_stress_range_mpa",
+        f.sn_stress_range_mpa,
+        &bounds::SN_STRESS_RANGE,
+    )?;
+    check_bound(
+        w,
+        "dropper_fatigue.sn_cycles",
+        f.sn_cycles,
+        &bounds::SN_CYCLES,
+    )
 }
 
 /// The contact stiffness and the pantographs.

@@ -41,3 +41,38 @@ pub fn short_preset(name: &str, spans: usize, speed_kmh: f64) -> Case {
     c.run.modes_per_m = Some(1.0);
     c
 }
+
+/// Two tension lengths of six 60 m spans with a 3-span overlap (180–360 m), the 2002 catenary,
+/// 250 km/h over 60–480 m.
+pub fn overlap_line() -> Case {
+    use pcsim_core::input::case::{LineCase, OverlapCase, SpanRun, TensionLengthCase};
+    let mut case = short_en50318(9, 250.0);
+    let t = TensionLengthCase {
+        span_runs: vec![SpanRun {
+            count: 6,
+            length_m: 60.0,
+        }],
+        spans_m: Vec::new(),
+        droppers_m: Vec::new(),
+        contact_height_m: Vec::new(),
+        encumbrance_m: Vec::new(),
+        contact_wire: None,
+        messenger: None,
+        droppers: None,
+        messenger_support: None,
+        steady_arm: None,
+    };
+    case.line = Some(LineCase {
+        tension_lengths: vec![t.clone(), t],
+        overlaps: vec![OverlapCase {
+            spans: 3,
+            rise_m: 0.3,
+            separation_m: 0.2,
+        }],
+    });
+    case.catenary.spans = 9;
+    case.run.start_m = 60.0;
+    case.run.end_m = 480.0;
+    case.run.analysis_m = [120.0, 420.0];
+    case
+}
