@@ -68,6 +68,9 @@ enum Command {
     /// within tolerances, over speeds and tensions, beside the energy-based lengths; `window
     /// merge DIR…` joins shards.
     Window(cmd::window::WindowArgs),
+    /// A run's contact force beside a measured one: the same 0–20 Hz filter, aligned by
+    /// cross-correlation, statistics side by side, spectra and the force over the span.
+    Compare(cmd::compare::CompareArgs),
 }
 
 /// Restore the default SIGPIPE action so that `pcsim … | head` ends quietly instead of panicking
@@ -136,6 +139,7 @@ fn main() {
         Command::Fmu(a) => cmd::fmu::fmu(a),
         Command::Hil(a) => cmd::hil::hil(a, &ctx),
         Command::Window(a) => cmd::window::window(a, &ctx),
+        Command::Compare(a) => cmd::compare::compare(a),
     });
     match res {
         Ok(code) => std::process::exit(code),

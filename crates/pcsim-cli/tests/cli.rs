@@ -842,3 +842,110 @@ fn dropper_forces_and_damage_over_a_line() {
         "{e}"
     );
 }
+
+/// `pcsim compare RUN MEASURED.csv` (issue 22, item 4): a measurement made from the run (shifted
+/// by 4 m, scaled by 1.1, at 0.25 m) is aligned within one sample, the outputs and figures are
+/// written; a file in kilometres or with an uneven spacing is refused, naming what is wrong.
+#[test]
+fn compare_aligns_a_measurement_and_refuses_bad_files() {
+    let d = scratch("compare");
+    let case = short_case(&d);
+    let run_dir = d.join("run");
+    let o = pcsim()
+        .arg("run")
+        .arg(&case)
+        .args(["--quiet", "--out"])
+        .arg(&run_dir)
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let ts = std::fs::read_to_string(run_dir.join("timeseries.csv")).unwrap();
+    let mut lines = ts.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let (ix, iff) = (
+        head.iter()
+            .position(|c| c.ends_with("_position_m"))
+            .unwrap(),
+        head.iter().position(|c| c.ends_with("_force_n")).unwrap(),
+    );
+    let (mut x, mut f) = (Vec::new(), Vec::new());
+    for l in lines {
+        let v: Vec<f64> = l.split(',').map(|s| s.parse().unwrap()).collect();
+        x.push(v[ix]);
+        f.push(v[iff]);
+    }
+    let (shift, dx) = (4.0, 0.25);
+    let mut text = String::from("position_m,force_n\n");
+    let mut y = x[0] + 5.0 - shift;
+    while y + shift < x[x.len() - 1] - 5.0 {
+        let k = x.partition_point(|&xi| xi <= y + shift) - 1;
+        let t = (y + shift - x[k]) / (x[k + 1] - x[k]);
+        text += &format!("{y},{}\n", 1.1 * (f[k] * (1.0 - t) + f[k + 1] * t));
+        y += dx;
+    }
+    let meas = d.join("measured.csv");
+    std::fs::write(&meas, &text).unwrap();
+    let out = d.join("cmp");
+    let o = pcsim()
+        .arg("compare")
+        .arg(&run_dir)
+        .arg(&meas)
+        .args(["--search", "20m", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let stats = std::fs::read_to_string(out.join("compare_stats.csv")).unwrap();
+    let found: f64 = stats
+        .lines()
+        .find(|l| l.starts_with("shift_m"))
+        .and_then(|l| l.split(',').nth(2))
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((found - shift).abs() <= dx, "shift {found} m");
+    for f in [
+        "compare.csv",
+        "compare_spectrum.csv",
+        "compare_profile.csv",
+        "compare_force.png",
+        "compare_spectrum.png",
+        "compare_profile.png",
+    ] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    for (bad, what) in [
+        (text.replacen("position_m", "position_km", 1), "position_km"),
+        (
+            text.replacen(
+                &format!("{},", x[0] + 5.0 - shift + dx),
+                &format!("{},", x[0] + 5.0 - shift + 1.3 * dx),
+                1,
+            ),
+            "uniform spacing",
+        ),
+    ] {
+        std::fs::write(&meas, bad).unwrap();
+        let o = pcsim()
+            .arg("compare")
+            .arg(&run_dir)
+            .arg(&meas)
+            .args(["--out"])
+            .arg(d.join("cmp2"))
+            .output()
+            .unwrap();
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{e}");
+        assert!(e.contains(what) && e.contains("measured.csv"), "{e}");
+    }
+}

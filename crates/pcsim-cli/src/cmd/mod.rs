@@ -1,6 +1,7 @@
 //! One file per command.
 
 pub mod bench;
+pub mod compare;
 pub mod eva;
 pub mod fmu;
 pub mod hil;

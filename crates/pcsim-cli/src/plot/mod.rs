@@ -320,6 +320,7 @@ pub fn redraw_kind(dir: &Path, kind: &str) -> Result<Vec<PathBuf>> {
         "realtime" => realtime::redraw(dir),
         "montecarlo" => montecarlo::redraw(dir),
         "window" => window::redraw(dir),
+        "compare" => crate::cmd::compare::redraw(dir),
         other => anyhow::bail!(
             "{}: pcsim.json names kind `{other}`, which has no figures",
             dir.display()

@@ -4,6 +4,7 @@
 //! | file | what it holds |
 //! |---|---|
 //! | `filter.rs` | zero-phase Butterworth filters (SciPy-compatible) |
+//! | `compare.rs` | a run beside a measured force record: filtered, aligned, side by side |
 //! | `stats.rs` | the EN 50318 contact-force statistics |
 //! | `record.rs` | the EN 50318 recorder (an observer) and `simulate` |
 //! | `energy.rs` | the energy density (Eq. 20), system energy and dissipation |
@@ -16,6 +17,7 @@
 //! | `montecarlo.rs` | realisations over seeds and their spread |
 //! | `report.rs` | what a run reports: the summary and the time-series columns |
 
+pub mod compare;
 pub mod energy;
 pub mod eva;
 pub mod fatigue;

@@ -6,6 +6,7 @@ pub mod case;
 pub mod irregularity;
 pub mod lateral;
 pub mod line;
+pub mod measured;
 pub mod overrides;
 pub mod presets;
 pub mod targets;

@@ -1,0 +1,254 @@
+//! `pcsim compare RUN MEASURED.csv`: a run's contact force beside a measured one (issue 22,
+//! item 4), through the core's `analysis::compare` (filter, alignment, statistics, spectra,
+//! span profile). This file reads the files, writes the outputs and draws the figures.
+
+use anyhow::{Context, Result};
+use clap::Args;
+use pcsim_core::analysis::compare::{compare as compare_core, Comparison};
+use pcsim_core::input::measured::MeasuredForce;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use crate::common::{length, shown};
+use crate::output::{write_file, write_manifest, OutDir};
+
+#[derive(Args)]
+pub struct CompareArgs {
+    /// A run's output directory (`pcsim run … --out RUN`).
+    run: PathBuf,
+    /// Measured contact force: CSV with the header `position_m,force_n` (m along the track, N), at
+    /// a uniform spacing, as a recording car gives it.
+    measured: PathBuf,
+    /// The run's pantograph to compare [default: the leading one].
+    #[arg(long)]
+    pantograph: Option<String>,
+    /// Search the alignment within ± this length: m, or with a unit.
+    #[arg(long, value_name = "M", default_value = "30")]
+    search: String,
+    /// Output directory (written as a whole).
+    #[arg(long, default_value = "out/compare")]
+    out: PathBuf,
+    /// No figures.
+    #[arg(long)]
+    no_plot: bool,
+}
+
+pub fn compare(a: CompareArgs) -> Result<i32> {
+    let search_m = length("--search", &a.search)?;
+    let run = crate::plot::run::read_run(&a.run)
+        .with_context(|| format!("{} is not a run's output directory", a.run.display()))?;
+    let trace = match &a.pantograph {
+        Some(name) => run
+            .traces
+            .iter()
+            .find(|t| &t.name == name)
+            .with_context(|| {
+                format!(
+                    "--pantograph {name}: the run has {}",
+                    run.traces
+                        .iter()
+                        .map(|t| t.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+            })?,
+        None => run.traces.first().context("the run has no pantograph")?,
+    };
+    let text = crate::common::read_input(&a.measured)
+        .with_context(|| format!("cannot read {}", a.measured.display()))?;
+    let meas = MeasuredForce::from_csv(&text, &a.measured.display().to_string())?;
+    let supports: Vec<f64> = if !run.supports_m.is_empty() {
+        run.supports_m.clone()
+    } else if let Some(s) = run.span_m {
+        let last = trace.position_m.last().copied().unwrap_or(0.0);
+        (0..=((last / s).ceil() as usize + 1))
+            .map(|k| k as f64 * s)
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let c = compare_core(
+        (&trace.position_m, &trace.force_n),
+        &meas,
+        run.speed_kmh / 3.6,
+        run.analysis_m,
+        search_m,
+        &supports,
+    )?;
+    let od = OutDir::begin(&a.out)?;
+    write_outputs(od.path(), &c)?;
+    write_manifest(
+        od.path(),
+        "compare",
+        serde_json::json!({
+            "run": a.run.display().to_string(),
+            "measured": a.measured.display().to_string(),
+            "pantograph": trace.name,
+            "case": run.case_name,
+            "speed_kmh": run.speed_kmh,
+        }),
+    )?;
+    let files = if a.no_plot {
+        Vec::new()
+    } else {
+        od.in_target(&draw(
+            od.path(),
+            &format!("{} ({} pantograph)", run.case_name, trace.name),
+        )?)
+    };
+    od.commit()?;
+    println!(
+        "{} pantograph of {} against {}: shift {:+.2} m ({} samples of {} m; searched ± {search_m} m), correlation {:.3}",
+        trace.name,
+        run.case_name,
+        a.measured.display(),
+        c.shift_m,
+        c.shift_samples,
+        meas.spacing_m,
+        c.correlation
+    );
+    println!(
+        "0–20 Hz contact force over {:?} m ({} samples):",
+        c.section_m, c.simulated.samples
+    );
+    println!(
+        "  {:<14} {:>10} {:>10} {:>10} {:>8}",
+        "", "run", "measured", "difference", "%"
+    );
+    for ((name, s), (_, m)) in c.simulated.rows().iter().zip(c.measured.rows()) {
+        println!(
+            "  {name:<14} {s:>10.2} {m:>10.2} {:>+10.2} {:>+8.1}",
+            m - s,
+            100.0 * (m - s) / s.abs().max(1e-9)
+        );
+    }
+    println!(
+        "wrote {}, {}, {} and {}",
+        shown(&a.out, "compare_stats.csv"),
+        shown(&a.out, "compare.csv"),
+        shown(&a.out, "compare_spectrum.csv"),
+        shown(&a.out, "compare_profile.csv")
+    );
+    if !files.is_empty() {
+        crate::plot::report(&files);
+    }
+    Ok(0)
+}
+
+fn write_outputs(dir: &Path, c: &Comparison) -> Result<()> {
+    let mut t = String::from("quantity,run,measured,difference\n");
+    let _ = writeln!(t, "shift_m,,{},", c.shift_m);
+    let _ = writeln!(t, "correlation,,{},", c.correlation);
+    for ((name, s), (_, m)) in c.simulated.rows().iter().zip(c.measured.rows()) {
+        let _ = writeln!(t, "{name},{s},{m},{}", m - s);
+    }
+    write_file(&dir.join("compare_stats.csv"), t)?;
+    let mut t = String::from("position_m,run_force_filtered_n,measured_force_filtered_n\n");
+    for ((x, s), m) in c.position_m.iter().zip(&c.simulated_n).zip(&c.measured_n) {
+        let _ = writeln!(t, "{x:.4},{s:.4},{m:.4}");
+    }
+    write_file(&dir.join("compare.csv"), t)?;
+    let mut t = String::from("frequency_per_m,run_psd_n2_m,measured_psd_n2_m\n");
+    for r in &c.spectrum {
+        let _ = writeln!(t, "{},{},{}", r[0], r[1], r[2]);
+    }
+    write_file(&dir.join("compare_spectrum.csv"), t)?;
+    let mut t = String::from("span_fraction,run_mean_force_n,measured_mean_force_n\n");
+    for r in &c.profile {
+        let _ = writeln!(t, "{},{},{}", r[0], r[1], r[2]);
+    }
+    write_file(&dir.join("compare_profile.csv"), t)
+}
+
+fn columns(path: &Path) -> Result<Vec<Vec<f64>>> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip(1)
+        .map(|l| {
+            l.split(',')
+                .map(|v| v.parse().unwrap_or(f64::NAN))
+                .collect()
+        })
+        .collect();
+    let n = rows.first().map_or(0, Vec::len);
+    Ok((0..n)
+        .map(|k| rows.iter().map(|r| r[k]).collect())
+        .collect())
+}
+
+/// The three figures, from the written CSVs (so `pcsim plot DIR` draws the same).
+pub fn draw(dir: &Path, title: &str) -> Result<Vec<PathBuf>> {
+    use crate::plot::{figure, Figure, Line, COLOURS};
+    let mut files = Vec::new();
+    let trio = |name: &str| columns(&dir.join(name));
+    let f = trio("compare.csv")?;
+    let pts = |k: usize, c: &[Vec<f64>]| {
+        c[0].iter()
+            .copied()
+            .zip(c[k].iter().copied())
+            .collect::<Vec<_>>()
+    };
+    files.extend(figure(
+        &dir.join("compare_force"),
+        &Figure {
+            title: &format!("{title}: 0–20 Hz contact force, aligned"),
+            x_label: "Position along the track (the run's) [m]",
+            y_label: "Contact force, 0–20 Hz [N]",
+            lines: vec![
+                Line::new("run", pts(1, &f)).styled(COLOURS[0], 2),
+                Line::new("measured (shifted)", pts(2, &f)).styled(COLOURS[1], 1),
+            ],
+            log_y: false,
+            vmarks: Vec::new(),
+            hmarks: Vec::new(),
+        },
+    )?);
+    let s = trio("compare_spectrum.csv")?;
+    files.extend(figure(
+        &dir.join("compare_spectrum"),
+        &Figure {
+            title: &format!("{title}: power spectral density of the 0–20 Hz force"),
+            x_label: "Spatial frequency [1/m]",
+            y_label: "PSD [N²·m]",
+            lines: vec![
+                Line::new("run", pts(1, &s)).styled(COLOURS[0], 2),
+                Line::new("measured", pts(2, &s))
+                    .styled(COLOURS[1], 2)
+                    .marked(),
+            ],
+            log_y: true,
+            vmarks: Vec::new(),
+            hmarks: Vec::new(),
+        },
+    )?);
+    let p = trio("compare_profile.csv")?;
+    files.extend(figure(
+        &dir.join("compare_profile"),
+        &Figure {
+            title: &format!("{title}: 0–20 Hz force averaged over the spans"),
+            x_label: "Position within the span (0 and 1: supports)",
+            y_label: "Mean contact force [N]",
+            lines: vec![
+                Line::new("run", pts(1, &p)).styled(COLOURS[0], 2).marked(),
+                Line::new("measured", pts(2, &p)).styled(COLOURS[1], 2),
+            ],
+            log_y: false,
+            vmarks: Vec::new(),
+            hmarks: Vec::new(),
+        },
+    )?);
+    Ok(files)
+}
+
+/// Redraw a comparison's figures from its files.
+pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
+    let m = crate::output::read_complete_manifest(dir)?;
+    let title = format!(
+        "{} ({} pantograph)",
+        m.value["case"].as_str().unwrap_or("run"),
+        m.value["pantograph"].as_str().unwrap_or("")
+    );
+    draw(dir, &title)
+}

@@ -1,0 +1,151 @@
+//! Measured contact force against position, as a recording car gives it (issue 22, item 4): a
+//! CSV file `position_m,force_n` (metres and newtons, a header line first), at a uniform spacing.
+//! Read from text; the front end reads the file.
+
+use super::bounds::inv;
+use crate::error::CaseError;
+
+/// A measured contact force record.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeasuredForce {
+    /// Position along the track, m, increasing at a uniform spacing.
+    pub position_m: Vec<f64>,
+    /// Contact force, N.
+    pub force_n: Vec<f64>,
+    /// The spacing, m.
+    pub spacing_m: f64,
+}
+
+/// The fewest samples a measured record may have.
+pub const MIN_SAMPLES: usize = 64;
+/// How far the spacing may vary along the record (relative).
+pub const SPACING_TOLERANCE: f64 = 0.01;
+
+impl MeasuredForce {
+    /// Read `position_m,force_n` rows (after that header line). `source` names the file in the
+    /// errors, which name the line, the column or the spacing at fault.
+    pub fn from_csv(text: &str, source: &str) -> Result<Self, CaseError> {
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .filter(|(_, l)| !l.trim().is_empty());
+        let Some((_, header)) = lines.next() else {
+            return Err(inv(
+                source,
+                "an empty file",
+                "a measured record needs the header `position_m,force_n` and its rows",
+            ));
+        };
+        let cols: Vec<String> = header
+            .split(',')
+            .map(|c| c.trim().trim_matches('"').to_ascii_lowercase())
+            .collect();
+        if cols != ["position_m", "force_n"] {
+            let why = if cols.iter().any(|c| c.parse::<f64>().is_ok()) {
+                "the first line must be the header `position_m,force_n`".to_string()
+            } else if let Some(c) = cols
+                .iter()
+                .find(|c| c.starts_with("position") && c.as_str() != "position_m")
+            {
+                format!("column `{c}`: positions are read in metres, as `position_m` (convert km × 1000)")
+            } else if let Some(c) = cols
+                .iter()
+                .find(|c| c.starts_with("force") && c.as_str() != "force_n")
+            {
+                format!(
+                    "column `{c}`: forces are read in newtons, as `force_n` (convert kN × 1000)"
+                )
+            } else {
+                "the header must be `position_m,force_n` (metres, newtons; two columns)".to_string()
+            };
+            return Err(inv(source, format!("header `{}`", header.trim()), &why));
+        }
+        let (mut x, mut f) = (Vec::new(), Vec::new());
+        for (i, line) in lines {
+            let v: Vec<&str> = line.split(',').map(str::trim).collect();
+            let num = |k: usize| {
+                v.get(k)
+                    .and_then(|s| s.parse::<f64>().ok())
+                    .filter(|y| y.is_finite())
+            };
+            match (v.len(), num(0), num(1)) {
+                (2, Some(a), Some(b)) => {
+                    x.push(a);
+                    f.push(b);
+                }
+                _ => {
+                    return Err(inv(
+                        source,
+                        format!("line {}: `{}`", i + 1, line.trim()),
+                        "each row must be `position_m,force_n`: two finite numbers (m, N)",
+                    ))
+                }
+            }
+        }
+        if x.len() < MIN_SAMPLES {
+            return Err(inv(
+                source,
+                format!("{} rows", x.len()),
+                &format!("a measured record needs at least {MIN_SAMPLES} rows"),
+            ));
+        }
+        let spacing = (x[x.len() - 1] - x[0]) / (x.len() - 1) as f64;
+        for (k, w) in x.windows(2).enumerate() {
+            let d = w[1] - w[0];
+            if d <= 0.0 || (d - spacing).abs() > SPACING_TOLERANCE * spacing.abs() {
+                return Err(inv(
+                    source,
+                    format!("rows {} and {}: positions {} and {} m", k + 1, k + 2, w[0], w[1]),
+                    &format!(
+                        "positions must increase at a uniform spacing (the record's mean is {spacing} m, within {} %): resample the record first",
+                        100.0 * SPACING_TOLERANCE
+                    ),
+                ));
+            }
+        }
+        Ok(MeasuredForce {
+            position_m: x,
+            force_n: f,
+            spacing_m: spacing,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rows(n: usize, dx: f64) -> String {
+        let mut s = String::from("position_m,force_n\n");
+        for k in 0..n {
+            s += &format!("{},{}\n", 100.0 + dx * k as f64, 120.0 + (k % 7) as f64);
+        }
+        s
+    }
+
+    #[test]
+    fn a_good_record_reads_and_bad_ones_name_what_is_wrong() {
+        let m = MeasuredForce::from_csv(&rows(100, 0.25), "m.csv").unwrap();
+        assert_eq!(m.position_m.len(), 100);
+        assert!((m.spacing_m - 0.25).abs() < 1e-12);
+        let err = |t: &str| MeasuredForce::from_csv(t, "m.csv").unwrap_err().to_string();
+        let e = err(&rows(100, 0.25).replace("position_m", "position_km"));
+        assert!(e.contains("position_km") && e.contains("metres"), "{e}");
+        let e = err(&rows(100, 0.25).replace("force_n", "force_kn"));
+        assert!(e.contains("force_kn") && e.contains("newtons"), "{e}");
+        let e = err(&rows(100, 0.25).replacen("position_m,force_n\n", "", 1));
+        assert!(e.contains("header"), "{e}");
+        let e = err(&rows(10, 0.25));
+        assert!(e.contains("10 rows") && e.contains("64"), "{e}");
+        let e = err(&rows(100, 0.25).replace("112.5,", "112.6,"));
+        assert!(e.contains("uniform spacing") && e.contains("112.6"), "{e}");
+        let e = err(&rows(100, 0.25).replace("101,", "101,abc,"));
+        assert!(
+            e.contains("line") && e.contains("two finite numbers"),
+            "{e}"
+        );
+        let e = err(&rows(100, 0.25).replace("101,", "101,nan\n#"));
+        assert!(e.contains("two finite numbers"), "{e}");
+        assert!(err("").contains("empty"));
+    }
+}
