@@ -153,10 +153,47 @@ pub struct Figure<'a> {
     pub hmarks: Vec<(f64, String)>,
 }
 
-fn figure_chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, f: &Figure) -> Result<()> {
+/// The dash patterns the lines of a figure take in turn (dash, gap; `(0, 0)` solid), so that
+/// series differ by more than colour and width, in print and in the legend.
+const DASHES: [(u32, u32); 4] = [(0, 0), (14, 6), (4, 5), (24, 6)];
+
+/// The figure with its y axis limited to `y_max`, for when a few values would squash the ones
+/// that matter: the points above are not drawn, and a note inside the plot says how many, of
+/// which series, and their range.
+pub struct Clipped<'a> {
+    /// The figure.
+    pub figure: Figure<'a>,
+    /// The y axis's upper end (linear axes).
+    pub y_max: f64,
+}
+
+fn figure_chart<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    f: &Figure,
+    y_max: Option<f64>,
+) -> Result<()> {
     root.fill(&WHITE).map_err(|e| anyhow!("{e:?}"))?;
     let ty = |y: f64| if f.log_y { y.log10() } else { y };
-    let keep = |y: f64| y.is_finite() && (!f.log_y || y > 0.0);
+    let keep = |y: f64| y.is_finite() && (!f.log_y || y > 0.0) && y_max.is_none_or(|m| y <= m);
+    // What the axis leaves out, per series: (label, count, smallest, largest).
+    let outliers: Vec<(String, usize, f64, f64)> = match y_max {
+        Some(m) => f
+            .lines
+            .iter()
+            .filter_map(|l| {
+                let v: Vec<f64> = l.points.iter().map(|p| p.1).filter(|&y| y > m).collect();
+                (!v.is_empty()).then(|| {
+                    let (lo, hi) = v
+                        .iter()
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &y| {
+                            (a.min(y), b.max(y))
+                        });
+                    (l.label.clone(), v.len(), lo, hi)
+                })
+            })
+            .collect(),
+        None => Vec::new(),
+    };
     let lines: Vec<Vec<(f64, f64)>> = f
         .lines
         .iter()
@@ -184,7 +221,10 @@ fn figure_chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, f: &Figure) ->
     if ys.is_empty() || !x.0.is_finite() {
         anyhow::bail!("nothing to draw in `{}`", f.title);
     }
-    let y = range(ys.into_iter());
+    let y = match y_max {
+        Some(m) => (range(ys.into_iter()).0, m),
+        None => range(ys.into_iter()),
+    };
     let mut chart = ChartBuilder::on(&root)
         .caption(f.title, ("sans-serif", 22))
         .margin(15)
@@ -249,29 +289,71 @@ fn figure_chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, f: &Figure) ->
     for (i, (l, pts)) in f.lines.iter().zip(lines).enumerate() {
         let c = l.colour.unwrap_or(PALETTE[i % PALETTE.len()]);
         let w = l.width;
+        let (dash, gap) = DASHES[i % DASHES.len()];
+        let err = |e| anyhow!("{e:?}");
         if w == 0 {
-            // Marks only.
-            chart
-                .draw_series(pts.iter().map(|&p| Circle::new(p, 5, c.filled())))
-                .map_err(|e| anyhow!("{e:?}"))?
-                .label(l.label.clone())
-                .legend(move |(x, y)| Circle::new((x + 10, y), 5, c.filled()));
+            // Marks only: squares and triangles in turn (a circle marks the lines' points).
+            if i % 2 == 0 {
+                chart
+                    .draw_series(pts.iter().map(|&p| {
+                        EmptyElement::at(p) + Rectangle::new([(-5, -5), (5, 5)], c.filled())
+                    }))
+                    .map_err(err)?
+                    .label(l.label.clone())
+                    .legend(move |(x, y)| {
+                        Rectangle::new([(x + 5, y - 5), (x + 15, y + 5)], c.filled())
+                    });
+            } else {
+                chart
+                    .draw_series(pts.iter().map(|&p| TriangleMarker::new(p, 7, c.filled())))
+                    .map_err(err)?
+                    .label(l.label.clone())
+                    .legend(move |(x, y)| TriangleMarker::new((x + 10, y), 7, c.filled()));
+            }
             continue;
         }
-        chart
-            .draw_series(LineSeries::new(pts.clone(), c.stroke_width(w)))
-            .map_err(|e| anyhow!("{e:?}"))?
+        let style = c.stroke_width(w);
+        let series = if dash == 0 {
+            chart.draw_series(LineSeries::new(pts.clone(), style))
+        } else {
+            chart.draw_series(DashedLineSeries::new(pts.clone(), dash, gap, style))
+        };
+        let marks = l.marks;
+        series
+            .map_err(err)?
             .label(l.label.clone())
             .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(w.max(2)))
+                let s = c.stroke_width(w.max(2));
+                // A dot on the legend's line where the series marks its points.
+                let dot = Circle::new((14, 0), 4, c.mix(if marks { 1.0 } else { 0.0 }).filled());
+                // A solid line is one dash longer than the legend's line.
+                let (d, g) = if dash == 0 { (1000, 1) } else { (dash, gap) };
+                EmptyElement::at((x, y))
+                    + plotters::element::DashedPathElement::new(vec![(0, 0), (28, 0)], d, g, s)
+                    + dot
             });
         if l.marks {
             chart
                 .draw_series(pts.iter().map(|&p| Circle::new(p, 4, c.filled())))
-                .map_err(|e| anyhow!("{e:?}"))?;
+                .map_err(err)?;
         }
     }
     legend(&mut chart)?;
+    if !outliers.is_empty() {
+        let note = outliers
+            .iter()
+            .map(|(l, n, lo, hi)| {
+                format!("{n} point(s) of \"{l}\" above the axis ({lo:.0}–{hi:.0})")
+            })
+            .collect::<Vec<_>>()
+            .join("; ");
+        root.draw(&Text::new(
+            format!("Not shown: {note}"),
+            (100, 44),
+            ("sans-serif", 15).into_font().color(&BLACK.mix(0.8)),
+        ))
+        .map_err(|e| anyhow!("{e:?}"))?;
+    }
     root.present().map_err(|e| anyhow!("{e:?}"))?;
     Ok(())
 }
@@ -289,13 +371,22 @@ pub(crate) const PALETTE: [RGBColor; 8] = [
 
 /// Write a figure as `stem.svg` and `stem.png`; returns the two paths.
 pub fn figure(stem: &Path, f: &Figure) -> Result<Vec<PathBuf>> {
+    figure_with(stem, f, None)
+}
+
+/// [`figure`] with its y axis limited ([`Clipped`]).
+pub fn clipped_figure(stem: &Path, c: &Clipped) -> Result<Vec<PathBuf>> {
+    figure_with(stem, &c.figure, Some(c.y_max))
+}
+
+fn figure_with(stem: &Path, f: &Figure, y_max: Option<f64>) -> Result<Vec<PathBuf>> {
     register_font();
     let size = (1200, 700);
     let svg = stem.with_extension("svg");
-    figure_chart(SVGBackend::new(&svg, size).into_drawing_area(), f)
+    figure_chart(SVGBackend::new(&svg, size).into_drawing_area(), f, y_max)
         .with_context(|| format!("drawing {}", svg.display()))?;
     let png = stem.with_extension("png");
-    figure_chart(BitMapBackend::new(&png, size).into_drawing_area(), f)
+    figure_chart(BitMapBackend::new(&png, size).into_drawing_area(), f, y_max)
         .with_context(|| format!("drawing {}", png.display()))?;
     Ok(vec![svg, png])
 }
@@ -338,4 +429,45 @@ pub fn report(files: &[PathBuf]) {
             .collect::<Vec<_>>()
             .join(", ")
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A figure whose axis is chosen by the values that matter names what it leaves out (issue 22,
+    /// item 2): the series, how many points, their range; and its series differ by dash pattern.
+    #[test]
+    fn a_clipped_figure_notes_its_outliers_and_dashes_its_series() {
+        let dir = std::env::temp_dir().join(format!("pcsim-clip-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let files = clipped_figure(
+            &dir.join("f"),
+            &Clipped {
+                figure: Figure {
+                    title: "t",
+                    x_label: "x",
+                    y_label: "y",
+                    lines: vec![
+                        Line::new("accuracy", vec![(150.0, 120.0), (222.0, 140.0)]),
+                        Line::new("99 %", vec![(150.0, 780.0), (222.0, 1440.0)]),
+                    ],
+                    log_y: false,
+                    vmarks: Vec::new(),
+                    hmarks: Vec::new(),
+                },
+                y_max: 200.0,
+            },
+        )
+        .unwrap();
+        let svg = std::fs::read_to_string(&files[0]).unwrap();
+        assert!(svg.contains("Not shown: 2 point(s) of"), "no note");
+        assert!(
+            svg.contains("99 %") && svg.contains("(780–1440)"),
+            "the note names the series and range"
+        );
+        // The second series is dashed: many short segments where the first is one polyline.
+        assert!(svg.matches("<polyline").count() > 10, "dashes");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -4,6 +4,7 @@
 
 use anyhow::{anyhow, bail, Context, Result};
 use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -50,6 +51,9 @@ impl PlotData {
         }
     }
 }
+
+/// The supports' colour (dark brown: neither a series nor the grid).
+const SUPPORT: RGBColor = RGBColor(120, 72, 30);
 
 /// Width of the plot area in pixels: one envelope column per pixel.
 const COLUMNS: usize = 1650;
@@ -109,30 +113,45 @@ fn span_marks<DB: DrawingBackend>(
                 Rectangle::new([(x - 6, y - 5), (x + 6, y + 5)], blue.mix(0.5).filled())
             });
     }
-    if let Some(s) = d.span_m {
+    // The supports: dashed, in a colour of their own (the grid is solid light grey), with a
+    // tick at the foot of the axis.
+    let support_at =
+        |s: f64| DashedPathElement::new(vec![(s, y.0), (s, y.1)], 6, 5, SUPPORT.stroke_width(1));
+    let legend_mark = |(x, y): (i32, i32)| {
+        DashedPathElement::new(
+            vec![(x + 10, y - 8), (x + 10, y + 8)],
+            4,
+            3,
+            SUPPORT.stroke_width(2),
+        )
+    };
+    let supports: Vec<f64> = if let Some(s) = d.span_m {
         let first = (x.0 / s).ceil() as i64;
         let last = ((x.1 / s).floor() as i64).min(first + 5000);
+        (first..=last).map(|k| k as f64 * s).collect()
+    } else {
+        d.supports_m
+            .iter()
+            .copied()
+            .filter(|&s| s >= x.0 && s <= x.1)
+            .collect()
+    };
+    if !supports.is_empty() {
+        let label = match d.span_m {
+            Some(s) => format!("supports (every {s} m, dashed); shaded: analysis section"),
+            None => "supports (spans differ, dashed); shaded: analysis section".to_string(),
+        };
         chart
-            .draw_series((first..=last).map(|k| {
-                PathElement::new(
-                    vec![(k as f64 * s, y.0), (k as f64 * s, y.1)],
-                    BLACK.mix(0.18),
-                )
+            .draw_series(supports.iter().map(|&s| support_at(s)))
+            .map_err(|e| anyhow!("{e:?}"))?
+            .label(label)
+            .legend(legend_mark);
+        let tick = 0.03 * (y.1 - y.0);
+        chart
+            .draw_series(supports.iter().map(|&s| {
+                PathElement::new(vec![(s, y.0), (s, y.0 + tick)], SUPPORT.stroke_width(3))
             }))
-            .map_err(|e| anyhow!("{e:?}"))?
-            .label(format!("supports (every {s} m); shaded: analysis section"))
-            .legend(|(x, y)| PathElement::new(vec![(x, y - 6), (x, y + 6)], BLACK.mix(0.4)));
-    } else if !d.supports_m.is_empty() {
-        chart
-            .draw_series(
-                d.supports_m
-                    .iter()
-                    .filter(|&&s| s >= x.0 && s <= x.1)
-                    .map(|&s| PathElement::new(vec![(s, y.0), (s, y.1)], BLACK.mix(0.18))),
-            )
-            .map_err(|e| anyhow!("{e:?}"))?
-            .label("supports (spans differ); shaded: analysis section")
-            .legend(|(x, y)| PathElement::new(vec![(x, y - 6), (x, y + 6)], BLACK.mix(0.4)));
+            .map_err(|e| anyhow!("{e:?}"))?;
     }
     Ok(())
 }
@@ -250,7 +269,7 @@ fn height_chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, d: &PlotData) 
     let mut chart = track_chart(
         &root,
         title,
-        "Contact-wire height at the contact point [mm]",
+        "Contact-point height above the contact wire's design height at the supports [mm]",
         x,
         y,
     )?;
