@@ -251,6 +251,12 @@ fn run_plot_and_replot_write_readable_figures() {
         serde_json::from_str(&std::fs::read_to_string(outdir.join("summary.json")).unwrap())
             .unwrap();
     assert_eq!(js["contact_wire_tension_n"].as_f64().unwrap(), 18_000.0);
+    assert!(
+        std::fs::read_to_string(outdir.join("contact_height.svg"))
+            .unwrap()
+            .contains("design height at the supports"),
+        "contact_height: the height's datum"
+    );
     for f in ["contact_force_leading", "contact_height"] {
         let svg = std::fs::read_to_string(outdir.join(format!("{f}.svg"))).unwrap();
         assert!(svg.contains("Position along the track [m]"), "{f}: x label");
@@ -259,7 +265,7 @@ fn run_plot_and_replot_write_readable_figures() {
             "{f}: y label with unit"
         );
         assert!(
-            svg.contains("supports (every 60 m)"),
+            svg.contains("supports (every 60 m, dashed)"),
             "{f}: span marks in the legend"
         );
         let png = std::fs::read(outdir.join(format!("{f}.png"))).unwrap();
