@@ -71,6 +71,9 @@ enum Command {
     /// A run's contact force beside a measured one: the same 0–20 Hz filter, aligned by
     /// cross-correlation, statistics side by side, spectra and the force over the span.
     Compare(cmd::compare::CompareArgs),
+    /// One self-contained report.html of a run's output directory (the case and its sources,
+    /// statistics, warnings, overlaps, droppers, every figure).
+    Report(cmd::report::ReportArgs),
 }
 
 /// Restore the default SIGPIPE action so that `pcsim … | head` ends quietly instead of panicking
@@ -140,6 +143,7 @@ fn main() {
         Command::Hil(a) => cmd::hil::hil(a, &ctx),
         Command::Window(a) => cmd::window::window(a, &ctx),
         Command::Compare(a) => cmd::compare::compare(a),
+        Command::Report(a) => cmd::report::report(a),
     });
     match res {
         Ok(code) => std::process::exit(code),

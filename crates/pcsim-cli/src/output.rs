@@ -137,9 +137,9 @@ pub fn read_complete_manifest(dir: &Path) -> Result<Manifest> {
     })
 }
 
-/// A figure file (drawn from the data files).
+/// A file drawn from the data files: a figure, or the report (`pcsim report` writes it again).
 fn is_figure(f: &str) -> bool {
-    f.ends_with(".svg") || f.ends_with(".png")
+    f.ends_with(".svg") || f.ends_with(".png") || f == "report.html"
 }
 
 impl Manifest {
@@ -489,7 +489,10 @@ pub fn write_run(dir: &Path, out: &RunOutput, summary: &Summary) -> Result<()> {
     write_manifest(
         dir,
         "run",
-        serde_json::json!({ "overrides": summary.overrides }),
+        serde_json::json!({
+            "overrides": summary.overrides,
+            "command": std::env::args().collect::<Vec<_>>().join(" "),
+        }),
     )
 }
 

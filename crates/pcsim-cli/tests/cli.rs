@@ -955,3 +955,122 @@ fn compare_aligns_a_measurement_and_refuses_bad_files() {
         assert!(e.contains(what) && e.contains("measured.csv"), "{e}");
     }
 }
+
+/// A report.html that stands alone: every figure of `dir` inline and captioned, every table
+/// with rows, and nothing fetched from outside (no `src`, `href`, `url(`, `@import` or script;
+/// the only address is the SVG namespace). Returns the page.
+fn check_report(dir: &std::path::Path) -> String {
+    let html = std::fs::read_to_string(dir.join("report.html")).unwrap();
+    let svgs = std::fs::read_dir(dir)
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .path()
+                .extension()
+                .is_some_and(|x| x == "svg")
+        })
+        .count();
+    assert!(svgs >= 2, "{}: {svgs} figures", dir.display());
+    assert_eq!(html.matches("<svg").count(), svgs, "every figure inline");
+    assert_eq!(
+        html.matches("<figcaption>").count(),
+        svgs,
+        "every figure captioned"
+    );
+    for body in html.split("<tbody>").skip(1) {
+        let body = body.split("</tbody>").next().unwrap();
+        assert!(body.contains("<tr>"), "a table without rows");
+    }
+    for bad in ["src=", "href=", "url(", "@import", "<script"] {
+        assert!(!html.contains(bad), "{bad} in the report");
+    }
+    let addresses: Vec<&str> = html
+        .match_indices("http")
+        .map(|(i, _)| &html[i..(i + 26).min(html.len())])
+        .collect();
+    assert!(
+        addresses
+            .iter()
+            .all(|a| a.starts_with("http://www.w3.org/2000/svg")),
+        "{addresses:?}"
+    );
+    let manifest = std::fs::read_to_string(dir.join("pcsim.json")).unwrap();
+    assert!(manifest.contains("report.html"));
+    html
+}
+
+/// `pcsim run --report` and `pcsim eva --report` (issue 22, item 1): one self-contained page
+/// each ([`check_report`]); the run's holds the case's values with their sources, its statistics
+/// and the command line; `pcsim report DIR` writes the same page again.
+#[test]
+fn run_and_eva_reports_are_self_contained_pages() {
+    let d = scratch("report");
+    let out = d.join("out");
+    let o = pcsim()
+        .args([
+            "run",
+            "--preset",
+            "en50318-2002",
+            "--report",
+            "--quiet",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let html = check_report(&out);
+    assert!(html.matches("<table>").count() >= 3);
+    assert!(
+        html.contains("<td>catenary.contact_wire.tension_n</td>")
+            && html.contains("<td>mean_n</td>"),
+        "provenance and statistics rows"
+    );
+    assert!(html.contains("--report"), "the command line");
+    assert!(std::fs::read_to_string(out.join("pcsim.json"))
+        .unwrap()
+        .contains("case.toml"));
+    std::fs::remove_file(out.join("report.html")).unwrap();
+    let o = pcsim().arg("report").arg(&out).output().unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert_eq!(
+        std::fs::read_to_string(out.join("report.html")).unwrap(),
+        html
+    );
+    let eva = d.join("eva");
+    let o = pcsim()
+        .args([
+            "eva",
+            "--preset",
+            "syt-7.0-9.8",
+            "--speed",
+            "150",
+            "--tension",
+            "9.8",
+            "--report",
+            "--quiet",
+            "--out",
+        ])
+        .arg(&eva)
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let html = check_report(&eva);
+    assert!(html.contains("<h2>eva.csv</h2>"));
+}

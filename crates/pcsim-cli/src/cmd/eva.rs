@@ -62,6 +62,9 @@ pub struct EvaArgs {
     /// No figures.
     #[arg(long)]
     no_plot: bool,
+    /// Also write report.html (the tables and every figure; not with --shard or --no-plot).
+    #[arg(long)]
+    report: bool,
     /// Monte Carlo: run every grid point for N realisations of the case's random inputs
     /// (irregularity, turbulent wind: seeds offset by 0..N) and write montecarlo.csv.
     #[arg(long, value_name = "N")]
@@ -272,6 +275,9 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
         Vec::new()
     };
     od.commit()?;
+    if a.report && shard == Shard::ALL && !mine.is_empty() {
+        println!("report: {}", crate::cmd::report::write(&a.out)?.display());
+    }
     if mine.is_empty() {
         println!(
             "shard {}/{} holds none of the {} cases: wrote {} (header only) and {}, which `eva merge` needs",

@@ -9,6 +9,7 @@ pub mod montecarlo;
 pub mod plot;
 pub mod presets;
 pub mod realtime;
+pub mod report;
 pub mod run;
 pub mod validate;
 pub mod window;

@@ -54,6 +54,10 @@ pub struct RunArgs {
     /// --plot the figure along the line.
     #[arg(long)]
     dropper_forces: bool,
+    /// Also write report.html: the case with its sources, the statistics, every figure
+    /// (implies --plot).
+    #[arg(long)]
+    report: bool,
 }
 
 pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
@@ -103,15 +107,31 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
     let summary = Summary::new(&case, &out, wall, flags, warnings);
     write_run(od.path(), &out, &summary)?;
     let dropper_note = crate::output::write_droppers(od.path(), &out)?;
-    let files = if a.plot {
+    // The case as given (every value with its source), for the report.
+    let case_text = match (&a.case, &a.preset) {
+        (Some(p), _) => crate::common::read_input(p).ok(),
+        (None, Some(name)) => pcsim_core::presets::find(name)
+            .ok()
+            .map(|p| p.toml.to_string()),
+        _ => None,
+    };
+    if let Some(t) = case_text {
+        crate::output::write_file(&od.path().join("case.toml"), t)?;
+    }
+    let plot = a.plot || a.report;
+    let files = if plot {
         // From the files just written: exactly what `pcsim plot DIR` draws.
         od.in_target(&crate::plot::redraw_kind(od.path(), "run")?)
     } else {
         Vec::new()
     };
     od.commit()?;
-    if a.plot {
+    if plot {
         crate::plot::report(&files);
+    }
+    if a.report {
+        let p = crate::cmd::report::write(&a.out)?;
+        println!("report: {}", p.display());
     }
     println!(
         "{} at {} km/h: {} s simulated in {:.2} s wall ({:.1}x real time), {} modes/wire",

@@ -74,6 +74,9 @@ pub struct WindowArgs {
     /// No figures.
     #[arg(long)]
     no_plot: bool,
+    /// Also write report.html (the tables and every figure).
+    #[arg(long)]
+    report: bool,
 }
 
 #[derive(Subcommand)]
@@ -278,6 +281,9 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
     );
     if !files.is_empty() {
         crate::plot::report(&files);
+    }
+    if a.report {
+        println!("report: {}", crate::cmd::report::write(&a.out)?.display());
     }
     Ok(0)
 }

@@ -1,0 +1,422 @@
+//! `pcsim report DIR` (and `pcsim run --report`): one self-contained `report.html` of a run's
+//! output directory (issue 22, item 1; runs first): the case with every value and its source,
+//! the run's statistics and warnings, the passages through the overlaps, the droppers, every
+//! figure inline (SVG) with its caption, the versions and the command line. No script, no
+//! network: the page needs nothing but itself.
+
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use crate::output::{add_to_manifest, read_complete_manifest, write_file};
+
+#[derive(Args)]
+pub struct ReportArgs {
+    /// An output directory of pcsim (run, eva, window, realtime, Monte Carlo, compare).
+    dir: PathBuf,
+}
+
+pub fn report(a: ReportArgs) -> Result<i32> {
+    let path = write(&a.dir)?;
+    println!("wrote {}", path.display());
+    Ok(0)
+}
+
+/// Escape text for HTML.
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// A number as a table shows it.
+fn num(v: &serde_json::Value) -> String {
+    match v {
+        serde_json::Value::Number(n) => match n.as_f64() {
+            Some(x) if x.fract() != 0.0 && x.abs() < 1e6 => format!("{x:.3}"),
+            _ => n.to_string(),
+        },
+        serde_json::Value::Null => "—".into(),
+        serde_json::Value::String(s) => s.clone(),
+        other => other.to_string(),
+    }
+}
+
+/// A table of `head` columns and `rows`.
+fn table(out: &mut String, caption: &str, head: &[&str], rows: &[Vec<String>]) {
+    let _ = write!(out, "<table><caption>{}</caption><thead><tr>", esc(caption));
+    for h in head {
+        let _ = write!(out, "<th>{}</th>", esc(h));
+    }
+    out.push_str("</tr></thead><tbody>");
+    for r in rows {
+        out.push_str("<tr>");
+        for c in r {
+            let _ = write!(out, "<td>{}</td>", esc(c));
+        }
+        out.push_str("</tr>");
+    }
+    out.push_str("</tbody></table>\n");
+}
+
+/// The caption of a figure, from its file's stem.
+fn caption(stem: &str) -> String {
+    if let Some(p) = stem.strip_prefix("contact_force_") {
+        format!("Contact force of the {p} pantograph along the track: raw and 0–20 Hz (min–max per pixel column); supports dashed, analysis section and overlaps shaded.")
+    } else if stem == "contact_height" {
+        "Contact-point height above the contact wire's design height at the supports, each pantograph.".into()
+    } else if let Some(p) = stem.strip_prefix("lateral_") {
+        format!("Lateral position of the contact point on the {p} pantograph's head.")
+    } else if let Some(p) = stem.strip_prefix("wear_") {
+        format!("Where the contact point runs on the {p} pantograph's strip.")
+    } else if stem == "eva_window_energy" {
+        "Window energy E(d_e) (Eq. 21) against the window length, with the two EVA criteria marked (the step criterion and 99 % of the total).".into()
+    } else if stem == "eva_length_vs_speed" {
+        "EVA length against speed by both criteria.".into()
+    } else if let Some(k) = stem.strip_prefix("eva_density_") {
+        format!(
+            "Vibration-energy density (Eq. 20) along the catenary, {}.",
+            k.replace('_', ", ")
+        )
+    } else if stem == "window_length" {
+        "The real-time window's length by accuracy against the full model, beside the energy-based lengths; values above the axis are named in the note.".into()
+    } else if stem.starts_with("window_errors") {
+        "The window's σ error against the full model, by window length.".into()
+    } else if let Some(k) = stem.strip_prefix("compare_") {
+        format!("The run beside the measurement: {k} (0–20 Hz, aligned).")
+    } else if stem == "droppers" {
+        "Every dropper along the line: Miner's damage of the passage (or, without an S–N curve, its largest tension range); overlaps shaded.".into()
+    } else {
+        stem.replace('_', " ")
+    }
+}
+
+/// Write `report.html` into the run's directory `dir` and list it in the manifest.
+pub fn write(dir: &Path) -> Result<PathBuf> {
+    let m = read_complete_manifest(dir)?;
+    if m.kind != "run" {
+        return write_study(dir, &m);
+    }
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("summary.json"))
+            .with_context(|| format!("cannot read {}", dir.join("summary.json").display()))?,
+    )
+    .context("summary.json is not valid JSON")?;
+    let name = summary["case_name"].as_str().unwrap_or("run");
+    let mut h = String::new();
+    let _ = write!(
+        h,
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>pcsim report: {}</title>\n<style>{}</style></head><body>\n",
+        esc(name),
+        STYLE
+    );
+    let _ =
+        write!(
+        h,
+        "<h1>{} at {} km/h</h1>\n<p class=\"meta\">pcsim {} · kernels {} · <code>{}</code></p>\n",
+        esc(name),
+        num(&summary["speed_kmh"]),
+        esc(&m.version),
+        esc(summary["kernels"].as_str().unwrap_or("")),
+        esc(m.value["command"].as_str().unwrap_or("(command line not recorded)"))
+    );
+    // The run.
+    let mut rows = Vec::new();
+    for key in [
+        "simulated_time_s",
+        "analysis_section_m",
+        "modes_per_wire",
+        "dt_s",
+        "max_slack_droppers",
+        "steps_with_slack_percent",
+        "contact_wire_tension_n",
+    ] {
+        rows.push(vec![key.to_string(), num(&summary[key])]);
+    }
+    h.push_str("<h2>The run</h2>\n");
+    table(&mut h, "Set-up and run", &["quantity", "value"], &rows);
+    let warnings: Vec<String> = summary["warnings"]
+        .as_array()
+        .map(|a| a.iter().map(num).collect())
+        .unwrap_or_default();
+    if warnings.is_empty() {
+        h.push_str("<p>No warnings.</p>\n");
+    } else {
+        h.push_str("<h3>Warnings</h3><ul>");
+        for w in &warnings {
+            let _ = write!(h, "<li>{}</li>", esc(w));
+        }
+        h.push_str("</ul>\n");
+    }
+    // EN 50318 statistics, per pantograph.
+    h.push_str("<h2>EN 50318 statistics (0–20 Hz contact force over the analysis section)</h2>\n");
+    let pans = summary["pantographs"]
+        .as_array()
+        .cloned()
+        .unwrap_or_default();
+    let mut keys: Vec<String> = Vec::new();
+    for p in &pans {
+        if let Some(o) = p["stats"].as_object() {
+            for k in o.keys() {
+                if !keys.contains(k) {
+                    keys.push(k.clone());
+                }
+            }
+        }
+    }
+    let names: Vec<String> = pans
+        .iter()
+        .map(|p| p["name"].as_str().unwrap_or("").to_string())
+        .collect();
+    let mut head = vec!["quantity"];
+    head.extend(names.iter().map(String::as_str));
+    let rows: Vec<Vec<String>> = keys
+        .iter()
+        .map(|k| {
+            std::iter::once(k.clone())
+                .chain(pans.iter().map(|p| num(&p["stats"][k])))
+                .collect()
+        })
+        .collect();
+    table(&mut h, "Statistics per pantograph", &head, &rows);
+    // Overlaps.
+    let mut orows = Vec::new();
+    for p in &pans {
+        for o in p["overlaps"].as_array().into_iter().flatten() {
+            orows.push(vec![
+                p["name"].as_str().unwrap_or("").to_string(),
+                format!("{}–{}", num(&o["section_m"][0]), num(&o["section_m"][1])),
+                num(&o["max_force_n"]),
+                num(&o["min_force_n"]),
+                num(&o["loss_of_contact_percent"]),
+                match o["transfer_m"].as_array() {
+                    Some(t) if t.len() == 2 => format!("{}–{}", num(&t[0]), num(&t[1])),
+                    _ => "—".into(),
+                },
+                num(&o["min_clearance_mm"]),
+                num(&o["max_uplift_at_support_mm"]),
+            ]);
+        }
+    }
+    if !orows.is_empty() {
+        h.push_str("<h2>Passages through the overlaps</h2>\n");
+        table(
+            &mut h,
+            "Each pantograph in each overlap",
+            &[
+                "pantograph",
+                "overlap [m]",
+                "max [N]",
+                "min [N]",
+                "loss [%]",
+                "transfer [m]",
+                "idle wire's clearance [mm]",
+                "uplift [mm]",
+            ],
+            &orows,
+        );
+    }
+    // Droppers.
+    if let Ok(text) = std::fs::read_to_string(dir.join("droppers.csv")) {
+        let mut rows: Vec<Vec<String>> = text
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(str::to_owned).collect())
+            .collect();
+        let key = |r: &Vec<String>| -> f64 {
+            r.get(9)
+                .and_then(|v| v.parse().ok())
+                .or_else(|| r.get(8).and_then(|v| v.parse().ok()))
+                .unwrap_or(0.0)
+        };
+        rows.sort_by(|a, b| key(b).total_cmp(&key(a)));
+        rows.truncate(10);
+        h.push_str("<h2>Droppers</h2>\n");
+        table(
+            &mut h,
+            "The ten worst droppers (by damage, else by the largest tension range; every dropper in droppers.csv)",
+            &["#", "x [m]", "wire", "preload [N]", "min [N]", "max [N]", "slack steps", "cycles", "largest range [N]", "damage"],
+            &rows,
+        );
+    }
+    h.push_str("<h2>Acceptance criteria</h2>\n<p>The assessment against EN 50367 and the TSI Energy is not built yet.</p>\n");
+    figures(&mut h, dir, &m.files)?;
+    // The case, every value with its source.
+    h.push_str("<h2>The case: every value and its source</h2>\n");
+    match std::fs::read_to_string(dir.join("case.toml")) {
+        Ok(text) => {
+            let (case, prov) = pcsim_core::Case::from_toml_str(&text)
+                .map_err(|e| anyhow::anyhow!("case.toml: {e}"))?;
+            let value: toml::Value = toml::from_str(&case.to_toml_string())
+                .context("the case does not write back as TOML")?;
+            let mut rows = Vec::new();
+            flatten("", &value, &mut rows);
+            let overrides: Vec<String> = summary["overrides"]
+                .as_array()
+                .map(|a| a.iter().map(num).collect())
+                .unwrap_or_default();
+            let rows: Vec<Vec<String>> = rows
+                .into_iter()
+                .map(|(p, v)| {
+                    let src = prov
+                        .get(&p)
+                        .cloned()
+                        .unwrap_or_else(|| "— (no source given)".into());
+                    vec![p, v, src]
+                })
+                .collect();
+            if !overrides.is_empty() {
+                let _ = writeln!(
+                    h,
+                    "<p>Overridden on the command line: {} (the table shows the case as given).</p>",
+                    esc(&overrides.join(", "))
+                );
+            }
+            table(&mut h, "Provenance", &["field", "value", "source"], &rows);
+        }
+        Err(_) => {
+            h.push_str("<p>This run's directory has no case.toml (made by an older pcsim).</p>\n")
+        }
+    }
+    finish(dir, h)
+}
+
+/// Close the page, write it and list it in the manifest.
+fn finish(dir: &Path, mut h: String) -> Result<PathBuf> {
+    h.push_str("</body></html>\n");
+    let path = dir.join("report.html");
+    write_file(&path, h)?;
+    add_to_manifest(dir, std::slice::from_ref(&path))?;
+    Ok(path)
+}
+
+/// Every SVG figure of the directory, inline, with its caption.
+fn figures(h: &mut String, dir: &Path, files: &[String]) -> Result<()> {
+    h.push_str("<h2>Figures</h2>\n");
+    let mut n_fig = 0;
+    for f in files.iter().filter(|f| f.ends_with(".svg")) {
+        let svg = std::fs::read_to_string(dir.join(f))
+            .with_context(|| format!("cannot read {}", dir.join(f).display()))?;
+        let svg = match svg.find("<svg") {
+            Some(i) => &svg[i..],
+            None => bail!("{f} is not an SVG figure"),
+        };
+        let stem = f.trim_end_matches(".svg");
+        let _ = writeln!(
+            h,
+            "<figure id=\"{}\">{}<figcaption>{}</figcaption></figure>",
+            esc(stem),
+            svg,
+            esc(&caption(stem))
+        );
+        n_fig += 1;
+    }
+    if n_fig == 0 {
+        h.push_str("<p>No figures: the directory was written without them (<code>pcsim plot DIR</code> draws them).</p>\n");
+    }
+    Ok(())
+}
+
+/// The most rows of a study's table shown in the report (every row is in its CSV).
+const MAX_ROWS: usize = 200;
+
+/// The report of a study's directory (eva, window, realtime, Monte Carlo, compare): its manifest's
+/// description, each of its top-level tables, every figure.
+fn write_study(dir: &Path, m: &crate::output::Manifest) -> Result<PathBuf> {
+    let mut h = String::new();
+    let _ = write!(
+        h,
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>pcsim report: {} {}</title>\n<style>{}</style></head><body>\n",
+        esc(&m.kind),
+        esc(&dir.display().to_string()),
+        STYLE
+    );
+    let _ = write!(
+        h,
+        "<h1>pcsim {}: {}</h1>\n<p class=\"meta\">pcsim {} · <code>{}</code></p>\n",
+        esc(&m.kind),
+        esc(&dir.display().to_string()),
+        esc(&m.version),
+        esc(m.value["command"]
+            .as_str()
+            .unwrap_or("(command line not recorded)"))
+    );
+    let described: Vec<Vec<String>> = m
+        .value
+        .as_object()
+        .map(|o| {
+            o.iter()
+                .filter(|(k, _)| {
+                    !matches!(k.as_str(), "files" | "complete" | "kind" | "pcsim_version")
+                })
+                .map(|(k, v)| vec![k.clone(), num(v)])
+                .collect()
+        })
+        .unwrap_or_default();
+    if !described.is_empty() {
+        table(
+            &mut h,
+            "What the directory holds",
+            &["item", "value"],
+            &described,
+        );
+    }
+    for f in m
+        .files
+        .iter()
+        .filter(|f| f.ends_with(".csv") && !f.contains('/'))
+    {
+        let text = std::fs::read_to_string(dir.join(f))
+            .with_context(|| format!("cannot read {}", dir.join(f).display()))?;
+        let mut lines = text.lines();
+        let head: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+        let rows: Vec<Vec<String>> = lines
+            .take(MAX_ROWS)
+            .map(|l| l.split(',').map(str::to_owned).collect())
+            .collect();
+        let total = text.lines().count().saturating_sub(1);
+        let cap = if total > MAX_ROWS {
+            format!("{f} (the first {MAX_ROWS} of {total} rows)")
+        } else {
+            f.clone()
+        };
+        let _ = writeln!(h, "<h2>{}</h2>", esc(f));
+        table(&mut h, &cap, &head, &rows);
+    }
+    figures(&mut h, dir, &m.files)?;
+    h.push_str("<h2>The case</h2>\n<p>A study's directory does not hold its case's sources yet: see the case file or preset it was run on.</p>\n");
+    finish(dir, h)
+}
+
+/// Every leaf of a TOML value as (dotted path, value).
+fn flatten(prefix: &str, v: &toml::Value, out: &mut Vec<(String, String)>) {
+    match v {
+        toml::Value::Table(t) => {
+            for (k, x) in t {
+                let p = if prefix.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{prefix}.{k}")
+                };
+                flatten(&p, x, out);
+            }
+        }
+        toml::Value::Array(a) if a.iter().any(|x| x.is_table()) => {
+            for (i, x) in a.iter().enumerate() {
+                flatten(&format!("{prefix}[{i}]"), x, out);
+            }
+        }
+        other => out.push((prefix.to_string(), other.to_string())),
+    }
+}
+
+/// The page's own style (no external sheet).
+const STYLE: &str = "body{font-family:sans-serif;max-width:1250px;margin:2em auto;color:#222}\
+h1{font-size:1.6em}h2{margin-top:1.6em;border-bottom:1px solid #ccc}\
+.meta{color:#555}code{background:#f3f3f3;padding:0 .2em}\
+table{border-collapse:collapse;margin:.8em 0}caption{text-align:left;font-weight:bold;margin-bottom:.3em}\
+th,td{border:1px solid #bbb;padding:.2em .5em;font-size:.9em}th{background:#eee}\
+td:nth-child(n+2){font-variant-numeric:tabular-nums}\
+figure{margin:1.2em 0}figure svg{width:100%;height:auto}figcaption{color:#444;font-size:.9em}";
