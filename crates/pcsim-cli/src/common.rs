@@ -58,12 +58,23 @@ pub fn read_text_limited(path: &Path, limit: u64, what: &str) -> Result<String> 
 
 /// Load a case from a file or a preset.
 pub fn load_case(path: Option<&PathBuf>, preset: Option<&str>) -> Result<Case> {
+    Ok(load_case_with_text(path, preset)?.0)
+}
+
+/// [`load_case`], and the text the case was read from (the file's, or the preset's), every value
+/// with its source.
+pub fn load_case_with_text(path: Option<&PathBuf>, preset: Option<&str>) -> Result<(Case, String)> {
     match (path, preset) {
-        (Some(p), None) => Ok(pcsim_core::input::case_from_file(
-            &p.display().to_string(),
-            read_input(p),
-        )?),
-        (None, Some(name)) => Ok(pcsim_core::input::case_from_preset(name)?),
+        (Some(p), None) => {
+            let text = read_input(p);
+            let kept = text.as_ref().cloned().unwrap_or_default();
+            let case = pcsim_core::input::case_from_file(&p.display().to_string(), text)?;
+            Ok((case, kept))
+        }
+        (None, Some(name)) => Ok((
+            pcsim_core::input::case_from_preset(name)?,
+            pcsim_core::presets::find(name)?.toml.to_string(),
+        )),
         (Some(_), Some(_)) => bail!("give a case file or --preset, not both"),
         (None, None) => bail!("give a case file or --preset NAME (see `pcsim presets`)"),
     }

@@ -4,7 +4,7 @@ use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
 
-use crate::common::{apply, case_name, load_case, shown, Ctx, Override};
+use crate::common::{apply, case_name, shown, Ctx, Override};
 use crate::output::{write_run, Summary};
 
 #[derive(Args)]
@@ -61,7 +61,8 @@ pub struct RunArgs {
 }
 
 pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
-    let base = load_case(a.case.as_ref(), a.preset.as_deref())?;
+    let (base, case_text) =
+        crate::common::load_case_with_text(a.case.as_ref(), a.preset.as_deref())?;
     let mut overrides = Vec::new();
     if let Some(v) = &a.speed {
         overrides.push(Override::speed(v)?);
@@ -108,16 +109,7 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
     write_run(od.path(), &out, &summary)?;
     let dropper_note = crate::output::write_droppers(od.path(), &out)?;
     // The case as given (every value with its source), for the report.
-    let case_text = match (&a.case, &a.preset) {
-        (Some(p), _) => crate::common::read_input(p).ok(),
-        (None, Some(name)) => pcsim_core::presets::find(name)
-            .ok()
-            .map(|p| p.toml.to_string()),
-        _ => None,
-    };
-    if let Some(t) = case_text {
-        crate::output::write_file(&od.path().join("case.toml"), t)?;
-    }
+    crate::output::write_file(&od.path().join("case.toml"), &case_text)?;
     let plot = a.plot || a.report;
     let files = if plot {
         // From the files just written: exactly what `pcsim plot DIR` draws.

@@ -418,9 +418,22 @@ fn line_origins(
             Some(x) => origins.push(x),
             None => break,
         }
+        if origins.len() > MAX_LINE_POSITIONS {
+            return Err(CaseError::Invalid {
+                field: "window_m".into(),
+                value: window_m.to_string(),
+                reason: format!(
+                    "over this {l} m line the window would take more than {MAX_LINE_POSITIONS} positions, each a model of its own built before the first step (about 0.5 MB and 40 M instructions each at 240 m): use a longer window or a shorter line"
+                ),
+            });
+        }
     }
     Ok(origins)
 }
+
+/// The most positions a line's window may take (its models are all built before the first
+/// step: memory and set-up grow with them).
+pub const MAX_LINE_POSITIONS: usize = 2000;
 
 /// `∫_0^A cos(ω x + φ) dx = 2 cos(φ + ωA/2) sin(ωA/2) / ω`, in a form without cancellation
 /// when ω is small (the wires' bases on a line differ a little in length).
@@ -1149,5 +1162,43 @@ impl RealtimeCatenary {
                 .samples()
                 .iter()
                 .all(|s| s.is_sound(h))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::ModelBuilder;
+
+    /// A line's window takes its positions at supports, each next one the furthest within half a
+    /// window ahead; a window that would take more than [`MAX_LINE_POSITIONS`] positions is
+    /// refused, naming the window (the models are all built before the first step).
+    #[test]
+    fn a_lines_window_positions_and_their_bound() {
+        let line = |spans: usize| {
+            let (mut m, _) =
+                ModelBuilder::single_wire(60.0 * spans as f64, 4, 1.35, 20_000.0, 0.0).build();
+            m.supports_m = (0..=spans).map(|k| 60.0 * k as f64).collect();
+            m
+        };
+        // 240 m: moves of two 60 m spans (the furthest support within 120 m), from the support
+        // at or behind the start less half a window, until the window reaches the end.
+        let o = line_origins(&line(20), 240.0, 400.0).unwrap();
+        assert_eq!(o.first(), Some(&240.0));
+        assert!(o.windows(2).all(|w| w[1] - w[0] == 120.0), "{o:?}");
+        assert!(o.last().unwrap() + 240.0 >= 1200.0);
+        // A window no longer than a span cannot move by whole spans.
+        let e = line_origins(&line(20), 60.0, 400.0)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("window_m") && e.contains("longest span"), "{e}");
+        // 4 001 positions would be needed here.
+        let e = line_origins(&line(4100), 100.0, 0.0)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("window_m") && e.contains("2000 positions"),
+            "{e}"
+        );
     }
 }
