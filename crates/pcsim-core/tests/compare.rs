@@ -98,6 +98,22 @@ fn a_shifted_scaled_noisy_copy_of_a_run_is_aligned_and_compared() {
             assert!((b[2] - scale * b[1]).abs() < 2.0, "{b:?}");
         }
     }
+    // A search too wide for the record is refused, naming the flag, before any work.
+    let text: String = std::iter::once("position_m,force_n\n".to_string())
+        .chain((0..200_000).map(|j| format!("{},{}\n", 0.01 * j as f64, 100.0)))
+        .collect();
+    let meas = MeasuredForce::from_csv(&text, "fine.csv").unwrap();
+    let e = compare(
+        (x, f),
+        &meas,
+        1.0,
+        case.run.analysis_m,
+        100_000.0,
+        &supports,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("--search") && e.contains("narrow"), "{e}");
     // A record of another place is refused, naming it.
     let text: String = std::iter::once("position_m,force_n\n".to_string())
         .chain((0..500).map(|j| format!("{},{}\n", 5000.0 + 0.2 * j as f64, 100.0)))

@@ -107,6 +107,10 @@ pub struct Comparison {
     pub profile: Vec<[f64; 3]>,
 }
 
+/// The most sample comparisons the alignment's search may make (shifts × samples: a few
+/// seconds).
+pub const MAX_SEARCH_WORK: f64 = 2e9;
+
 /// Linear interpolation of `y` sampled at `x0 + k·dx` at `x` (`None` outside).
 fn at(y: &[f64], x0: f64, dx: f64, x: f64) -> Option<f64> {
     let last = (y.len() - 1) as f64;
@@ -173,9 +177,22 @@ pub fn compare(
             ),
         ));
     }
+    // Each shift tried costs a pass over the record: bound the work (in floating point: a wide
+    // search must not overflow an integer before it is refused).
+    let shifts = 2.0 * (search_m / dxm).round() + 1.0;
+    if shifts * meas.position_m.len() as f64 > MAX_SEARCH_WORK {
+        return Err(inv(
+            "--search",
+            format!("{search_m} m"),
+            &format!(
+                "± {search_m} m at the measurement's {dxm} m spacing is {shifts:e} shifts over {} samples, more than {MAX_SEARCH_WORK:e} comparisons: narrow the search",
+                meas.position_m.len()
+            ),
+        ));
+    }
+    let k_max = (search_m / dxm).round() as i64;
     let [s20, s05, s520] = bands(sim_f, dxs, speed_m_s);
     let [m20, m05, m520] = bands(&meas.force_n, dxm, speed_m_s);
-    let k_max = (search_m / dxm).round() as i64;
     let xm = &meas.position_m;
     // Pearson's coefficient of the two filtered records over the section at shift k·Δx.
     let s20r = &s20;
