@@ -188,6 +188,18 @@ fn track_chart<'a, DB: DrawingBackend>(
     x: (f64, f64),
     y: (f64, f64),
 ) -> Result<Chart<'a, DB>> {
+    track_chart_with(root, title, y_desc, x, y, 0)
+}
+
+/// [`track_chart`] with `y_decimals` decimals on the y axis.
+fn track_chart_with<'a, DB: DrawingBackend>(
+    root: &'a DrawingArea<DB, Shift>,
+    title: String,
+    y_desc: &str,
+    x: (f64, f64),
+    y: (f64, f64),
+    y_decimals: usize,
+) -> Result<Chart<'a, DB>> {
     let mut chart = ChartBuilder::on(root)
         .caption(title, ("sans-serif", 22))
         .margin(15)
@@ -200,7 +212,7 @@ fn track_chart<'a, DB: DrawingBackend>(
         .x_desc("Position along the track [m]")
         .y_desc(y_desc)
         .x_label_formatter(&|v| format!("{v:.0}"))
-        .y_label_formatter(&|v| format!("{v:.0}"))
+        .y_label_formatter(&|v| format!("{v:.y_decimals$}"))
         .x_labels(20)
         .label_style(("sans-serif", 15))
         .axis_desc_style(("sans-serif", 17))
@@ -467,25 +479,7 @@ fn dropper_chart<DB: DrawingBackend>(
         d.speed_kmh,
         d.with()
     );
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 22))
-        .margin(15)
-        .x_label_area_size(50)
-        .y_label_area_size(80)
-        .build_cartesian_2d(x.0..x.1, y.0..y.1)
-        .map_err(|e| anyhow!("{e:?}"))?;
-    chart
-        .configure_mesh()
-        .x_desc("Position along the track [m]")
-        .y_desc(unit)
-        .x_label_formatter(&|v| format!("{v:.0}"))
-        .y_label_formatter(&|v| format!("{v:.3}"))
-        .x_labels(20)
-        .label_style(("sans-serif", 15))
-        .axis_desc_style(("sans-serif", 17))
-        .light_line_style(WHITE)
-        .draw()
-        .map_err(|e| anyhow!("{e:?}"))?;
+    let mut chart = track_chart_with(&root, title, unit, x, y, 3)?;
     span_marks(&mut chart, d, x, y)?;
     let mut wires: Vec<&str> = rows.iter().map(|r| r.wire.as_str()).collect();
     wires.dedup();
