@@ -7,7 +7,9 @@ Output: data/golden/preset_bytes.json. For each of the five preset runs of prese
 for the 3D preset `stitched-2018-like-3d` (its summary with its warnings), for the line
 `line-structure-2002` (issue 21: spans that differ, the sampler's non-periodic path; its summary
 hashes made again when its points moved from dense rows to the non-uniform transform, the
-statistics within 1.1e-11 of the rows' and every other hash unchanged), and for each
+statistics within 1.1e-11 of the rows' and every other hash unchanged; every summary hash made
+again when summary.json gained `contact_wire_wave_speed_kmh` and `speed_ratio` for `pcsim assess`,
+issue 22, every timeseries hash unchanged), and for each
 kernel path
 (`portable`: PCSIM_PORTABLE=1, the same bytes on every machine; `avx2`: x86-64-v3 with fused
 multiply-add, the same bytes on every machine that has it): the FNV-1a 64-bit hash of

@@ -104,6 +104,9 @@ def main():
             assert "<tr>" in body.split("</tbody>")[0], f"{name}: a table without rows"
         for bad in ("src=", "href=", "url(", "@import"):
             assert bad not in dom, f"{name}: {bad} in the page"
+        if name == "run":
+            # The acceptance criteria: the system assessed, and rows with their sources.
+            assert "Supply system: ac" in dom and "<td>speed-ratio</td>" in dom, f"{name}: assessment"
         for m in re.finditer(r"https?://[^\"'\s<>)]+", dom):
             assert m.group(0).startswith("http://www.w3.org/2000/svg"), f"{name}: address {m.group(0)}"
         shot = os.path.join(out, f"{name}-report.png")

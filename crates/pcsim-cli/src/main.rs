@@ -74,6 +74,9 @@ enum Command {
     /// One self-contained report.html of a run's output directory (the case and its sources,
     /// statistics, warnings, overlaps, droppers, every figure).
     Report(cmd::report::ReportArgs),
+    /// A run against the acceptance criteria (EN 50367, TSI Energy, EN 50119), each with its
+    /// clause and source; a criterion whose limit pcsim cannot cite gives the value only.
+    Assess(cmd::assess::AssessArgs),
 }
 
 /// Restore the default SIGPIPE action so that `pcsim … | head` ends quietly instead of panicking
@@ -144,6 +147,7 @@ fn main() {
         Command::Window(a) => cmd::window::window(a, &ctx),
         Command::Compare(a) => cmd::compare::compare(a),
         Command::Report(a) => cmd::report::report(a),
+        Command::Assess(a) => cmd::assess::run(a),
     });
     match res {
         Ok(code) => std::process::exit(code),

@@ -137,9 +137,12 @@ pub fn read_complete_manifest(dir: &Path) -> Result<Manifest> {
     })
 }
 
-/// A file drawn from the data files: a figure, or the report (`pcsim report` writes it again).
+/// A file drawn from the data files: a figure, the report or the assessment (`pcsim plot`,
+/// `pcsim report` and `pcsim assess` write them again).
 fn is_figure(f: &str) -> bool {
-    f.ends_with(".svg") || f.ends_with(".png") || f == "report.html"
+    f.ends_with(".svg")
+        || f.ends_with(".png")
+        || matches!(f, "report.html" | "assessment.csv" | "assessment.json")
 }
 
 impl Manifest {

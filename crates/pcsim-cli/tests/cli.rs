@@ -1074,3 +1074,123 @@ fn run_and_eva_reports_are_self_contained_pages() {
     let html = check_report(&eva);
     assert!(html.contains("<h2>eva.csv</h2>"));
 }
+
+#[test]
+fn assess_gives_each_criterion_with_its_source_and_refuses_bad_input() {
+    let d = scratch("assess");
+    let out = d.join("out");
+    let o = pcsim()
+        .args([
+            "run",
+            "--preset",
+            "stitched-2018-like",
+            "--speed",
+            "320",
+            "--report",
+            "--quiet",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    // The run's summary records its speed ratio against the contact wire's wave speed.
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let (ratio, c) = (
+        s["speed_ratio"].as_f64().unwrap(),
+        s["contact_wire_wave_speed_kmh"].as_f64().unwrap(),
+    );
+    assert!((ratio * c - 320.0).abs() < 1e-9, "{ratio} × {c}");
+    // Without a system the AC target is left out by name; the report (made by --report before
+    // any assessment) holds the built-in criteria.
+    assert!(std::fs::read_to_string(out.join("report.html"))
+        .unwrap()
+        .contains("<td>speed-ratio</td>"));
+    let o = pcsim().arg("assess").arg(&out).output().unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{text}");
+    assert!(text.contains("not applied: mean-force-target-ac") && text.contains("--system"));
+    // With the system: the target at 320 km/h, 169.328 N, and every row with its source.
+    let o = pcsim()
+        .args(["assess", "--system", "ac"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{text}");
+    let a: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("assessment.json")).unwrap())
+            .unwrap();
+    assert_eq!(a["system"], "ac");
+    let rows = a["rows"].as_array().unwrap();
+    let target = rows
+        .iter()
+        .find(|r| r["id"] == "mean-force-target-ac")
+        .unwrap();
+    assert!((target["limit"].as_f64().unwrap() - 169.328).abs() < 1e-9);
+    assert!(rows
+        .iter()
+        .all(|r| !r["source"].as_str().unwrap().is_empty()));
+    let csv = std::fs::read_to_string(out.join("assessment.csv")).unwrap();
+    assert_eq!(csv.lines().count(), rows.len() + 1);
+    let manifest = std::fs::read_to_string(out.join("pcsim.json")).unwrap();
+    assert!(manifest.contains("assessment.csv") && manifest.contains("assessment.json"));
+    // The report made before is made again with the system.
+    assert!(text.contains("report.html"), "{text}");
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("Supply system: ac") && html.contains("mean-force-target-ac"));
+    // A user's criterion that the run does not meet: exit 0, and 1 with --strict.
+    let crit = d.join("mine.toml");
+    std::fs::write(
+        &crit,
+        "[[criterion]]\nid = \"tight\"\nquantity = \"std_n\"\nkind = \"max\"\nlimit = 1.0\nclause = \"a test limit\"\nsource = \"test\"\nstatus = \"user\"\n",
+    )
+    .unwrap();
+    for (strict, code) in [(false, 0), (true, 1)] {
+        let mut c = pcsim();
+        c.args(["assess", "--criteria"]).arg(&crit).arg(&out);
+        if strict {
+            c.arg("--strict");
+        }
+        let o = c.output().unwrap();
+        assert_eq!(
+            o.status.code(),
+            Some(code),
+            "{}",
+            String::from_utf8_lossy(&o.stdout)
+        );
+        assert!(String::from_utf8_lossy(&o.stdout).contains("NOT MET"));
+    }
+    // Bad input: named.
+    let bad = d.join("bad.toml");
+    std::fs::write(
+        &bad,
+        std::fs::read_to_string(&crit)
+            .unwrap()
+            .replace("std_n", "sigma"),
+    )
+    .unwrap();
+    for (args, needle) in [
+        (vec!["--system", "ac25"], "--system ac25"),
+        (
+            vec!["--criteria", bad.to_str().unwrap()],
+            "criterion[0].quantity",
+        ),
+    ] {
+        let o = pcsim()
+            .arg("assess")
+            .args(&args)
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains(needle), "{err}");
+    }
+}

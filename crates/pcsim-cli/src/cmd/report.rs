@@ -241,7 +241,7 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
             &rows,
         );
     }
-    h.push_str("<h2>Acceptance criteria</h2>\n<p>The assessment against EN 50367 and the TSI Energy is not built yet.</p>\n");
+    assessment(&mut h, dir)?;
     figures(&mut h, dir, &m.files)?;
     // The case, every value with its source.
     h.push_str("<h2>The case: every value and its source</h2>\n");
@@ -281,6 +281,88 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         }
     }
     finish(dir, h)
+}
+
+/// The run against the acceptance criteria: the assessment `pcsim assess` wrote into the
+/// directory (with its supply system and the user's criteria), else the built-in criteria
+/// without a supply system.
+fn assessment(h: &mut String, dir: &Path) -> Result<()> {
+    use pcsim_core::analysis::assess::{assess, Assessment};
+    h.push_str("<h2>Acceptance criteria</h2>\n");
+    let path = dir.join("assessment.json");
+    let a: serde_json::Value = match std::fs::read_to_string(&path) {
+        Ok(text) => serde_json::from_str(&text)
+            .with_context(|| format!("{} is not valid JSON", path.display()))?,
+        Err(_) => {
+            let input = crate::cmd::assess::read_run(dir)?;
+            let r: Assessment = assess(&input, &pcsim_core::input::criteria::builtin(), None);
+            h.push_str("<p>Assessed here with the built-in criteria and no supply system: <code>pcsim assess DIR --system …</code> assesses the criteria that depend on it, and adds your own with <code>--criteria</code>.</p>\n");
+            serde_json::to_value(&r)?
+        }
+    };
+    let _ = writeln!(
+        h,
+        "<p>Supply system: {}. A criterion whose limit pcsim cannot cite from a public text has no limit here: its row gives the run's value only, and the run is not accepted on it.</p>",
+        esc(a["system"].as_str().unwrap_or("not given"))
+    );
+    let rows: Vec<Vec<String>> = a["rows"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .map(|r| {
+            let verdict = match (r["verdict"].as_str(), r["deviation_percent"].as_f64()) {
+                (Some("deviation"), Some(d)) => format!("{d:+.1} % of the target"),
+                (Some(v), _) => v.replace('-', " "),
+                _ => "—".into(),
+            };
+            vec![
+                r["id"].as_str().unwrap_or("").into(),
+                r["pantograph"].as_str().unwrap_or("(run)").into(),
+                format!("{} {}", num(&r["value"]), r["unit"].as_str().unwrap_or("")),
+                format!(
+                    "{} ({})",
+                    num(&r["limit"]),
+                    r["limit_formula"].as_str().unwrap_or("")
+                ),
+                verdict,
+                r["status"].as_str().unwrap_or("").into(),
+                r["clause"].as_str().unwrap_or("").into(),
+                r["source"].as_str().unwrap_or("").into(),
+            ]
+        })
+        .collect();
+    table(
+        h,
+        "Each criterion, per pantograph",
+        &[
+            "criterion",
+            "pantograph",
+            "value",
+            "limit",
+            "verdict",
+            "status",
+            "clause",
+            "source",
+        ],
+        &rows,
+    );
+    let skipped: Vec<String> = a["skipped"]
+        .as_array()
+        .map(|x| x.iter().map(num).collect())
+        .unwrap_or_default();
+    if !skipped.is_empty() {
+        h.push_str("<p>Not applied:</p><ul>");
+        for s in &skipped {
+            let _ = write!(h, "<li>{}</li>", esc(s));
+        }
+        h.push_str("</ul>\n");
+    }
+    let _ = writeln!(
+        h,
+        "<p><strong>{} met, {} not met, {} without a verdict.</strong></p>",
+        a["met"], a["not_met"], a["without_verdict"]
+    );
+    Ok(())
 }
 
 /// Close the page, write it and list it in the manifest.

@@ -17,6 +17,7 @@
 //! | `montecarlo.rs` | realisations over seeds and their spread |
 //! | `report.rs` | what a run reports: the summary and the time-series columns |
 
+pub mod assess;
 pub mod compare;
 pub mod energy;
 pub mod eva;

@@ -75,6 +75,9 @@ pub struct RunOutput {
     pub irregularity: Vec<IrregularityReport>,
     /// The coupled stability limit the time step was checked against.
     pub stability: Option<crate::solve::CoupledLimit>,
+    /// The slowest contact wire's wave speed √(T/ρA) ([`crate::model::Wire::wave_speed`]),
+    /// m/s (none: the model has no contact wire).
+    pub contact_wire_wave_speed_m_s: Option<f64>,
     /// Every dropper's tension through the run, its cycles and damage, when asked for
     /// ([`simulate_with`]).
     pub droppers: Option<DropperRun>,
@@ -282,6 +285,12 @@ impl Recorder {
                 .as_ref()
                 .map_or_else(Vec::new, |r| r.reports.clone()),
             stability: None,
+            contact_wire_wave_speed_m_s: m
+                .wires
+                .iter()
+                .filter(|w| w.role == crate::model::WireRole::Contact)
+                .map(|w| w.wave_speed())
+                .reduce(f64::min),
             droppers: None,
         }
     }

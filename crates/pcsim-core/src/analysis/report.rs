@@ -50,6 +50,12 @@ pub struct RunSummary {
     pub speed_kmh: f64,
     /// Contact-wire tension used, N.
     pub contact_wire_tension_n: f64,
+    /// The slowest contact wire's wave speed √(T/ρA) with its clamps and droppers in ρA, km/h.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact_wire_wave_speed_kmh: Option<f64>,
+    /// The train speed over that wave speed (EN 50119 asks below 0.7; `pcsim assess`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub speed_ratio: Option<f64>,
     /// Span length, m (none for a `[line]`: its supports are listed in `supports_m`).
     pub span_m: Option<f64>,
     /// The supports of a `[line]`, track positions, m (absent for a `[catenary]` of equal spans).
@@ -202,6 +208,8 @@ impl RunSummary {
             case_name: case_name(case),
             speed_kmh: case.run.speed_kmh,
             contact_wire_tension_n: case.catenary.contact_wire.tension_n,
+            contact_wire_wave_speed_kmh: out.contact_wire_wave_speed_m_s.map(|c| c * 3.6),
+            speed_ratio: out.contact_wire_wave_speed_m_s.map(|c| out.speed_m_s / c),
             span_m: case.line.is_none().then_some(case.catenary.span_m),
             supports_m: case.line.as_ref().map_or(Vec::new(), |l| l.supports_m()),
             overlaps_m: case

@@ -1,11 +1,11 @@
 //! EN 50318 contact-force statistics over the analysis section (README §4).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::analysis::filter::{bandpass_zero_phase, lowpass_zero_phase};
 
 /// Statistics of one pantograph's contact force over the analysis section.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ContactStats {
     /// Mean of the 0–20 Hz force, N.
     pub mean_n: f64,

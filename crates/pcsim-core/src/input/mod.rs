@@ -3,6 +3,7 @@
 
 pub mod bounds;
 pub mod case;
+pub mod criteria;
 pub mod irregularity;
 pub mod lateral;
 pub mod line;

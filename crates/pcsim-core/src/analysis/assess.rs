@@ -1,0 +1,310 @@
+//! A run against the acceptance criteria (`pcsim assess`, and the report's section; issue 22,
+//! item 3): each criterion of [`crate::input::criteria`] that applies to the run's speed, supply
+//! system and pantographs gives one row with the value, the limit, the verdict, the clause and the
+//! source. A criterion without a limit it can cite gives the value and says that the limit is
+//! missing: the assessment never passes a run on a limit it does not hold.
+
+use serde::Serialize;
+
+use crate::analysis::stats::ContactStats;
+use crate::input::criteria::{Criterion, Kind, Quantity, System};
+
+/// One pantograph's part of what is assessed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PantographInput {
+    /// Its name.
+    pub name: String,
+    /// Its EN 50318 statistics (none: it did not cross the analysis section).
+    pub stats: Option<ContactStats>,
+    /// Half the width of its head, m (lateral motion modelled).
+    pub head_half_width_m: Option<f64>,
+}
+
+/// What a run gives the assessment: its speed, its speed ratio and its pantographs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AssessInput {
+    /// Train speed, km/h.
+    pub speed_kmh: f64,
+    /// The speed over the contact wire's wave speed (none: not recorded).
+    pub speed_ratio: Option<f64>,
+    /// The pantographs.
+    pub pantographs: Vec<PantographInput>,
+}
+
+impl AssessInput {
+    /// What a finished run gives the assessment (the same as its `summary.json` holds).
+    pub fn from_run(out: &crate::analysis::record::RunOutput) -> AssessInput {
+        AssessInput {
+            // To the nanometre per hour: 320 km/h reads as 320, not 320.00000000000006.
+            speed_kmh: (out.speed_m_s * 3.6 * 1e9).round() / 1e9,
+            speed_ratio: out.contact_wire_wave_speed_m_s.map(|c| out.speed_m_s / c),
+            pantographs: out
+                .pantographs
+                .iter()
+                .map(|p| PantographInput {
+                    name: p.name.clone(),
+                    stats: p.stats,
+                    head_half_width_m: p.lateral.as_ref().and(p.head_half_width_m),
+                })
+                .collect(),
+        }
+    }
+}
+
+/// A row's verdict.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Verdict {
+    /// Within the limit.
+    Met,
+    /// Beyond it.
+    NotMet,
+    /// A target without a tolerance: the deviation is given, not a verdict.
+    Deviation,
+    /// No limit that pcsim can cite: the value is given.
+    NoLimit,
+    /// The run has no value of the quantity (a pantograph that did not cross the section, or a
+    /// lateral quantity without lateral motion).
+    NoValue,
+}
+
+impl Verdict {
+    /// As printed.
+    pub fn text(self) -> &'static str {
+        match self {
+            Verdict::Met => "met",
+            Verdict::NotMet => "NOT MET",
+            Verdict::Deviation => "deviation only",
+            Verdict::NoLimit => "no limit held",
+            Verdict::NoValue => "no value",
+        }
+    }
+}
+
+/// One criterion applied to one pantograph (or to the run).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Row {
+    /// The criterion's id.
+    pub id: String,
+    /// The pantograph (none: a quantity of the run).
+    pub pantograph: Option<String>,
+    /// The quantity's name.
+    pub quantity: String,
+    /// Its unit.
+    pub unit: String,
+    /// The run's value.
+    pub value: Option<f64>,
+    /// The limit at this run's speed (and pantograph).
+    pub limit: Option<f64>,
+    /// The limit as a formula.
+    pub limit_formula: String,
+    /// `max`, `min`, `target` or `report`.
+    pub kind: String,
+    /// For a target: (value − target) / target, %.
+    pub deviation_percent: Option<f64>,
+    /// The verdict.
+    pub verdict: Verdict,
+    /// The clause.
+    pub clause: String,
+    /// Where the limit was read (or why there is none).
+    pub source: String,
+    /// `quoted`, `limit-not-held`, `not-public` or `user`.
+    pub status: String,
+    /// What a reader should know besides.
+    pub note: String,
+}
+
+/// A run's assessment.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Assessment {
+    /// The supply system it was assessed for (none: not given, so the criteria that depend on
+    /// it are left out and named in `skipped`).
+    pub system: Option<&'static str>,
+    /// Train speed, km/h.
+    pub speed_kmh: f64,
+    /// One row per criterion and pantograph.
+    pub rows: Vec<Row>,
+    /// Criteria that do not apply, each with the reason.
+    pub skipped: Vec<String>,
+    /// Rows met.
+    pub met: usize,
+    /// Rows not met.
+    pub not_met: usize,
+    /// Rows without a verdict (no limit held, a target without tolerance, or no value).
+    pub without_verdict: usize,
+}
+
+impl Assessment {
+    /// One line that says what the assessment established, and what it did not.
+    pub fn conclusion(&self) -> String {
+        let open = if self.without_verdict > 0 {
+            format!(
+                "; {} without a verdict (no limit pcsim can cite, a target without tolerance, or no value): this is not an acceptance",
+                self.without_verdict
+            )
+        } else {
+            String::new()
+        };
+        format!(
+            "{} criteria rows met, {} not met{open}",
+            self.met, self.not_met
+        )
+    }
+}
+
+fn stat(s: &ContactStats, q: Quantity) -> Option<f64> {
+    match q {
+        Quantity::MeanForce => Some(s.mean_n),
+        Quantity::Std => Some(s.std_n),
+        Quantity::StatMin => Some(s.stat_min_n),
+        Quantity::StatMax => Some(s.stat_max_n),
+        Quantity::ActualMax => Some(s.actual_max_n),
+        Quantity::ActualMin => Some(s.actual_min_n),
+        Quantity::UpliftAtSupport => Some(s.max_uplift_at_support_mm),
+        Quantity::LossOfContact => Some(s.loss_of_contact_percent),
+        Quantity::LateralOffset => s.max_lateral_offset_mm,
+        Quantity::SpeedRatio => None,
+    }
+}
+
+/// The run `input` against `criteria` for the supply system `system` (none: the criteria that
+/// depend on the system are skipped, and said so). The verdict of each row: `max` is met at or
+/// below the limit, `min` at or above it, a `target` within its tolerance (without one, the
+/// deviation only); a criterion without a limit gives the value alone.
+pub fn assess(input: &AssessInput, criteria: &[Criterion], system: Option<System>) -> Assessment {
+    let v = input.speed_kmh;
+    let mut rows = Vec::new();
+    let mut skipped = Vec::new();
+    for c in criteria {
+        if !c.systems.is_empty() {
+            match system {
+                None => {
+                    skipped.push(format!(
+                        "{}: applies to {} only, and the supply system was not given (--system)",
+                        c.id,
+                        c.systems
+                            .iter()
+                            .map(|s| s.name())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ));
+                    continue;
+                }
+                Some(s) if !c.systems.contains(&s) => {
+                    skipped.push(format!("{}: does not apply to {}", c.id, s.name()));
+                    continue;
+                }
+                _ => {}
+            }
+        }
+        if let Some([lo, hi]) = c.speed_kmh {
+            if !(v > lo && v <= hi) {
+                skipped.push(format!(
+                    "{}: applies above {lo} and up to {hi} km/h, not at {v} km/h",
+                    c.id
+                ));
+                continue;
+            }
+        }
+        if c.quantity.per_run() {
+            rows.push(row(c, None, input.speed_ratio, v, &|_| None));
+            continue;
+        }
+        let mut any = false;
+        for p in &input.pantographs {
+            if let Some(w) = c.head_width_mm {
+                // The head's width, to the millimetre.
+                match p.head_half_width_m {
+                    Some(h) if (2e3 * h - w).abs() < 0.5 => {}
+                    _ => continue,
+                }
+            }
+            any = true;
+            let value = p.stats.as_ref().and_then(|s| stat(s, c.quantity));
+            let of = |q: Quantity| p.stats.as_ref().and_then(|s| stat(s, q));
+            rows.push(row(c, Some(p.name.clone()), value, v, &of));
+        }
+        if !any && c.head_width_mm.is_some() {
+            skipped.push(format!(
+                "{}: no pantograph has a {} mm head with lateral motion modelled",
+                c.id,
+                c.head_width_mm.unwrap_or_default()
+            ));
+        }
+    }
+    let count = |f: &dyn Fn(Verdict) -> bool| rows.iter().filter(|r| f(r.verdict)).count();
+    let met = count(&|x| x == Verdict::Met);
+    let not_met = count(&|x| x == Verdict::NotMet);
+    Assessment {
+        system: system.map(System::name),
+        speed_kmh: v,
+        met,
+        not_met,
+        without_verdict: rows.len() - met - not_met,
+        rows,
+        skipped,
+    }
+}
+
+fn row(
+    c: &Criterion,
+    pantograph: Option<String>,
+    value: Option<f64>,
+    speed_kmh: f64,
+    of: &dyn Fn(Quantity) -> Option<f64>,
+) -> Row {
+    let limit = c.limit_at(speed_kmh, of);
+    let mut deviation_percent = None;
+    let verdict = match (value, limit) {
+        (None, _) => Verdict::NoValue,
+        (Some(_), None) => Verdict::NoLimit,
+        (Some(x), Some(l)) => match c.kind {
+            Kind::Max => {
+                if x <= l {
+                    Verdict::Met
+                } else {
+                    Verdict::NotMet
+                }
+            }
+            Kind::Min => {
+                if x >= l {
+                    Verdict::Met
+                } else {
+                    Verdict::NotMet
+                }
+            }
+            Kind::Target { tolerance_percent } => {
+                let d = 100.0 * (x - l) / l;
+                deviation_percent = Some(d);
+                match tolerance_percent {
+                    Some(t) if d.abs() <= t => Verdict::Met,
+                    Some(_) => Verdict::NotMet,
+                    None => Verdict::Deviation,
+                }
+            }
+            Kind::Report => Verdict::NoLimit,
+        },
+    };
+    Row {
+        id: c.id.clone(),
+        pantograph,
+        quantity: c.quantity.name().into(),
+        unit: c.quantity.unit().into(),
+        value,
+        limit,
+        limit_formula: c.limit_text(),
+        kind: match c.kind {
+            Kind::Max => "max",
+            Kind::Min => "min",
+            Kind::Target { .. } => "target",
+            Kind::Report => "report",
+        }
+        .into(),
+        deviation_percent,
+        verdict,
+        clause: c.clause.clone(),
+        source: c.source.clone(),
+        status: c.status.name().into(),
+        note: c.note.clone(),
+    }
+}
