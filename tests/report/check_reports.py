@@ -104,6 +104,9 @@ def main():
             assert "<tr>" in body.split("</tbody>")[0], f"{name}: a table without rows"
         for bad in ("src=", "href=", "url(", "@import"):
             assert bad not in dom, f"{name}: {bad} in the page"
+        # Every page: the command line, and the case with each value's source.
+        assert "command line not recorded" not in dom, f"{name}: no command line"
+        assert "<caption>Provenance</caption>" in dom, f"{name}: no provenance table"
         if name == "run":
             # The acceptance criteria: the system assessed, and rows with their sources.
             assert "Supply system: ac" in dom and "<td>speed-ratio</td>" in dom, f"{name}: assessment"

@@ -47,6 +47,7 @@ pub fn write_manifest(dir: &Path, kind: &str, extra: serde_json::Value) -> Resul
         "kind": kind,
         "pcsim_version": env!("CARGO_PKG_VERSION"),
         "complete": false,
+        "command": std::env::args().collect::<Vec<_>>().join(" "),
     });
     if let (Some(o), serde_json::Value::Object(e)) = (m.as_object_mut(), extra) {
         o.extend(e);
@@ -494,7 +495,6 @@ pub fn write_run(dir: &Path, out: &RunOutput, summary: &Summary) -> Result<()> {
         "run",
         serde_json::json!({
             "overrides": summary.overrides,
-            "command": std::env::args().collect::<Vec<_>>().join(" "),
         }),
     )
 }

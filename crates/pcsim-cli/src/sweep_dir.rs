@@ -240,6 +240,12 @@ pub fn merge(k: &SweepKind, dirs: &[PathBuf], out: &Path, no_plot: bool) -> Resu
             }
         }
     }
+    // The case as given, with its sources (the shards share it: one fingerprint).
+    let case = first.dir.join("case.toml");
+    if case.is_file() {
+        std::fs::copy(&case, partial.join("case.toml"))
+            .with_context(|| format!("cannot copy {} into the merged sweep", case.display()))?;
+    }
     let mut csv = String::from(k.header);
     csv.push('\n');
     for (_, r) in &rows {

@@ -1073,6 +1073,15 @@ fn run_and_eva_reports_are_self_contained_pages() {
     );
     let html = check_report(&eva);
     assert!(html.contains("<h2>eva.csv</h2>"));
+    // A study's page has its command line and its base case with the sources.
+    assert!(
+        html.contains("eva --preset syt-7.0-9.8"),
+        "the command line"
+    );
+    assert!(
+        html.contains("<td>catenary.contact_wire.tension_n</td>"),
+        "the provenance table"
+    );
 }
 
 #[test]

@@ -77,6 +77,12 @@ pub fn compare(a: CompareArgs) -> Result<i32> {
     )?;
     let od = OutDir::begin(&a.out)?;
     write_outputs(od.path(), &c)?;
+    // The run's case as given (every value with its source), for the report.
+    let case = a.run.join("case.toml");
+    if case.is_file() {
+        std::fs::copy(&case, od.path().join("case.toml"))
+            .with_context(|| format!("cannot copy {}", case.display()))?;
+    }
     write_manifest(
         od.path(),
         "compare",

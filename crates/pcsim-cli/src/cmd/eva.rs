@@ -9,7 +9,7 @@ use pcsim_core::analysis::sweeps::eva_sweep;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::common::{apply, load_case, shown, Ctx, Override};
+use crate::common::{apply, shown, Ctx, Override};
 use crate::output::{write_file, write_manifest};
 use crate::progress::Progress;
 use crate::sweep_dir::{merge, SweepKind};
@@ -154,7 +154,8 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
     if let Some(EvaSub::Merge { dirs, out, no_plot }) = a.sub {
         return merge(&EVA, &dirs, &out, no_plot);
     }
-    let base = load_case(a.case.as_ref(), a.preset.as_deref())?;
+    let (base, case_text) =
+        crate::common::load_case_with_text(a.case.as_ref(), a.preset.as_deref())?;
     let dampings = a
         .damping
         .iter()
@@ -234,6 +235,8 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
         .collect();
     let od = crate::output::OutDir::begin(&a.out)?;
     let dir = od.path();
+    // The case as given (every value with its source), for the report.
+    write_file(&dir.join("case.toml"), &case_text)?;
     let pb = Progress::new(
         "eva",
         mine.len() as u64,

@@ -13,8 +13,9 @@ use crate::common::{shown, Ctx, Override};
 use crate::output::{write_file, write_manifest};
 use crate::progress::Progress;
 
+/// `(case, case_text)`: the case, and its text as given (written as `case.toml`).
 pub fn run_seeds(
-    case: &Case,
+    (case, case_text): (&Case, &str),
     overrides: &[Override],
     n: usize,
     jobs: Option<usize>,
@@ -26,6 +27,8 @@ pub fn run_seeds(
     let od = crate::output::OutDir::begin(out)?;
     let target = out;
     let out = od.path();
+    // The case as given (every value with its source), for the report.
+    write_file(&out.join("case.toml"), case_text)?;
     let pb = Progress::new(
         "montecarlo",
         n as u64,

@@ -10,7 +10,7 @@ use pcsim_core::input::targets::target_value;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use crate::common::{apply, case_name, length, load_case, setup, shown, Ctx, Override};
+use crate::common::{apply, case_name, length, setup, shown, Ctx, Override};
 use crate::output::write_file;
 use crate::progress::Progress;
 
@@ -47,7 +47,8 @@ fn measured(case_name: &str, speed: f64) -> Option<(f64, f64)> {
 }
 
 pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
-    let base = load_case(a.case.as_ref(), a.preset.as_deref())?;
+    let (base, case_text) =
+        crate::common::load_case_with_text(a.case.as_ref(), a.preset.as_deref())?;
     let mut overrides = Vec::new();
     if let Some(v) = &a.speed {
         overrides.push(Override::speed(v)?);
@@ -65,6 +66,8 @@ pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
     let dt = s.options.dt_s;
     let od = crate::output::OutDir::begin(&a.out)?;
     let dir = od.path();
+    // The case as given (every value with its source), for the report.
+    crate::output::write_file(&dir.join("case.toml"), &case_text)?;
     let pb = Progress::run("full model", ctx.progress);
     let study = window_study(&case, &windows, None, &mut |f| {
         pb.set((f * 1000.0) as u64);

@@ -243,43 +243,11 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
     }
     assessment(&mut h, dir)?;
     figures(&mut h, dir, &m.files)?;
-    // The case, every value with its source.
-    h.push_str("<h2>The case: every value and its source</h2>\n");
-    match std::fs::read_to_string(dir.join("case.toml")) {
-        Ok(text) => {
-            let (case, prov) = pcsim_core::Case::from_toml_str(&text)
-                .map_err(|e| anyhow::anyhow!("case.toml: {e}"))?;
-            let value: toml::Value = toml::from_str(&case.to_toml_string())
-                .context("the case does not write back as TOML")?;
-            let mut rows = Vec::new();
-            flatten("", &value, &mut rows);
-            let overrides: Vec<String> = summary["overrides"]
-                .as_array()
-                .map(|a| a.iter().map(num).collect())
-                .unwrap_or_default();
-            let rows: Vec<Vec<String>> = rows
-                .into_iter()
-                .map(|(p, v)| {
-                    let src = prov
-                        .get(&p)
-                        .cloned()
-                        .unwrap_or_else(|| "— (no source given)".into());
-                    vec![p, v, src]
-                })
-                .collect();
-            if !overrides.is_empty() {
-                let _ = writeln!(
-                    h,
-                    "<p>Overridden on the command line: {} (the table shows the case as given).</p>",
-                    esc(&overrides.join(", "))
-                );
-            }
-            table(&mut h, "Provenance", &["field", "value", "source"], &rows);
-        }
-        Err(_) => {
-            h.push_str("<p>This run's directory has no case.toml (made by an older pcsim).</p>\n")
-        }
-    }
+    let overrides: Vec<String> = summary["overrides"]
+        .as_array()
+        .map(|a| a.iter().map(num).collect())
+        .unwrap_or_default();
+    provenance(&mut h, dir, &overrides)?;
     finish(dir, h)
 }
 
@@ -362,6 +330,41 @@ fn assessment(h: &mut String, dir: &Path) -> Result<()> {
         "<p><strong>{} met, {} not met, {} without a verdict.</strong></p>",
         a["met"], a["not_met"], a["without_verdict"]
     );
+    Ok(())
+}
+
+/// The case as given (`case.toml`), every value with its source; `overrides` are the flags that
+/// changed it for this run.
+fn provenance(h: &mut String, dir: &Path, overrides: &[String]) -> Result<()> {
+    h.push_str("<h2>The case: every value and its source</h2>\n");
+    let Ok(text) = std::fs::read_to_string(dir.join("case.toml")) else {
+        h.push_str("<p>This directory has no case.toml (made by an older pcsim, or by a command that does not write it): see the case file or preset it was made from.</p>\n");
+        return Ok(());
+    };
+    let (case, prov) =
+        pcsim_core::Case::from_toml_str(&text).map_err(|e| anyhow::anyhow!("case.toml: {e}"))?;
+    let value: toml::Value =
+        toml::from_str(&case.to_toml_string()).context("the case does not write back as TOML")?;
+    let mut rows = Vec::new();
+    flatten("", &value, &mut rows);
+    let rows: Vec<Vec<String>> = rows
+        .into_iter()
+        .map(|(p, v)| {
+            let src = prov
+                .get(&p)
+                .cloned()
+                .unwrap_or_else(|| "— (no source given)".into());
+            vec![p, v, src]
+        })
+        .collect();
+    if !overrides.is_empty() {
+        let _ = writeln!(
+            h,
+            "<p>Overridden on the command line: {} (the table shows the case as given).</p>",
+            esc(&overrides.join(", "))
+        );
+    }
+    table(h, "Provenance", &["field", "value", "source"], &rows);
     Ok(())
 }
 
@@ -468,7 +471,8 @@ fn write_study(dir: &Path, m: &crate::output::Manifest) -> Result<PathBuf> {
         table(&mut h, &cap, &head, &rows);
     }
     figures(&mut h, dir, &m.files)?;
-    h.push_str("<h2>The case</h2>\n<p>A study's directory does not hold its case's sources yet: see the case file or preset it was run on.</p>\n");
+    // The study's base case: the grid's flags (speeds, tensions, …) vary it, as the command says.
+    provenance(&mut h, dir, &[])?;
     finish(dir, h)
 }
 

@@ -85,7 +85,13 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
     if a.seeds.is_some() {
         let n = crate::common::seeds_flag(a.seeds, &case)?;
         return crate::cmd::montecarlo::run_seeds(
-            &case, &overrides, n, a.jobs, &a.out, a.plot, ctx,
+            (&case, &case_text),
+            &overrides,
+            n,
+            a.jobs,
+            &a.out,
+            a.plot,
+            ctx,
         );
     }
     let od = crate::output::OutDir::begin(&a.out)?;

@@ -10,7 +10,7 @@ use pcsim_core::analysis::window_length::{fit_criteria, EnergyCurves, SearchSett
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::common::{apply, load_case, shown, Ctx};
+use crate::common::{apply, shown, Ctx};
 use crate::output::{write_file, write_manifest};
 use crate::progress::Progress;
 use crate::sweep_dir::{fnv1a64, merge, write_montecarlo, SweepKind};
@@ -125,7 +125,8 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
     if let Some(WindowSub::Merge { dirs, out, no_plot }) = a.sub {
         return merge(&WINDOW, &dirs, &out, no_plot);
     }
-    let base = load_case(a.case.as_ref(), a.preset.as_deref())?;
+    let (base, case_text) =
+        crate::common::load_case_with_text(a.case.as_ref(), a.preset.as_deref())?;
     let base = apply(&base, &[])?;
     let tol = Tolerances {
         mean_pct: pct("--mean-tol", &a.mean_tol)?,
@@ -172,6 +173,8 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
         .collect();
     let od = crate::output::OutDir::begin(&a.out)?;
     let dir = od.path();
+    // The case as given (every value with its source), for the report.
+    write_file(&dir.join("case.toml"), &case_text)?;
     std::fs::create_dir_all(dir.join("cases"))
         .with_context(|| format!("cannot create {}", dir.join("cases").display()))?;
     let pb = Progress::new(
