@@ -287,11 +287,15 @@ fn assessment(h: &mut String, dir: &Path) -> Result<()> {
                 r["id"].as_str().unwrap_or("").into(),
                 r["pantograph"].as_str().unwrap_or("(run)").into(),
                 format!("{} {}", num(&r["value"]), r["unit"].as_str().unwrap_or("")),
-                format!(
-                    "{} ({})",
-                    num(&r["limit"]),
-                    r["limit_formula"].as_str().unwrap_or("")
-                ),
+                if r["limit"].is_null() {
+                    "—".to_string()
+                } else {
+                    format!(
+                        "{} ({})",
+                        num(&r["limit"]),
+                        r["limit_formula"].as_str().unwrap_or("")
+                    )
+                },
                 verdict,
                 r["status"].as_str().unwrap_or("").into(),
                 r["clause"].as_str().unwrap_or("").into(),
