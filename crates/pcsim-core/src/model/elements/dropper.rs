@@ -150,7 +150,7 @@ impl Droppers {
     }
 
     /// Vertical elongation, lateral offset of the top from the clamp, and the wire's rotation.
-    #[inline]
+    #[inline(always)]
     fn geometry(d: &Dropper, s: &[Slot], u: &[f64]) -> (f64, f64, f64) {
         let e = u[s[0].u as usize] - u[s[1].u as usize];
         let phi = u[s[4].u as usize];
@@ -184,6 +184,18 @@ impl PointElement for Droppers {
     }
     fn add_forces(&self, slots: &[Slot], io: &mut Io) {
         for (d, s) in self.0.iter().zip(slots.chunks_exact(ARITY)) {
+            if s[2].u | s[3].u | s[4].u == 0 {
+                // No lateral or torsional attachment (all on the ground, slot 0): δ = φ = 0 and
+                // the law is the vertical Eq. 15, evaluated as `dropper_force_3d` evaluates it
+                // (the same operations on the same values, so the same bytes) without the
+                // pendulum's terms, which would add zeros to the ground's sink.
+                let e = io.u[s[0].u as usize] - io.u[s[1].u as usize];
+                let (df, slack) = dropper_force_change(d.preload_n, d.stiffness_n_per_m, e);
+                io.slack += slack as usize;
+                io.f[s[1].u as usize] += df;
+                io.f[s[0].u as usize] += -df;
+                continue;
+            }
             let (e, delta, phi) = Self::geometry(d, s, io.u);
             let (df, fl, m, slack) = dropper_force_3d(
                 d.preload_n,
