@@ -14,7 +14,7 @@ use crate::linalg::dot;
 
 /// How often the rotation recurrence is re-seeded with a direct `sin_cos` call (bounds the
 /// rounding drift of the recurrence to ~`RESEED · ε`).
-const RESEED: usize = 64;
+pub const RESEED: usize = 64;
 
 /// The trial functions `sin(kπx/L)`, `k = 1..=N`, over a modelled length `L`.
 #[derive(Debug, Clone, PartialEq)]
@@ -59,7 +59,7 @@ impl SineBasis {
     /// issue suggests for the moving contact point.
     pub fn fill_sines(&self, x: f64, out: &mut [f64]) {
         debug_assert_eq!(out.len(), self.n_modes);
-        let theta = PI * x / self.length_m;
+        let theta = self.theta(x);
         // Four interleaved rotation chains (modes k, k+1, k+2, k+3 advance by 4θ) break the
         // latency chain of a single recurrence; each block of 256 modes is re-seeded directly.
         let (s4, c4) = (4.0 * theta).sin_cos();
@@ -83,6 +83,12 @@ impl SineBasis {
                 *o = s[l];
             }
         }
+    }
+
+    /// The first mode's phase at `x`, `θ = π x / L` (mode `i` has `(i + 1) θ`).
+    #[inline]
+    pub fn theta(&self, x: f64) -> f64 {
+        PI * x / self.length_m
     }
 
     /// Fill `sin_out[i] = sin(κ_i x)` and `cos_out[i] = cos(κ_i x)`.
