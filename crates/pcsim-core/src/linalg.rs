@@ -91,7 +91,8 @@ pub fn mat_vec(a: &[f64], n: usize, x: &[f64]) -> Vec<f64> {
 }
 
 /// In-place Cholesky of a symmetric positive definite row-major `n × n` matrix; the lower
-/// triangle holds `L` afterwards. A pivot that is not positive is an error, never clamped.
+/// triangle holds `L` afterwards, and the upper its transpose (so that both substitutions of
+/// [`cholesky_solve`] read rows). A pivot that is not positive is an error, never clamped.
 pub fn cholesky_in_place(a: &mut [f64], n: usize) -> Result<(), NotPositiveDefinite> {
     for j in 0..n {
         let mut d = a[j * n + j];
@@ -111,22 +112,30 @@ pub fn cholesky_in_place(a: &mut [f64], n: usize) -> Result<(), NotPositiveDefin
             a[i * n + j] = s / d;
         }
     }
+    for i in 0..n {
+        for j in 0..i {
+            a[j * n + i] = a[i * n + j];
+        }
+    }
     Ok(())
 }
 
-/// Solve `L Lᵀ x = b` in place in `b` (`tmp` is scratch of length n).
+/// Solve `L Lᵀ x = b` in place in `b` (`tmp` is scratch of length n), `l` as
+/// [`cholesky_in_place`] leaves it (`L` below the diagonal, `Lᵀ` above).
 pub fn cholesky_solve(l: &[f64], n: usize, b: &mut [f64], tmp: &mut [f64]) {
     for i in 0..n {
         let mut s = b[i];
-        for k in 0..i {
-            s -= l[i * n + k] * tmp[k];
+        for (lik, tk) in l[i * n..i * n + i].iter().zip(&tmp[..i]) {
+            s -= lik * tk;
         }
         tmp[i] = s / l[i * n + i];
     }
     for i in (0..n).rev() {
         let mut s = tmp[i];
-        for k in i + 1..n {
-            s -= l[k * n + i] * b[k];
+        // Row i of Lᵀ (the upper triangle): the same terms in the same order as column i of L.
+        let row = &l[i * n + i + 1..(i + 1) * n];
+        for (lik, bk) in row.iter().zip(&b[i + 1..n]) {
+            s -= lik * bk;
         }
         b[i] = s / l[i * n + i];
     }
