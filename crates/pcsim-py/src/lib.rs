@@ -434,6 +434,38 @@ fn validate(py: Python<'_>, name: &str, jobs: Option<usize>) -> PyResult<String>
     })
 }
 
+/// A run's summary (`Result.summary` as JSON) against the acceptance criteria, by the core's
+/// one assessment (the CLI's `pcsim assess`): the assessment as JSON. `criteria_toml` adds a
+/// user's criteria (status `user`, each with its source).
+#[pyfunction]
+#[pyo3(signature = (summary_json, system=None, criteria_toml=None))]
+fn assess(
+    summary_json: &str,
+    system: Option<&str>,
+    criteria_toml: Option<&str>,
+) -> PyResult<String> {
+    use pcsim_core::analysis::assess::{assess, AssessInput};
+    use pcsim_core::input::criteria::{self, System};
+    guarded(|| {
+        let input = AssessInput::from_summary_json(summary_json).map_err(err)?;
+        let system = system
+            .map(|s| {
+                System::parse(s).ok_or_else(|| {
+                    err(format!(
+                        "system = {s:?}: not a supply system pcsim knows (ac, dc-3kv, dc-1.5kv)"
+                    ))
+                })
+            })
+            .transpose()?;
+        let mut list = criteria::builtin();
+        if let Some(t) = criteria_toml {
+            let user = criteria::user_file(t).map_err(|e| err(format!("criteria: {e}")))?;
+            list = criteria::merged(list, user);
+        }
+        serde_json::to_string(&assess(&input, &list, system)).map_err(err)
+    })
+}
+
 /// The names of the embedded presets.
 #[pyfunction]
 fn presets_list() -> Vec<String> {
@@ -540,6 +572,7 @@ fn _pcsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run_many, m)?)?;
     m.add_function(wrap_pyfunction!(eva, m)?)?;
     m.add_function(wrap_pyfunction!(validate, m)?)?;
+    m.add_function(wrap_pyfunction!(assess, m)?)?;
     m.add_function(wrap_pyfunction!(window, m)?)?;
     m.add_function(wrap_pyfunction!(presets_list, m)?)?;
     m.add_function(wrap_pyfunction!(_test_panic, m)?)?;

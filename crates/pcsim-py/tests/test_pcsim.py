@@ -257,3 +257,24 @@ def test_eva_with_seeds_and_shards_is_the_clis_sweep():
         pcsim.eva(case, [150.0], [9800.0], seeds=3)
     with pytest.raises(ValueError, match="max_steps|steps"):
         pcsim.eva(case, [150.0], [9800.0], max_steps=10)
+
+
+def test_assess_is_the_clis_assessment(tmp_path):
+    case = short_case()
+    res = pcsim.run(case)
+    out = str(tmp_path / "cli")
+    cli_run(case, out)
+    subprocess.run([PCSIM, "assess", out, "--system", "ac"], check=True, stdout=subprocess.DEVNULL)
+    with open(os.path.join(out, "assessment.json")) as f:
+        cli = json.load(f)
+    a = pcsim.assess(res, system="ac")
+    assert a == cli
+    rows = {r["id"]: r for r in a["rows"]}
+    # The EN 50367 target at 250 km/h, 0.00097 v^2 + 70 N, and every row with its source.
+    assert abs(rows["mean-force-target-ac"]["limit"] - 130.625) < 1e-9
+    assert all(r["source"] for r in a["rows"])
+    with pytest.raises(ValueError, match="ac25"):
+        pcsim.assess(res, system="ac25")
+    with pytest.raises(ValueError, match=r"criterion\[0\]\.quantity"):
+        pcsim.assess(res, criteria='[[criterion]]\nid = "x"\nquantity = "sigma"\nkind = "max"\nlimit = 1.0\n'
+                                  'clause = "c"\nsource = "s"\nstatus = "user"\n')

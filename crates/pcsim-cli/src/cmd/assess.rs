@@ -7,8 +7,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use std::path::{Path, PathBuf};
 
-use pcsim_core::analysis::assess::{assess, AssessInput, Assessment, PantographInput, Verdict};
-use pcsim_core::analysis::stats::ContactStats;
+use pcsim_core::analysis::assess::{assess, AssessInput, Assessment, Verdict};
 use pcsim_core::input::criteria::{self, System};
 
 use crate::output::{add_to_manifest, read_complete_manifest, write_file_atomic};
@@ -78,38 +77,9 @@ pub fn read_run(dir: &Path) -> Result<AssessInput> {
         );
     }
     let path = dir.join("summary.json");
-    let s: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(&path)
-            .with_context(|| format!("cannot read {}", path.display()))?,
-    )
-    .with_context(|| format!("{} is not valid JSON", path.display()))?;
-    let speed_kmh = s["speed_kmh"]
-        .as_f64()
-        .with_context(|| format!("{}: no speed_kmh", path.display()))?;
-    let mut pantographs = Vec::new();
-    for (i, p) in s["pantographs"]
-        .as_array()
-        .with_context(|| format!("{}: no pantographs", path.display()))?
-        .iter()
-        .enumerate()
-    {
-        let stats: Option<ContactStats> = match &p["stats"] {
-            serde_json::Value::Null => None,
-            v => Some(serde_json::from_value(v.clone()).with_context(|| {
-                format!("{}: pantographs[{i}].stats is not a run's", path.display())
-            })?),
-        };
-        pantographs.push(PantographInput {
-            name: p["name"].as_str().unwrap_or_default().to_string(),
-            stats,
-            head_half_width_m: p["lateral"]["head_half_width_m"].as_f64(),
-        });
-    }
-    Ok(AssessInput {
-        speed_kmh,
-        speed_ratio: s["speed_ratio"].as_f64(),
-        pantographs,
-    })
+    let text = std::fs::read_to_string(&path)
+        .with_context(|| format!("cannot read {}", path.display()))?;
+    AssessInput::from_summary_json(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
 }
 
 fn value(x: Option<f64>) -> String {

@@ -4,7 +4,7 @@
 //! source. A criterion without a limit it can cite gives the value and says that the limit is
 //! missing: the assessment never passes a run on a limit it does not hold.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::analysis::stats::ContactStats;
 use crate::input::criteria::{Criterion, Kind, Quantity, System};
@@ -48,6 +48,48 @@ impl AssessInput {
                 })
                 .collect(),
         }
+    }
+}
+
+#[derive(Deserialize)]
+struct SummaryView {
+    speed_kmh: f64,
+    speed_ratio: Option<f64>,
+    pantographs: Vec<PantographView>,
+}
+
+#[derive(Deserialize)]
+struct PantographView {
+    name: String,
+    stats: Option<ContactStats>,
+    lateral: Option<LateralView>,
+}
+
+#[derive(Deserialize)]
+struct LateralView {
+    head_half_width_m: Option<f64>,
+}
+
+impl AssessInput {
+    /// What a run's `summary.json` ([`crate::analysis::report::RunSummary`]) gives the
+    /// assessment: the one reading of it for every front end (the CLI's `assess`, the report,
+    /// Python's `pcsim.assess`). An error names what is missing or malformed.
+    pub fn from_summary_json(text: &str) -> Result<AssessInput, crate::CaseError> {
+        let v: SummaryView = serde_json::from_str(text)
+            .map_err(|e| crate::CaseError::Parse(format!("not a run's summary.json: {e}")))?;
+        Ok(AssessInput {
+            speed_kmh: v.speed_kmh,
+            speed_ratio: v.speed_ratio,
+            pantographs: v
+                .pantographs
+                .into_iter()
+                .map(|p| PantographInput {
+                    name: p.name,
+                    stats: p.stats,
+                    head_half_width_m: p.lateral.and_then(|l| l.head_half_width_m),
+                })
+                .collect(),
+        })
     }
 }
 

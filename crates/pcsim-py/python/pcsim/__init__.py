@@ -33,6 +33,7 @@ __all__ = [
     "sweep",
     "eva",
     "validate",
+    "assess",
     "presets",
 ]
 
@@ -146,6 +147,16 @@ def validate(name: str = "en50318-2002", jobs: Optional[int] = None) -> Dict[str
     """A validation (``en50318-2002`` or ``seed-table1``): the report of ``pcsim validate
     --json`` (value against range per row, with its unit)."""
     return json.loads(_pcsim.validate(name, jobs))
+
+
+def assess(result: "Result", system: Optional[str] = None, criteria: Optional[str] = None) -> Dict[str, Any]:
+    """A run against the acceptance criteria (EN 50367, TSI Energy, EN 50119): the assessment of
+    ``pcsim assess`` as a dict (``rows``: value, limit, verdict, clause and source per criterion
+    and pantograph). ``system``: ``"ac"``, ``"dc-3kv"`` or ``"dc-1.5kv"`` (without it the
+    criteria that depend on it are listed in ``skipped``); ``criteria``: your own criteria as TOML
+    text (status ``"user"``, each with its source). A criterion whose limit pcsim cannot cite
+    gives the value and the verdict ``"no-limit"``."""
+    return json.loads(_pcsim.assess(json.dumps(result.summary), system, criteria))
 
 
 def presets() -> List[str]:
