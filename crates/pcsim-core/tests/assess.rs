@@ -251,6 +251,16 @@ status = "user"
     assert_eq!((a.rows[0].verdict, a.rows[1].verdict), (Met, Met));
     assert!(a.rows.iter().all(|r| r.id != "t-mean"));
     assert!(a.skipped.iter().any(|s| s.starts_with("t-mean")));
+    // A target that is zero at the run's speed gives no deviation (never a NaN or an infinity).
+    let zero = criteria::user_file(
+        "[[criterion]]\nid = \"z\"\nquantity = \"mean_force_n\"\nkind = \"target\"\nformula_kmh = [0.0, 0.0, 0.0]\nclause = \"test\"\nsource = \"test fixture\"\nstatus = \"user\"\n",
+    )
+    .unwrap();
+    let a = assess(&input(250.0, None, &[(160.0, 30.0)]), &zero, None);
+    assert_eq!(
+        (a.rows[0].verdict, a.rows[0].deviation_percent),
+        (NoLimit, None)
+    );
     // A pantograph that did not cross the section has no value, and no verdict.
     let mut inp = input(250.0, None, &[(160.0, 30.0)]);
     inp.pantographs[0].stats = None;

@@ -315,6 +315,8 @@ fn row(
                     Verdict::NotMet
                 }
             }
+            // A target of zero (a user's formula at this speed) has no relative deviation.
+            Kind::Target { .. } if l == 0.0 => Verdict::NoLimit,
             Kind::Target { tolerance_percent } => {
                 let d = 100.0 * (x - l) / l;
                 deviation_percent = Some(d);
