@@ -549,8 +549,11 @@ impl PointSampler {
     ) {
         let p = self.period;
         for g in &self.groups {
-            if g.mirror {
+            // A primary group's bins are packed where the fold left them (a mirror group after
+            // it reads them there too); a mirror group's are made beside them.
+            let bins = if g.mirror {
                 self.mirror_bins(&sc.prim, 2, &mut sc.cur);
+                &sc.cur[..4 * p]
             } else {
                 kernels::fold2(
                     self.isa,
@@ -561,9 +564,9 @@ impl PointSampler {
                     p,
                     &mut sc.prim[..4 * p],
                 );
-                sc.cur[..4 * p].copy_from_slice(&sc.prim[..4 * p]);
-            }
-            let (x, y) = sc.cur[..4 * p].split_at(2 * p);
+                &sc.prim[..4 * p]
+            };
+            let (x, y) = bins.split_at(2 * p);
             self.pack(x, Some(y), &mut sc.buf);
             self.transform(sc);
             for &(j, s) in &g.members {
@@ -671,14 +674,14 @@ impl PointSampler {
                 sc.buf[s] = Complex::new(f1[j], f2[j]);
             }
             self.transform(sc);
-            {
+            if g.mirror {
                 let (x, y) = sc.cur[..4 * p].split_at_mut(2 * p);
                 self.unpack(&sc.buf, x, Some(y));
-            }
-            if g.mirror {
                 self.add_mirror_bins(&sc.cur, 2, &mut sc.prim);
             } else {
-                sc.prim[..4 * p].copy_from_slice(&sc.cur[..4 * p]);
+                // A primary group's bins go straight where the unfold (or its mirror) takes them.
+                let (x, y) = sc.prim[..4 * p].split_at_mut(2 * p);
+                self.unpack(&sc.buf, x, Some(y));
                 if self.groups.get(gi + 1).is_some_and(|n| n.mirror) {
                     continue; // unfold together with the mirror
                 }
