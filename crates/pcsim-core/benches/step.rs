@@ -41,6 +41,26 @@ fn preset_step(c: &mut Criterion) {
     c.bench_function("step/preset/stitched-2018-like", |b| b.iter(|| s.step()));
 }
 
+/// Each named stage of the full model's step alone (`Integrator::step_stage`), on
+/// `stitched-2018-like` at 320 km/h past the start. For the instruction count of one stage, run
+/// its bench alone under callgrind and divide `step_stage`'s inclusive cost by its calls
+/// (docs/performance.md).
+fn stages(c: &mut Criterion) {
+    let (case, _) = presets::load("stitched-2018-like").unwrap();
+    let setup = Setup::from_case(&case).unwrap();
+    let integ = setup.integrator().unwrap();
+    let mut st = integ.initial_state(setup.plan.start_m);
+    let mut ws = integ.workspace();
+    for _ in 0..200 {
+        integ.step(&mut st, &mut ws);
+    }
+    for s in pcsim_core::solve::Stage::ALL {
+        c.bench_function(&format!("stage/{}", s.name()), |b| {
+            b.iter(|| integ.step_stage(s, &mut st, &mut ws))
+        });
+    }
+}
+
 /// A step of the 215 m real-time window under the whole contract (checks, save, step,
 /// soundness), with the window moving as the pantograph runs.
 fn realtime_step(c: &mut Criterion) {
@@ -97,6 +117,6 @@ fn build(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20);
-    targets = zoo_steps, preset_step, realtime_step, sampler, build
+    targets = zoo_steps, preset_step, stages, realtime_step, sampler, build
 }
 criterion_main!(benches);

@@ -120,3 +120,23 @@ fn run_statistics_of_the_zoo() {
         insta::assert_debug_snapshot!(*name, out.run_statistics);
     }
 }
+
+#[test]
+fn a_step_is_its_named_stages_in_order() {
+    // `Integrator::step_stage` (the per-stage benches' entry) is the step's own stages: run in
+    // `Stage::ALL`'s order they give the step's state bit for bit, on every zoo model.
+    use pcsim_core::solve::Stage;
+    for name in zoo::NAMES {
+        let setup = zoo::model(name).unwrap();
+        let integ = setup.integrator().unwrap();
+        let (mut a, mut wa) = (integ.initial_state(setup.plan.start_m), integ.workspace());
+        let (mut b, mut wb) = (a.clone(), integ.workspace());
+        for _ in 0..50 {
+            integ.step(&mut a, &mut wa);
+            for s in Stage::ALL {
+                integ.step_stage(s, &mut b, &mut wb);
+            }
+        }
+        assert_eq!(a, b, "{name}");
+    }
+}

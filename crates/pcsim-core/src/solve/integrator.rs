@@ -98,6 +98,55 @@ pub fn oscillator_flow(m: f64, c: f64, k: f64, t: f64) -> [f64; 4] {
     ]
 }
 
+/// The named stages of [`Integrator::step`], in order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stage {
+    /// 1: the half kick and the drift.
+    Drift,
+    /// 2: the wires' displacements and velocities at every point (the sampler).
+    Gather,
+    /// 3: droppers, supports, steady arms, stitches; the nodes.
+    FixedPointForces,
+    /// 4: `−K q − C v` and the point forces scattered onto the modes.
+    ModalRhs,
+    /// 5: steady loads and the crosswind.
+    Wind,
+    /// 6: the moving contact points and their rows.
+    MovingPoints,
+    /// 7: the implicit point terms (Woodbury).
+    ImplicitSolve,
+    /// 8: the pantographs.
+    Pantographs,
+}
+
+impl Stage {
+    /// Every stage, in the order a step runs them.
+    pub const ALL: [Stage; 8] = [
+        Stage::Drift,
+        Stage::Gather,
+        Stage::FixedPointForces,
+        Stage::ModalRhs,
+        Stage::Wind,
+        Stage::MovingPoints,
+        Stage::ImplicitSolve,
+        Stage::Pantographs,
+    ];
+
+    /// Its name in the benches.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Drift => "drift",
+            Stage::Gather => "gather",
+            Stage::FixedPointForces => "fixed_point_forces",
+            Stage::ModalRhs => "modal_rhs",
+            Stage::Wind => "wind",
+            Stage::MovingPoints => "moving_points",
+            Stage::ImplicitSolve => "implicit_solve",
+            Stage::Pantographs => "pantographs",
+        }
+    }
+}
+
 impl Integrator {
     /// Precompute everything a step needs: compile the model, check that the time step is
     /// stable for its explicit parts, local and coupled ([`check_stability`]), and build the Δt
@@ -362,6 +411,23 @@ impl Integrator {
     pub fn step(&self, st: &mut State, ws: &mut Workspace) {
         self.drift(st);
         self.accelerations(st, ws);
+    }
+
+    /// One stage of [`Integrator::step`] alone, for the benches that time and count each stage
+    /// (`benches/step.rs`, docs/performance.md). The stages run in [`Stage::ALL`]'s order in a
+    /// step; one called alone works on whatever `st` and `ws` hold.
+    #[inline(never)]
+    pub fn step_stage(&self, stage: Stage, st: &mut State, ws: &mut Workspace) {
+        match stage {
+            Stage::Drift => self.drift(st),
+            Stage::Gather => self.gather(st, ws),
+            Stage::FixedPointForces => self.fixed_point_forces(st, ws),
+            Stage::ModalRhs => self.modal_rhs(st, ws),
+            Stage::Wind => self.wind(st, ws),
+            Stage::MovingPoints => self.moving_points(st, ws),
+            Stage::ImplicitSolve => self.implicit_solve(st, ws),
+            Stage::Pantographs => self.pantographs(st, ws),
+        }
     }
 
     /// Stages 2–8 of [`Integrator::step`]: the accelerations at `st` (the velocities are

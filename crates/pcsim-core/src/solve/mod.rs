@@ -32,7 +32,7 @@ pub mod state;
 pub mod workspace;
 
 pub use compiled::CompiledModel;
-pub use integrator::Integrator;
+pub use integrator::{Integrator, Stage};
 pub use kernels::Isa;
 pub use plan::{Options, Plan};
 pub use run::{run, Observer, RunStatistics};
