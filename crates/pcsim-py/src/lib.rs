@@ -449,13 +449,7 @@ fn assess(
     guarded(|| {
         let input = AssessInput::from_summary_json(summary_json).map_err(err)?;
         let system = system
-            .map(|s| {
-                System::parse(s).ok_or_else(|| {
-                    err(format!(
-                        "system = {s:?}: not a supply system pcsim knows (ac, dc-3kv, dc-1.5kv)"
-                    ))
-                })
-            })
+            .map(|s| System::parse_or_explain(s).map_err(|e| err(format!("system = {e}"))))
             .transpose()?;
         let mut list = criteria::builtin();
         if let Some(t) = criteria_toml {

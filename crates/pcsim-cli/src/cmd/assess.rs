@@ -32,13 +32,9 @@ pub struct AssessArgs {
 }
 
 /// The supply system named on the command line.
-pub fn system_flag(s: Option<&str>) -> Result<Option<System>> {
-    s.map(|s| {
-        System::parse(s).with_context(|| {
-            format!("--system {s}: not a supply system pcsim knows (ac, dc-3kv, dc-1.5kv)")
-        })
-    })
-    .transpose()
+fn system_flag(s: Option<&str>) -> Result<Option<System>> {
+    s.map(|s| System::parse_or_explain(s).map_err(|e| anyhow::anyhow!("--system {e}")))
+        .transpose()
 }
 
 pub fn run(a: AssessArgs) -> Result<i32> {
@@ -67,7 +63,7 @@ pub fn run(a: AssessArgs) -> Result<i32> {
 }
 
 /// What the run's `summary.json` gives the assessment.
-pub fn read_run(dir: &Path) -> Result<AssessInput> {
+fn read_run(dir: &Path) -> Result<AssessInput> {
     let m = read_complete_manifest(dir)?;
     if m.kind != "run" {
         bail!(

@@ -99,11 +99,10 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
     if m.kind != "run" {
         return write_study(dir, &m);
     }
-    let summary: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(dir.join("summary.json"))
-            .with_context(|| format!("cannot read {}", dir.join("summary.json").display()))?,
-    )
-    .context("summary.json is not valid JSON")?;
+    let summary_text = std::fs::read_to_string(dir.join("summary.json"))
+        .with_context(|| format!("cannot read {}", dir.join("summary.json").display()))?;
+    let summary: serde_json::Value =
+        serde_json::from_str(&summary_text).context("summary.json is not valid JSON")?;
     let name = summary["case_name"].as_str().unwrap_or("run");
     let mut h = String::new();
     let _ = write!(
@@ -241,7 +240,7 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
             &rows,
         );
     }
-    assessment(&mut h, dir)?;
+    assessment(&mut h, dir, &summary_text)?;
     figures(&mut h, dir, &m.files)?;
     let overrides: Vec<String> = summary["overrides"]
         .as_array()
@@ -253,16 +252,17 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
 
 /// The run against the acceptance criteria: the assessment `pcsim assess` wrote into the
 /// directory (with its supply system and the user's criteria), else the built-in criteria
-/// without a supply system.
-fn assessment(h: &mut String, dir: &Path) -> Result<()> {
-    use pcsim_core::analysis::assess::{assess, Assessment};
+/// without a supply system (from `summary`, the run's summary.json as read).
+fn assessment(h: &mut String, dir: &Path, summary: &str) -> Result<()> {
+    use pcsim_core::analysis::assess::{assess, AssessInput, Assessment};
     h.push_str("<h2>Acceptance criteria</h2>\n");
     let path = dir.join("assessment.json");
     let a: serde_json::Value = match std::fs::read_to_string(&path) {
         Ok(text) => serde_json::from_str(&text)
             .with_context(|| format!("{} is not valid JSON", path.display()))?,
         Err(_) => {
-            let input = crate::cmd::assess::read_run(dir)?;
+            let input = AssessInput::from_summary_json(summary)
+                .map_err(|e| anyhow::anyhow!("summary.json: {e}"))?;
             let r: Assessment = assess(&input, &pcsim_core::input::criteria::builtin(), None);
             h.push_str("<p>Assessed here with the built-in criteria and no supply system: <code>pcsim assess DIR --system …</code> assesses the criteria that depend on it, and adds your own with <code>--criteria</code>.</p>\n");
             serde_json::to_value(&r)?

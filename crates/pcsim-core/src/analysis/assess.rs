@@ -31,26 +31,6 @@ pub struct AssessInput {
     pub pantographs: Vec<PantographInput>,
 }
 
-impl AssessInput {
-    /// What a finished run gives the assessment (the same as its `summary.json` holds).
-    pub fn from_run(out: &crate::analysis::record::RunOutput) -> AssessInput {
-        AssessInput {
-            // To the nanometre per hour: 320 km/h reads as 320, not 320.00000000000006.
-            speed_kmh: (out.speed_m_s * 3.6 * 1e9).round() / 1e9,
-            speed_ratio: out.contact_wire_wave_speed_m_s.map(|c| out.speed_m_s / c),
-            pantographs: out
-                .pantographs
-                .iter()
-                .map(|p| PantographInput {
-                    name: p.name.clone(),
-                    stats: p.stats,
-                    head_half_width_m: p.lateral.as_ref().and(p.head_half_width_m),
-                })
-                .collect(),
-        }
-    }
-}
-
 #[derive(Deserialize)]
 struct SummaryView {
     speed_kmh: f64,

@@ -38,6 +38,18 @@ impl System {
     pub fn parse(s: &str) -> Option<System> {
         System::ALL.into_iter().find(|x| x.name() == s)
     }
+
+    /// [`System::parse`], or the one wording of an unknown name for every front end
+    /// (`"ac25: not a supply system pcsim knows (ac, dc-3kv, dc-1.5kv)"`; the front end puts
+    /// its flag or argument before it).
+    pub fn parse_or_explain(s: &str) -> Result<System, String> {
+        System::parse(s).ok_or_else(|| {
+            format!(
+                "{s}: not a supply system pcsim knows ({})",
+                System::ALL.map(System::name).join(", ")
+            )
+        })
+    }
 }
 
 /// A quantity a criterion checks: one of a pantograph's EN 50318 statistics, or the run's speed

@@ -528,12 +528,7 @@ impl CompiledModel {
         let row = &mut rows[mp.row_off..mp.row_off + mp.n];
         if mp.fills_row {
             // The recurrence of `SineBasis::fill_sines` in four lanes: the same bytes.
-            kernels::fill_sines(
-                self.isa,
-                mp.basis.theta(x - mp.origin_m),
-                crate::model::basis::RESEED,
-                row,
-            );
+            kernels::fill_sines(self.isa, mp.basis.theta(x - mp.origin_m), row);
         }
         row
     }

@@ -244,7 +244,8 @@ macro_rules! lanes_kernel {
 /// # Safety
 /// `S` must be usable on this CPU.
 #[inline(always)]
-unsafe fn fill_sines_body<S: Lanes, const F: bool>(theta: f64, reseed: usize, out: &mut [f64]) {
+unsafe fn fill_sines_body<S: Lanes, const F: bool>(theta: f64, out: &mut [f64]) {
+    let reseed = crate::model::basis::RESEED;
     let (s4, c4) = (4.0 * theta).sin_cos();
     // SAFETY: every load reads a local array of four; every store writes four values inside
     // `block` (`4 (j + 1) <= block.len()`), or a local array.
@@ -281,10 +282,10 @@ unsafe fn fill_sines_body<S: Lanes, const F: bool>(theta: f64, reseed: usize, ou
 
 lanes_kernel! {
     /// `out[i] = sin((i + 1) θ)` by the four-chain rotation of
-    /// [`crate::model::basis::SineBasis::fill_sines`] (re-seeded every `4 · reseed` modes), four
+    /// [`crate::model::basis::SineBasis::fill_sines`] (re-seeded at the same modes), four
     /// lanes at a time with a multiply and an add per term, never fused: the same bytes as the
     /// scalar recurrence on both paths.
-    pub fn fill_sines(theta: f64, reseed: usize, out: &mut [f64]) = fill_sines_body;
+    pub fn fill_sines(theta: f64, out: &mut [f64]) = fill_sines_body;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -930,7 +931,7 @@ mod tests {
                 b.fill_sines(x, &mut want);
                 for isa in [Isa::Portable, Isa::best_available()] {
                     let mut got = vec![9.0; n];
-                    fill_sines(isa, b.theta(x), crate::model::basis::RESEED, &mut got);
+                    fill_sines(isa, b.theta(x), &mut got);
                     let same = got
                         .iter()
                         .zip(&want)
