@@ -17,6 +17,8 @@ use crate::progress::{Progress, ProgressMode};
 pub struct Ctx {
     pub progress: ProgressMode,
     pub budget: Budget,
+    /// Threads of one run (`run --threads`, `bench --threads`); 1 elsewhere.
+    pub threads: usize,
 }
 
 /// The largest input file read, bytes (`--max-input-mb`; set once at start-up).
@@ -165,6 +167,21 @@ pub fn jobs_flag(jobs: Option<usize>) -> Result<()> {
     Ok(())
 }
 
+/// `--threads N` of one run: at least 1, at most [`pcsim_core::solve::team::MAX_THREADS`], and
+/// capped at this machine's cores (the team's threads spin between the stages of a step, so a
+/// thread without a core of its own would slow the run down).
+pub fn threads_flag(threads: usize) -> Result<usize> {
+    let max = pcsim_core::solve::team::MAX_THREADS;
+    if threads == 0 || threads > max {
+        bail!("--threads {threads}: give 1 to {max} threads for one run");
+    }
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    if threads > cores {
+        eprintln!("note: --threads {threads}: capped at this machine's {cores} core(s)");
+    }
+    Ok(threads.min(cores))
+}
+
 /// The sweep flags shared by `eva` and `window`: speeds (km/h unless a unit is given), contact-
 /// wire tensions (kN unless a unit is given), and the shard. Errors name the flag.
 pub fn sweep_flags(
@@ -220,7 +237,10 @@ pub fn apply(case: &Case, overrides: &[Override]) -> Result<Case> {
 /// Validate a case and build its set-up within the budget; errors name the overrides that may
 /// have caused them.
 pub fn setup(case: &Case, overrides: &[Override], ctx: &Ctx) -> Result<Setup> {
-    let s = Setup::from_case_with(case, &ctx.budget);
+    let s = Setup::from_case_with(case, &ctx.budget).map(|mut s| {
+        s.options.threads = ctx.threads;
+        s
+    });
     if overrides.is_empty() {
         Ok(s?)
     } else {

@@ -128,6 +128,7 @@ fn context(cli: &Cli) -> anyhow::Result<Ctx> {
             cli.progress
         },
         budget,
+        threads: 1,
     })
 }
 

@@ -1203,3 +1203,45 @@ fn assess_gives_each_criterion_with_its_source_and_refuses_bad_input() {
         assert!(err.contains(needle), "{err}");
     }
 }
+
+/// `run --threads 2` on a line of ten tension lengths (cut to four spans of travel) writes the
+/// same time series and statistics, byte for byte, as one thread; a bad count names the flag.
+#[test]
+fn run_on_two_threads_writes_the_same_bytes_as_one() {
+    let d = scratch("threads");
+    let (mut c, _) = pcsim_core::presets::load("line-10km-2002").unwrap();
+    c.run.end_m = c.run.start_m + 4.0 * c.catenary.span_m;
+    c.run.analysis_m = [c.run.start_m + 61.0, c.run.end_m];
+    let case = d.join("line.toml");
+    std::fs::write(&case, c.to_toml_string()).unwrap();
+    let mut outs = Vec::new();
+    for threads in ["1", "2"] {
+        let out = d.join(format!("t{threads}"));
+        let r = pcsim()
+            .arg("run")
+            .arg(&case)
+            .args(["--threads", threads, "--quiet", "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        let mut js: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
+        js.as_object_mut().unwrap().remove("wall_time_s");
+        outs.push((std::fs::read(out.join("timeseries.csv")).unwrap(), js));
+    }
+    assert!(outs[0].0.len() > 10_000);
+    assert_eq!(outs[0], outs[1]);
+    for bad in ["0", "17", "two"] {
+        let r = pcsim()
+            .arg("run")
+            .arg(&case)
+            .args(["--threads", bad, "--quiet", "--out"])
+            .arg(d.join("bad"))
+            .output()
+            .unwrap();
+        assert!(!r.status.success());
+        assert!(String::from_utf8_lossy(&r.stderr).contains("--threads"));
+    }
+}

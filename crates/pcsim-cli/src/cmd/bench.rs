@@ -44,6 +44,10 @@ pub struct BenchArgs {
     /// Runs to time; the report gives their median, minimum and maximum.
     #[arg(long, default_value_t = 5)]
     repeat: usize,
+    /// Full model only: threads of the run (its per-group work split between basis groups;
+    /// the same output bytes) [default: 1].
+    #[arg(long, default_value_t = 1)]
+    threads: usize,
 }
 
 /// Median, minimum and maximum of a non-empty list.
@@ -91,6 +95,7 @@ pub fn bench(a: BenchArgs, ctx: &Ctx) -> Result<i32> {
         for (flag, given) in [
             ("--modes", a.modes.is_some()),
             ("--spans", a.spans.is_some()),
+            ("--threads", a.threads != 1),
         ] {
             if given {
                 bail!("{flag} applies to the full model only, not to --realtime");
@@ -132,6 +137,10 @@ pub fn bench(a: BenchArgs, ctx: &Ctx) -> Result<i32> {
         c
     };
     let case = apply(&case, &overrides)?;
+    let ctx = &Ctx {
+        threads: crate::common::threads_flag(a.threads)?,
+        ..*ctx
+    };
     let speed = case.run.speed_kmh;
     let mut walls = Vec::with_capacity(a.repeat);
     let mut last = None;
@@ -144,7 +153,7 @@ pub fn bench(a: BenchArgs, ctx: &Ctx) -> Result<i32> {
     let sim = out.simulated_time_s();
     let steps = out.time_s.len();
     println!(
-        "bench `{}`: {} spans x {:.0} m, {} modes/wire, {} pantograph(s), {:.0} km/h, dt {} s, kernels {}, {} run(s) on one core",
+        "bench `{}`: {} spans x {:.0} m, {} modes/wire, {} pantograph(s), {:.0} km/h, dt {} s, kernels {}, {} run(s) on {} thread(s)",
         preset,
         case.catenary.spans,
         case.catenary.span_m,
@@ -153,7 +162,8 @@ pub fn bench(a: BenchArgs, ctx: &Ctx) -> Result<i32> {
         speed,
         case.run.dt_s,
         pcsim_core::solve::Isa::detect().name(),
-        a.repeat
+        a.repeat,
+        out.threads
     );
     let (med, lo, hi) = spread(&walls);
     println!(

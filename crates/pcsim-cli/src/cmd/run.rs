@@ -48,6 +48,11 @@ pub struct RunArgs {
     /// Worker threads for --seeds, at least 1 [default: all cores].
     #[arg(long)]
     jobs: Option<usize>,
+    /// Threads of this one run: its per-group work (gather, scatter, implicit solve) is split
+    /// between the model's basis groups, so a long line of several tension lengths runs sooner;
+    /// the output bytes are the same [default: 1]. A model of one basis group runs on one.
+    #[arg(long, default_value_t = 1)]
+    threads: usize,
     /// Follow every dropper's tension: droppers.csv (extremes, slack steps, rainflow cycles, and
     /// Miner's damage when the case has a dropper_fatigue S–N curve), dropper_forces.csv (each
     /// dropper's tension at every step, when it holds at most 10 million numbers), and with
@@ -81,6 +86,13 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
             .map_err(|e| anyhow::anyhow!("{e} (with --irregularity {})", f.display()))?;
     }
     crate::common::jobs_flag(a.jobs)?;
+    let ctx = &Ctx {
+        threads: crate::common::threads_flag(a.threads)?,
+        ..*ctx
+    };
+    if a.seeds.is_some() && a.threads != 1 {
+        anyhow::bail!("--threads {} with --seeds: the realisations run in parallel by --jobs; give one or the other", a.threads);
+    }
     // The output directory is locked before the work starts: a second writer is refused at once.
     if a.seeds.is_some() {
         let n = crate::common::seeds_flag(a.seeds, &case)?;

@@ -67,6 +67,9 @@ pub struct RunOutput {
     pub steps_with_slack_percent: f64,
     /// Modes per wire and direction.
     pub n_modes: usize,
+    /// Threads the run stepped on (`Options::threads`, at most the model's basis groups); the
+    /// outputs do not depend on it.
+    pub threads: usize,
     /// Counters of what the run loop saw (snapshot-tested on the zoo).
     pub run_statistics: RunStatistics,
     /// The crosswind, if any (seed, spectrum, turbulence intensity achieved).
@@ -278,6 +281,7 @@ impl Recorder {
             steps_with_slack_percent: 100.0 * rs.steps_with_slack_dropper as f64
                 / rs.steps.max(1) as f64,
             n_modes: m.n_modes(),
+            threads: 1,
             run_statistics: rs,
             wind: m.wind.as_ref().map(|w| w.report.clone()),
             irregularity: m
@@ -448,6 +452,7 @@ pub fn simulate_with(
     };
     let mut out = rec.finish(integ.compiled(), rs);
     out.stability = integ.stability().cloned();
+    out.threads = integ.threads();
     if let (Some(d), Some(o)) = (drec, droppers) {
         out.droppers = Some(DropperRun {
             droppers: d.finish(integ.compiled(), o.curve.as_ref()),

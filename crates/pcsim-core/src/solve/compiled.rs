@@ -351,6 +351,7 @@ impl CompiledModel {
             rows: vec![0.0; self.rows_len],
             scr,
             imp,
+            lanes: Vec::new(),
             prhs: vec![0.0; self.max_pdof],
             loads: vec![0.0; 2 * np],
             external: vec![(0.0, 0.0); np],

@@ -111,29 +111,35 @@ impl ImplicitPoints {
     pub fn correct(
         &self,
         a: &mut [f64],
+        base: usize,
         neg_d_inv: &[f64],
         scr: &mut SamplerScratch,
         w: &mut ImplicitScratch,
     ) {
         let (np, n, k) = (self.np, self.n, self.chol.len());
-        let span = self.q_off..self.q_off + k * n;
+        let q0 = self.q_off - base;
         let g = &mut w.g[..k * np];
-        self.sampler.gather(&a[span], k, g, scr);
+        self.sampler.gather(&a[q0..q0 + k * n], k, g, scr);
         for (b, l) in self.chol.iter().enumerate() {
             let gb = &mut g[b * np..(b + 1) * np];
             cholesky_solve(l, np, gb, &mut w.y[..np]);
-            let r = self.q_off + b * n..self.q_off + (b + 1) * n;
+            let r = q0 + b * n..q0 + (b + 1) * n;
+            let d = &neg_d_inv[base + r.start..base + r.end];
             if self.sampler.is_single_group() {
-                self.sampler
-                    .scatter_scaled(gb, &mut a[r.clone()], &neg_d_inv[r], scr);
+                self.sampler.scatter_scaled(gb, &mut a[r], d, scr);
             } else {
                 let tmp = &mut w.tmp[..n];
                 tmp.fill(0.0);
                 self.sampler.scatter_add(gb, 1, tmp, scr);
-                for ((ai, di), t) in a[r.clone()].iter_mut().zip(&neg_d_inv[r]).zip(tmp.iter()) {
+                for ((ai, di), t) in a[r].iter_mut().zip(d).zip(tmp.iter()) {
                     *ai += di * t;
                 }
             }
         }
+    }
+
+    /// The modal coordinates this term corrects (its blocks, contiguous).
+    pub fn modal_range(&self) -> std::ops::Range<usize> {
+        self.q_off..self.q_off + self.chol.len() * self.n
     }
 }

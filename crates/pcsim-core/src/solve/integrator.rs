@@ -49,7 +49,8 @@ use crate::solve::plan::{Options, Plan};
 use crate::solve::sampler::SamplerScratch;
 use crate::solve::stability::{check_stability, CoupledLimit};
 use crate::solve::state::State;
-use crate::solve::workspace::Workspace;
+use crate::solve::team::{self, Part, Team, Unit};
+use crate::solve::workspace::{Lane, Workspace};
 
 /// The stepper: the compiled model and the operators of one time step Δt, precomputed.
 /// Immutable while stepping: [`Integrator::step`] takes the state and a [`Workspace`].
@@ -78,6 +79,9 @@ pub struct Integrator {
     max_imp: (usize, usize, usize),
     /// The coupled limit Δt was checked against.
     limit: Option<CoupledLimit>,
+    /// The step's per-group work in parts, one per thread of a run (`solve::team`); one part
+    /// covering everything for a single thread.
+    parts: Vec<Part>,
 }
 
 /// One trapezoidal (Cayley) step over `t` of the damped oscillator `m q̈ + c q̇ + k q = 0` as a
@@ -156,6 +160,7 @@ impl Integrator {
         let stable = check_stability(&cm, plan, options.dt_s)?;
         let mut integ = Self::from_compiled(cm, plan, stable.dt_s())?;
         integ.limit = Some(stable.limit().clone());
+        integ.parts = integ.partition(options.threads);
         Ok(integ)
     }
 
@@ -328,8 +333,44 @@ impl Integrator {
             scratch,
             max_imp,
             limit: None,
+            parts: Vec::new(),
             cm,
         })
+        .map(|mut integ: Integrator| {
+            integ.parts = integ.partition(1);
+            integ
+        })
+    }
+
+    /// The step's per-group work split for `threads` threads ([`team::partition`]).
+    fn partition(&self, threads: usize) -> Vec<Part> {
+        let cm = &self.cm;
+        let groups: Vec<Unit> = (cm.groups.iter())
+            .map(|g| Unit {
+                q: g.q_off..g.q_off + g.k * g.n,
+                u: g.u_base..g.u_base + g.k * g.npts,
+            })
+            .collect();
+        let vels: Vec<(usize, std::ops::Range<usize>)> = (cm.vels.iter())
+            .map(|v| (v.q_off, v.v_base..v.v_base + v.npts))
+            .collect();
+        let implicit: Vec<std::ops::Range<usize>> =
+            self.implicit.iter().map(|i| i.modal_range()).collect();
+        team::partition(
+            threads,
+            self.cm.model.layout.len,
+            &groups,
+            &vels,
+            &implicit,
+            cm.n_u,
+            cm.n_v,
+        )
+    }
+
+    /// Number of threads a run of this integrator uses (its parts; `Options::threads` asked
+    /// for at most that many).
+    pub fn threads(&self) -> usize {
+        self.parts.len()
     }
 
     /// The compiled model (Δt-free): what analysis reads.
@@ -364,10 +405,14 @@ impl Integrator {
 
     /// A workspace sized for this integrator (the only allocation; steps allocate nothing).
     pub fn workspace(&self) -> Workspace {
-        self.cm.workspace_with(
-            self.scratch.clone(),
-            ImplicitScratch::new(self.max_imp.0, self.max_imp.1, self.max_imp.2),
-        )
+        let imp = || ImplicitScratch::new(self.max_imp.0, self.max_imp.1, self.max_imp.2);
+        let mut ws = self.cm.workspace_with(self.scratch.clone(), imp());
+        if self.parts.len() > 1 {
+            ws.lanes = (0..self.parts.len())
+                .map(|_| (self.scratch.clone(), imp()))
+                .collect();
+        }
+        ws
     }
 
     /// The static state: the wires at rest in their static shape (the design's, or its
@@ -430,6 +475,59 @@ impl Integrator {
         }
     }
 
+    /// [`Integrator::step`] with the per-group work of stages 1–2, 4 and 7 shared by a team of
+    /// threads, one part each ([`crate::solve::team`]): the same operations on every value, so
+    /// the same bytes as [`Integrator::step`]. The workspace must come from this integrator.
+    pub fn step_team(&self, team: &Team, st: &mut State, ws: &mut Workspace) {
+        let n = self.parts.len();
+        if n <= 1 || team.threads() < n || ws.lanes.len() < n {
+            return self.step(st, ws);
+        }
+        // Stages 1 and 2: drift and gather, part by part.
+        {
+            let m = &mut st.modal;
+            let lanes = Lane::split(&self.parts, m, &mut ws.u, &mut ws.vel, &mut ws.lanes);
+            team.fork(n, &|i| {
+                let Some(l) = Lane::take(&lanes, i) else {
+                    return;
+                };
+                let p = &self.parts[i];
+                self.drift_modal(p, &mut *l.q, &mut *l.v, &*l.a);
+                self.gather_part(p, &*l.q, &*l.v, &mut *l.u, &mut *l.vel, &mut l.scr.0);
+            });
+        }
+        self.drift_rest(st);
+        self.gather_rest(st, ws);
+        self.fixed_point_forces(st, ws);
+        // Stage 4: the modal right-hand side and the scatter, part by part.
+        {
+            let m = &mut st.modal;
+            let f = &ws.f;
+            let lanes = Lane::split(&self.parts, m, &mut ws.u, &mut ws.vel, &mut ws.lanes);
+            team.fork(n, &|i| {
+                let Some(l) = Lane::take(&lanes, i) else {
+                    return;
+                };
+                self.modal_rhs_part(&self.parts[i], l.a, l.q, l.v, f, &mut l.scr.0);
+            });
+        }
+        self.wind(st, ws);
+        self.moving_points(st, ws);
+        // Stage 7: the implicit solve and the kick, part by part.
+        {
+            let m = &mut st.modal;
+            let lanes = Lane::split(&self.parts, m, &mut ws.u, &mut ws.vel, &mut ws.lanes);
+            team.fork(n, &|i| {
+                let Some(l) = Lane::take(&lanes, i) else {
+                    return;
+                };
+                let (scr, imp) = (&mut l.scr.0, &mut l.scr.1);
+                self.implicit_part(&self.parts[i], l.a, l.v, scr, imp);
+            });
+        }
+        self.pantographs(st, ws);
+    }
+
     /// Stages 2–8 of [`Integrator::step`]: the accelerations at `st` (the velocities are
     /// half-kicked on the way; callers that only want the accelerations reset them). The coupled
     /// stability check differences it without the drift ([`crate::solve::stability`]).
@@ -448,22 +546,46 @@ impl Integrator {
     /// torsional modes), of the pantograph and node coordinates; the time advances by Δt.
     #[inline(always)]
     fn drift(&self, st: &mut State) {
+        for p in &self.parts {
+            let m = &mut st.modal;
+            let (q, v, a) = (
+                &mut m.u[p.q.clone()],
+                &mut m.v[p.q.clone()],
+                &m.a[p.q.clone()],
+            );
+            self.drift_modal(p, q, v, a);
+        }
+        self.drift_rest(st);
+    }
+
+    /// Stage 1 on part `p`'s modal coordinates (`q`, `v`, `a` start at `p.q.start`).
+    #[inline(always)]
+    fn drift_modal(&self, p: &Part, q: &mut [f64], v: &mut [f64], a: &[f64]) {
         let dt = self.dt;
         let h = 0.5 * dt;
         let isa = self.cm.isa;
-        for &(a, b, exact) in &self.segments {
-            let (q, v, acc) = (
-                &mut st.modal.u[a..b],
-                &mut st.modal.v[a..b],
-                &st.modal.a[a..b],
-            );
+        let base = p.q.start;
+        for &(s, e, exact) in &self.segments {
+            let (s, e) = (s.max(p.q.start), e.min(p.q.end));
+            if s >= e {
+                continue;
+            }
+            let r = s - base..e - base;
+            let (q, v, acc) = (&mut q[r.clone()], &mut v[r.clone()], &a[r]);
             if exact {
                 kernels::kick(isa, v, acc, h);
-                kernels::flow(isa, q, v, &self.flow[a..b]);
+                kernels::flow(isa, q, v, &self.flow[s..e]);
             } else {
                 kernels::kick_drift(isa, q, v, acc, h, dt);
             }
         }
+    }
+
+    /// Stage 1 outside the parts: the pantographs and nodes; the time.
+    #[inline(always)]
+    fn drift_rest(&self, st: &mut State) {
+        let dt = self.dt;
+        let h = 0.5 * dt;
         let pd = &mut st.pantographs;
         for i in 0..pd.u.len() {
             pd.v[i] += h * pd.a[i];
@@ -481,17 +603,54 @@ impl Integrator {
     /// spot) and the nodes' own; the force accumulators are cleared.
     #[inline(always)]
     fn gather(&self, st: &mut State, ws: &mut Workspace) {
-        // Point displacements and velocities.
-        self.cm.gather_points(&st.modal.u, ws);
-        ws.f.fill(0.0);
-        for vp in &self.cm.vels {
-            vp.sampler.gather(
-                &st.modal.v[vp.q_off..vp.q_off + vp.n],
-                1,
-                &mut ws.vel[vp.v_base..vp.v_base + vp.npts],
+        for p in &self.parts {
+            let m = &st.modal;
+            self.gather_part(
+                p,
+                &m.u[p.q.clone()],
+                &m.v[p.q.clone()],
+                &mut ws.u[p.u.clone()],
+                &mut ws.vel[p.v.clone()],
                 &mut ws.scr,
             );
         }
+        self.gather_rest(st, ws);
+    }
+
+    /// Stage 2 on part `p`: its point groups' displacements and its velocity points (`q`, `v`
+    /// start at `p.q.start`, `u` at `p.u.start`, `vel` at `p.v.start`).
+    #[inline(always)]
+    fn gather_part(
+        &self,
+        p: &Part,
+        q: &[f64],
+        v: &[f64],
+        u: &mut [f64],
+        vel: &mut [f64],
+        scr: &mut SamplerScratch,
+    ) {
+        let (qb, ub, vb) = (p.q.start, p.u.start, p.v.start);
+        for g in &self.cm.groups[p.groups.clone()] {
+            let (q0, u0) = (g.q_off - qb, g.u_base - ub);
+            g.sampler.gather(
+                &q[q0..q0 + g.k * g.n],
+                g.k,
+                &mut u[u0..u0 + g.k * g.npts],
+                scr,
+            );
+        }
+        for vp in &self.cm.vels[p.vels.clone()] {
+            let (q0, v0) = (vp.q_off - qb, vp.v_base - vb);
+            vp.sampler
+                .gather(&v[q0..q0 + vp.n], 1, &mut vel[v0..v0 + vp.npts], scr);
+        }
+    }
+
+    /// Stage 2 outside the parts: the force accumulators cleared, the nodes' own displacements
+    /// and velocities.
+    #[inline(always)]
+    fn gather_rest(&self, st: &State, ws: &mut Workspace) {
+        ws.f.fill(0.0);
         let nn = st.nodes.u.len();
         ws.u[self.cm.node_u0..self.cm.node_u0 + nn].copy_from_slice(&st.nodes.u);
         ws.vel[self.cm.node_v0..self.cm.node_v0 + nn].copy_from_slice(&st.nodes.v);
@@ -514,17 +673,43 @@ impl Integrator {
     /// scattered onto the modes (Eq. 18).
     #[inline(always)]
     fn modal_rhs(&self, st: &mut State, ws: &mut Workspace) {
-        let isa = self.cm.isa;
+        for p in &self.parts {
+            let m = &mut st.modal;
+            let q = p.q.clone();
+            self.modal_rhs_part(
+                p,
+                &mut m.a[q.clone()],
+                &m.u[q.clone()],
+                &m.v[q],
+                &ws.f,
+                &mut ws.scr,
+            );
+        }
+    }
+
+    /// Stage 4 on part `p` (`a`, `q`, `v` start at `p.q.start`; `f` is every slot's force).
+    #[inline(always)]
+    fn modal_rhs_part(
+        &self,
+        p: &Part,
+        a: &mut [f64],
+        q: &[f64],
+        v: &[f64],
+        f: &[f64],
+        scr: &mut SamplerScratch,
+    ) {
         // Right-hand sides, stored in the acceleration array.
-        kernels::modal_rhs(
-            isa,
-            &mut st.modal.a,
-            &st.modal.u,
-            &st.modal.v,
-            &self.k,
-            &self.c,
-        );
-        self.cm.scatter_points(ws, &mut st.modal.a);
+        let r = p.q.clone();
+        kernels::modal_rhs(self.cm.isa, a, q, v, &self.k[r.clone()], &self.c[r]);
+        for g in &self.cm.groups[p.groups.clone()] {
+            let q0 = g.q_off - p.q.start;
+            g.sampler.scatter_add(
+                &f[g.u_base..g.u_base + g.k * g.npts],
+                g.k,
+                &mut a[q0..q0 + g.k * g.n],
+                scr,
+            );
+        }
     }
 
     /// Stage 5, steady loads and wind: the wires' steady loads (the ice's weight), and the
@@ -569,10 +754,17 @@ impl Integrator {
         // Moving points (contacts, Eq. 19): rows, heights, forces.
         for (mi, mp) in self.cm.moving.iter().enumerate() {
             let x = self.cm.moving_x(st, &ws.external, mp);
-            ws.absent[self.cm.moving_u0 + mi] = !mp.covers(x);
-            let row = self.cm.moving_row(&mut ws.rows, mp, x);
-            ws.u[self.cm.moving_u0 + mi] = m.static_height(mp.wire, mp.dir, x, st.track_origin_m)
-                + kernels::dot(isa, &st.modal.u[mp.q_off..mp.q_off + mp.n], row);
+            let absent = !mp.covers(x);
+            ws.absent[self.cm.moving_u0 + mi] = absent;
+            let h = m.static_height(mp.wire, mp.dir, x, st.track_origin_m);
+            // A point beyond its wire's ends (a pantograph outside that tension length) has no
+            // contact and no force: its row and the wire's deviation there are not needed.
+            ws.u[self.cm.moving_u0 + mi] = if absent {
+                h
+            } else {
+                let row = self.cm.moving_row(&mut ws.rows, mp, x);
+                h + kernels::dot(isa, &st.modal.u[mp.q_off..mp.q_off + mp.n], row)
+            };
             ws.samples[mp.pantograph].position_m = x;
         }
         // The contact point's lateral position, before the contact forces: beyond the head
@@ -582,8 +774,14 @@ impl Integrator {
                 let mp = &self.cm.moving[lp.moving];
                 let row = &ws.rows[mp.row_off..mp.row_off + mp.n];
                 let x = ws.samples[p].position_m;
-                let mut z = m.static_height(lp.wire, Direction::Lateral, x, st.track_origin_m)
-                    + kernels::dot(isa, &st.modal.u[lp.lat_off..lp.lat_off + lp.n], row);
+                let mut z = m.static_height(lp.wire, Direction::Lateral, x, st.track_origin_m);
+                if ws.absent[self.cm.moving_u0 + lp.moving] {
+                    // Beyond the wire's ends: no row, no deviation (and no contact).
+                    ws.samples[p].lateral_m = z;
+                    ws.off_head[p] = false;
+                    continue;
+                }
+                z += kernels::dot(isa, &st.modal.u[lp.lat_off..lp.lat_off + lp.n], row);
                 if let Some(t) = lp.tors_off {
                     let phi = kernels::dot(isa, &st.modal.u[t..t + lp.n], row);
                     z -= lp.eccentricity_m * phi;
@@ -626,6 +824,9 @@ impl Integrator {
             m.elements[e].add_forces(&self.cm.slots[e], &mut io);
         }
         for (mi, mp) in self.cm.moving.iter().enumerate() {
+            if ws.absent[self.cm.moving_u0 + mi] {
+                continue; // no force (its row was not filled)
+            }
             let f = ws.f[self.cm.moving_u0 + mi];
             kernels::axpy(
                 isa,
@@ -665,14 +866,32 @@ impl Integrator {
     /// correction of the implicit point masses and dampers, and the second half kick.
     #[inline(always)]
     fn implicit_solve(&self, st: &mut State, ws: &mut Workspace) {
+        for p in &self.parts {
+            let m = &mut st.modal;
+            let q = p.q.clone();
+            let (a, v) = (&mut m.a[q.clone()], &mut m.v[q]);
+            self.implicit_part(p, a, v, &mut ws.scr, &mut ws.imp);
+        }
+    }
+
+    /// Stage 7 on part `p` (`a`, `v` start at `p.q.start`).
+    #[inline(always)]
+    fn implicit_part(
+        &self,
+        p: &Part,
+        a: &mut [f64],
+        v: &mut [f64],
+        scr: &mut SamplerScratch,
+        imp: &mut ImplicitScratch,
+    ) {
         let h = 0.5 * self.dt;
         let isa = self.cm.isa;
         // Solve for the accelerations and finish the velocities.
-        kernels::scale(isa, &mut st.modal.a, &self.d_inv);
-        for imp in &self.implicit {
-            imp.correct(&mut st.modal.a, &self.neg_d_inv, &mut ws.scr, &mut ws.imp);
+        kernels::scale(isa, a, &self.d_inv[p.q.clone()]);
+        for ip in &self.implicit[p.implicit.clone()] {
+            ip.correct(a, p.q.start, &self.neg_d_inv, scr, imp);
         }
-        kernels::kick(isa, &mut st.modal.v, &st.modal.a, h);
+        kernels::kick(isa, v, a, h);
     }
 
     /// Stage 8, pantographs: the wire velocity at the contact and each lumped pantograph's
@@ -689,11 +908,16 @@ impl Integrator {
                     ws.sample_point[p]
                 };
                 let mp = &self.cm.moving[mi];
-                ws.samples[p].wire_velocity_m_s = kernels::dot(
-                    isa,
-                    &st.modal.v[mp.q_off..mp.q_off + mp.n],
-                    &ws.rows[mp.row_off..mp.row_off + mp.n],
-                );
+                // No wire under the pantograph: its row was not filled, the velocity is zero.
+                ws.samples[p].wire_velocity_m_s = if ws.absent[self.cm.moving_u0 + mi] {
+                    0.0
+                } else {
+                    kernels::dot(
+                        isa,
+                        &st.modal.v[mp.q_off..mp.q_off + mp.n],
+                        &ws.rows[mp.row_off..mp.row_off + mp.n],
+                    )
+                };
             }
             if let Some(ops) = &self.chains[p] {
                 let r = self.cm.pantograph_dofs(p);

@@ -15,6 +15,7 @@
 //! | `integrator.rs` | the stepper: the Δt operators, the step (Eq. 18) in eight named stages |
 //! | `stability.rs` | Δt against the local limits and the coupled system's highest frequency (power iteration) |
 //! | `run.rs` | the run loop with observers, blow-up checks, run statistics |
+//! | `team.rs` | one run on several threads: the step's per-group work in parts, a spinning fork–join team |
 //! | `realtime.rs` | the moving-window catenary for HIL |
 
 pub mod compiled;
@@ -29,6 +30,7 @@ pub mod run;
 pub mod sampler;
 pub mod stability;
 pub mod state;
+pub mod team;
 pub mod workspace;
 
 pub use compiled::CompiledModel;

@@ -29,6 +29,10 @@ pub struct Options {
     /// Instruction set of the hot loops (default: the best of this CPU, unless
     /// `PCSIM_PORTABLE=1`; see `solve::kernels`).
     pub isa: Isa,
+    /// Threads one run may use (`solve::team`): the step's per-group work is split into at
+    /// most this many parts, cut between basis groups; a model of one group runs on one.
+    /// The output bytes do not depend on it. Default 1.
+    pub threads: usize,
 }
 
 impl Options {
@@ -37,6 +41,7 @@ impl Options {
         Options {
             dt_s,
             isa: Isa::default(),
+            threads: 1,
         }
     }
 }

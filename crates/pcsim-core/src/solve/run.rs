@@ -14,6 +14,7 @@ use crate::model::PantographKind;
 use crate::solve::compiled::CompiledModel;
 use crate::solve::integrator::Integrator;
 use crate::solve::state::State;
+use crate::solve::team::{with_team, Team};
 use crate::solve::workspace::Workspace;
 
 /// What a run loop counted: the solver's statistics, snapshot-tested on the zoo so that a silent
@@ -56,8 +57,29 @@ pub trait Observer {
 pub const CHECK_EVERY: usize = 256;
 
 /// Step `n_steps` times. `progress(fraction)` is called every [`CHECK_EVERY`] steps; returning
-/// `false` cancels the run.
+/// `false` cancels the run. An integrator built for several threads
+/// ([`Integrator::threads`], `Options::threads`) steps with a team of that many
+/// ([`crate::solve::team`]): the same bytes, sooner on a long line.
 pub fn run(
+    integ: &Integrator,
+    st: &mut State,
+    ws: &mut Workspace,
+    n_steps: usize,
+    observers: &mut [&mut dyn Observer],
+    progress: &mut dyn FnMut(f64) -> bool,
+) -> Result<RunStatistics, SimError> {
+    if integ.threads() > 1 {
+        with_team(integ.threads(), |team| {
+            run_on(Some(team), integ, st, ws, n_steps, observers, progress)
+        })
+    } else {
+        run_on(None, integ, st, ws, n_steps, observers, progress)
+    }
+}
+
+/// The loop of [`run`], stepping on the calling thread or with a team.
+fn run_on(
+    team: Option<&Team>,
     integ: &Integrator,
     st: &mut State,
     ws: &mut Workspace,
@@ -69,7 +91,10 @@ pub fn run(
     let pans = &integ.model().pantographs;
     let max_h = integ.compiled().max_wire_deviation_m();
     for step in 0..n_steps {
-        integ.step(st, ws);
+        match team {
+            Some(team) => integ.step_team(team, st, ws),
+            None => integ.step(st, ws),
+        }
         rs.steps += 1;
         let slack = ws.slack_droppers() as u64;
         rs.max_slack_droppers = rs.max_slack_droppers.max(slack);

@@ -2,8 +2,12 @@
 //! allocated behind the caller's back), the step's outputs (contact samples, slack droppers) and
 //! the inputs of hardware-in-the-loop pantographs.
 
+use std::sync::Mutex;
+
 use crate::solve::implicit::ImplicitScratch;
 use crate::solve::sampler::SamplerScratch;
+use crate::solve::state::Dofs;
+use crate::solve::team::{Part, MAX_THREADS};
 
 /// What one step saw at each pantograph.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -91,6 +95,9 @@ pub struct Workspace {
     pub(crate) rows: Vec<f64>,
     pub(crate) scr: SamplerScratch,
     pub(crate) imp: ImplicitScratch,
+    /// Per part of a run on several threads: its sampler and implicit scratch (empty for one
+    /// thread).
+    pub(crate) lanes: Vec<(SamplerScratch, ImplicitScratch)>,
     /// Pantograph right-hand side (length: the most degrees of freedom of a pantograph).
     pub(crate) prhs: Vec<f64>,
     /// Prescribed loads per pantograph, N.
@@ -130,5 +137,65 @@ impl Workspace {
     /// Droppers slack in the last step.
     pub fn slack_droppers(&self) -> usize {
         self.slack
+    }
+}
+
+/// One part's share of a stage split over threads ([`crate::solve::team`]): its modal
+/// coordinates, its displacement and velocity slots, and its scratch.
+pub(crate) struct Lane<'a> {
+    pub(crate) q: &'a mut [f64],
+    pub(crate) v: &'a mut [f64],
+    pub(crate) a: &'a mut [f64],
+    pub(crate) u: &'a mut [f64],
+    pub(crate) vel: &'a mut [f64],
+    pub(crate) scr: &'a mut (SamplerScratch, ImplicitScratch),
+}
+
+/// The lanes of a split stage, one slot per part, each taken once by the thread of its part.
+pub(crate) type Lanes<'a> = [Mutex<Option<Lane<'a>>>; MAX_THREADS];
+
+impl<'a> Lane<'a> {
+    /// Cut the modal coordinates, the slots and the scratch into the parts' lanes (the parts
+    /// are contiguous and cover each array; see `team::partition`). No allocation.
+    pub(crate) fn split(
+        parts: &[Part],
+        m: &'a mut Dofs,
+        u: &'a mut [f64],
+        vel: &'a mut [f64],
+        scr: &'a mut [(SamplerScratch, ImplicitScratch)],
+    ) -> Lanes<'a> {
+        let lanes: Lanes<'a> = std::array::from_fn(|_| Mutex::new(None));
+        let (mut q, mut v, mut a) = (&mut m.u[..], &mut m.v[..], &mut m.a[..]);
+        let (mut u, mut vel, mut scr) = (u, vel, scr);
+        for (i, p) in parts.iter().enumerate().take(MAX_THREADS) {
+            let nq = p.q.len();
+            let (q0, q1) = std::mem::take(&mut q).split_at_mut(nq);
+            let (v0, v1) = std::mem::take(&mut v).split_at_mut(nq);
+            let (a0, a1) = std::mem::take(&mut a).split_at_mut(nq);
+            let (u0, u1) = std::mem::take(&mut u).split_at_mut(p.u.len());
+            let (w0, w1) = std::mem::take(&mut vel).split_at_mut(p.v.len());
+            let Some((s0, s1)) = std::mem::take(&mut scr).split_first_mut() else {
+                break;
+            };
+            (q, v, a, u, vel, scr) = (q1, v1, a1, u1, w1, s1);
+            *lanes[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(Lane {
+                q: q0,
+                v: v0,
+                a: a0,
+                u: u0,
+                vel: w0,
+                scr: s0,
+            });
+        }
+        lanes
+    }
+
+    /// Take lane `i` (each once per stage).
+    pub(crate) fn take(lanes: &Lanes<'a>, i: usize) -> Option<Lane<'a>> {
+        lanes
+            .get(i)?
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .take()
     }
 }
