@@ -9,7 +9,11 @@ for the 3D preset `stitched-2018-like-3d` (its summary with its warnings), for t
 hashes made again when its points moved from dense rows to the non-uniform transform, the
 statistics within 1.1e-11 of the rows' and every other hash unchanged; every summary hash made
 again when summary.json gained `contact_wire_wave_speed_kmh` and `speed_ratio` for `pcsim assess`,
-issue 22, every timeseries hash unchanged), and for each
+issue 22, every timeseries hash unchanged; every hash made again when the implicit corrections'
+triangular solves took their row sums in the four-lane dot kernel, issue 23, the statistics
+within 8e-14 relative of the previous build's on every preset but the chaotic benchmark-55m,
+whose kernel paths already differ by 3e-2, and line-structure-2002's statistical minimum, 5e-11),
+and for each
 kernel path
 (`portable`: PCSIM_PORTABLE=1, the same bytes on every machine; `avx2`: x86-64-v3 with fused
 multiply-add, the same bytes on every machine that has it): the FNV-1a 64-bit hash of

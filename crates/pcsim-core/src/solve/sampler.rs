@@ -266,6 +266,11 @@ impl PointSampler {
         self.n_points
     }
 
+    /// The instruction set of its kernels.
+    pub fn isa(&self) -> Isa {
+        self.isa
+    }
+
     /// Number of modes of the basis.
     pub fn n_modes(&self) -> usize {
         self.n_modes
