@@ -167,19 +167,15 @@ pub fn jobs_flag(jobs: Option<usize>) -> Result<()> {
     Ok(())
 }
 
-/// `--threads N` of one run: at least 1, at most [`pcsim_core::solve::team::MAX_THREADS`], and
-/// capped at this machine's cores (the team's threads spin between the stages of a step, so a
-/// thread without a core of its own would slow the run down).
+/// `--threads N` of one run, by the core's rule (`team::usable_threads`): 1 to 16, capped at
+/// this machine's cores with a note.
 pub fn threads_flag(threads: usize) -> Result<usize> {
-    let max = pcsim_core::solve::team::MAX_THREADS;
-    if threads == 0 || threads > max {
-        bail!("--threads {threads}: give 1 to {max} threads for one run");
+    let n = pcsim_core::solve::team::usable_threads(threads)
+        .map_err(|e| anyhow::anyhow!("--threads {e}"))?;
+    if n < threads {
+        eprintln!("note: --threads {threads}: capped at this machine's {n} core(s)");
     }
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    if threads > cores {
-        eprintln!("note: --threads {threads}: capped at this machine's {cores} core(s)");
-    }
-    Ok(threads.min(cores))
+    Ok(n)
 }
 
 /// The sweep flags shared by `eva` and `window`: speeds (km/h unless a unit is given), contact-

@@ -227,14 +227,16 @@ fn hand_over<'py>(
 }
 
 fn run_core(case: &pcsim_core::Case) -> Result<(RunOutput, f64, Vec<String>), String> {
-    run_core_with(case, &mut |_| true)
+    run_core_with(case, 1, &mut |_| true)
 }
 
 fn run_core_with(
     case: &pcsim_core::Case,
+    threads: usize,
     progress: &mut dyn FnMut(f64) -> bool,
 ) -> Result<(RunOutput, f64, Vec<String>), String> {
-    let setup = Setup::from_case(case).map_err(|e| e.to_string())?;
+    let mut setup = Setup::from_case(case).map_err(|e| e.to_string())?;
+    setup.options.threads = threads;
     let warnings = setup.warnings.iter().map(|w| w.0.clone()).collect();
     let t0 = std::time::Instant::now();
     let out = simulate(&setup, progress).map_err(|e| e.to_string())?;
@@ -243,15 +245,19 @@ fn run_core_with(
 
 /// Run one case (the interpreter is released meanwhile): `(summary_json, [(column, array)])`.
 /// Ctrl-C stops it between chunks of steps (the run loop's progress checks, every 256 steps) and
-/// raises `KeyboardInterrupt`.
+/// raises `KeyboardInterrupt`. `threads`: the run's threads (the core's `team::usable_threads`
+/// rule; the same numbers on any count).
 #[pyfunction]
-fn run<'py>(py: Python<'py>, case: &Case) -> PyResult<Bound<'py, PyTuple>> {
+#[pyo3(signature = (case, threads=1))]
+fn run<'py>(py: Python<'py>, case: &Case, threads: usize) -> PyResult<Bound<'py, PyTuple>> {
     guarded(|| {
+        let threads = pcsim_core::solve::team::usable_threads(threads)
+            .map_err(|e| PyValueError::new_err(format!("threads={e}")))?;
         let c = case.inner.clone();
         let mut interrupted: Option<PyErr> = None;
         let res = py.detach(|| {
             let mut last = std::time::Instant::now();
-            run_core_with(&c, &mut |_| {
+            run_core_with(&c, threads, &mut |_| {
                 if last.elapsed() < SIGNAL_EVERY {
                     return true;
                 }

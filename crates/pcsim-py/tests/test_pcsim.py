@@ -61,6 +61,21 @@ def test_run_equals_the_cli_exactly(tmp_path):
         assert [f"{v:.{decimals[name]}f}" for v in arr] == [r[j] for r in rows[1:]], name
 
 
+def test_a_run_on_two_threads_gives_the_same_numbers_as_on_one():
+    """A line of ten tension lengths (cut to four spans of travel) splits between two threads;
+    its statistics and every time series are the same floats as on one; a bad count is a
+    ValueError naming `threads`."""
+    case = pcsim.Case.preset("line-10km-2002")
+    case = case.with_overrides({"run.end_m": 300.0, "run.analysis_m": [121.0, 300.0]})
+    one, two = pcsim.run(case), pcsim.run(case, threads=2)
+    assert one.summary["pantographs"] == two.summary["pantographs"]
+    assert list(one.timeseries.keys()) == list(two.timeseries.keys())
+    for name in one.timeseries:
+        assert np.array_equal(one.timeseries[name], two.timeseries[name]), name
+    with pytest.raises(ValueError, match="threads=0"):
+        pcsim.run(case, threads=0)
+
+
 def test_errors_are_value_errors_naming_the_field():
     case = pcsim.Case.preset("en50318-2002")
     with pytest.raises(ValueError, match="catenary.contact_wire.tension_n"):

@@ -27,6 +27,19 @@ use std::sync::Mutex;
 /// The most threads one run uses (more parts than that would be too small to pay).
 pub const MAX_THREADS: usize = 16;
 
+/// The threads one run may use for `requested`: an error for 0 or more than [`MAX_THREADS`],
+/// else at most this machine's cores (the team's threads spin between the stages of a step, so a
+/// thread without a core of its own slows the run down). The one rule of every front end.
+pub fn usable_threads(requested: usize) -> Result<usize, String> {
+    if requested == 0 || requested > MAX_THREADS {
+        return Err(format!(
+            "{requested}: give 1 to {MAX_THREADS} threads for one run"
+        ));
+    }
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    Ok(requested.min(cores))
+}
+
 /// A share of the step's per-group work (see the module's doc).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct Part {

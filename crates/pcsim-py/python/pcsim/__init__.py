@@ -74,9 +74,13 @@ class Result:
         )
 
 
-def run(case: Case) -> Result:
-    """Simulate one case (single-threaded, the interpreter released) and take its statistics."""
-    return Result._from_native(_pcsim.run(case))
+def run(case: Case, threads: int = 1) -> Result:
+    """Simulate one case (the interpreter released) and take its statistics.
+
+    ``threads``: the run's threads, as the CLI's ``run --threads`` (a line of several tension
+    lengths splits its work between them; capped at the machine's cores; the same numbers on any
+    count). ``sweep`` runs one case per thread instead."""
+    return Result._from_native(_pcsim.run(case, threads))
 
 
 def sweep(cases: Sequence[Case], client: Any = None, jobs: Optional[int] = None) -> List[Result]:
