@@ -12,7 +12,10 @@ again when summary.json gained `contact_wire_wave_speed_kmh` and `speed_ratio` f
 issue 22, every timeseries hash unchanged; every hash made again when the implicit corrections'
 triangular solves took their row sums in the four-lane dot kernel, issue 23, the statistics
 within 8e-14 relative of the previous build's on every preset but the chaotic benchmark-55m,
-whose kernel paths already differ by 3e-2, and line-structure-2002's statistical minimum, 5e-11),
+whose kernel paths already differ by 3e-2, and line-structure-2002's statistical minimum, 5e-11;
+the two 3D presets' hashes made again when the messenger's undriven torsion left the model,
+issue 23, their statistics within 7e-14 of the previous build's, the coupled stability estimate
+within its power iteration's 6e-7),
 and for each
 kernel path
 (`portable`: PCSIM_PORTABLE=1, the same bytes on every machine; `avx2`: x86-64-v3 with fused

@@ -802,6 +802,14 @@ fn the_crosswind_damps_the_torsion_by_the_moment_slope() {
     let mut seen = 0;
     for ww in &wl.wires {
         let role = windy.model.wires[ww.wire].role;
+        // The messenger's moment table is zero and no clamp holds it eccentrically: its torsion
+        // is not modelled (issue 23, item 2), with or without the wind.
+        if role == WireRole::Messenger {
+            assert_eq!(ww.torsional_m2, 0.0);
+            assert!(windy.model.block(role, Direction::Torsional).is_none());
+            assert!(calm.model.block(role, Direction::Torsional).is_none());
+            continue;
+        }
         let b = windy.model.block(role, Direction::Torsional).unwrap();
         let added: Vec<f64> = windy
             .model
@@ -831,4 +839,42 @@ fn the_crosswind_damps_the_torsion_by_the_moment_slope() {
         }
     }
     assert_eq!(seen, 1, "the contact wire's moment table has a slope");
+}
+
+/// Issue 23, item 2: a messenger's torsion is modelled only where a wind moment drives it (no
+/// clamp holds it eccentrically): the 3D preset steps five blocks, not six; a moment table on the
+/// messenger with a mean moment brings its torsion back (a slope alone damps, it does not drive).
+#[test]
+fn an_undriven_messenger_torsion_leaves_the_model() {
+    let short = |mut c: pcsim_core::Case| {
+        c.catenary.spans = 8;
+        c.pantographs.truncate(1);
+        c.run.modes = Some(320);
+        c.run.start_m = 150.0;
+        c.run.end_m = 360.0;
+        c.run.analysis_m = [210.0, 360.0];
+        c
+    };
+    let case = short(presets::load("stitched-2018-like-3d").unwrap().0);
+    let m = Setup::from_case(&case).unwrap().model;
+    assert_eq!(m.layout.blocks.len(), 5);
+    assert!(m.block(WireRole::Messenger, Direction::Torsional).is_none());
+    assert!(m.block(WireRole::Contact, Direction::Torsional).is_some());
+    assert!(m.block(WireRole::Messenger, Direction::Lateral).is_some());
+    let mut windy = short(presets::load("stitched-2018-like-3d-crosswind").unwrap().0);
+    let m = Setup::from_case(&windy).unwrap().model;
+    assert!(m.block(WireRole::Messenger, Direction::Torsional).is_none());
+    let aero = windy
+        .catenary
+        .messenger
+        .section
+        .as_mut()
+        .unwrap()
+        .aero
+        .as_mut()
+        .unwrap();
+    aero.moment = vec![0.01, 0.01, 0.01]; // a mean moment (C_M(0) ≠ 0)
+    let m = Setup::from_case(&windy).unwrap().model;
+    assert_eq!(m.layout.blocks.len(), 6);
+    assert!(m.block(WireRole::Messenger, Direction::Torsional).is_some());
 }

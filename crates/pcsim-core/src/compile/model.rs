@@ -452,6 +452,23 @@ pub fn model_from_validated(
             ),
         ] {
             let w = 2 * k + i;
+            // The messenger's torsion is modelled only where something drives it: no clamp
+            // holds it eccentrically (the droppers' and steady arms' eccentric clamps grip the
+            // contact wire; the cantilever's registration holds the messenger laterally only),
+            // so only a wind moment (`d² C_M ≠ 0`) does. Undriven, it would stay exactly zero
+            // at the cost of a sixth of a 3D step (issue 23, item 2).
+            let driven = |w: usize| {
+                wind.as_ref().is_some_and(|wl| {
+                    wl.wires
+                        .iter()
+                        .any(|ww| ww.wire == w && ww.torsional_m2 != 0.0)
+                })
+            };
+            let wire_dirs: Vec<Direction> = dirs
+                .iter()
+                .copied()
+                .filter(|&d| d != Direction::Torsional || i != MESSENGER || driven(w))
+                .collect();
             wires.push(
                 Wire::new(
                     &format!("{name}{suffix}"),
@@ -460,7 +477,7 @@ pub fn model_from_validated(
                     basis.clone(),
                     section(rho, wc, ice_polar[i]),
                     c.damping.clone(),
-                    &dirs,
+                    &wire_dirs,
                 )
                 .with_added_damping(Direction::Lateral, aero(w, Direction::Lateral))
                 .with_added_damping(Direction::Vertical, aero(w, Direction::Vertical))
