@@ -319,7 +319,7 @@ impl Integrator {
             .iter()
             .map(|i| (i.n_blocks(), i.n_points(), i.sampler().n_modes()))
             .fold((0, 0, 0), |a, x| (a.0.max(x.0), a.1.max(x.1), a.2.max(x.2)));
-        Ok(Integrator {
+        let mut integ = Integrator {
             dt,
             d_inv: d_eff.iter().map(|d| 1.0 / d).collect(),
             neg_d_inv: d_eff.iter().map(|d| -1.0 / d).collect(),
@@ -335,11 +335,10 @@ impl Integrator {
             limit: None,
             parts: Vec::new(),
             cm,
-        })
-        .map(|mut integ: Integrator| {
-            integ.parts = integ.partition(1);
-            integ
-        })
+        };
+        // One part until `Integrator::new` splits it for `Options::threads`.
+        integ.parts = integ.partition(1);
+        Ok(integ)
     }
 
     /// The step's per-group work split for `threads` threads ([`team::partition`]).
