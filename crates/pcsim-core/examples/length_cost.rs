@@ -13,28 +13,13 @@
 //! the same model.
 
 use pcsim_core::compile::Setup;
-use pcsim_core::input::case::PantographCase;
 use pcsim_core::presets;
 
 fn main() {
     let mut args = std::env::args().skip(1);
     let spans: usize = args.next().map_or(30, |s| s.parse().expect("spans"));
     let steps: usize = args.next().map_or(2000, |s| s.parse().expect("steps"));
-    let mut c = presets::load("en50318-2002").unwrap().0;
-    c.catenary.spans = spans;
-    let l = spans as f64 * c.catenary.span_m;
-    c.run.modes = Some(40 * spans);
-    c.run.modes_per_m = None;
-    c.run.speed_kmh = 320.0;
-    let mut trailing = c.pantographs[0].clone();
-    if let PantographCase::Lumped { name, offset_m, .. } = &mut trailing {
-        *name = "trailing".into();
-        *offset_m = 200.0;
-    }
-    c.pantographs.push(trailing);
-    c.run.start_m = 260.0;
-    c.run.end_m = l - 240.0;
-    c.run.analysis_m = [480.0, l - 300.0];
+    let c = presets::benchmark_case(320.0, 40 * spans, spans).expect("the benchmark case");
     let setup = Setup::from_case(&c).expect("the benchmark case");
     let integ = setup.integrator().expect("its integrator");
     let mut st = integ.initial_state(setup.plan.start_m);

@@ -3,8 +3,7 @@
 
 use anyhow::{bail, Result};
 use clap::Args;
-use pcsim_core::input::case::PantographCase;
-use pcsim_core::{presets, Case};
+use pcsim_core::presets;
 use std::time::Instant;
 
 use crate::common::{apply, length, run_with_progress_quietly, Ctx, Override};
@@ -63,30 +62,6 @@ fn spread(v: &[f64]) -> (f64, f64, f64) {
     (med, s[0], s[n - 1])
 }
 
-/// The benchmark case: the en50318-2002 catenary over `spans` spans with two pantographs
-/// 200 m apart.
-pub fn bench_case(speed_kmh: f64, modes: usize, spans: usize, dt: Option<f64>) -> Result<Case> {
-    let mut c = presets::load("en50318-2002")?.0;
-    c.catenary.spans = spans;
-    let l = spans as f64 * c.catenary.span_m;
-    c.run.modes = Some(modes);
-    c.run.modes_per_m = None;
-    c.run.speed_kmh = speed_kmh;
-    if let Some(dt) = dt {
-        c.run.dt_s = dt;
-    }
-    let mut trailing = c.pantographs[0].clone();
-    if let PantographCase::Lumped { name, offset_m, .. } = &mut trailing {
-        *name = "trailing".into();
-        *offset_m = 200.0;
-    }
-    c.pantographs.push(trailing);
-    c.run.start_m = 260.0;
-    c.run.end_m = l - 240.0;
-    c.run.analysis_m = [480.0, l - 300.0];
-    Ok(c)
-}
-
 pub fn bench(a: BenchArgs, ctx: &Ctx) -> Result<i32> {
     if a.repeat == 0 || a.repeat > 1000 {
         bail!("--repeat {}: time between 1 and 1000 runs", a.repeat);
@@ -125,7 +100,7 @@ pub fn bench(a: BenchArgs, ctx: &Ctx) -> Result<i32> {
     }
     let modes = a.modes.unwrap_or(1200);
     let case = if preset == "en50318-2002" {
-        bench_case(320.0, modes, a.spans.unwrap_or(30), None)?
+        presets::benchmark_case(320.0, modes, a.spans.unwrap_or(30))?
     } else {
         if a.spans.is_some() {
             bail!("--spans applies to the en50318-2002 benchmark extension only (preset `{preset}` keeps its spans)");

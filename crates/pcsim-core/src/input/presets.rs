@@ -1,7 +1,7 @@
 //! Presets: TOML cases embedded in the binary, every field with its source or a `guess` mark.
 
 use crate::error::CaseError;
-use crate::input::case::{Case, Provenance};
+use crate::input::case::{Case, PantographCase, Provenance};
 
 /// A named embedded case.
 #[derive(Debug, Clone, Copy)]
@@ -79,4 +79,26 @@ pub fn find(name: &str) -> Result<&'static Preset, CaseError> {
 /// Parse a preset into a case.
 pub fn load(name: &str) -> Result<(Case, Provenance), CaseError> {
     Case::from_toml_str(find(name)?.toml)
+}
+
+/// The benchmark case (`pcsim bench --preset en50318-2002`, `examples/length_cost.rs`): the
+/// `en50318-2002` catenary over `spans` spans of 60 m with `modes` modes per wire, a second
+/// pantograph 200 m behind the first, at `speed_kmh`, from 260 m to 240 m before the end.
+pub fn benchmark_case(speed_kmh: f64, modes: usize, spans: usize) -> Result<Case, CaseError> {
+    let mut c = load("en50318-2002")?.0;
+    c.catenary.spans = spans;
+    let l = spans as f64 * c.catenary.span_m;
+    c.run.modes = Some(modes);
+    c.run.modes_per_m = None;
+    c.run.speed_kmh = speed_kmh;
+    let mut trailing = c.pantographs[0].clone();
+    if let PantographCase::Lumped { name, offset_m, .. } = &mut trailing {
+        *name = "trailing".into();
+        *offset_m = 200.0;
+    }
+    c.pantographs.push(trailing);
+    c.run.start_m = 260.0;
+    c.run.end_m = l - 240.0;
+    c.run.analysis_m = [480.0, l - 300.0];
+    Ok(c)
 }
