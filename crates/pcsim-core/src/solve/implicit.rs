@@ -118,11 +118,11 @@ impl ImplicitPoints {
     ) {
         let (np, n, k) = (self.np, self.n, self.chol.len());
         let q0 = self.q_off - base;
+        let isa = self.sampler.isa();
         let g = &mut w.g[..k * np];
         self.sampler.gather(&a[q0..q0 + k * n], k, g, scr);
         for (b, l) in self.chol.iter().enumerate() {
             let gb = &mut g[b * np..(b + 1) * np];
-            let isa = self.sampler.isa();
             cholesky_solve_by(l, np, gb, &mut w.y[..np], |x, y| kernels::dot(isa, x, y));
             let r = q0 + b * n..q0 + (b + 1) * n;
             let d = &neg_d_inv[base + r.start..base + r.end];

@@ -14,7 +14,7 @@ use crate::model::PantographKind;
 use crate::solve::compiled::CompiledModel;
 use crate::solve::integrator::Integrator;
 use crate::solve::state::State;
-use crate::solve::team::{with_team, Team};
+use crate::solve::team::with_team;
 use crate::solve::workspace::Workspace;
 
 /// What a run loop counted: the solver's statistics, snapshot-tested on the zoo so that a silent
@@ -68,73 +68,54 @@ pub fn run(
     observers: &mut [&mut dyn Observer],
     progress: &mut dyn FnMut(f64) -> bool,
 ) -> Result<RunStatistics, SimError> {
-    if integ.threads() > 1 {
-        with_team(integ.threads(), |team| {
-            run_on(Some(team), integ, st, ws, n_steps, observers, progress)
-        })
-    } else {
-        run_on(None, integ, st, ws, n_steps, observers, progress)
-    }
-}
-
-/// The loop of [`run`], stepping on the calling thread or with a team.
-fn run_on(
-    team: Option<&Team>,
-    integ: &Integrator,
-    st: &mut State,
-    ws: &mut Workspace,
-    n_steps: usize,
-    observers: &mut [&mut dyn Observer],
-    progress: &mut dyn FnMut(f64) -> bool,
-) -> Result<RunStatistics, SimError> {
-    let mut rs = RunStatistics::default();
-    let pans = &integ.model().pantographs;
-    let max_h = integ.compiled().max_wire_deviation_m();
-    for step in 0..n_steps {
-        match team {
-            Some(team) => integ.step_team(team, st, ws),
-            None => integ.step(st, ws),
-        }
-        rs.steps += 1;
-        let slack = ws.slack_droppers() as u64;
-        rs.max_slack_droppers = rs.max_slack_droppers.max(slack);
-        rs.steps_with_slack_dropper += (slack > 0) as u64;
-        if ws
-            .samples()
-            .iter()
-            .zip(pans)
-            .any(|(s, p)| matches!(p.kind, PantographKind::Lumped(_)) && s.force_n <= 0.0)
-        {
-            rs.steps_with_contact_loss += 1;
-        }
-        rs.blow_up_checks += 1;
-        for (p, s) in ws.samples().iter().enumerate() {
-            if !s.is_sound(max_h) {
-                return Err(SimError::BlowUp {
-                    time_s: st.t,
-                    position_m: s.position_m + st.track_origin_m,
-                    what: s.fault(p, max_h).unwrap_or_default(),
-                });
+    // One thread: the team has no helper, and `step_team` is `step`.
+    with_team(integ.threads(), |team| {
+        let mut rs = RunStatistics::default();
+        let pans = &integ.model().pantographs;
+        let max_h = integ.compiled().max_wire_deviation_m();
+        for step in 0..n_steps {
+            integ.step_team(team, st, ws);
+            rs.steps += 1;
+            let slack = ws.slack_droppers() as u64;
+            rs.max_slack_droppers = rs.max_slack_droppers.max(slack);
+            rs.steps_with_slack_dropper += (slack > 0) as u64;
+            if ws
+                .samples()
+                .iter()
+                .zip(pans)
+                .any(|(s, p)| matches!(p.kind, PantographKind::Lumped(_)) && s.force_n <= 0.0)
+            {
+                rs.steps_with_contact_loss += 1;
             }
-        }
-        for o in observers.iter_mut() {
-            o.observe(integ.compiled(), st, ws)?;
-        }
-        if step % CHECK_EVERY == 0 {
             rs.blow_up_checks += 1;
-            if !st.is_finite() {
-                return Err(SimError::BlowUp {
-                    time_s: st.t,
-                    position_m: integ.position(st, 0) + st.track_origin_m,
-                    what: "non-finite state".into(),
-                });
+            for (p, s) in ws.samples().iter().enumerate() {
+                if !s.is_sound(max_h) {
+                    return Err(SimError::BlowUp {
+                        time_s: st.t,
+                        position_m: s.position_m + st.track_origin_m,
+                        what: s.fault(p, max_h).unwrap_or_default(),
+                    });
+                }
             }
-            if !progress(step as f64 / n_steps as f64) {
-                return Err(SimError::Cancelled);
+            for o in observers.iter_mut() {
+                o.observe(integ.compiled(), st, ws)?;
+            }
+            if step % CHECK_EVERY == 0 {
+                rs.blow_up_checks += 1;
+                if !st.is_finite() {
+                    return Err(SimError::BlowUp {
+                        time_s: st.t,
+                        position_m: integ.position(st, 0) + st.track_origin_m,
+                        what: "non-finite state".into(),
+                    });
+                }
+                if !progress(step as f64 / n_steps as f64) {
+                    return Err(SimError::Cancelled);
+                }
             }
         }
-    }
-    progress(1.0);
-    rs.window_moves = observers.iter().map(|o| o.moves()).sum();
-    Ok(rs)
+        progress(1.0);
+        rs.window_moves = observers.iter().map(|o| o.moves()).sum();
+        Ok(rs)
+    })
 }
