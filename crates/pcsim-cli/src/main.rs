@@ -77,6 +77,10 @@ enum Command {
     /// A run against the acceptance criteria (EN 50367, TSI Energy, EN 50119), each with its
     /// clause and source; a criterion whose limit pcsim cannot cite gives the value only.
     Assess(cmd::assess::AssessArgs),
+    /// Design search: the catenary or pantograph settings that minimise an objective of the runs
+    /// at several speeds, under constraints and the acceptance criteria (SPEC.toml), with a
+    /// journal that a killed search resumes from.
+    Design(cmd::design::DesignArgs),
 }
 
 /// Restore the default SIGPIPE action so that `pcsim … | head` ends quietly instead of panicking
@@ -149,6 +153,7 @@ fn main() {
         Command::Compare(a) => cmd::compare::compare(a),
         Command::Report(a) => cmd::report::report(a),
         Command::Assess(a) => cmd::assess::run(a),
+        Command::Design(a) => cmd::design::design(a, &ctx),
     });
     match res {
         Ok(code) => std::process::exit(code),

@@ -3,6 +3,7 @@
 pub mod assess;
 pub mod bench;
 pub mod compare;
+pub mod design;
 pub mod eva;
 pub mod fmu;
 pub mod hil;

@@ -15,10 +15,12 @@
 //! | `studies.rs` | the real-time window against the full model |
 //! | `window_length.rs` | the accuracy-based window length and the energy criteria's fit |
 //! | `montecarlo.rs` | realisations over seeds and their spread |
+//! | `design.rs` | the design search: an optimiser over case fields, the journal, the answer |
 //! | `report.rs` | what a run reports: the summary and the time-series columns |
 
 pub mod assess;
 pub mod compare;
+pub mod design;
 pub mod energy;
 pub mod eva;
 pub mod fatigue;

@@ -4,6 +4,7 @@
 pub mod bounds;
 pub mod case;
 pub mod criteria;
+pub mod design;
 pub mod irregularity;
 pub mod lateral;
 pub mod line;

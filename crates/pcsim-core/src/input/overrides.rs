@@ -18,6 +18,8 @@ pub enum OverrideValue {
     Text(String),
     /// A list of numbers (`run.analysis_m`, `catenary.droppers.positions_m`).
     Numbers(Vec<f64>),
+    /// Any TOML value (a table replaces a table: `catenary.presag` as a parabola).
+    Toml(toml::Value),
 }
 
 impl From<f64> for OverrideValue {
@@ -36,6 +38,7 @@ impl From<OverrideValue> for toml::Value {
             OverrideValue::Numbers(v) => {
                 toml::Value::Array(v.into_iter().map(toml::Value::Float).collect())
             }
+            OverrideValue::Toml(v) => v,
         }
     }
 }

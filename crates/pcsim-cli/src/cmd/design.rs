@@ -1,0 +1,366 @@
+//! `pcsim design SPEC.toml`: the design search (issue 24). The search is the core's
+//! (`analysis::design`); this file reads the spec and its base case, keeps the journal
+//! (`--journal`, design.csv's rows appended batch by batch, so that a killed search resumes where
+//! it stopped), and writes the answer: design.csv, design.json, best-case.toml, traces.csv and
+//! the figures.
+
+use anyhow::{Context, Result};
+use clap::Args;
+use serde_json::json;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use pcsim_core::analysis::design::{search, Design, DesignResult, Evaluation, Local};
+use pcsim_core::analysis::record::RunOutput;
+use pcsim_core::input::design::DesignSpec;
+
+use crate::common::Ctx;
+use crate::output::{write_file, write_manifest, OutDir};
+use crate::progress::Progress;
+
+#[derive(Args)]
+pub struct DesignArgs {
+    /// The search's spec (TOML: [base], [[variable]], [[speed]], [[objective]], [[constraint]],
+    /// [acceptance], [budget]; see docs/design.md).
+    spec: PathBuf,
+    /// Output directory (written as a whole when the search ends).
+    #[arg(long, default_value = "design")]
+    out: PathBuf,
+    /// The journal: every evaluation, appended batch by batch [default: OUT-journal.csv]. A
+    /// journal of the same search is resumed (its evaluations are not run again); one of
+    /// another search is refused (see --fresh).
+    #[arg(long, value_name = "FILE")]
+    journal: Option<PathBuf>,
+    /// Start afresh: remove the journal of an earlier search first.
+    #[arg(long)]
+    fresh: bool,
+    /// Worker threads for the runs, at least 1 [default: all cores]. The answer does not depend
+    /// on it.
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Do not draw the figures.
+    #[arg(long)]
+    no_plot: bool,
+}
+
+/// The spec and its base case, checked.
+fn load(path: &Path, ctx: &Ctx) -> Result<Design> {
+    let text = crate::common::read_input(path)
+        .with_context(|| format!("cannot read the design spec {}", path.display()))?;
+    let spec =
+        DesignSpec::from_toml_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let base = match (&spec.base.preset, &spec.base.file) {
+        (Some(p), _) => crate::common::load_case(None, Some(p))?,
+        (None, Some(f)) => {
+            let f = path.parent().unwrap_or(Path::new(".")).join(f);
+            crate::common::load_case(Some(&f), None)?
+        }
+        (None, None) => unreachable!("the spec names its base"),
+    };
+    let d = Design::new(spec, base).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    Ok(d.with_run_budget(ctx.budget))
+}
+
+/// The journal's evaluations, if it exists (a row torn by a kill is dropped and the file cut
+/// back to its last whole row).
+fn read_journal(path: &Path, d: &Design) -> Result<Vec<Evaluation>> {
+    if !path.exists() {
+        return Ok(Vec::new());
+    }
+    let mut text = crate::common::read_input(path)
+        .with_context(|| format!("cannot read the journal {}", path.display()))?;
+    if !text.is_empty() && !text.ends_with('\n') {
+        let keep = text.rfind('\n').map_or(0, |i| i + 1);
+        eprintln!(
+            "note: {}: its last row was cut short (a killed search): dropped",
+            path.display()
+        );
+        text.truncate(keep);
+        std::fs::write(path, &text).with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    let mut r = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(text.as_bytes());
+    let mut rows = r.records();
+    let Some(header) = rows.next() else {
+        return Ok(Vec::new());
+    };
+    let header: Vec<String> = header?.iter().map(String::from).collect();
+    let mut out = Vec::new();
+    for (k, row) in rows.enumerate() {
+        let row: Vec<String> = row?.iter().map(String::from).collect();
+        out.push(d.journal_read(&header, &row).map_err(|e| {
+            anyhow::anyhow!(
+                "the journal {} (row {}): {e}; give --fresh to start the search afresh, or another --journal",
+                path.display(),
+                k + 1
+            )
+        })?);
+    }
+    Ok(out)
+}
+
+fn csv_line(fields: &[String]) -> Result<Vec<u8>> {
+    let mut w = csv::WriterBuilder::new().from_writer(Vec::new());
+    w.write_record(fields)?;
+    w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+pub fn design(a: DesignArgs, ctx: &Ctx) -> Result<i32> {
+    crate::common::jobs_flag(a.jobs)?;
+    let d = load(&a.spec, ctx)?;
+    let journal_path = a.journal.clone().unwrap_or_else(|| {
+        let name = a.out.file_name().unwrap_or_default().to_string_lossy();
+        a.out.with_file_name(format!("{name}-journal.csv"))
+    });
+    if a.fresh && journal_path.exists() {
+        std::fs::remove_file(&journal_path)
+            .with_context(|| format!("cannot remove {}", journal_path.display()))?;
+    }
+    // The output directory is locked for the whole search (a second search into it is refused).
+    let od = OutDir::begin(&a.out)?;
+    let journal = read_journal(&journal_path, &d)?;
+    if !journal.is_empty() {
+        println!(
+            "resuming from {} evaluation(s) in {}",
+            journal.len(),
+            journal_path.display()
+        );
+    }
+    let mut file = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(&journal_path)
+        .with_context(|| format!("cannot open the journal {}", journal_path.display()))?;
+    if journal.is_empty() {
+        file.set_len(0)?;
+        file.write_all(&csv_line(&d.journal_header())?)?;
+    }
+    let b = &d.spec.budget;
+    let pb = Progress::new(
+        "design",
+        b.evaluations as u64,
+        ctx.progress,
+        "design [{bar:40}] {pos}/{len} evaluations {elapsed_precise} eta {eta}",
+    );
+    let t0 = Instant::now();
+    let mut write_error: Option<anyhow::Error> = None;
+    let result = search(&d, journal, &Local { jobs: a.jobs }, a.jobs, &mut |fresh| {
+        for e in fresh {
+            let line = csv_line(&d.journal_row(e)).and_then(|l| Ok(file.write_all(&l)?));
+            if let Err(err) = line {
+                write_error.get_or_insert(err);
+            }
+            if e.phase == "search" {
+                pb.inc();
+            }
+        }
+        // Each batch reaches the disk before the next one runs.
+        let _ = file.sync_data();
+        write_error.is_none()
+    })
+    .map_err(|e| anyhow::anyhow!("{}: {e}", a.spec.display()))?;
+    pb.finish();
+    if let Some(e) = write_error {
+        return Err(e.context(format!(
+            "cannot append to the journal {}",
+            journal_path.display()
+        )));
+    }
+    let wall = t0.elapsed().as_secs_f64();
+    print(&d, &result, wall);
+    let out = od.path();
+    write_outputs(out, &d, &result, &journal_path)?;
+    let mut files = Vec::new();
+    if !a.no_plot {
+        files = crate::plot::design::redraw(out)?;
+    }
+    write_manifest(
+        out,
+        "design",
+        json!({ "fingerprint": d.fingerprint(), "figures": files.iter().filter_map(|f| f.file_name()).map(|f| f.to_string_lossy().to_string()).collect::<Vec<_>>() }),
+    )?;
+    let shown = od.in_target(&files);
+    od.commit()?;
+    println!(
+        "wrote {}/design.csv, design.json, traces.csv{}",
+        a.out.display(),
+        if result.best.is_some() {
+            ", best-case.toml"
+        } else {
+            ""
+        }
+    );
+    if !shown.is_empty() {
+        crate::plot::report(&shown);
+    }
+    Ok(if result.best.is_some() { 0 } else { 1 })
+}
+
+fn fmt(x: Option<f64>) -> String {
+    x.map_or("—".into(), |x| format!("{x:.4}"))
+}
+
+fn print(d: &Design, r: &DesignResult, wall: f64) {
+    println!(
+        "design search: {} evaluations asked ({} run now, the rest from the journal), stopped: {:?}, {:.1} s wall",
+        r.asked, r.run_now, r.stop, wall
+    );
+    let names: Vec<&str> = d.spec.variables.iter().map(|v| v.path.as_str()).collect();
+    let Some(bi) = r.best else {
+        println!("INFEASIBLE: no evaluated design meets the constraints; there is no best design.");
+        if let Some(li) = r.least_violating {
+            let e = &r.evaluations[li];
+            println!("  the least violating (evaluation {li}):");
+            for (n, x) in names.iter().zip(&e.x) {
+                println!("    {n} = {x}");
+            }
+            println!("    violated: {}", e.violated.join("; "));
+        } else {
+            println!(
+                "  every run failed; the first error: {}",
+                r.evaluations
+                    .first()
+                    .and_then(|e| e.error.clone())
+                    .unwrap_or_default()
+            );
+        }
+        return;
+    };
+    let e = &r.evaluations[bi];
+    println!(
+        "best design (evaluation {bi}), objective {}:",
+        fmt(e.objective)
+    );
+    for (n, x) in names.iter().zip(&e.x) {
+        println!("  {n} = {x}");
+    }
+    if let Some(b) = &r.base {
+        println!(
+            "  the base design: objective {}{}",
+            fmt(b.objective),
+            if b.feasible() { "" } else { " (infeasible)" }
+        );
+    }
+    if let Some((_, same)) = &r.confirmation {
+        println!(
+            "  confirmation run: {}",
+            if *same {
+                "the same statistics as the search's"
+            } else {
+                "DIFFERENT from the search's (a bug: please report it)"
+            }
+        );
+    }
+    for (s, sp) in d.spec.speeds.iter().enumerate() {
+        let cols: Vec<String> = d
+            .needs
+            .iter()
+            .zip(&e.values[s])
+            .map(|(n, v)| format!("{} {}", n.label(), fmt(*v)))
+            .collect();
+        println!("  at {} km/h: {}", sp.kmh, cols.join(", "));
+    }
+    println!("sensitivity (objective at ± the step):");
+    for s in &r.sensitivity {
+        println!(
+            "  {} ± {}: {} → {}, {} → {}",
+            s.path,
+            s.step,
+            s.below.map_or("at bound".into(), |x| x.to_string()),
+            fmt(s.objective_below),
+            s.above.map_or("at bound".into(), |x| x.to_string()),
+            fmt(s.objective_above),
+        );
+        let better = |o: Option<f64>, f: Option<bool>| {
+            f == Some(true) && o.zip(e.objective).is_some_and(|(o, b)| o < b)
+        };
+        if better(s.objective_below, s.feasible_below)
+            || better(s.objective_above, s.feasible_above)
+        {
+            println!("    a step away is better: the search has not converged in this variable (give it more evaluations)");
+        }
+        if let Some(b) = s.at_bound {
+            println!("    at its {b} bound: the optimum may lie beyond the range searched");
+        }
+    }
+    if !r.constraints.is_empty() {
+        println!("constraints at the best design:");
+        for c in &r.constraints {
+            println!(
+                "  {:<44} value {:>10}  limit {:>10}  margin {:>10}  {}",
+                c.name,
+                fmt(c.value),
+                fmt(c.limit),
+                fmt(c.margin),
+                if c.active { "ACTIVE" } else { "inactive" }
+            );
+        }
+    }
+}
+
+/// The force traces of the base and the best design over the analysis section, every speed and
+/// pantograph: `design,speed_kmh,pantograph,position_m,force_n`.
+fn traces(d: &Design, r: &DesignResult) -> String {
+    let mut s = String::from("design,speed_kmh,pantograph,position_m,force_n\n");
+    let mut add = |name: &str, runs: &[Option<RunOutput>]| {
+        for (sp, run) in d.spec.speeds.iter().zip(runs) {
+            let Some(run) = run else { continue };
+            let [a, b] = run.analysis_m;
+            for p in &run.pantographs {
+                for (x, f) in p.position_m.iter().zip(&p.force_n) {
+                    if (a..=b).contains(x) {
+                        s += &format!("{name},{},{},{x},{f}\n", sp.kmh, p.name);
+                    }
+                }
+            }
+        }
+    };
+    add("base", &r.base_runs);
+    add("best", &r.best_runs);
+    s
+}
+
+fn write_outputs(out: &Path, d: &Design, r: &DesignResult, journal: &Path) -> Result<()> {
+    std::fs::copy(journal, out.join("design.csv"))
+        .with_context(|| format!("cannot copy {}", journal.display()))?;
+    let best = r.best.map(|i| &r.evaluations[i]);
+    let v = json!({
+        "fingerprint": d.fingerprint(),
+        "method": d.spec.budget.method.name(),
+        "seed": d.spec.budget.seed,
+        "evaluations_asked": r.asked,
+        "stop": r.stop,
+        "variables": d.spec.variables.iter().map(|v| json!({"path": v.path, "min": v.min, "max": v.max, "integer": v.integer})).collect::<Vec<_>>(),
+        "speeds_kmh": d.spec.speeds.iter().map(|s| s.kmh).collect::<Vec<_>>(),
+        "columns": d.needs.iter().map(|n| n.label()).collect::<Vec<_>>(),
+        "feasible": best.is_some(),
+        "best": best,
+        "least_violating": r.least_violating.map(|i| &r.evaluations[i]),
+        "base": r.base,
+        "confirmation": r.confirmation.as_ref().map(|(e, same)| json!({"evaluation": e, "same_as_search": same})),
+        "sensitivity": r.sensitivity,
+        "constraints": r.constraints,
+    });
+    write_file(
+        &out.join("design.json"),
+        serde_json::to_string_pretty(&v)? + "\n",
+    )?;
+    write_file(&out.join("traces.csv"), traces(d, r))?;
+    if let Some(e) = best {
+        let case = d
+            .case_at(&e.x, d.base.run.speed_kmh)
+            .map_err(|e| anyhow::anyhow!("the best design's case: {e}"))?;
+        let mut text = String::from(
+            "# The best design of a pcsim design search (design.json); the base case with\n",
+        );
+        for (v, x) in d.spec.variables.iter().zip(&e.x) {
+            text += &format!("# {} = {x}\n", v.path);
+        }
+        text += &case.to_toml_string();
+        write_file(&out.join("best-case.toml"), text)?;
+    }
+    Ok(())
+}

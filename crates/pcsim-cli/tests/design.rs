@@ -1,0 +1,227 @@
+//! `pcsim design` (issue 24): the answer's files, a killed search resumed from its journal to the
+//! same bytes, the same bytes on 1 and 2 jobs, an infeasible spec, and refusals by name.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn pcsim() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_pcsim"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("pcsim-design-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A short case (6 spans of en50318-2002) and a spec over it: two variables, a swarm of 4 over
+/// 3 batches, two speeds (one in the objective), a constraint and the acceptance criteria.
+fn spec(dir: &Path, min_force: f64) -> PathBuf {
+    let (mut c, _) = pcsim_core::presets::load("en50318-2002").unwrap();
+    c.catenary.spans = 6;
+    c.run.start_m = 60.0;
+    c.run.end_m = 300.0;
+    c.run.analysis_m = [120.0, 240.0];
+    std::fs::write(dir.join("short.toml"), c.to_toml_string()).unwrap();
+    let text = format!(
+        r#"
+[base]
+file = "short.toml"
+
+[[variable]]
+path = "pantographs[0].uplift_n"
+min = 90.0
+max = 140.0
+
+[[variable]]
+path = "catenary.contact_wire.tension_n"
+min = 12000.0
+max = 25000.0
+
+[[speed]]
+kmh = 250.0
+
+[[speed]]
+kmh = 200.0
+weight = 0.0
+
+[[objective]]
+statistic = "std_n"
+
+[[constraint]]
+statistic = "stat_min_n"
+min = {min_force:?}
+
+[acceptance]
+system = "ac"
+
+[budget]
+evaluations = 12
+particles = 4
+seed = 3
+"#
+    );
+    let p = dir.join("spec.toml");
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn design(spec: &Path, out: &Path, extra: &[&str]) -> Output {
+    pcsim()
+        .arg("design")
+        .arg(spec)
+        .arg("--out")
+        .arg(out)
+        .args(["--quiet", "--no-plot"])
+        .args(extra)
+        .output()
+        .unwrap()
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+#[test]
+fn design_answers_and_a_killed_search_resumes_to_the_same_bytes() {
+    let dir = scratch("resume");
+    let spec = spec(&dir, 20.0);
+    let out = dir.join("whole");
+    let o = design(&spec, &out, &["--jobs", "2"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let whole = std::fs::read(out.join("design.csv")).unwrap();
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("design.json")).unwrap()).unwrap();
+    assert_eq!(json["feasible"], true);
+    assert_eq!(json["confirmation"]["same_as_search"], true);
+    assert_eq!(json["sensitivity"].as_array().unwrap().len(), 2);
+    assert!(json["constraints"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|c| c["name"] == "acceptance:speed-ratio@250"));
+    // The best design's case reads back, with the best values in it.
+    let best = std::fs::read_to_string(out.join("best-case.toml")).unwrap();
+    let (case, _) = pcsim_core::Case::from_toml_str(&best).unwrap();
+    let x = json["best"]["x"].as_array().unwrap();
+    assert_eq!(case.catenary.contact_wire.tension_n, x[1].as_f64().unwrap());
+    assert!(std::fs::read_to_string(out.join("traces.csv"))
+        .unwrap()
+        .starts_with("design,speed_kmh,pantograph,position_m,force_n\nbase,250,"));
+    // Killed in its second batch: the journal holds its header, the first rows, and a torn one.
+    let journal = dir.join("whole-journal.csv");
+    let full = std::fs::read_to_string(&journal).unwrap();
+    let lines: Vec<&str> = full.lines().collect();
+    assert!(lines.len() > 8);
+    let torn = format!("{}\n{}", lines[..6].join("\n"), &lines[6][..20]);
+    let cut = dir.join("cut-journal.csv");
+    std::fs::write(&cut, torn).unwrap();
+    let o = design(&spec, &dir.join("cut"), &["--jobs", "1"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("resuming from 5 evaluation(s)"),
+        "{}",
+        text(&o)
+    );
+    assert!(text(&o).contains("cut short"), "{}", text(&o));
+    assert_eq!(std::fs::read(dir.join("cut/design.csv")).unwrap(), whole);
+    assert_eq!(
+        std::fs::read(dir.join("cut/design.json")).unwrap(),
+        std::fs::read(out.join("design.json")).unwrap()
+    );
+    // Run again: every evaluation comes from the journal, the same bytes.
+    let o = design(&spec, &out, &[]);
+    assert!(text(&o).contains("0 run now"), "{}", text(&o));
+    assert_eq!(std::fs::read(out.join("design.csv")).unwrap(), whole);
+    // Another spec meets this journal: refused by its fingerprint, unless --fresh.
+    let other = dir.join("other.toml");
+    std::fs::write(
+        &other,
+        std::fs::read_to_string(&spec)
+            .unwrap()
+            .replace("seed = 3", "seed = 4"),
+    )
+    .unwrap();
+    let o = design(&other, &out, &[]);
+    assert!(!o.status.success());
+    assert!(
+        text(&o).contains("fingerprint") && text(&o).contains("--fresh"),
+        "{}",
+        text(&o)
+    );
+    let o = design(&other, &out, &["--fresh"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert_ne!(std::fs::read(out.join("design.csv")).unwrap(), whole);
+}
+
+#[test]
+fn design_on_one_and_two_jobs_writes_the_same_bytes() {
+    let dir = scratch("jobs");
+    let spec = spec(&dir, 20.0);
+    for jobs in ["1", "2"] {
+        let o = design(&spec, &dir.join(format!("j{jobs}")), &["--jobs", jobs]);
+        assert!(o.status.success(), "{}", text(&o));
+    }
+    for f in ["design.csv", "design.json", "traces.csv", "best-case.toml"] {
+        assert_eq!(
+            std::fs::read(dir.join("j1").join(f)).unwrap(),
+            std::fs::read(dir.join("j2").join(f)).unwrap(),
+            "{f}"
+        );
+    }
+}
+
+#[test]
+fn an_infeasible_design_spec_exits_1_without_a_best_design() {
+    let dir = scratch("infeasible");
+    let spec = spec(&dir, 500.0);
+    let out = dir.join("out");
+    let o = design(&spec, &out, &[]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("INFEASIBLE"), "{}", text(&o));
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("design.json")).unwrap()).unwrap();
+    assert_eq!(json["feasible"], false);
+    assert!(json["best"].is_null());
+    assert!(json["least_violating"]["violated"][0]
+        .as_str()
+        .unwrap()
+        .starts_with("stat_min_n[worst]>=500"));
+    assert!(!out.join("best-case.toml").exists());
+}
+
+#[test]
+fn a_design_spec_naming_what_does_not_exist_is_refused_by_name() {
+    let dir = scratch("refuse");
+    let spec = spec(&dir, 20.0);
+    let good = std::fs::read_to_string(&spec).unwrap();
+    for (from, to, named) in [
+        ("\"std_n\"", "\"sigma_n\"", "sigma_n"),
+        (
+            "pantographs[0].uplift_n",
+            "pantographs[0].uplfit_n",
+            "uplfit_n",
+        ),
+        (
+            "pantographs[0].uplift_n",
+            "pantographs[4].uplift_n",
+            "pantographs[4]",
+        ),
+        ("system = \"ac\"", "system = \"ac-25\"", "ac-25"),
+        (
+            "file = \"short.toml\"",
+            "file = \"absent.toml\"",
+            "absent.toml",
+        ),
+    ] {
+        std::fs::write(&spec, good.replace(from, to)).unwrap();
+        let o = design(&spec, &dir.join("out"), &[]);
+        assert!(!o.status.success(), "{to}");
+        assert!(text(&o).contains(named), "{to}: {}", text(&o));
+    }
+}

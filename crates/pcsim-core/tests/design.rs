@@ -1,0 +1,256 @@
+//! The design search (issue 24, item 5): a synthetic objective with an analytic optimum, the
+//! same search on 1 and 2 jobs, an interrupted search resumed from its journal, an infeasible
+//! spec reported as such, and a spec that names what does not exist.
+
+use pcsim_core::analysis::design::{search, Design, DesignResult, Evaluation, Local, StopReason};
+use pcsim_core::input::design::DesignSpec;
+use pcsim_core::input::presets;
+
+/// en50318-2002 over its 20 spans, with the frame's spring to the roof taken out: the pantograph
+/// is then held by its uplift force alone, so over a run the mean contact force equals the
+/// uplift (the masses' mean acceleration is zero; aerodynamic force 0 in this preset). The
+/// search looks for the uplift whose mean contact force is 100 N: the optimum is 100 N exactly,
+/// up to what the masses' momentum changes over the analysis section (checked below).
+const SYNTHETIC: &str = r#"
+[base]
+preset = "en50318-2002"
+set = { "pantographs[0].stiffness_n_per_m" = [4200.0, 0.0] }
+
+[[variable]]
+path = "pantographs[0].uplift_n"
+min = 60.0
+max = 160.0
+step = 2.0
+
+[[speed]]
+kmh = 250.0
+
+[[objective]]
+statistic = "mean_n"
+pantograph = "leading"
+target = 100.0
+
+[budget]
+evaluations = 14
+method = "nelder-mead"
+"#;
+
+fn design(text: &str) -> Design {
+    let spec = DesignSpec::from_toml_str(text).unwrap();
+    let (base, _) = presets::load(spec.base.preset.as_deref().unwrap()).unwrap();
+    Design::new(spec, base).unwrap()
+}
+
+fn run(d: &Design, journal: Vec<Evaluation>, jobs: usize) -> DesignResult {
+    search(
+        d,
+        journal,
+        &Local { jobs: Some(jobs) },
+        Some(jobs),
+        &mut |_| true,
+    )
+    .unwrap()
+}
+
+#[test]
+fn the_search_finds_the_uplift_whose_mean_force_is_the_target() {
+    let d = design(SYNTHETIC);
+    // The analytic optimum holds in the model: the mean force at an uplift of 100 N.
+    let (at100, _) = d.evaluate(&[100.0], Some(1));
+    let fm = at100.values[0][0].unwrap();
+    assert!((fm - 100.0).abs() < 0.2, "mean force at 100 N uplift: {fm}");
+    let r = run(&d, Vec::new(), 2);
+    let best = &r.evaluations[r.best.expect("a feasible design")];
+    assert!(
+        (best.x[0] - 100.0).abs() < 1.0,
+        "uplift found {}",
+        best.x[0]
+    );
+    let (c, same) = r.confirmation.as_ref().unwrap();
+    assert!(
+        *same,
+        "the confirmation run gives the journal's numbers: {c:?}"
+    );
+    assert_eq!(r.sensitivity.len(), 1);
+}
+
+/// Two variables, a particle swarm of 4 over 3 batches, two speeds (one in the objective, both
+/// under the constraint).
+const SWARM: &str = r#"
+[base]
+preset = "en50318-2002"
+
+[[variable]]
+path = "pantographs[0].uplift_n"
+min = 90.0
+max = 140.0
+
+[[variable]]
+path = "catenary.contact_wire.tension_n"
+min = 15000.0
+max = 25000.0
+
+[[speed]]
+kmh = 250.0
+
+[[speed]]
+kmh = 200.0
+weight = 0.0
+
+[[objective]]
+statistic = "std_n"
+
+[[constraint]]
+statistic = "stat_min_n"
+min = 20.0
+
+[budget]
+evaluations = 12
+particles = 4
+seed = 7
+"#;
+
+/// Two searches gave the same evaluations, bit for bit.
+fn same_search(a: &DesignResult, b: &DesignResult) {
+    assert_eq!(a.evaluations.len(), b.evaluations.len());
+    for (x, y) in a.evaluations.iter().zip(&b.evaluations) {
+        assert_eq!(x, y, "evaluation {}", x.index);
+    }
+    assert_eq!(a.best, b.best);
+    assert_eq!(a.stop, b.stop);
+}
+
+#[test]
+fn the_same_seed_gives_the_same_search_on_one_and_two_jobs() {
+    let d = design(SWARM);
+    let one = run(&d, Vec::new(), 1);
+    let two = run(&d, Vec::new(), 2);
+    same_search(&one, &two);
+    assert_eq!(one.stop, StopReason::Evaluations);
+    assert_eq!(one.asked, 12);
+    // A feasible best, confirmed, with each variable's sensitivity and the constraint's status
+    // at both speeds.
+    let best = &one.evaluations[one.best.unwrap()];
+    assert!(best.feasible());
+    assert!(one.confirmation.as_ref().unwrap().1);
+    assert_eq!(one.sensitivity.len(), 2);
+    assert_eq!(one.constraints.len(), 2);
+    // Another seed searches elsewhere.
+    let other = run(
+        &design(&SWARM.replace("seed = 7", "seed = 8")),
+        Vec::new(),
+        1,
+    );
+    assert_ne!(other.evaluations[0].x, one.evaluations[0].x);
+}
+
+#[test]
+fn an_interrupted_search_resumed_from_its_journal_gives_the_uninterrupted_result() {
+    let d = design(SWARM);
+    let whole = run(&d, Vec::new(), 2);
+    // Interrupted after its second batch: the journal holds what was run, as design.csv does.
+    let mut batches = 0;
+    let mut rows: Vec<Vec<String>> = Vec::new();
+    let cut = search(
+        &d,
+        Vec::new(),
+        &Local { jobs: Some(2) },
+        Some(2),
+        &mut |fresh| {
+            rows.extend(fresh.iter().map(|e| d.journal_row(e)));
+            batches += 1;
+            batches < 2
+        },
+    )
+    .unwrap();
+    assert_eq!(cut.stop, StopReason::Interrupted);
+    assert!(cut.base.is_none() && cut.confirmation.is_none());
+    // Two batches of 4 particles; a point asked twice (two particles clamped to the same
+    // corner) is run once.
+    assert!((5..=8).contains(&rows.len()), "{}", rows.len());
+    // Read back as text, and resumed.
+    let header = d.journal_header();
+    let journal: Vec<Evaluation> = rows
+        .iter()
+        .map(|r| d.journal_read(&header, r).unwrap())
+        .collect();
+    let mut ran = 0;
+    let resumed = search(
+        &d,
+        journal,
+        &Local { jobs: Some(1) },
+        Some(1),
+        &mut |fresh| {
+            ran += fresh.len();
+            true
+        },
+    )
+    .unwrap();
+    same_search(&whole, &resumed);
+    assert_eq!(resumed.run_now, ran);
+    assert_eq!(
+        whole.run_now - resumed.run_now,
+        rows.len(),
+        "the journal's evaluations were not run again"
+    );
+    // A journal of another search is refused, naming the fingerprint.
+    let other = design(&SWARM.replace("seed = 7", "seed = 9"));
+    let e = other
+        .journal_read(&header, &rows[0])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("fingerprint"), "{e}");
+}
+
+#[test]
+fn an_infeasible_spec_is_reported_as_infeasible() {
+    let d = design(&SWARM.replace("min = 20.0", "min = 150.0"));
+    let r = run(&d, Vec::new(), 2);
+    assert_eq!(r.best, None);
+    assert!(r.confirmation.is_none() && r.sensitivity.is_empty());
+    let least = &r.evaluations[r.least_violating.expect("runs that gave statistics")];
+    assert!(!least.feasible() && least.violation > 0.0);
+    assert!(
+        least
+            .violated
+            .iter()
+            .any(|v| v.starts_with("stat_min_n[worst]>=150")),
+        "{:?}",
+        least.violated
+    );
+    assert!(r.evaluations.iter().all(|e| e.cost >= 1e20));
+}
+
+#[test]
+fn a_spec_naming_what_does_not_exist_is_refused_by_name() {
+    let bad = |text: String| {
+        let spec = DesignSpec::from_toml_str(&text);
+        match spec {
+            Err(e) => e.to_string(),
+            Ok(spec) => {
+                let (base, _) = presets::load("en50318-2002").unwrap();
+                Design::new(spec, base).unwrap_err().to_string()
+            }
+        }
+    };
+    let e = bad(SWARM.replace(
+        "catenary.contact_wire.tension_n",
+        "catenary.contact_wire.tensoin_n",
+    ));
+    assert!(e.contains("tensoin_n"), "{e}");
+    let e = bad(SWARM.replace("\"std_n\"", "\"sigma\""));
+    assert!(
+        e.contains("objective[0].statistic") && e.contains("sigma"),
+        "{e}"
+    );
+    let e = bad(SWARM.replace(
+        "statistic = \"std_n\"",
+        "statistic = \"std_n\"\npantograph = 3",
+    ));
+    assert!(
+        e.contains("objective[0].pantograph") && e.contains('3'),
+        "{e}"
+    );
+    let e = bad(SWARM.replace("min = 15000.0", "min = -5.0"));
+    assert!(e.contains("variable[1]") && e.contains("tension_n"), "{e}");
+}
