@@ -225,3 +225,47 @@ fn a_design_spec_naming_what_does_not_exist_is_refused_by_name() {
         assert!(text(&o).contains(named), "{to}: {}", text(&o));
     }
 }
+
+#[test]
+fn design_evaluated_by_another_program_gives_the_local_bytes() {
+    // What a cluster does (scripts/slurm/design_batch.sh submits the same tasks as a job
+    // array): each design of a batch by `pcsim design SPEC --task DIR --task-index I`.
+    let dir = scratch("evaluate-with");
+    let spec = spec(&dir, 20.0);
+    let script = dir.join("batch.sh");
+    std::fs::write(
+        &script,
+        format!(
+            "#!/bin/sh\nset -e\ni=0\nwhile [ $i -lt $3 ]; do\n  {} design \"$2\" --task \"$1\" --task-index $i --quiet\n  i=$((i + 1))\ndone\n",
+            env!("CARGO_BIN_EXE_pcsim")
+        ),
+    )
+    .unwrap();
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&script, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let o = design(&spec, &dir.join("local"), &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    let o = design(
+        &spec,
+        &dir.join("remote"),
+        &["--evaluate-with", script.to_str().unwrap()],
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(dir.join("remote-batches/batch-0/row-0.csv").exists());
+    for f in ["design.csv", "design.json"] {
+        assert_eq!(
+            std::fs::read(dir.join("local").join(f)).unwrap(),
+            std::fs::read(dir.join("remote").join(f)).unwrap(),
+            "{f}"
+        );
+    }
+    // A program that fails stops the search with its error; the journal keeps what was run.
+    std::fs::write(&script, "#!/bin/sh\nexit 3\n").unwrap();
+    let o = design(
+        &spec,
+        &dir.join("failing"),
+        &["--evaluate-with", script.to_str().unwrap()],
+    );
+    assert!(!o.status.success());
+    assert!(text(&o).contains("failed"), "{}", text(&o));
+}

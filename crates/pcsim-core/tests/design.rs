@@ -254,3 +254,13 @@ fn a_spec_naming_what_does_not_exist_is_refused_by_name() {
     let e = bad(SWARM.replace("min = 15000.0", "min = -5.0"));
     assert!(e.contains("variable[1]") && e.contains("tension_n"), "{e}");
 }
+
+#[test]
+fn a_search_stopped_by_its_wall_time_answers_from_its_first_batch() {
+    let d = design(&SWARM.replace("seed = 7", "seed = 7\nwall_s = 1e-9"));
+    let r = run(&d, Vec::new(), 2);
+    assert_eq!(r.stop, StopReason::WallTime);
+    assert_eq!(r.asked, 4, "the first batch of 4 particles, no more");
+    let whole = run(&design(SWARM), Vec::new(), 2);
+    assert_eq!(r.evaluations[..4], whole.evaluations[..4]);
+}

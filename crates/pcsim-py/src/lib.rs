@@ -466,6 +466,149 @@ fn assess(
     })
 }
 
+/// A design spec's text with its base case (a `base.file` read relative to `base_dir`, within
+/// the input limit), by the core's one loader.
+fn design_of(spec_toml: &str, base_dir: &str) -> PyResult<pcsim_core::analysis::design::Design> {
+    let dir = std::path::PathBuf::from(base_dir);
+    let read = |f: &str| {
+        let f = std::fs::File::open(dir.join(f))?;
+        pcsim_core::input::read_text_limited(f, pcsim_core::input::MAX_INPUT_BYTES)
+    };
+    pcsim_core::analysis::design::Design::from_spec_text(spec_toml, &read)
+        .map_err(|e| err(format!("design spec: {e}")))
+}
+
+/// The journal's columns of a design search (design.csv's header).
+#[pyfunction]
+fn design_header(spec_toml: &str, base_dir: &str) -> PyResult<Vec<String>> {
+    guarded(|| Ok(design_of(spec_toml, base_dir)?.journal_header()))
+}
+
+/// One design's evaluation (every speed of the spec), as its journal row: what a Dask worker
+/// runs for `pcsim.design(..., client=...)`.
+#[pyfunction]
+fn design_evaluate(
+    py: Python<'_>,
+    spec_toml: &str,
+    base_dir: &str,
+    x: Vec<f64>,
+) -> PyResult<Vec<String>> {
+    guarded(|| {
+        let d = design_of(spec_toml, base_dir)?;
+        if x.len() != d.spec.variables.len() {
+            return Err(err(format!(
+                "x: {} values for the spec's {} variables",
+                x.len(),
+                d.spec.variables.len()
+            )));
+        }
+        let e = py.detach(|| d.evaluate(&x, Some(1)).0);
+        Ok(d.journal_row(&e))
+    })
+}
+
+/// A batch evaluator that calls a Python function (a Dask client's map): given the designs'
+/// values, it returns their journal rows, which are read back and checked (the fingerprint, the
+/// values).
+struct PyEvaluator {
+    evaluate: Py<PyAny>,
+}
+
+impl pcsim_core::analysis::design::Evaluator for PyEvaluator {
+    fn evaluate(
+        &self,
+        design: &pcsim_core::analysis::design::Design,
+        xs: &[Vec<f64>],
+    ) -> Result<Vec<pcsim_core::analysis::design::Evaluation>, String> {
+        let rows: Vec<Vec<String>> = Python::attach(|py| {
+            self.evaluate
+                .call1(py, (xs.to_vec(),))
+                .and_then(|r| r.extract(py))
+                .map_err(|e| format!("the evaluator raised: {e}"))
+        })?;
+        let header = design.journal_header();
+        rows.iter()
+            .map(|r| design.journal_read(&header, r).map_err(|e| e.to_string()))
+            .collect()
+    }
+}
+
+/// The design search of a spec (the CLI's `pcsim design`): `(answer_json, header)`. `journal`:
+/// the rows of an earlier run's journal (resumed: not run again); `on_batch(rows)` receives the
+/// new rows batch by batch (to append them to a journal); `evaluate(xs) -> rows` runs the
+/// batches elsewhere (Dask), else they run here on `jobs` threads. Ctrl-C stops the search
+/// between batches and raises `KeyboardInterrupt` (the journal keeps what was run).
+#[pyfunction]
+#[pyo3(signature = (spec_toml, base_dir, journal=Vec::new(), on_batch=None, evaluate=None, jobs=None))]
+fn design(
+    py: Python<'_>,
+    spec_toml: &str,
+    base_dir: &str,
+    journal: Vec<Vec<String>>,
+    on_batch: Option<Py<PyAny>>,
+    evaluate: Option<Py<PyAny>>,
+    jobs: Option<usize>,
+) -> PyResult<(String, Vec<String>)> {
+    use pcsim_core::analysis::design::{search, Evaluator, Local};
+    guarded(|| {
+        let d = design_of(spec_toml, base_dir)?;
+        let header = d.journal_header();
+        let mut rows = journal.into_iter();
+        let first = rows.next();
+        let journal = match first {
+            None => Vec::new(),
+            Some(h) if h == header => rows
+                .enumerate()
+                .map(|(k, r)| {
+                    d.journal_read(&header, &r)
+                        .map_err(|e| err(format!("journal row {}: {e}", k + 1)))
+                })
+                .collect::<PyResult<Vec<_>>>()?,
+            Some(h) => {
+                return Err(err(format!(
+                    "journal: its header ({}) is not this spec's ({})",
+                    h.join(","),
+                    header.join(",")
+                )))
+            }
+        };
+        let local = Local { jobs };
+        let remote = evaluate.map(|e| PyEvaluator { evaluate: e });
+        let evaluator: &dyn Evaluator = match &remote {
+            Some(r) => r,
+            None => &local,
+        };
+        let mut interrupted: Option<PyErr> = None;
+        let mut callback_error: Option<PyErr> = None;
+        let result = py.detach(|| {
+            search(&d, journal, evaluator, jobs, &mut |fresh| {
+                Python::attach(|py| {
+                    if let Some(f) = &on_batch {
+                        let rows: Vec<Vec<String>> =
+                            fresh.iter().map(|e| d.journal_row(e)).collect();
+                        if let Err(e) = f.call1(py, (rows,)) {
+                            callback_error = Some(e);
+                            return false;
+                        }
+                    }
+                    match py.check_signals() {
+                        Ok(()) => true,
+                        Err(e) => {
+                            interrupted = Some(e);
+                            false
+                        }
+                    }
+                })
+            })
+        });
+        if let Some(e) = interrupted.or(callback_error) {
+            return Err(e);
+        }
+        let r = result.map_err(err)?;
+        Ok((serde_json::to_string(&r.to_json(&d)).map_err(err)?, header))
+    })
+}
+
 /// The names of the embedded presets.
 #[pyfunction]
 fn presets_list() -> Vec<String> {
@@ -575,6 +718,9 @@ fn _pcsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(assess, m)?)?;
     m.add_function(wrap_pyfunction!(window, m)?)?;
     m.add_function(wrap_pyfunction!(presets_list, m)?)?;
+    m.add_function(wrap_pyfunction!(design, m)?)?;
+    m.add_function(wrap_pyfunction!(design_header, m)?)?;
+    m.add_function(wrap_pyfunction!(design_evaluate, m)?)?;
     m.add_function(wrap_pyfunction!(_test_panic, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

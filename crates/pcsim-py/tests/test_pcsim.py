@@ -293,3 +293,72 @@ def test_assess_is_the_clis_assessment(tmp_path):
     with pytest.raises(ValueError, match=r"criterion\[0\]\.quantity"):
         pcsim.assess(res, criteria='[[criterion]]\nid = "x"\nquantity = "sigma"\nkind = "max"\nlimit = 1.0\n'
                                   'clause = "c"\nsource = "s"\nstatus = "user"\n')
+
+
+DESIGN_SPEC = """
+[base]
+preset = "en50318-2002"
+set = { "catenary.spans" = 6, "run.start_m" = 60.0, "run.end_m" = 300.0, "run.analysis_m" = [120.0, 240.0] }
+[[variable]]
+path = "pantographs[0].uplift_n"
+min = 90.0
+max = 140.0
+[[variable]]
+path = "catenary.contact_wire.tension_n"
+min = 12000.0
+max = 25000.0
+[[speed]]
+kmh = 250.0
+[[speed]]
+kmh = 200.0
+weight = 0.0
+[[objective]]
+statistic = "std_n"
+[[constraint]]
+statistic = "stat_min_n"
+min = 20.0
+[acceptance]
+system = "ac"
+[budget]
+evaluations = 8
+particles = 4
+seed = 3
+"""
+
+
+def _cli_design(tmp_path):
+    spec = tmp_path / "spec.toml"
+    spec.write_text(DESIGN_SPEC)
+    out = tmp_path / "cli-design"
+    subprocess.run([PCSIM, "design", str(spec), "--quiet", "--no-plot", "--out", str(out)], check=True,
+                   stdout=subprocess.DEVNULL)
+    with open(out / "design.json") as f:
+        answer = json.load(f)
+    return spec, answer, (out / "design.csv").read_bytes()
+
+
+def test_design_gives_the_clis_answer_journal_and_resumes(tmp_path):
+    spec, cli_answer, cli_journal = _cli_design(tmp_path)
+    journal = tmp_path / "journal.csv"
+    answer = pcsim.design(str(spec), journal=str(journal), jobs=2)
+    assert answer == cli_answer
+    assert answer["feasible"] and answer["confirmation"]["same_as_search"]
+    assert journal.read_bytes() == cli_journal
+    # Cut after 3 rows, with a torn fourth: resumed to the same journal and answer.
+    lines = cli_journal.decode().splitlines(keepends=True)
+    journal.write_text("".join(lines[:4]) + lines[4][:15])
+    assert pcsim.design(DESIGN_SPEC, journal=str(journal)) == cli_answer
+    assert journal.read_bytes() == cli_journal
+    with pytest.raises(ValueError, match="sigma_n"):
+        pcsim.design(DESIGN_SPEC.replace('"std_n"', '"sigma_n"'))
+
+
+def test_design_on_a_dask_local_cluster_gives_the_local_answer(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    spec, cli_answer, cli_journal = _cli_design(tmp_path)
+    journal = tmp_path / "dask-journal.csv"
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        answer = pcsim.design(str(spec), client=client, journal=str(journal))
+    assert answer == cli_answer
+    assert journal.read_bytes() == cli_journal

@@ -4,7 +4,7 @@
 //! it stopped), and writes the answer: design.csv, design.json, best-case.toml, traces.csv and
 //! the figures.
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use clap::Args;
 use serde_json::json;
 use std::io::Write as _;
@@ -13,7 +13,6 @@ use std::time::Instant;
 
 use pcsim_core::analysis::design::{search, Design, DesignResult, Evaluation, Local};
 use pcsim_core::analysis::record::RunOutput;
-use pcsim_core::input::design::DesignSpec;
 
 use crate::common::Ctx;
 use crate::output::{write_file, write_manifest, OutDir};
@@ -42,23 +41,138 @@ pub struct DesignArgs {
     /// Do not draw the figures.
     #[arg(long)]
     no_plot: bool,
+    /// Evaluate each batch elsewhere (a cluster): PROGRAM is run as `PROGRAM BATCH_DIR SPEC N`
+    /// after the batch's N designs are written to BATCH_DIR/designs.csv, and must leave each
+    /// design's journal row in BATCH_DIR/row-I.csv (`pcsim design SPEC --task BATCH_DIR
+    /// --task-index I` writes it; scripts/slurm/design_batch.sh runs them as a Slurm job
+    /// array).
+    #[arg(long, value_name = "PROGRAM")]
+    evaluate_with: Option<PathBuf>,
+    /// Where --evaluate-with's batch directories go [default: OUT-batches].
+    #[arg(long, value_name = "DIR")]
+    batches: Option<PathBuf>,
+    /// Evaluate one design of a batch (what a cluster task runs): design --task-index of
+    /// BATCH_DIR/designs.csv, its journal row written to BATCH_DIR/row-I.csv.
+    #[arg(long, value_name = "BATCH_DIR", requires = "task_index")]
+    task: Option<PathBuf>,
+    /// The design's index in --task's batch.
+    #[arg(long, value_name = "I", requires = "task")]
+    task_index: Option<usize>,
+}
+
+/// A batch evaluated by another program (a Slurm job array): the designs written to a batch
+/// directory, the program run, each design's journal row read back (and checked by the core:
+/// fingerprint, values).
+struct CommandEvaluator {
+    program: PathBuf,
+    spec: PathBuf,
+    dir: PathBuf,
+    next: std::sync::Mutex<usize>,
+}
+
+impl pcsim_core::analysis::design::Evaluator for CommandEvaluator {
+    fn evaluate(
+        &self,
+        d: &Design,
+        xs: &[Vec<f64>],
+    ) -> std::result::Result<Vec<Evaluation>, String> {
+        let k = {
+            let mut n = self.next.lock().map_err(|e| e.to_string())?;
+            *n += 1;
+            *n - 1
+        };
+        let run = || -> Result<Vec<Evaluation>> {
+            let dir = self.dir.join(format!("batch-{k}"));
+            let _ = std::fs::remove_dir_all(&dir);
+            std::fs::create_dir_all(&dir)
+                .with_context(|| format!("cannot create {}", dir.display()))?;
+            let mut text = csv_line(
+                &d.spec
+                    .variables
+                    .iter()
+                    .map(|v| v.path.clone())
+                    .collect::<Vec<_>>(),
+            )?;
+            for x in xs {
+                text.extend(csv_line(
+                    &x.iter().map(|v| format!("{v:?}")).collect::<Vec<_>>(),
+                )?);
+            }
+            std::fs::write(dir.join("designs.csv"), text)?;
+            let status = std::process::Command::new(&self.program)
+                .arg(&dir)
+                .arg(&self.spec)
+                .arg(xs.len().to_string())
+                .status()
+                .with_context(|| format!("cannot run {}", self.program.display()))?;
+            if !status.success() {
+                bail!(
+                    "{} {} failed ({status})",
+                    self.program.display(),
+                    dir.display()
+                );
+            }
+            (0..xs.len())
+                .map(|i| {
+                    let p = dir.join(format!("row-{i}.csv"));
+                    let t = crate::common::read_input(&p)
+                        .with_context(|| format!("cannot read {}", p.display()))?;
+                    let mut r = csv::ReaderBuilder::new().from_reader(t.as_bytes());
+                    let got: Vec<String> = r.headers()?.iter().map(String::from).collect();
+                    let row = r
+                        .records()
+                        .next()
+                        .with_context(|| format!("{}: no row", p.display()))??;
+                    let row: Vec<String> = row.iter().map(String::from).collect();
+                    d.journal_read(&got, &row)
+                        .map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))
+                })
+                .collect()
+        };
+        run().map_err(|e| format!("{e:#}"))
+    }
+}
+
+/// `--task DIR --task-index I`: one design of a batch, its journal row written beside it.
+fn task(d: &Design, dir: &Path, i: usize) -> Result<i32> {
+    let p = dir.join("designs.csv");
+    let t =
+        crate::common::read_input(&p).with_context(|| format!("cannot read {}", p.display()))?;
+    let mut r = csv::ReaderBuilder::new().from_reader(t.as_bytes());
+    let row = r
+        .records()
+        .nth(i)
+        .with_context(|| format!("--task-index {i}: {} has no design {i}", p.display()))??;
+    let x = row
+        .iter()
+        .map(|v| {
+            v.parse::<f64>()
+                .with_context(|| format!("{}: `{v}` is not a number", p.display()))
+        })
+        .collect::<Result<Vec<f64>>>()?;
+    if x.len() != d.spec.variables.len() {
+        bail!(
+            "{}: design {i} has {} values for {} variables",
+            p.display(),
+            x.len(),
+            d.spec.variables.len()
+        );
+    }
+    let (e, _) = d.evaluate(&x, Some(1));
+    let mut text = csv_line(&d.journal_header())?;
+    text.extend(csv_line(&d.journal_row(&e))?);
+    crate::output::write_file_atomic(&dir.join(format!("row-{i}.csv")), text)?;
+    Ok(0)
 }
 
 /// The spec and its base case, checked.
 fn load(path: &Path, ctx: &Ctx) -> Result<Design> {
     let text = crate::common::read_input(path)
         .with_context(|| format!("cannot read the design spec {}", path.display()))?;
-    let spec =
-        DesignSpec::from_toml_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-    let base = match (&spec.base.preset, &spec.base.file) {
-        (Some(p), _) => crate::common::load_case(None, Some(p))?,
-        (None, Some(f)) => {
-            let f = path.parent().unwrap_or(Path::new(".")).join(f);
-            crate::common::load_case(Some(&f), None)?
-        }
-        (None, None) => unreachable!("the spec names its base"),
-    };
-    let d = Design::new(spec, base).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
+    let read = |f: &str| crate::common::read_input(&dir.join(f));
+    let d = Design::from_spec_text(&text, &read)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     Ok(d.with_run_budget(ctx.budget))
 }
 
@@ -111,6 +225,9 @@ fn csv_line(fields: &[String]) -> Result<Vec<u8>> {
 pub fn design(a: DesignArgs, ctx: &Ctx) -> Result<i32> {
     crate::common::jobs_flag(a.jobs)?;
     let d = load(&a.spec, ctx)?;
+    if let (Some(dir), Some(i)) = (&a.task, a.task_index) {
+        return task(&d, dir, i);
+    }
     let journal_path = a.journal.clone().unwrap_or_else(|| {
         let name = a.out.file_name().unwrap_or_default().to_string_lossy();
         a.out.with_file_name(format!("{name}-journal.csv"))
@@ -147,7 +264,25 @@ pub fn design(a: DesignArgs, ctx: &Ctx) -> Result<i32> {
     );
     let t0 = Instant::now();
     let mut write_error: Option<anyhow::Error> = None;
-    let result = search(&d, journal, &Local { jobs: a.jobs }, a.jobs, &mut |fresh| {
+    let local = Local { jobs: a.jobs };
+    let remote = match &a.evaluate_with {
+        None => None,
+        Some(program) => Some(CommandEvaluator {
+            program: program.clone(),
+            spec: std::fs::canonicalize(&a.spec)
+                .with_context(|| format!("cannot find {}", a.spec.display()))?,
+            dir: a.batches.clone().unwrap_or_else(|| {
+                let name = a.out.file_name().unwrap_or_default().to_string_lossy();
+                a.out.with_file_name(format!("{name}-batches"))
+            }),
+            next: std::sync::Mutex::new(0),
+        }),
+    };
+    let evaluator: &dyn pcsim_core::analysis::design::Evaluator = match &remote {
+        Some(r) => r,
+        None => &local,
+    };
+    let result = search(&d, journal, evaluator, a.jobs, &mut |fresh| {
         for e in fresh {
             let line = csv_line(&d.journal_row(e)).and_then(|l| Ok(file.write_all(&l)?));
             if let Err(err) = line {
@@ -210,7 +345,14 @@ fn print(d: &Design, r: &DesignResult, wall: f64) {
     );
     let names: Vec<&str> = d.spec.variables.iter().map(|v| v.path.as_str()).collect();
     let Some(bi) = r.best else {
-        println!("INFEASIBLE: no evaluated design meets the constraints; there is no best design.");
+        let searched = r.evaluations.iter().filter(|e| e.phase == "search").count();
+        println!(
+            "INFEASIBLE: none of the {searched} designs evaluated meets the constraints{}; there is no best design.",
+            match r.stop {
+                pcsim_core::analysis::design::StopReason::WallTime => " (the search stopped at its wall time: more time may find one)",
+                _ => "",
+            }
+        );
         if let Some(li) = r.least_violating {
             let e = &r.evaluations[li];
             println!("  the least violating (evaluation {li}):");
@@ -327,23 +469,7 @@ fn write_outputs(out: &Path, d: &Design, r: &DesignResult, journal: &Path) -> Re
     std::fs::copy(journal, out.join("design.csv"))
         .with_context(|| format!("cannot copy {}", journal.display()))?;
     let best = r.best.map(|i| &r.evaluations[i]);
-    let v = json!({
-        "fingerprint": d.fingerprint(),
-        "method": d.spec.budget.method.name(),
-        "seed": d.spec.budget.seed,
-        "evaluations_asked": r.asked,
-        "stop": r.stop,
-        "variables": d.spec.variables.iter().map(|v| json!({"path": v.path, "min": v.min, "max": v.max, "integer": v.integer})).collect::<Vec<_>>(),
-        "speeds_kmh": d.spec.speeds.iter().map(|s| s.kmh).collect::<Vec<_>>(),
-        "columns": d.needs.iter().map(|n| n.label()).collect::<Vec<_>>(),
-        "feasible": best.is_some(),
-        "best": best,
-        "least_violating": r.least_violating.map(|i| &r.evaluations[i]),
-        "base": r.base,
-        "confirmation": r.confirmation.as_ref().map(|(e, same)| json!({"evaluation": e, "same_as_search": same})),
-        "sensitivity": r.sensitivity,
-        "constraints": r.constraints,
-    });
+    let v = r.to_json(d);
     write_file(
         &out.join("design.json"),
         serde_json::to_string_pretty(&v)? + "\n",

@@ -409,6 +409,21 @@ impl Design {
         })
     }
 
+    /// A spec's text and its base case: a preset, or a case file that `read` reads (the front
+    /// end's bounded read, relative to the spec): the one loader of every front end.
+    pub fn from_spec_text(
+        text: &str,
+        read: &dyn Fn(&str) -> std::io::Result<String>,
+    ) -> Result<Design, CaseError> {
+        let spec = DesignSpec::from_toml_str(text)?;
+        let base = match (&spec.base.preset, &spec.base.file) {
+            (Some(p), _) => crate::input::case_from_preset(p)?,
+            (None, Some(f)) => crate::input::case_from_file(f, read(f))?,
+            (None, None) => unreachable!("the spec's shape names its base"),
+        };
+        Design::new(spec, base)
+    }
+
     /// The same search with the runs held to `budget` (the CLI's memory and step limits).
     pub fn with_run_budget(mut self, budget: RunBudget) -> Design {
         self.run_budget = budget;
@@ -897,13 +912,21 @@ impl Problem<'_> {
             }
         }
         if !new.is_empty() {
-            // A stop (an interrupt, the wall time) holds only where work is left to run: points
-            // in the journal are always answered (argmin's Nelder–Mead cannot take an error
-            // while it evaluates its first simplex, which is in the journal by then).
-            if let Some(s) = book.stop {
+            // A stop (an interrupt, the wall time) holds only where the search has work left
+            // to run: points in the journal are always answered (argmin's Nelder–Mead cannot
+            // take an error while it evaluates its first simplex, which is in the journal by
+            // then), and the sensitivity belongs to the answer.
+            if let (Some(s), "search") = (book.stop, phase) {
                 return Err(Stop(s).into());
             }
-            if let Some(w) = d.spec.budget.wall_s {
+            // The first batch always runs: a search stopped by its wall time answers from
+            // something.
+            if let Some(w) = d
+                .spec
+                .budget
+                .wall_s
+                .filter(|_| book.batch > 0 && phase == "search")
+            {
                 if book.started.elapsed().as_secs_f64() > w {
                     book.stop = Some(StopReason::WallTime);
                     return Err(Stop(StopReason::WallTime).into());
@@ -1141,7 +1164,6 @@ pub fn search(
         }
         let refs: Vec<&Vec<f64>> = plan.iter().flatten().collect();
         if !refs.is_empty() {
-            problem.book.lock().expect("book").stop = None;
             problem
                 .costs(&refs, "sensitivity")
                 .map_err(|e| invalid("design search", "sensitivity", e.to_string()))?;
@@ -1227,6 +1249,32 @@ pub fn search(
         sensitivity,
         constraints,
     })
+}
+
+impl DesignResult {
+    /// The answer as every front end writes it (the CLI's design.json, Python's
+    /// `pcsim.design(...)`): no wall time, so the same search gives the same bytes.
+    pub fn to_json(&self, d: &Design) -> serde_json::Value {
+        use serde_json::json;
+        let best = self.best.map(|i| &self.evaluations[i]);
+        json!({
+            "fingerprint": d.fingerprint(),
+            "method": d.spec.budget.method.name(),
+            "seed": d.spec.budget.seed,
+            "evaluations_asked": self.asked,
+            "stop": self.stop,
+            "variables": d.spec.variables.iter().map(|v| json!({"path": v.path, "min": v.min, "max": v.max, "integer": v.integer})).collect::<Vec<_>>(),
+            "speeds_kmh": d.spec.speeds.iter().map(|s| s.kmh).collect::<Vec<_>>(),
+            "columns": d.needs.iter().map(|n| n.label()).collect::<Vec<_>>(),
+            "feasible": best.is_some(),
+            "best": best,
+            "least_violating": self.least_violating.map(|i| &self.evaluations[i]),
+            "base": self.base,
+            "confirmation": self.confirmation.as_ref().map(|(e, same)| json!({"evaluation": e, "same_as_search": same})),
+            "sensitivity": self.sensitivity,
+            "constraints": self.constraints,
+        })
+    }
 }
 
 /// Each constraint (and acceptance row with a verdict) at the best design: value, limit, margin,

@@ -34,6 +34,7 @@ __all__ = [
     "eva",
     "validate",
     "assess",
+    "design",
     "presets",
 ]
 
@@ -161,6 +162,69 @@ def assess(result: "Result", system: Optional[str] = None, criteria: Optional[st
     text (status ``"user"``, each with its source). A criterion whose limit pcsim cannot cite
     gives the value and the verdict ``"no-limit"``."""
     return json.loads(_pcsim.assess(json.dumps(result.summary), system, criteria))
+
+
+def _design_evaluate(spec_toml: str, base_dir: str, x: List[float]) -> List[str]:
+    """One design's journal row (runs on a Dask worker; module level, so it pickles by name)."""
+    return list(_pcsim.design_evaluate(spec_toml, base_dir, list(x)))
+
+
+def design(
+    spec: Any,
+    client: Any = None,
+    jobs: Optional[int] = None,
+    journal: Any = None,
+) -> Dict[str, Any]:
+    """The design search of ``pcsim design SPEC.toml``: the same spec, the same answer (the
+    content of its ``design.json``: ``best``, ``sensitivity``, ``constraints``, ``feasible``…).
+
+    ``spec``: a path to the spec (its ``base.file`` is read relative to it) or its TOML text
+    (``base.file`` relative to the working directory). ``journal``: a path to a journal
+    (design.csv's format, the CLI's): resumed when it exists (its evaluations are not run again),
+    appended to batch by batch, so an interrupted search continues where it stopped. ``client``:
+    a ``dask.distributed.Client``: each batch's designs are evaluated on its workers (one design
+    per task, single-threaded), with the numbers of a local run. Without it, ``jobs`` threads
+    here (all cores by default)."""
+    import csv
+    import io
+    import os
+
+    text = str(spec)
+    base_dir = os.getcwd()
+    if "\n" not in text and os.path.exists(text):
+        with open(text, encoding="utf-8") as f:
+            base_dir = os.path.dirname(os.path.abspath(text))
+            text = f.read()
+    rows: List[List[str]] = []
+    if journal is not None and os.path.exists(journal):
+        with open(journal, encoding="utf-8", newline="") as f:
+            content = f.read()
+        if content and not content.endswith("\n"):
+            # A row torn by a kill: dropped, as the CLI does.
+            content = content[: content.rfind("\n") + 1]
+            with open(journal, "w", encoding="utf-8", newline="") as f:
+                f.write(content)
+        rows = [r for r in csv.reader(io.StringIO(content))]
+    if journal is not None and not rows:
+        with open(journal, "w", encoding="utf-8", newline="") as f:
+            csv.writer(f, lineterminator="\n").writerow(_pcsim.design_header(text, base_dir))
+
+    def on_batch(new_rows: List[List[str]]) -> None:
+        if journal is not None:
+            with open(journal, "a", encoding="utf-8", newline="") as f:
+                csv.writer(f, lineterminator="\n").writerows(new_rows)
+                f.flush()
+                os.fsync(f.fileno())
+
+    evaluate = None
+    if client is not None:
+        def evaluate(xs: List[List[float]]) -> List[List[str]]:
+            futures = client.map(_design_evaluate, [text] * len(xs), [base_dir] * len(xs), xs,
+                                 pure=False)
+            return client.gather(futures)
+
+    answer, _header = _pcsim.design(text, base_dir, rows, on_batch, evaluate, jobs)
+    return json.loads(answer)
 
 
 def presets() -> List[str]:
