@@ -75,10 +75,11 @@ fn the_search_finds_the_uplift_whose_mean_force_is_the_target() {
 }
 
 /// Two variables, a particle swarm of 4 over 3 batches, two speeds (one in the objective, both
-/// under the constraint).
+/// under the constraint), on 6 spans of en50318-2002.
 const SWARM: &str = r#"
 [base]
 preset = "en50318-2002"
+set = { "catenary.spans" = 6, "run.start_m" = 60.0, "run.end_m" = 300.0, "run.analysis_m" = [120.0, 240.0] }
 
 [[variable]]
 path = "pantographs[0].uplift_n"

@@ -536,6 +536,13 @@ impl DesignSpec {
                     ));
                 }
             }
+            if v.path == "run.speed_kmh" {
+                return Err(invalid(
+                    f("path"),
+                    &v.path,
+                    "the speeds are the spec's [[speed]] list, not a variable",
+                ));
+            }
             if self.variables[..k].iter().any(|w| w.path == v.path) {
                 return Err(invalid(f("path"), &v.path, "the path is a variable twice"));
             }
