@@ -86,37 +86,8 @@ echo "slurm: 3 array tasks and the merge give the unsharded eva.csv and case fil
 
 # A design search whose batches run as job arrays (scripts/slurm/design_batch.sh): the same
 # journal and answer as the local search, byte for byte.
-cat > "$work/design.toml" <<SPEC
-[base]
-preset = "en50318-2002"
-set = { "catenary.spans" = 6, "run.start_m" = 60.0, "run.end_m" = 300.0, "run.analysis_m" = [120.0, 240.0] }
-[[variable]]
-path = "pantographs[0].uplift_n"
-min = 90.0
-max = 140.0
-[[variable]]
-path = "catenary.contact_wire.tension_n"
-min = 12000.0
-max = 25000.0
-[[speed]]
-kmh = 250.0
-[[speed]]
-kmh = 200.0
-weight = 0.0
-[[objective]]
-statistic = "std_n"
-[[constraint]]
-statistic = "stat_min_n"
-min = 20.0
-[acceptance]
-system = "ac"
-[budget]
-evaluations = 8
-particles = 4
-seed = 3
-SPEC
-"$pcsim" design "$work/design.toml" --jobs 1 --no-plot --quiet --out "$work/design-local" >/dev/null
-"$pcsim" design "$work/design.toml" --no-plot --quiet --out "$work/design-slurm" \
+"$pcsim" design "$root/tests/design/swarm.toml" --jobs 1 --no-plot --quiet --out "$work/design-local" >/dev/null
+"$pcsim" design "$root/tests/design/swarm.toml" --no-plot --quiet --out "$work/design-slurm" \
   --evaluate-with "$root/scripts/slurm/design_batch.sh" >/dev/null
 n_batches=$(ls -d "$work"/design-slurm-batches/batch-* | wc -l)
 cmp "$work/design-local/design.csv" "$work/design-slurm/design.csv"

@@ -122,31 +122,8 @@ impl Case {
     /// field's unit; `ValueError` if there is none.
     fn get<'py>(&self, py: Python<'py>, path: &str) -> PyResult<Bound<'py, PyAny>> {
         guarded(|| {
-            let root: toml::Value = toml::Value::try_from(&self.inner).map_err(err)?;
-            let mut v = &root;
-            for part in path.split('.') {
-                let (key, idx) = match part.find('[') {
-                    Some(i) => (&part[..i], Some(&part[i..])),
-                    None => (part, None),
-                };
-                v = v
-                    .get(key)
-                    .ok_or_else(|| err(format!("`{path}`: the case has no `{key}`")))?;
-                let mut rest = idx.unwrap_or("");
-                while let Some(r) = rest.strip_prefix('[') {
-                    let end = r
-                        .find(']')
-                        .ok_or_else(|| err(format!("`{path}`: unclosed `[`")))?;
-                    let i: usize = r[..end]
-                        .parse()
-                        .map_err(|_| err(format!("`{path}`: an index must be a whole number")))?;
-                    v = v
-                        .get(i)
-                        .ok_or_else(|| err(format!("`{path}`: index {i} is out of range")))?;
-                    rest = &r[end + 1..];
-                }
-            }
-            to_py(py, v)
+            let v = pcsim_core::input::overrides::value_at(&self.inner, path).map_err(err)?;
+            to_py(py, &v)
         })
     }
 

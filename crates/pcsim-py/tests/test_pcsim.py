@@ -295,35 +295,9 @@ def test_assess_is_the_clis_assessment(tmp_path):
                                   'clause = "c"\nsource = "s"\nstatus = "user"\n')
 
 
-DESIGN_SPEC = """
-[base]
-preset = "en50318-2002"
-set = { "catenary.spans" = 6, "run.start_m" = 60.0, "run.end_m" = 300.0, "run.analysis_m" = [120.0, 240.0] }
-[[variable]]
-path = "pantographs[0].uplift_n"
-min = 90.0
-max = 140.0
-[[variable]]
-path = "catenary.contact_wire.tension_n"
-min = 12000.0
-max = 25000.0
-[[speed]]
-kmh = 250.0
-[[speed]]
-kmh = 200.0
-weight = 0.0
-[[objective]]
-statistic = "std_n"
-[[constraint]]
-statistic = "stat_min_n"
-min = 20.0
-[acceptance]
-system = "ac"
-[budget]
-evaluations = 8
-particles = 4
-seed = 3
-"""
+# The shared test spec of the design search (the core's, the CLI's and the Slurm tests' too).
+with open(os.path.join(os.path.dirname(__file__), "..", "..", "..", "tests", "design", "swarm.toml")) as _f:
+    DESIGN_SPEC = _f.read()
 
 
 def _cli_design(tmp_path):

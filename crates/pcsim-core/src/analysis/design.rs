@@ -43,8 +43,8 @@ use crate::compile::{Budget as RunBudget, Setup};
 use crate::error::{CaseError, SimError};
 use crate::input::case::Case;
 use crate::input::criteria::{self, Criterion, System};
-use crate::input::design::{Constraint, DesignSpec, Method, Statistic, Which};
-use crate::input::overrides::{with_overrides, OverrideValue};
+use crate::input::design::{invalid, Constraint, DesignSpec, Method, Statistic, Which};
+use crate::input::overrides::{value_at, with_overrides, OverrideValue};
 
 /// The cost of an infeasible design per unit of (1 + its relative violation): above every
 /// objective a run's statistics give (newtons, millimetres, per cent).
@@ -209,18 +209,6 @@ pub struct DesignResult {
     pub sensitivity: Vec<Sensitivity>,
     /// Each constraint at the best design.
     pub constraints: Vec<ConstraintStatus>,
-}
-
-fn invalid(
-    field: impl Into<String>,
-    value: impl Into<String>,
-    reason: impl Into<String>,
-) -> CaseError {
-    CaseError::Invalid {
-        field: field.into(),
-        value: value.into(),
-        reason: reason.into(),
-    }
 }
 
 fn stat_of(s: &ContactStats, q: Statistic) -> Option<f64> {
@@ -439,14 +427,13 @@ impl Design {
     /// The base design's values (each variable as the base case has it, or the middle of its
     /// range when the case's value is not a number).
     pub fn base_x(&self) -> Vec<f64> {
-        let root = toml::Value::try_from(&self.base).ok();
         self.spec
             .variables
             .iter()
-            .map(|v| {
-                root.as_ref()
-                    .and_then(|r| lookup(r, &v.path))
-                    .unwrap_or(0.5 * (v.min + v.max))
+            .map(|v| match value_at(&self.base, &v.path) {
+                Ok(toml::Value::Float(x)) => x,
+                Ok(toml::Value::Integer(i)) => i as f64,
+                _ => 0.5 * (v.min + v.max),
             })
             .collect()
     }
@@ -703,7 +690,7 @@ impl Design {
         for v in &e.values {
             r.extend(v.iter().map(|x| num(*x)));
         }
-        r.push(e.violated.join("; "));
+        r.push(serde_json::to_string(&e.violated).expect("strings serialise"));
         r.push(e.error.clone().unwrap_or_default());
         r.push(self.spec.budget.seed.to_string());
         r.push(self.fingerprint.clone());
@@ -774,11 +761,8 @@ impl Design {
             }
             values.push(v);
         }
-        let violated = if at(k).is_empty() {
-            Vec::new()
-        } else {
-            at(k).split("; ").map(String::from).collect()
-        };
+        let violated: Vec<String> =
+            serde_json::from_str(at(k)).map_err(|_| bad(k, "not a JSON list of names"))?;
         let error = (!at(k + 1).is_empty()).then(|| at(k + 1).to_string());
         Ok(Evaluation {
             index,
@@ -792,26 +776,6 @@ impl Design {
             error,
             cost,
         })
-    }
-}
-
-/// The value at a dotted override path of a case's TOML (a number), if there is one.
-fn lookup(root: &toml::Value, path: &str) -> Option<f64> {
-    let mut at = root;
-    for part in path.split('.') {
-        let (key, rest) = match part.find('[') {
-            Some(i) => (&part[..i], &part[i..]),
-            None => (part, ""),
-        };
-        at = at.get(key)?;
-        for idx in rest.split('[').skip(1) {
-            at = at.get(idx.strip_suffix(']')?.parse::<usize>().ok()?)?;
-        }
-    }
-    match at {
-        toml::Value::Float(x) => Some(*x),
-        toml::Value::Integer(i) => Some(*i as f64),
-        _ => None,
     }
 }
 
@@ -842,29 +806,25 @@ impl Evaluator for Local {
     }
 }
 
-/// Why a batch did not run: the search stops here.
+/// Why the optimiser was stopped from inside its cost function (argmin carries it as an error).
 #[derive(Debug)]
-struct Stop(StopReason);
+enum Halt {
+    /// The search stops here (budget, wall time, interrupt).
+    Stop(StopReason),
+    /// The evaluator failed: the search ends with this error.
+    Failed(String),
+}
 
-impl std::fmt::Display for Stop {
+impl std::fmt::Display for Halt {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "the search stops: {:?}", self.0)
+        match self {
+            Halt::Stop(s) => write!(f, "the search stops: {s:?}"),
+            Halt::Failed(e) => write!(f, "{e}"),
+        }
     }
 }
 
-impl std::error::Error for Stop {}
-
-/// The evaluator failed: the search stops with this error.
-#[derive(Debug)]
-struct EvaluatorFailed(String);
-
-impl std::fmt::Display for EvaluatorFailed {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}", self.0)
-    }
-}
-
-impl std::error::Error for EvaluatorFailed {}
+impl std::error::Error for Halt {}
 
 /// The search's book-keeping: the journal (every evaluation by its design values' bits), the
 /// budget, and the caller's callback.
@@ -902,7 +862,7 @@ impl Problem<'_> {
         };
         if take == 0 {
             book.stop.get_or_insert(StopReason::Evaluations);
-            return Err(Stop(StopReason::Evaluations).into());
+            return Err(Halt::Stop(StopReason::Evaluations).into());
         }
         let xs: Vec<Vec<f64>> = us[..take].iter().map(|u| d.x_of(u)).collect();
         let mut new: Vec<Vec<f64>> = Vec::new();
@@ -917,7 +877,7 @@ impl Problem<'_> {
             // take an error while it evaluates its first simplex, which is in the journal by
             // then), and the sensitivity belongs to the answer.
             if let (Some(s), "search") = (book.stop, phase) {
-                return Err(Stop(s).into());
+                return Err(Halt::Stop(s).into());
             }
             // The first batch always runs: a search stopped by its wall time answers from
             // something.
@@ -929,7 +889,7 @@ impl Problem<'_> {
             {
                 if book.started.elapsed().as_secs_f64() > w {
                     book.stop = Some(StopReason::WallTime);
-                    return Err(Stop(StopReason::WallTime).into());
+                    return Err(Halt::Stop(StopReason::WallTime).into());
                 }
             }
             let batch = book.batch;
@@ -948,7 +908,7 @@ impl Problem<'_> {
                         ))
                     }
                 })
-                .map_err(EvaluatorFailed)?;
+                .map_err(Halt::Failed)?;
             for mut e in got {
                 e.index = book.evaluations.len();
                 e.phase = phase.to_string();
@@ -987,7 +947,7 @@ impl Problem<'_> {
             .collect();
         if take < us.len() {
             book.stop.get_or_insert(StopReason::Evaluations);
-            return Err(Stop(StopReason::Evaluations).into());
+            return Err(Halt::Stop(StopReason::Evaluations).into());
         }
         Ok(costs)
     }
@@ -1097,7 +1057,7 @@ pub fn search(
             let stopped = problem.book.lock().expect("book").stop;
             match (first, stopped) {
                 (Err(e), _) => Err(e),
-                (Ok(_), Some(s)) => Err(Stop(s).into()),
+                (Ok(_), Some(s)) => Err(Halt::Stop(s).into()),
                 (Ok(_), None) => {
                     problem.book.lock().expect("book").asked -= simplex.len();
                     let solver = NelderMead::new(simplex)
@@ -1127,16 +1087,10 @@ pub fn search(
             } else {
                 StopReason::Evaluations
             }),
-        Err(e) => match e.downcast_ref::<Stop>() {
-            Some(Stop(s)) => *s,
-            None => {
-                let what = if e.downcast_ref::<EvaluatorFailed>().is_some() {
-                    "the evaluator"
-                } else {
-                    "the optimiser"
-                };
-                return Err(invalid("design search", what, e.to_string()));
-            }
+        Err(e) => match e.downcast_ref::<Halt>() {
+            Some(Halt::Stop(s)) => *s,
+            Some(Halt::Failed(f)) => return Err(invalid("design search", "the evaluator", f)),
+            None => return Err(invalid("design search", "the optimiser", e.to_string())),
         },
     };
     let best = {

@@ -385,7 +385,8 @@ pub struct DesignSpec {
     pub budget: Budget,
 }
 
-fn invalid(
+/// An invalid value (the design search's errors, here and in `analysis::design`).
+pub(crate) fn invalid(
     field: impl Into<String>,
     value: impl Into<String>,
     reason: impl Into<String>,

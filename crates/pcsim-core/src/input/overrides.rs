@@ -80,6 +80,25 @@ fn parse_path(path: &str) -> Result<Vec<Step<'_>>, CaseError> {
     Ok(steps)
 }
 
+/// The value at `path` in `case` (in the field's unit), by the same path rules as
+/// [`with_overrides`]. An error names the path and what is missing.
+pub fn value_at(case: &Case, path: &str) -> Result<toml::Value, CaseError> {
+    let root = toml::Value::try_from(case).map_err(|e| CaseError::Parse(e.to_string()))?;
+    let missing = |what: String| CaseError::Parse(format!("`{path}`: {what}"));
+    let mut at = &root;
+    for step in parse_path(path)? {
+        at = match step {
+            Step::Key(k) => at
+                .get(k)
+                .ok_or_else(|| missing(format!("the case has no `{k}`")))?,
+            Step::Index(i) => at
+                .get(i)
+                .ok_or_else(|| missing(format!("index {i} is out of range")))?,
+        };
+    }
+    Ok(at.clone())
+}
+
 /// A copy of `case` with every `(path, value)` set, validated. An unknown path, a value of the
 /// wrong type or an invalid result is an error that names the path and the value.
 pub fn with_overrides(
@@ -170,6 +189,12 @@ mod tests {
         assert_eq!(o.run.speed_kmh, 300.0);
         assert_eq!(o.catenary.contact_wire.tension_n, 21_500.0);
         assert_eq!(o.pantographs[1].offset_m(), 150.0);
+        assert_eq!(
+            value_at(&o, "pantographs[1].offset_m").unwrap(),
+            toml::Value::Float(150.0)
+        );
+        let e = value_at(&o, "pantographs[2].offset_m").unwrap_err();
+        assert!(e.to_string().contains("index 2"), "{e}");
         let e = with_overrides(&c, &[("run.sped_kmh".into(), 3.0.into())]).unwrap_err();
         assert!(e.to_string().contains("sped_kmh"), "{e}");
         let e = with_overrides(&c, &[("pantographs[7].offset_m".into(), 3.0.into())]).unwrap_err();
