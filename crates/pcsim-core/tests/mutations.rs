@@ -132,6 +132,34 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(cases()))]
+
+    /// A design search's spec mutated the same way (issue 24): refused with an error or checked
+    /// into a design whose every corner of the box gives a case, never a panic.
+    #[test]
+    fn mutated_design_specs_never_panic(ops in proptest::collection::vec(op(), 1..4)) {
+        use pcsim_core::analysis::design::Design;
+        let mut text = include_str!("../../../tests/design/swarm.toml").to_string();
+        for o in &ops {
+            text = apply(&text, o);
+        }
+        let read = |_: &str| -> std::io::Result<String> { Err(std::io::Error::other("no files here")) };
+        if let Ok(d) = Design::from_spec_text(&text, &read) {
+            for corner in [0.0, 1.0] {
+                let u = vec![corner; d.spec.variables.len()];
+                let x = d.x_of(&u);
+                prop_assert!(x.iter().all(|v| v.is_finite()));
+                for s in &d.spec.speeds {
+                    // A corner may be refused in combination with a speed; never a panic.
+                    let _ = d.case_at(&x, s.kmh);
+                }
+            }
+            prop_assert!(d.base_x().iter().all(|v| v.is_finite()));
+        }
+    }
+}
+
 #[test]
 fn the_mutator_does_mutate() {
     let t = PRESETS[0].toml;
