@@ -86,6 +86,8 @@ impl pcsim_core::analysis::design::Evaluator for CommandEvaluator {
             let _ = std::fs::remove_dir_all(&dir);
             std::fs::create_dir_all(&dir)
                 .with_context(|| format!("cannot create {}", dir.display()))?;
+            // The program and its tasks may run elsewhere (Slurm's --chdir): an absolute path.
+            let dir = std::fs::canonicalize(&dir)?;
             let mut text = csv_line(
                 &d.spec
                     .variables
@@ -232,12 +234,13 @@ pub fn design(a: DesignArgs, ctx: &Ctx) -> Result<i32> {
         let name = a.out.file_name().unwrap_or_default().to_string_lossy();
         a.out.with_file_name(format!("{name}-journal.csv"))
     });
+    // The output directory is locked for the whole search (a second search into it is refused),
+    // before the journal is touched.
+    let od = OutDir::begin(&a.out)?;
     if a.fresh && journal_path.exists() {
         std::fs::remove_file(&journal_path)
             .with_context(|| format!("cannot remove {}", journal_path.display()))?;
     }
-    // The output directory is locked for the whole search (a second search into it is refused).
-    let od = OutDir::begin(&a.out)?;
     let journal = read_journal(&journal_path, &d)?;
     if !journal.is_empty() {
         println!(

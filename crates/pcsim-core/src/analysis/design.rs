@@ -617,7 +617,8 @@ impl Design {
         let cost = match objective {
             None => FAILED_COST,
             Some(f) if violation == 0.0 => f,
-            Some(_) => INFEASIBLE_COST * (1.0 + violation),
+            // Below a failed run's cost whatever the violation (and finite).
+            Some(_) => (INFEASIBLE_COST * (1.0 + violation)).min(0.5 * FAILED_COST),
         };
         Evaluation {
             index: 0,
@@ -933,7 +934,7 @@ impl Problem<'_> {
             .zip(&xs)
             .map(|(u, x)| {
                 let c = book.evaluations[book.by_x[&bits(x)]].cost;
-                if self.penalise_outside {
+                if self.penalise_outside && u.iter().any(|u| !(0.0..=1.0).contains(u)) {
                     let out: f64 = u
                         .iter()
                         .map(|&u| (u - u.clamp(0.0, 1.0)).powi(2))
