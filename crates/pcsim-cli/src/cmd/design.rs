@@ -20,8 +20,8 @@ use crate::progress::Progress;
 
 #[derive(Args)]
 pub struct DesignArgs {
-    /// The search's spec (TOML: [base], [[variable]], [[speed]], [[objective]], [[constraint]],
-    /// [acceptance], [budget]; see docs/design.md).
+    /// The search's spec (TOML with the tables base, variable, speed, objective, constraint,
+    /// acceptance and budget; see docs/design.md).
     spec: PathBuf,
     /// Output directory (written as a whole when the search ends).
     #[arg(long, default_value = "design")]
