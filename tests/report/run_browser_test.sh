@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The reports in headless Chromium (issue 22, item 1): installs Debian's chromium when missing,
 # writes the report.html of a run, an EVA sweep, a window sweep, a real-time study, a Monte Carlo
-# study, a line's dropper run and a comparison with a measurement (every figure kind), and checks
-# them in the browser
+# study, a line's dropper run, a comparison with a measurement and a design search (every figure
+# kind), and checks them in the browser
 # (tests/report/check_reports.py: the DOM, no outside address, every figure rendered).
 # Screenshots are kept in target/report-shots. Usage: run_browser_test.sh PCSIM_EXECUTABLE
 set -euo pipefail
@@ -37,6 +37,8 @@ with open(sys.argv[2], "w") as f:
 PY
 "$pcsim" compare "$work/run" "$work/measured.csv" --search 5m --quiet --out "$work/compare" >/dev/null
 "$pcsim" report "$work/compare" >/dev/null
+"$pcsim" design "$root/tests/design/swarm.toml" --quiet --out "$work/design" >/dev/null
+"$pcsim" report "$work/design" >/dev/null
 python3 "$root/tests/report/check_reports.py" "$(command -v chromium)" "$root/target/report-shots" \
   "$work/run" "$work/eva" "$work/window" "$work/realtime" "$work/montecarlo" "$work/droppers" \
-  "$work/compare"
+  "$work/compare" "$work/design"

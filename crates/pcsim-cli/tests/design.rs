@@ -80,6 +80,14 @@ fn design_answers_and_a_killed_search_resumes_to_the_same_bytes() {
     assert!(std::fs::read_to_string(out.join("traces.csv"))
         .unwrap()
         .starts_with("design,speed_kmh,pantograph,position_m,force_n\nbase,250,"));
+    // The report carries the answer, and the journal as parsed CSV (its violated lists quote
+    // commas), not the force traces.
+    let o = pcsim().arg("report").arg(&out).output().unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("The best design (evaluation") && html.contains("equal to the search"));
+    assert!(html.contains("Sensitivity") && html.contains("acceptance:speed-ratio@250"));
+    assert!(!html.contains("<h2>traces.csv</h2>"));
     // Killed in its second batch: the journal holds its header, the first rows, and a torn one.
     let journal = dir.join("whole-journal.csv");
     let full = std::fs::read_to_string(&journal).unwrap();

@@ -311,6 +311,9 @@ pub fn design(a: DesignArgs, ctx: &Ctx) -> Result<i32> {
     print(&d, &result, wall);
     let out = od.path();
     write_outputs(out, &d, &result, &journal_path)?;
+    write_file(&out.join("case.toml"), base_text(&a.spec, &d)?)?;
+    std::fs::copy(&a.spec, out.join("spec.toml"))
+        .with_context(|| format!("cannot copy {}", a.spec.display()))?;
     let mut files = Vec::new();
     if !a.no_plot {
         files = crate::plot::design::redraw(out)?;
@@ -466,6 +469,20 @@ fn traces(d: &Design, r: &DesignResult) -> String {
     add("base", &r.base_runs);
     add("best", &r.best_runs);
     s
+}
+
+/// The base case as given (every value with its source), for the report's provenance: the
+/// preset's text or the file's (the spec's `set` values are in design.json's fingerprint and
+/// the spec).
+fn base_text(spec: &Path, d: &Design) -> Result<String> {
+    match (&d.spec.base.preset, &d.spec.base.file) {
+        (Some(p), _) => Ok(pcsim_core::presets::find(p)?.toml.to_string()),
+        (None, Some(f)) => {
+            let p = spec.parent().unwrap_or(Path::new(".")).join(f);
+            crate::common::read_input(&p).with_context(|| format!("cannot read {}", p.display()))
+        }
+        (None, None) => unreachable!("the spec names its base"),
+    }
 }
 
 fn write_outputs(out: &Path, d: &Design, r: &DesignResult, journal: &Path) -> Result<()> {

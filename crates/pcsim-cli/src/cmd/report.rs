@@ -86,6 +86,10 @@ fn caption(stem: &str) -> String {
         "The window's σ error against the full model, by window length.".into()
     } else if let Some(k) = stem.strip_prefix("compare_") {
         format!("The run beside the measurement: {k} (0–20 Hz, aligned).")
+    } else if stem == "design_progress" {
+        "The design search: the objective of each feasible design over the evaluations, and the best so far.".into()
+    } else if let Some(v) = stem.strip_prefix("design_force_") {
+        format!("Contact force at {v} km/h along the analysis section: the best design against the base design, each pantograph.")
     } else if stem == "droppers" {
         "Every dropper along the line: Miner's damage of the passage (or, without an S–N curve, its largest tension range); overlaps shaded.".into()
     } else {
@@ -452,19 +456,26 @@ fn write_study(dir: &Path, m: &crate::output::Manifest) -> Result<PathBuf> {
             &described,
         );
     }
-    for f in m
-        .files
-        .iter()
-        .filter(|f| f.ends_with(".csv") && !f.contains('/'))
-    {
+    if m.kind == "design" {
+        design_section(&mut h, dir)?;
+    }
+    for f in m.files.iter().filter(|f| {
+        // A design's force traces are its figures' data, not a table to read.
+        f.ends_with(".csv") && !f.contains('/') && !(m.kind == "design" && *f == "traces.csv")
+    }) {
         let text = std::fs::read_to_string(dir.join(f))
             .with_context(|| format!("cannot read {}", dir.join(f).display()))?;
-        let mut lines = text.lines();
-        let head: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
-        let rows: Vec<Vec<String>> = lines
+        // Parsed as CSV (a design's journal quotes fields with commas).
+        let mut r = csv::ReaderBuilder::new()
+            .flexible(true)
+            .from_reader(text.as_bytes());
+        let head: Vec<String> = r.headers()?.iter().map(String::from).collect();
+        let head: Vec<&str> = head.iter().map(String::as_str).collect();
+        let rows: Vec<Vec<String>> = r
+            .records()
             .take(MAX_ROWS)
-            .map(|l| l.split(',').map(str::to_owned).collect())
-            .collect();
+            .map(|x| Ok(x?.iter().map(String::from).collect()))
+            .collect::<Result<_>>()?;
         let total = text.lines().count().saturating_sub(1);
         let cap = if total > MAX_ROWS {
             format!("{f} (the first {MAX_ROWS} of {total} rows)")
@@ -478,6 +489,125 @@ fn write_study(dir: &Path, m: &crate::output::Manifest) -> Result<PathBuf> {
     // The study's base case: the grid's flags (speeds, tensions, …) vary it, as the command says.
     provenance(&mut h, dir, &[])?;
     finish(dir, h)
+}
+
+/// A design search's answer (its design.json, the core's `DesignResult::to_json`): the best
+/// design, the sensitivity, the constraints.
+fn design_section(h: &mut String, dir: &Path) -> Result<()> {
+    let p = dir.join("design.json");
+    let text =
+        std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
+    let v: serde_json::Value =
+        serde_json::from_str(&text).with_context(|| format!("{} is not JSON", p.display()))?;
+    let _ = writeln!(h, "<h2>The answer</h2>");
+    let paths: Vec<String> = v["variables"]
+        .as_array()
+        .map(|a| {
+            a.iter()
+                .map(|x| x["path"].as_str().unwrap_or("").to_string())
+                .collect()
+        })
+        .unwrap_or_default();
+    if v["feasible"] != true {
+        let _ = writeln!(
+            h,
+            "<p><b>Infeasible</b>: none of the designs evaluated meets the constraints; there is no best design. The least violating: {}.</p>",
+            esc(&v["least_violating"]["violated"].to_string())
+        );
+        return Ok(());
+    }
+    let best = &v["best"];
+    let base = &v["base"];
+    let mut rows: Vec<Vec<String>> = paths
+        .iter()
+        .enumerate()
+        .map(|(k, p)| vec![p.clone(), num(&best["x"][k]), num(&base["x"][k])])
+        .collect();
+    rows.push(vec![
+        "objective".into(),
+        num(&best["objective"]),
+        num(&base["objective"]),
+    ]);
+    let base_feasible = base["violation"] == 0.0 && base["error"].is_null();
+    rows.push(vec![
+        "feasible".into(),
+        "yes".into(),
+        if base_feasible { "yes" } else { "no" }.into(),
+    ]);
+    table(
+        h,
+        &format!(
+            "The best design (evaluation {}; confirmation run {})",
+            num(&best["index"]),
+            if v["confirmation"]["same_as_search"] == true {
+                "equal to the search's"
+            } else {
+                "DIFFERENT from the search's"
+            }
+        ),
+        &["", "best", "base"],
+        &rows,
+    );
+    let sens: Vec<Vec<String>> = v["sensitivity"]
+        .as_array()
+        .map(|a| {
+            a.iter()
+                .map(|s| {
+                    vec![
+                        s["path"].as_str().unwrap_or("").to_string(),
+                        num(&s["step"]),
+                        num(&s["objective_below"]),
+                        num(&s["objective_above"]),
+                        s["at_bound"]
+                            .as_str()
+                            .map_or(String::new(), |b| format!("at its {b} bound")),
+                    ]
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    table(
+        h,
+        "Sensitivity: the objective one step below and above the best design",
+        &[
+            "variable",
+            "step",
+            "objective below",
+            "objective above",
+            "note",
+        ],
+        &sens,
+    );
+    let cons: Vec<Vec<String>> = v["constraints"]
+        .as_array()
+        .map(|a| {
+            a.iter()
+                .map(|c| {
+                    vec![
+                        c["name"].as_str().unwrap_or("").to_string(),
+                        num(&c["value"]),
+                        num(&c["limit"]),
+                        num(&c["margin"]),
+                        if c["active"] == true {
+                            "active"
+                        } else {
+                            "inactive"
+                        }
+                        .to_string(),
+                    ]
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    if !cons.is_empty() {
+        table(
+            h,
+            "Constraints at the best design (active: violated one step away)",
+            &["constraint", "value", "limit", "margin", ""],
+            &cons,
+        );
+    }
+    Ok(())
 }
 
 /// Every leaf of a TOML value as (dotted path, value).
