@@ -224,16 +224,23 @@ fn csv_line(fields: &[String]) -> Result<Vec<u8>> {
     w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))
 }
 
+/// `OUT-suffix` beside the output directory `out` (the journal and the batches live outside it:
+/// the output is replaced whole when a search ends).
+fn beside(out: &Path, suffix: &str) -> PathBuf {
+    let name = out.file_name().unwrap_or_default().to_string_lossy();
+    out.with_file_name(format!("{name}-{suffix}"))
+}
+
 pub fn design(a: DesignArgs, ctx: &Ctx) -> Result<i32> {
     crate::common::jobs_flag(a.jobs)?;
     let d = load(&a.spec, ctx)?;
     if let (Some(dir), Some(i)) = (&a.task, a.task_index) {
         return task(&d, dir, i);
     }
-    let journal_path = a.journal.clone().unwrap_or_else(|| {
-        let name = a.out.file_name().unwrap_or_default().to_string_lossy();
-        a.out.with_file_name(format!("{name}-journal.csv"))
-    });
+    let journal_path = a
+        .journal
+        .clone()
+        .unwrap_or_else(|| beside(&a.out, "journal.csv"));
     // The output directory is locked for the whole search (a second search into it is refused),
     // before the journal is touched.
     let od = OutDir::begin(&a.out)?;
@@ -274,10 +281,10 @@ pub fn design(a: DesignArgs, ctx: &Ctx) -> Result<i32> {
             program: program.clone(),
             spec: std::fs::canonicalize(&a.spec)
                 .with_context(|| format!("cannot find {}", a.spec.display()))?,
-            dir: a.batches.clone().unwrap_or_else(|| {
-                let name = a.out.file_name().unwrap_or_default().to_string_lossy();
-                a.out.with_file_name(format!("{name}-batches"))
-            }),
+            dir: a
+                .batches
+                .clone()
+                .unwrap_or_else(|| beside(&a.out, "batches")),
             next: std::sync::Mutex::new(0),
         }),
     };

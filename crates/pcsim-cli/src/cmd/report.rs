@@ -500,14 +500,15 @@ fn design_section(h: &mut String, dir: &Path) -> Result<()> {
     let v: serde_json::Value =
         serde_json::from_str(&text).with_context(|| format!("{} is not JSON", p.display()))?;
     let _ = writeln!(h, "<h2>The answer</h2>");
-    let paths: Vec<String> = v["variables"]
-        .as_array()
-        .map(|a| {
-            a.iter()
-                .map(|x| x["path"].as_str().unwrap_or("").to_string())
-                .collect()
-        })
-        .unwrap_or_default();
+    // One row per element of a JSON list (none: no rows).
+    let rows_of = |list: &serde_json::Value, row: &dyn Fn(&serde_json::Value) -> Vec<String>| {
+        list.as_array()
+            .map_or(Vec::new(), |a| a.iter().map(row).collect::<Vec<_>>())
+    };
+    let as_text = |x: &serde_json::Value| x.as_str().unwrap_or("").to_string();
+    let paths: Vec<String> = v["variables"].as_array().map_or(Vec::new(), |a| {
+        a.iter().map(|x| as_text(&x["path"])).collect()
+    });
     if v["feasible"] != true {
         let _ = writeln!(
             h,
@@ -548,24 +549,17 @@ fn design_section(h: &mut String, dir: &Path) -> Result<()> {
         &["", "best", "base"],
         &rows,
     );
-    let sens: Vec<Vec<String>> = v["sensitivity"]
-        .as_array()
-        .map(|a| {
-            a.iter()
-                .map(|s| {
-                    vec![
-                        s["path"].as_str().unwrap_or("").to_string(),
-                        num(&s["step"]),
-                        num(&s["objective_below"]),
-                        num(&s["objective_above"]),
-                        s["at_bound"]
-                            .as_str()
-                            .map_or(String::new(), |b| format!("at its {b} bound")),
-                    ]
-                })
-                .collect()
-        })
-        .unwrap_or_default();
+    let sens = rows_of(&v["sensitivity"], &|s| {
+        vec![
+            as_text(&s["path"]),
+            num(&s["step"]),
+            num(&s["objective_below"]),
+            num(&s["objective_above"]),
+            s["at_bound"]
+                .as_str()
+                .map_or(String::new(), |b| format!("at its {b} bound")),
+        ]
+    });
     table(
         h,
         "Sensitivity: the objective one step below and above the best design",
@@ -578,27 +572,20 @@ fn design_section(h: &mut String, dir: &Path) -> Result<()> {
         ],
         &sens,
     );
-    let cons: Vec<Vec<String>> = v["constraints"]
-        .as_array()
-        .map(|a| {
-            a.iter()
-                .map(|c| {
-                    vec![
-                        c["name"].as_str().unwrap_or("").to_string(),
-                        num(&c["value"]),
-                        num(&c["limit"]),
-                        num(&c["margin"]),
-                        if c["active"] == true {
-                            "active"
-                        } else {
-                            "inactive"
-                        }
-                        .to_string(),
-                    ]
-                })
-                .collect()
-        })
-        .unwrap_or_default();
+    let cons = rows_of(&v["constraints"], &|c| {
+        let active = if c["active"] == true {
+            "active"
+        } else {
+            "inactive"
+        };
+        vec![
+            as_text(&c["name"]),
+            num(&c["value"]),
+            num(&c["limit"]),
+            num(&c["margin"]),
+            active.to_string(),
+        ]
+    });
     if !cons.is_empty() {
         table(
             h,

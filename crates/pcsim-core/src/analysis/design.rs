@@ -43,7 +43,7 @@ use crate::compile::{Budget as RunBudget, Setup};
 use crate::error::{CaseError, SimError};
 use crate::input::case::Case;
 use crate::input::criteria::{self, Criterion, System};
-use crate::input::design::{invalid, Constraint, DesignSpec, Method, Statistic, Which};
+use crate::input::design::{invalid, Constraint, DesignSpec, Method, Statistic, Term, Which};
 use crate::input::overrides::{value_at, with_overrides, OverrideValue};
 
 /// The cost of an infeasible design per unit of (1 + its relative violation): above every
@@ -65,6 +65,24 @@ pub struct Need {
 }
 
 impl Need {
+    /// What an objective term reads (for `worst`, the largest value).
+    fn of_term(t: &Term) -> Need {
+        Need {
+            statistic: t.statistic,
+            which: t.pantograph,
+            high: true,
+        }
+    }
+
+    /// What a constraint's maximum (`high`) or minimum reads.
+    fn of_limit(c: &Constraint, high: bool) -> Need {
+        Need {
+            statistic: c.statistic,
+            which: c.pantograph,
+            high,
+        }
+    }
+
     /// Its column name, without the speed: `std_n[max]`, `mean_n[0]`.
     pub fn label(&self) -> String {
         let w = match self.which {
@@ -262,13 +280,28 @@ fn read(out: &RunOutput, need: &Need) -> Option<f64> {
     }
 }
 
+/// An acceptance criterion with a verdict, of one run.
+struct AcceptanceRow {
+    /// `acceptance:ID[pantograph]`.
+    name: String,
+    value: Option<f64>,
+    limit: Option<f64>,
+    /// How far inside the limit (negative: violated).
+    margin: Option<f64>,
+    met: bool,
+}
+
 /// What one run at one speed gave.
 struct SpeedRun {
     values: Vec<Option<f64>>,
-    /// Acceptance rows: (name, value, limit, verdict).
-    acceptance: Vec<(String, Option<f64>, Option<f64>, Verdict)>,
+    acceptance: Vec<AcceptanceRow>,
     run_errors: Vec<String>,
     output: RunOutput,
+}
+
+/// A violation relative to its limit (to the unit when the limit is 0).
+fn relative(excess: f64, limit: f64) -> f64 {
+    excess / if limit.abs() > 0.0 { limit.abs() } else { 1.0 }
 }
 
 impl Design {
@@ -329,22 +362,12 @@ impl Design {
         };
         for (k, t) in spec.objective.iter().enumerate() {
             check_which(format!("objective[{k}].pantograph"), t.pantograph)?;
-            add(Need {
-                statistic: t.statistic,
-                which: t.pantograph,
-                high: true,
-            });
+            add(Need::of_term(t));
         }
         for (k, c) in spec.constraints.iter().enumerate() {
             check_which(format!("constraint[{k}].pantograph"), c.pantograph)?;
-            for (limit, high) in [(c.max, true), (c.min, false)] {
-                if limit.is_some() {
-                    add(Need {
-                        statistic: c.statistic,
-                        which: c.pantograph,
-                        high,
-                    });
-                }
+            for (_, high) in c.limits() {
+                add(Need::of_limit(c, high));
             }
         }
         let criteria = match &spec.acceptance {
@@ -360,18 +383,6 @@ impl Design {
                 Some((criteria::builtin(), system))
             }
         };
-        if spec.budget.method == Method::NelderMead
-            && spec.budget.evaluations <= spec.variables.len()
-        {
-            return Err(invalid(
-                "budget.evaluations",
-                spec.budget.evaluations.to_string(),
-                format!(
-                    "Nelder–Mead needs more than the {} evaluations of its first simplex",
-                    spec.variables.len() + 1
-                ),
-            ));
-        }
         // The fingerprint: everything that decides an evaluation and the search's path, not the
         // budget's size (a resumed search may be given more evaluations or time).
         let fp_text = format!(
@@ -505,12 +516,18 @@ impl Design {
             for r in assess(&input, list, *system).rows {
                 if matches!(r.verdict, Verdict::Met | Verdict::NotMet) {
                     let who = r.pantograph.map_or(String::new(), |p| format!("[{p}]"));
-                    acceptance.push((
-                        format!("acceptance:{}{who}", r.id),
-                        r.value,
-                        r.limit,
-                        r.verdict,
-                    ));
+                    let margin = match (r.value, r.limit, r.kind.as_str()) {
+                        (Some(v), Some(l), "max") => Some(l - v),
+                        (Some(v), Some(l), "min") => Some(v - l),
+                        _ => None,
+                    };
+                    acceptance.push(AcceptanceRow {
+                        name: format!("acceptance:{}{who}", r.id),
+                        value: r.value,
+                        limit: r.limit,
+                        margin,
+                        met: r.verdict == Verdict::Met,
+                    });
                 }
             }
         }
@@ -520,14 +537,6 @@ impl Design {
             run_errors,
             output,
         })
-    }
-
-    /// The constraint `c` on need `n`'s value `v`: its limit, and the relative violation.
-    fn violation_of(c: &Constraint, high: bool, v: f64) -> (f64, f64) {
-        let limit = if high { c.max } else { c.min }.expect("the need exists for this limit");
-        let excess = if high { v - limit } else { limit - v };
-        let scale = if limit.abs() > 0.0 { limit.abs() } else { 1.0 };
-        (limit, (excess / scale).max(0.0))
     }
 
     /// Assemble an evaluation from its runs (one per speed).
@@ -549,11 +558,7 @@ impl Design {
             values.push(r.values.clone());
             let value = |n: &Need| r.values[self.needs.iter().position(|m| m == n).expect("need")];
             for t in &self.spec.objective {
-                let n = Need {
-                    statistic: t.statistic,
-                    which: t.pantograph,
-                    high: true,
-                };
+                let n = Need::of_term(t);
                 match value(&n) {
                     Some(v) => {
                         let v = t.target.map_or(v, |target| (v - target).abs());
@@ -566,22 +571,17 @@ impl Design {
                     }
                 }
             }
-            for c in &self.spec.constraints {
-                if !(c.speeds_kmh.is_empty() || c.speeds_kmh.contains(&sp.kmh)) {
-                    continue;
-                }
-                for (limit, high) in [(c.max, true), (c.min, false)] {
-                    if limit.is_none() {
-                        continue;
-                    }
-                    let n = Need {
-                        statistic: c.statistic,
-                        which: c.pantograph,
-                        high,
-                    };
+            for c in self
+                .spec
+                .constraints
+                .iter()
+                .filter(|c| c.applies_at(sp.kmh))
+            {
+                for (limit, high) in c.limits() {
+                    let n = Need::of_limit(c, high);
                     match value(&n) {
                         Some(v) => {
-                            let (_, rel) = Self::violation_of(c, high, v);
+                            let rel = relative(if high { v - limit } else { limit - v }, limit);
                             if rel > 0.0 {
                                 violation += rel;
                                 violated.push(format!("{}@{}", c.label(), sp.kmh));
@@ -595,13 +595,10 @@ impl Design {
                     }
                 }
             }
-            for (name, v, limit, verdict) in &r.acceptance {
-                if *verdict == Verdict::NotMet {
-                    let (v, l) = (v.unwrap_or(0.0), limit.unwrap_or(0.0));
-                    let scale = if l.abs() > 0.0 { l.abs() } else { 1.0 };
-                    violation += ((v - l).abs() / scale).max(f64::MIN_POSITIVE);
-                    violated.push(format!("{name}@{}", sp.kmh));
-                }
+            for a in r.acceptance.iter().filter(|a| !a.met) {
+                let (v, l) = (a.value.unwrap_or(0.0), a.limit.unwrap_or(0.0));
+                violation += relative((v - l).abs(), l).max(f64::MIN_POSITIVE);
+                violated.push(format!("{}@{}", a.name, sp.kmh));
             }
             for e in &r.run_errors {
                 violation += 1.0;
@@ -1177,18 +1174,19 @@ pub fn search(
         let (e, r) = design.evaluate(&design.base_x(), jobs);
         (Some(e), r)
     };
-    let (confirmation, best_runs) = match (best, interrupted) {
+    let (confirmation, best_runs, constraints) = match (best, interrupted) {
         (Some(bi), false) => {
-            let (c, runs) = design.evaluate(&evaluations[bi].x, jobs);
+            let (c, runs) = design
+                .evaluate_many(std::slice::from_ref(&evaluations[bi].x), jobs)
+                .pop()
+                .expect("one design");
             let j = &evaluations[bi];
             let same = c.values == j.values && c.objective == j.objective && c.cost == j.cost;
-            (Some((c, same)), runs)
+            let status = constraint_status(design, &evaluations, bi, &neighbours, &runs);
+            let outputs = runs.into_iter().map(|r| r.map(|r| r.output)).collect();
+            (Some((c, same)), outputs, status)
         }
-        _ => (None, Vec::new()),
-    };
-    let constraints = match (best, interrupted) {
-        (Some(bi), false) => constraint_status(design, &evaluations, bi, &neighbours, &best_runs),
-        _ => Vec::new(),
+        _ => (None, Vec::new(), Vec::new()),
     };
     Ok(DesignResult {
         asked: book.asked,
@@ -1232,14 +1230,14 @@ impl DesignResult {
     }
 }
 
-/// Each constraint (and acceptance row with a verdict) at the best design: value, limit, margin,
-/// and whether a design one sensitivity step away violates it.
+/// Each constraint (and acceptance row with a verdict, from the confirmation `runs`) at the best
+/// design: value, limit, margin, and whether a design one sensitivity step away violates it.
 fn constraint_status(
     design: &Design,
     evaluations: &[Evaluation],
     best: usize,
     neighbours: &[Option<usize>],
-    best_runs: &[Option<RunOutput>],
+    runs: &[Option<SpeedRun>],
 ) -> Vec<ConstraintStatus> {
     let e = &evaluations[best];
     let near: Vec<&Evaluation> = neighbours
@@ -1247,20 +1245,18 @@ fn constraint_status(
         .flatten()
         .map(|&i| &evaluations[i])
         .collect();
+    let active = |name: &String| near.iter().any(|x| x.violated.contains(name));
     let mut out = Vec::new();
     for (s, sp) in design.spec.speeds.iter().enumerate() {
-        for c in &design.spec.constraints {
-            if !(c.speeds_kmh.is_empty() || c.speeds_kmh.contains(&sp.kmh)) {
-                continue;
-            }
+        for c in design
+            .spec
+            .constraints
+            .iter()
+            .filter(|c| c.applies_at(sp.kmh))
+        {
             let name = format!("{}@{}", c.label(), sp.kmh);
-            for (limit, high) in [(c.max, true), (c.min, false)] {
-                let Some(limit) = limit else { continue };
-                let n = Need {
-                    statistic: c.statistic,
-                    which: c.pantograph,
-                    high,
-                };
+            for (limit, high) in c.limits() {
+                let n = Need::of_limit(c, high);
                 let k = design.needs.iter().position(|m| *m == n).expect("need");
                 let value = e.values[s][k];
                 out.push(ConstraintStatus {
@@ -1268,40 +1264,24 @@ fn constraint_status(
                     value,
                     limit: Some(limit),
                     margin: value.map(|v| if high { limit - v } else { v - limit }),
-                    active: near.iter().any(|x| x.violated.contains(&name)),
+                    active: active(&name),
                 });
             }
         }
-        // The acceptance rows with a verdict, from the confirmation run.
-        if let (Some((list, system)), Some(Some(run))) = (&design.criteria, best_runs.get(s)) {
-            let case = design.case_at(&e.x, sp.kmh).ok();
-            if let Some(case) = case {
-                let summary = RunSummary::new(&case, run, 0.0, Vec::new(), Vec::new());
-                let input = serde_json::to_string(&summary)
-                    .ok()
-                    .and_then(|t| AssessInput::from_summary_json(&t).ok());
-                if let Some(input) = input {
-                    for r in assess(&input, list, *system).rows {
-                        if !matches!(r.verdict, Verdict::Met | Verdict::NotMet) {
-                            continue;
-                        }
-                        let who = r.pantograph.map_or(String::new(), |p| format!("[{p}]"));
-                        let name = format!("acceptance:{}{who}@{}", r.id, sp.kmh);
-                        let margin = match (r.value, r.limit, r.kind.as_str()) {
-                            (Some(v), Some(l), "max") => Some(l - v),
-                            (Some(v), Some(l), "min") => Some(v - l),
-                            _ => None,
-                        };
-                        out.push(ConstraintStatus {
-                            active: near.iter().any(|x| x.violated.contains(&name)),
-                            name,
-                            value: r.value,
-                            limit: r.limit,
-                            margin,
-                        });
-                    }
-                }
-            }
+        for a in runs
+            .get(s)
+            .into_iter()
+            .flatten()
+            .flat_map(|r| &r.acceptance)
+        {
+            let name = format!("{}@{}", a.name, sp.kmh);
+            out.push(ConstraintStatus {
+                active: active(&name),
+                name,
+                value: a.value,
+                limit: a.limit,
+                margin: a.margin,
+            });
         }
     }
     out

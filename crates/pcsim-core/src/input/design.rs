@@ -282,6 +282,19 @@ pub struct Constraint {
 }
 
 impl Constraint {
+    /// Its limits: `(limit, true)` for the maximum, `(limit, false)` for the minimum.
+    pub fn limits(&self) -> impl Iterator<Item = (f64, bool)> {
+        self.max
+            .map(|m| (m, true))
+            .into_iter()
+            .chain(self.min.map(|m| (m, false)))
+    }
+
+    /// Whether it holds at speed `kmh` (every speed when it lists none).
+    pub fn applies_at(&self, kmh: f64) -> bool {
+        self.speeds_kmh.is_empty() || self.speeds_kmh.contains(&kmh)
+    }
+
     /// Its name in the outputs: `stat_min_n[worst]>=0`.
     pub fn label(&self) -> String {
         let mut s = format!("{}[{}]", self.statistic.name(), self.pantograph.name());
@@ -624,6 +637,16 @@ impl DesignSpec {
                 ));
             }
         }
+        if b.method == Method::NelderMead && b.evaluations <= self.variables.len() {
+            return Err(invalid(
+                "budget.evaluations",
+                b.evaluations.to_string(),
+                format!(
+                    "Nelder–Mead needs at least the {} evaluations of its first simplex",
+                    self.variables.len() + 1
+                ),
+            ));
+        }
         if let Some(p) = b.particles {
             if !(2..=1000).contains(&p) {
                 return Err(invalid(
@@ -684,6 +707,18 @@ evaluations = 10
             .unwrap_err()
             .to_string();
         assert!(e.contains("budget.evaluations"), "{e}");
+        let nm = SPEC.replace(
+            "evaluations = 10",
+            "evaluations = 1\nmethod = \"nelder-mead\"",
+        );
+        let e = DesignSpec::from_toml_str(&nm).unwrap_err().to_string();
+        assert!(
+            e.contains("budget.evaluations") && e.contains("at least the 2"),
+            "{e}"
+        );
+        assert!(
+            DesignSpec::from_toml_str(&nm.replace("evaluations = 1", "evaluations = 2")).is_ok()
+        );
         let e = DesignSpec::from_toml_str(&SPEC.replace("[budget]", "[budget]\ncolour = 1"))
             .unwrap_err()
             .to_string();
