@@ -27,11 +27,39 @@ FLAGS = [
 ]
 
 
-def chromium(exe, args, url):
+def chromium_once(exe, args, url):
     with tempfile.TemporaryDirectory() as profile:
-        r = subprocess.run([exe, *FLAGS, f"--user-data-dir={profile}", *args, url],
-                           capture_output=True, text=True, timeout=120)
-    return r
+        try:
+            return subprocess.run([exe, *FLAGS, f"--user-data-dir={profile}", *args, url],
+                                  capture_output=True, text=True, timeout=120)
+        except subprocess.TimeoutExpired as e:
+            return subprocess.CompletedProcess(e.cmd, -1, e.stdout or "", f"timed out: {e}")
+
+
+def chromium(exe, args, url, done):
+    """Chromium on `url`, again (up to 3 times) while `done(result)` is false: a headless
+    Chromium on a loaded CI machine now and then exits before it has printed the DOM or written
+    the screenshot (CI stop 34: an empty DOM, the same report whole on this machine). A browser
+    that never delivers fails the check with its own words, never a report that is blank."""
+    for attempt in range(3):
+        r = chromium_once(exe, args, url)
+        if done(r):
+            return r
+        tail = (r.stderr or "")[-1500:]
+        print(f"chromium attempt {attempt + 1} on {url} ({' '.join(args)}) delivered nothing "
+              f"(exit {r.returncode}); its last words:\n{tail}", file=sys.stderr)
+    sys.exit(f"chromium never delivered {' '.join(args)} for {url}")
+
+
+def dump_dom(exe, url):
+    return chromium(exe, ["--dump-dom"], url, lambda r: "</html>" in (r.stdout or "")).stdout
+
+
+def screenshot(exe, shot, size, url):
+    if os.path.exists(shot):
+        os.remove(shot)
+    chromium(exe, [f"--screenshot={shot}", f"--window-size={size}"], url,
+             lambda r: os.path.exists(shot) and os.path.getsize(shot) > 0)
 
 
 def png_pixels(path):
@@ -97,7 +125,7 @@ def main():
         page = os.path.join(d, "report.html")
         url = "file://" + page
         svgs = sorted(f for f in os.listdir(d) if f.endswith(".svg"))
-        dom = chromium(exe, ["--dump-dom"], url).stdout
+        dom = dump_dom(exe, url)
         assert dom.count("<svg") == len(svgs), f"{name}: {dom.count('<svg')} svg in the DOM, {len(svgs)} figures"
         assert dom.count("<figcaption>") == len(svgs), f"{name}: captions"
         for body in dom.split("<tbody>")[1:]:
@@ -113,7 +141,7 @@ def main():
         for m in re.finditer(r"https?://[^\"'\s<>)]+", dom):
             assert m.group(0).startswith("http://www.w3.org/2000/svg"), f"{name}: address {m.group(0)}"
         shot = os.path.join(out, f"{name}-report.png")
-        chromium(exe, [f"--screenshot={shot}", "--window-size=1300,1600"], url)
+        screenshot(exe, shot, "1300,1600", url)
         share = not_blank(shot, f"{name} report")
         print(f"{name}: {len(svgs)} figures, {dom.count('<table>')} tables; first screen {share:.1%} inked -> {shot}")
         # Each figure alone, as the report has it (its style, its caption).
@@ -123,7 +151,7 @@ def main():
             one = os.path.join(out, f"{name}-figure{i}.html")
             open(one, "w").write(f"<!DOCTYPE html><html><head><meta charset=\"utf-8\">{style}</head><body>{fig}</body></html>")
             shot = os.path.join(out, f"{name}-figure{i}.png")
-            chromium(exe, [f"--screenshot={shot}", "--window-size=1300,900"], "file://" + one)
+            screenshot(exe, shot, "1300,900", "file://" + one)
             share = not_blank(shot, f"{name} figure {i}")
             os.remove(one)
             print(f"  figure {i}: {share:.1%} inked -> {shot}")
