@@ -125,6 +125,14 @@ trait Lanes: Copy {
     unsafe fn mad(a: Self, b: Self, c: Self) -> Self;
     unsafe fn mul(a: Self, b: Self) -> Self;
     unsafe fn add(a: Self, b: Self) -> Self;
+    /// `a − b`.
+    unsafe fn sub(a: Self, b: Self) -> Self;
+    /// The lanes in reverse order (`[l3, l2, l1, l0]`).
+    unsafe fn rev(self) -> Self;
+    /// Four complex numbers `[re0, im0, …, re3, im3]` at `p` as `(re, im)`.
+    unsafe fn load_split(p: *const f64) -> (Self, Self);
+    /// `re`, `im` stored as four complex numbers `[re0, im0, …, re3, im3]` at `p`.
+    unsafe fn store_joined(re: Self, im: Self, p: *mut f64);
     /// `(l0 + l1) + (l2 + l3)`.
     unsafe fn sum(self) -> f64;
 }
@@ -156,6 +164,30 @@ impl Lanes for Plain {
     #[inline(always)]
     unsafe fn add(a: Self, b: Self) -> Self {
         Plain(std::array::from_fn(|l| a.0[l] + b.0[l]))
+    }
+    #[inline(always)]
+    unsafe fn sub(a: Self, b: Self) -> Self {
+        Plain(std::array::from_fn(|l| a.0[l] - b.0[l]))
+    }
+    #[inline(always)]
+    unsafe fn rev(self) -> Self {
+        Plain([self.0[3], self.0[2], self.0[1], self.0[0]])
+    }
+    #[inline(always)]
+    unsafe fn load_split(p: *const f64) -> (Self, Self) {
+        let v = unsafe { p.cast::<[f64; 8]>().read_unaligned() };
+        (
+            Plain([v[0], v[2], v[4], v[6]]),
+            Plain([v[1], v[3], v[5], v[7]]),
+        )
+    }
+    #[inline(always)]
+    unsafe fn store_joined(re: Self, im: Self, p: *mut f64) {
+        let (r, i) = (re.0, im.0);
+        unsafe {
+            p.cast::<[f64; 8]>()
+                .write_unaligned([r[0], i[0], r[1], i[1], r[2], i[2], r[3], i[3]])
+        }
     }
     #[inline(always)]
     unsafe fn sum(self) -> f64 {
@@ -200,6 +232,39 @@ mod avx {
         #[target_feature(enable = "avx2,fma")]
         unsafe fn add(a: Self, b: Self) -> Self {
             Avx(_mm256_add_pd(a.0, b.0))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2,fma")]
+        unsafe fn sub(a: Self, b: Self) -> Self {
+            Avx(_mm256_sub_pd(a.0, b.0))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2,fma")]
+        unsafe fn rev(self) -> Self {
+            Avx(_mm256_permute4x64_pd::<0x1B>(self.0))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2,fma")]
+        unsafe fn load_split(p: *const f64) -> (Self, Self) {
+            // [r0 i0 r1 i1], [r2 i2 r3 i3] → [r0 i0 r2 i2], [r1 i1 r3 i3] → [r0..r3], [i0..i3].
+            let (a, b) = unsafe { (_mm256_loadu_pd(p), _mm256_loadu_pd(p.add(4))) };
+            let t0 = _mm256_permute2f128_pd::<0x20>(a, b);
+            let t1 = _mm256_permute2f128_pd::<0x31>(a, b);
+            (
+                Avx(_mm256_unpacklo_pd(t0, t1)),
+                Avx(_mm256_unpackhi_pd(t0, t1)),
+            )
+        }
+        #[inline]
+        #[target_feature(enable = "avx2,fma")]
+        unsafe fn store_joined(re: Self, im: Self, p: *mut f64) {
+            // [re0 im0 re2 im2], [re1 im1 re3 im3] → [re0 im0 re1 im1], [re2 im2 re3 im3].
+            let lo = _mm256_unpacklo_pd(re.0, im.0);
+            let hi = _mm256_unpackhi_pd(re.0, im.0);
+            unsafe {
+                _mm256_storeu_pd(p, _mm256_permute2f128_pd::<0x20>(lo, hi));
+                _mm256_storeu_pd(p.add(4), _mm256_permute2f128_pd::<0x31>(lo, hi));
+            }
         }
         #[inline]
         #[target_feature(enable = "avx2,fma")]
@@ -790,6 +855,162 @@ lanes_kernel! {
     /// b[r] c[m])` (`scale` empty: 1). The scaled form fuses the Woodbury correction
     /// `a −= D⁻¹ Φᵀ g` into the scatter.
     pub fn unfold1(bins: &[f64], s: &[f64], c: &[f64], p: usize, o: &mut [f64], scale: &[f64]) = unfold1_body;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The periodic sampler's spectra (`solve/sampler.rs`): its pack and unpack in four lanes. Each lane does the scalar form's operations in its order (multiplies and adds, never
+// fused), so both instruction-set paths give the scalar form's bytes.
+
+/// `[v, v, v, v]`.
+///
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
+unsafe fn splat<S: Lanes>(v: f64) -> S {
+    // SAFETY: reads a local array of four.
+    unsafe { S::load([v; 4].as_ptr()) }
+}
+
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
+unsafe fn pack_bins_body<S: Lanes, const F: bool>(x: &[f64], y: &[f64], p: usize, buf: &mut [f64]) {
+    let two = !y.is_empty();
+    assert!(
+        p >= 1 && x.len() >= 2 * p && (!two || y.len() >= 2 * p) && buf.len() >= 2 * p,
+        "pack_bins: slices too short"
+    );
+    let m = p - 1;
+    let (ax, bx) = x[..2 * p].split_at(p);
+    let (ay, by) = if two {
+        y[..2 * p].split_at(p)
+    } else {
+        (&[][..], &[][..])
+    };
+    buf[0] = ax[m];
+    buf[1] = if two { ay[m] } else { 0.0 };
+    let mut i = 0;
+    // SAFETY: a chunk reads `i..i + 4` and `m − 4 − i..m − i` of each bin array (`i + 4 ≤ m`,
+    // so both inside `0..m`) and writes complex numbers `i + 1..i + 5 ≤ p` of `buf`.
+    unsafe {
+        let (h, nh) = (splat::<S>(0.5), splat::<S>(-0.5));
+        let o = buf.as_mut_ptr();
+        while i + 4 <= m {
+            let j = m - 4 - i;
+            let (a, an) = (
+                S::load(ax.as_ptr().add(i)),
+                S::load(ax.as_ptr().add(j)).rev(),
+            );
+            let (b, bn) = (
+                S::load(bx.as_ptr().add(i)),
+                S::load(bx.as_ptr().add(j)).rev(),
+            );
+            let re_x = S::mul(h, S::add(a, an));
+            let im_x = S::mul(nh, S::sub(b, bn));
+            if two {
+                let (c, cn) = (
+                    S::load(ay.as_ptr().add(i)),
+                    S::load(ay.as_ptr().add(j)).rev(),
+                );
+                let (d, dn) = (
+                    S::load(by.as_ptr().add(i)),
+                    S::load(by.as_ptr().add(j)).rev(),
+                );
+                let re_y = S::mul(h, S::add(c, cn));
+                let im_y = S::mul(nh, S::sub(d, dn));
+                S::store_joined(S::sub(re_x, im_y), S::add(im_x, re_y), o.add(2 * (i + 1)));
+            } else {
+                S::store_joined(re_x, im_x, o.add(2 * (i + 1)));
+            }
+            i += 4;
+        }
+    }
+    for i in i..m {
+        let n = m - 1 - i;
+        let (re_x, im_x) = (0.5 * (ax[i] + ax[n]), -0.5 * (bx[i] - bx[n]));
+        if two {
+            let (re_y, im_y) = (0.5 * (ay[i] + ay[n]), -0.5 * (by[i] - by[n]));
+            buf[2 * (i + 1)] = re_x - im_y;
+            buf[2 * (i + 1) + 1] = im_x + re_y;
+        } else {
+            buf[2 * (i + 1)] = re_x;
+            buf[2 * (i + 1) + 1] = im_x;
+        }
+    }
+}
+
+lanes_kernel! {
+    /// The Hermitian spectrum of one or two units of bins (`x = [a_x | b_x]`, `y = [a_y | b_y]`
+    /// or empty, each `2p`) as `p` complex numbers in `buf` (`[re, im, …]`): `buf_0 =
+    /// (a_x[p−1], a_y[p−1])`, and for `ρ = i + 1`, with `n = p − 2 − i`, `re_x = ½(a_x[i] +
+    /// a_x[n])`, `im_x = −½(b_x[i] − b_x[n])` (and `_y` alike), `buf_ρ = (re_x − im_y, im_x +
+    /// re_y)` (see `PointSampler::pack`).
+    pub fn pack_bins(x: &[f64], y: &[f64], p: usize, buf: &mut [f64]) = pack_bins_body;
+}
+
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
+unsafe fn unpack_bins_body<S: Lanes, const F: bool>(
+    buf: &[f64],
+    p: usize,
+    x: &mut [f64],
+    y: &mut [f64],
+) {
+    let two = !y.is_empty();
+    assert!(
+        p >= 1 && buf.len() >= 2 * p && x.len() >= 2 * p && (!two || y.len() >= 2 * p),
+        "unpack_bins: slices too short"
+    );
+    let m = p - 1;
+    let (xa, xb) = x[..2 * p].split_at_mut(p);
+    let (ya, yb) = if two {
+        y[..2 * p].split_at_mut(p)
+    } else {
+        (&mut [][..], &mut [][..])
+    };
+    xa[m] = buf[0];
+    xb[m] = 0.0;
+    if two {
+        ya[m] = buf[1];
+        yb[m] = 0.0;
+    }
+    let mut i = 0;
+    // SAFETY: a chunk reads complex numbers `i + 1..i + 5` and `m − i − 3..m − i + 1` of `buf`
+    // (`i + 4 ≤ m`, so both inside `1..p`) and writes bins `i..i + 4 < m` of each array.
+    unsafe {
+        let h = splat::<S>(0.5);
+        let b = buf.as_ptr();
+        while i + 4 <= m {
+            let (rr, ri) = S::load_split(b.add(2 * (i + 1)));
+            let (nr, ni) = S::load_split(b.add(2 * (m - i - 3)));
+            let (nr, ni) = (nr.rev(), ni.rev());
+            S::mul(h, S::add(rr, nr)).store(xa.as_mut_ptr().add(i));
+            S::mul(h, S::sub(ri, ni)).store(xb.as_mut_ptr().add(i));
+            if two {
+                S::mul(h, S::add(ri, ni)).store(ya.as_mut_ptr().add(i));
+                S::mul(h, S::sub(nr, rr)).store(yb.as_mut_ptr().add(i));
+            }
+            i += 4;
+        }
+    }
+    for i in i..m {
+        let (r, n) = (2 * (i + 1), 2 * (m - i));
+        xa[i] = 0.5 * (buf[r] + buf[n]);
+        xb[i] = 0.5 * (buf[r + 1] - buf[n + 1]);
+        if two {
+            ya[i] = 0.5 * (buf[r + 1] + buf[n + 1]);
+            yb[i] = 0.5 * (buf[n] - buf[r]);
+        }
+    }
+}
+
+lanes_kernel! {
+    /// The transpose of [`pack_bins`]: from the transform `Y` (`p` complex numbers in `buf`) of
+    /// `F_x + i F_y`, the bins `[C | S]` of unit x (and of unit y when `y` is not empty): bin
+    /// `i < p − 1` takes `Y_{i+1}` and `Y_{p−1−i}`, bin `p − 1` takes `Y_0` (see
+    /// `PointSampler::unpack`).
+    pub fn unpack_bins(buf: &[f64], p: usize, x: &mut [f64], y: &mut [f64]) = unpack_bins_body;
 }
 
 // ---------------------------------------------------------------------------------------------

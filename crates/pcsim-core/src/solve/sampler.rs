@@ -21,14 +21,17 @@
 //! transpose: the forces of a group's points, placed at their span indices, are transformed once
 //! and unfolded onto the modes.
 //!
-//! Mirror offsets are nearly free: for `d' = S − d`, `κ_m d' = 2πm/P − κ_m d`, and the factor
-//! `e^{2πim/P}` depends on the bin only, so a mirror group's bins follow from its partner's in
-//! `O(P)`. Points whose offset is shared by fewer than [`MIN_GROUP`] points use dense rows. Both
-//! paths are tested against each other. No allocation happens in `gather`/`scatter_add`.
+//! Mirror offsets are free: the transform's output at any index `t` is the series at `d + tS`
+//! (both sides depend on `m` through `e^{2πimt/P}` only), and the series is odd and `2L = PS`
+//! periodic, so the point `(s + 1)S − d` of the mirror offset `S − d` reads
+//! `w((s + 1)S − d) = −w(d + (P − 1 − s)S)`: output `P − 1 − s`, negated, of its partner's
+//! transform, which the primary offset's points (`s < n_s`) leave unused. The scatter places a
+//! mirror point's force there, negated. Points whose offset is shared by fewer than
+//! [`MIN_GROUP`] points use dense rows. Both paths are tested against each other. No allocation
+//! happens in `gather`/`scatter_add`.
 //!
 //! Cost: `O(groups · (N + P log P))` per step, close to linear in the model's length.
 
-use std::f64::consts::PI;
 use std::sync::Arc;
 
 use rustfft::num_complex::Complex;
@@ -40,6 +43,19 @@ use crate::solve::nufft::{NufftScratch, SineNufft};
 
 /// Smallest number of points sharing an offset for the folded path to pay off.
 pub const MIN_GROUP: usize = 4;
+
+/// Complex numbers as `[re, im, …]`.
+fn reals(buf: &[Complex<f64>]) -> &[f64] {
+    // SAFETY: `Complex<f64>` is `#[repr(C)]` with the fields `re`, `im`: `n` of them are `2n`
+    // `f64` in that order, with the alignment of `f64`.
+    unsafe { std::slice::from_raw_parts(buf.as_ptr().cast::<f64>(), 2 * buf.len()) }
+}
+
+/// [`reals`], writable.
+fn reals_mut(buf: &mut [Complex<f64>]) -> &mut [f64] {
+    // SAFETY: as in `reals`; the borrow of `buf` is moved into the result.
+    unsafe { std::slice::from_raw_parts_mut(buf.as_mut_ptr().cast::<f64>(), 2 * buf.len()) }
+}
 
 /// Whether `nd` points outside the folded groups, on `n` modes, are better served by the
 /// non-uniform transform than by dense rows. Measured (`examples/sampler_cost.rs`, callgrind, a
@@ -56,14 +72,14 @@ pub fn spread_pays(nd: usize, n: usize) -> bool {
 
 #[derive(Clone)]
 struct Group {
-    /// `sin(κ_k d)`, `cos(κ_k d)` for every mode (empty for a mirror group).
+    /// `sin(κ_k d)`, `cos(κ_k d)` for every mode.
     sin_d: Vec<f64>,
     cos_d: Vec<f64>,
-    /// A mirror group has offset `S − d` of the group just before it: its bins follow from that
-    /// group's bins by a phase that depends on the bin only.
-    mirror: bool,
-    /// (output index, span index) of each member.
+    /// (output index, transform index `s`) of each point at `d + sS`.
     members: Vec<(usize, usize)>,
+    /// (output index, transform index `P − 1 − s`) of each point at `(s + 1)S − d` (the mirror
+    /// offset `S − d`), whose value is the transform's negated (see the module).
+    mirrored: Vec<(usize, usize)>,
 }
 
 /// Precomputed sampler for a fixed set of points on one [`SineBasis`].
@@ -74,9 +90,6 @@ pub struct PointSampler {
     n_points: usize,
     period: usize,
     groups: Vec<Group>,
-    /// `cos(κ_k S)`, `sin(κ_k S)` per bin (the mirror rotation).
-    cs: Vec<f64>,
-    sn: Vec<f64>,
     /// Unnormalised transform `Σ_ρ W_ρ e^{+2πiρs/P}` (an inverse FFT).
     fft: Option<Arc<dyn Fft<f64>>>,
     fft_scratch: usize,
@@ -100,8 +113,7 @@ impl std::fmt::Debug for PointSampler {
     }
 }
 
-/// Scratch for [`PointSampler`]: bins of the current and of the last primary group, and the
-/// complex transform buffers; for the non-uniform transform, its scratch, the points' values of
+/// Scratch for [`PointSampler`]: bins of the current groups, and the complex transform buffers; for the non-uniform transform, its scratch, the points' values of
 /// two blocks and one block of modes.
 #[derive(Debug, Clone)]
 pub struct SamplerScratch {
@@ -109,8 +121,6 @@ pub struct SamplerScratch {
     cur: Vec<f64>,
     /// The same for the second unit of a single-block chunk.
     second: Vec<f64>,
-    /// Bins of the last primary group (for its mirror).
-    prim: Vec<f64>,
     buf: Vec<Complex<f64>>,
     fft: Vec<Complex<f64>>,
     spread: NufftScratch,
@@ -138,7 +148,6 @@ impl SamplerScratch {
             SamplerScratch {
                 cur: vec![0.0; o.cur.len().max(self.cur.len())],
                 second: vec![0.0; o.second.len().max(self.second.len())],
-                prim: vec![0.0; o.prim.len().max(self.prim.len())],
                 buf: vec![Complex::new(0.0, 0.0); o.buf.len().max(self.buf.len())],
                 fft: vec![Complex::new(0.0, 0.0); o.fft.len().max(self.fft.len())],
                 spread: self.spread.max(o.spread),
@@ -200,28 +209,28 @@ impl PointSampler {
                 let mut sin_d = vec![0.0; n];
                 let mut cos_d = vec![0.0; n];
                 basis.fill_sines_cosines(d, &mut sin_d, &mut cos_d);
-                groups.push(Group {
-                    sin_d,
-                    cos_d,
-                    mirror: false,
-                    members: offsets[i].1.clone(),
-                });
+                let mut mirrored = Vec::new();
                 if d > tol && (d - 0.5 * s).abs() > tol {
                     if let Some(k) = (0..offsets.len())
                         .find(|&k| !taken[k] && (offsets[k].0 - (s - d)).abs() < tol)
                     {
                         taken[k] = true;
-                        groups.push(Group {
-                            sin_d: vec![],
-                            cos_d: vec![],
-                            mirror: true,
-                            members: offsets[k].1.clone(),
-                        });
+                        mirrored = offsets[k]
+                            .1
+                            .iter()
+                            .map(|&(j, si)| (j, period - 1 - si))
+                            .collect();
                     }
                 }
+                groups.push(Group {
+                    sin_d,
+                    cos_d,
+                    members: offsets[i].1.clone(),
+                    mirrored,
+                });
             }
             for g in &groups {
-                for &(j, _) in &g.members {
+                for &(j, _) in g.members.iter().chain(&g.mirrored) {
                     used[j] = true;
                 }
             }
@@ -238,9 +247,6 @@ impl PointSampler {
                 dense.push((j, row));
             }
         }
-        let ph = |r: usize| 2.0 * PI * ((r + 1) % period) as f64 / period as f64;
-        let cs = (0..period).map(|r| ph(r).cos()).collect();
-        let sn = (0..period).map(|r| ph(r).sin()).collect();
         let fft: Option<Arc<dyn Fft<f64>>> = (!groups.is_empty()).then(|| match isa {
             Isa::Portable => FftPlannerScalar::new().plan_fft_inverse(period),
             Isa::X86V3 => FftPlanner::new().plan_fft_inverse(period),
@@ -252,8 +258,6 @@ impl PointSampler {
             n_points: xs.len(),
             period,
             groups,
-            cs,
-            sn,
             fft,
             fft_scratch,
             dense,
@@ -286,7 +290,6 @@ impl PointSampler {
         SamplerScratch {
             cur: vec![0.0; 4 * p],
             second: vec![0.0; 4 * p],
-            prim: vec![0.0; 4 * p],
             buf: vec![Complex::new(0.0, 0.0); p],
             fft: vec![Complex::new(0.0, 0.0); self.fft_scratch],
             spread,
@@ -297,12 +300,16 @@ impl PointSampler {
 
     /// Number of points handled by the folded (periodic) path.
     pub fn n_folded(&self) -> usize {
-        self.groups.iter().map(|g| g.members.len()).sum()
+        self.groups
+            .iter()
+            .map(|g| g.members.len() + g.mirrored.len())
+            .sum()
     }
 
-    /// Number of offset groups that need a pass over the modes (mirrors excluded).
+    /// Number of offset groups that need a pass over the modes (a mirror offset shares its
+    /// partner's).
     pub fn n_mode_passes(&self) -> usize {
-        self.groups.iter().filter(|g| !g.mirror).count()
+        self.groups.len()
     }
 
     /// Whether the folded path covers every point with a single group and no dense row (then
@@ -385,134 +392,25 @@ impl PointSampler {
         }
     }
 
-    /// Mirror bins from primary bins (`k` blocks of `[a | b]`, each `2P`):
-    /// `A'_r = sin(κS) B_r − cos(κS) A_r`, `B'_r = cos(κS) B_r + sin(κS) A_r`.
-    fn mirror_bins(&self, prim: &[f64], k: usize, out: &mut [f64]) {
-        let p = self.period;
-        // Slices of equal length, walked by iterators: no bounds checks, so the loop vectorises
-        // (the same operations per bin, so the same bytes).
-        let (sn, cs) = (&self.sn[..p], &self.cs[..p]);
-        for (pb, ob) in prim[..2 * p * k]
-            .chunks_exact(2 * p)
-            .zip(out[..2 * p * k].chunks_exact_mut(2 * p))
-        {
-            let (pa, pbb) = pb.split_at(p);
-            let (oa, obb) = ob.split_at_mut(p);
-            for ((((oa, ob), (&a, &b)), &s), &c) in oa
-                .iter_mut()
-                .zip(obb.iter_mut())
-                .zip(pa.iter().zip(pbb))
-                .zip(sn)
-                .zip(cs)
-            {
-                *oa = s * b - c * a;
-                *ob = c * b + s * a;
-            }
-        }
-    }
-
-    /// Add a mirror group's bins into its primary's (the transpose of [`Self::mirror_bins`]).
-    fn add_mirror_bins(&self, mirr: &[f64], k: usize, prim: &mut [f64]) {
-        let p = self.period;
-        let (sn, cs) = (&self.sn[..p], &self.cs[..p]);
-        for (mb, pb) in mirr[..2 * p * k]
-            .chunks_exact(2 * p)
-            .zip(prim[..2 * p * k].chunks_exact_mut(2 * p))
-        {
-            let (ma_, mb_) = mb.split_at(p);
-            let (pa, pbb) = pb.split_at_mut(p);
-            for ((((pa, pb), (&ma, &mb)), &s), &c) in pa
-                .iter_mut()
-                .zip(pbb.iter_mut())
-                .zip(ma_.iter().zip(mb_))
-                .zip(sn)
-                .zip(cs)
-            {
-                *pa += -c * ma + s * mb;
-                *pb += s * ma + c * mb;
-            }
-        }
-    }
-
     /// The Hermitian spectrum of two units (`x = [ax | bx]`, `y = [ay | by]`, each `2P`) packed
     /// into one complex sequence, so that the transform's real part is unit x's output and its
     /// imaginary part unit y's: `W_ρ = herm(A_x − iB_x)_ρ + i herm(A_y − iB_y)_ρ`.
     ///
     /// Bin `r` holds mode numbers `≡ r + 1 (mod P)`, so DFT index `ρ ≥ 1` reads bin `ρ − 1` and
-    /// its negative `P − ρ` reads bin `P − 1 − ρ`; `ρ = 0` reads bin `P − 1` (both ways). The
-    /// loops below walk the bins forwards and backwards at once, with no index table.
+    /// its negative `P − ρ` reads bin `P − 1 − ρ`; `ρ = 0` reads bin `P − 1` (both ways).
+    /// [`kernels::pack_bins`] walks the bins forwards and backwards at once, four at a time.
     fn pack(&self, x: &[f64], y: Option<&[f64]>, buf: &mut [Complex<f64>]) {
         let p = self.period;
-        let (ax, bx) = (&x[..p], &x[p..2 * p]);
-        let zero = [0.0; 0];
-        let (ay, by) = match y {
-            Some(y) => (&y[..p], &y[p..2 * p]),
-            None => (&zero[..], &zero[..]),
-        };
-        let buf = &mut buf[..p];
-        let m = p - 1;
-        if ay.is_empty() {
-            buf[0] = Complex::new(ax[m], 0.0);
-            for ((w, (a, an)), (b, bn)) in buf[1..]
-                .iter_mut()
-                .zip(ax[..m].iter().zip(ax[..m].iter().rev()))
-                .zip(bx[..m].iter().zip(bx[..m].iter().rev()))
-            {
-                *w = Complex::new(0.5 * (a + an), -0.5 * (b - bn));
-            }
-        } else {
-            buf[0] = Complex::new(ax[m], ay[m]);
-            for (((w, (a, an)), (b, bn)), ((c, cn), (d, dn))) in buf[1..]
-                .iter_mut()
-                .zip(ax[..m].iter().zip(ax[..m].iter().rev()))
-                .zip(bx[..m].iter().zip(bx[..m].iter().rev()))
-                .zip(
-                    ay[..m]
-                        .iter()
-                        .zip(ay[..m].iter().rev())
-                        .zip(by[..m].iter().zip(by[..m].iter().rev())),
-                )
-            {
-                let (re_x, im_x) = (0.5 * (a + an), -0.5 * (b - bn));
-                let (re_y, im_y) = (0.5 * (c + cn), -0.5 * (d - dn));
-                *w = Complex::new(re_x - im_y, im_x + re_y);
-            }
-        }
+        kernels::pack_bins(self.isa, x, y.unwrap_or(&[]), p, reals_mut(&mut buf[..p]));
     }
 
     /// The transpose of [`Self::pack`] for the scatter: from the transform `Y` of `F_x + i F_y`,
     /// the bins `[C | S]` of each unit, `C_ρ + iS_ρ = Σ_s F(s) e^{2πiρs/P}`. Bin `i` takes
-    /// `ρ = i + 1` and its negative `P − 1 − i`; bin `P − 1` takes `ρ = 0`.
+    /// `ρ = i + 1` and its negative `P − 1 − i`; bin `P − 1` takes `ρ = 0`
+    /// ([`kernels::unpack_bins`]).
     fn unpack(&self, buf: &[Complex<f64>], x: &mut [f64], y: Option<&mut [f64]>) {
         let p = self.period;
-        let m = p - 1;
-        let (xa, xb) = x[..2 * p].split_at_mut(p);
-        let fw = &buf[1..p];
-        xa[m] = buf[0].re;
-        xb[m] = 0.0;
-        for (((ca, cb), yr), yn) in xa[..m]
-            .iter_mut()
-            .zip(xb[..m].iter_mut())
-            .zip(fw)
-            .zip(fw.iter().rev())
-        {
-            *ca = 0.5 * (yr.re + yn.re);
-            *cb = 0.5 * (yr.im - yn.im);
-        }
-        if let Some(y) = y {
-            let (ya, yb) = y[..2 * p].split_at_mut(p);
-            ya[m] = buf[0].im;
-            yb[m] = 0.0;
-            for (((ca, cb), yr), yn) in ya[..m]
-                .iter_mut()
-                .zip(yb[..m].iter_mut())
-                .zip(fw)
-                .zip(fw.iter().rev())
-            {
-                *ca = 0.5 * (yr.im + yn.im);
-                *cb = 0.5 * (yn.re - yr.re);
-            }
-        }
+        kernels::unpack_bins(self.isa, reals(&buf[..p]), p, x, y.unwrap_or(&mut []));
     }
 
     fn transform(&self, sc: &mut SamplerScratch) {
@@ -543,7 +441,8 @@ impl PointSampler {
         self.gather_spread(q, k, out, sc);
     }
 
-    /// Two blocks: one fold pass and one transform per group.
+    /// Two blocks: one fold pass and one transform per group (its mirror offset's points
+    /// included).
     fn gather_pair(
         &self,
         q1: &[f64],
@@ -554,29 +453,25 @@ impl PointSampler {
     ) {
         let p = self.period;
         for g in &self.groups {
-            // A primary group's bins are packed where the fold left them (a mirror group after
-            // it reads them there too); a mirror group's are made beside them.
-            let bins = if g.mirror {
-                self.mirror_bins(&sc.prim, 2, &mut sc.cur);
-                &sc.cur[..4 * p]
-            } else {
-                kernels::fold2(
-                    self.isa,
-                    q1,
-                    q2,
-                    &g.sin_d,
-                    &g.cos_d,
-                    p,
-                    &mut sc.prim[..4 * p],
-                );
-                &sc.prim[..4 * p]
-            };
-            let (x, y) = bins.split_at(2 * p);
+            kernels::fold2(
+                self.isa,
+                q1,
+                q2,
+                &g.sin_d,
+                &g.cos_d,
+                p,
+                &mut sc.cur[..4 * p],
+            );
+            let (x, y) = sc.cur[..4 * p].split_at(2 * p);
             self.pack(x, Some(y), &mut sc.buf);
             self.transform(sc);
-            for &(j, s) in &g.members {
-                o1[j] = sc.buf[s].re;
-                o2[j] = sc.buf[s].im;
+            for &(j, t) in &g.members {
+                o1[j] = sc.buf[t].re;
+                o2[j] = sc.buf[t].im;
+            }
+            for &(j, t) in &g.mirrored {
+                o1[j] = -sc.buf[t].re;
+                o2[j] = -sc.buf[t].im;
             }
         }
         for (j, row) in &self.dense {
@@ -589,35 +484,30 @@ impl PointSampler {
     /// One block: groups two at a time share a transform.
     fn gather_one(&self, q: &[f64], out: &mut [f64], sc: &mut SamplerScratch) {
         let p = self.period;
-        let ng = self.groups.len();
-        let mut gi = 0;
-        while gi < ng {
-            let pair = gi + 1 < ng;
-            for (slot, g) in self.groups[gi..(gi + 2).min(ng)].iter().enumerate() {
-                let dst = if slot == 0 {
-                    &mut sc.cur
-                } else {
-                    &mut sc.second
-                };
-                if g.mirror {
-                    self.mirror_bins(&sc.prim, 1, dst);
-                } else {
-                    kernels::fold1(self.isa, q, &g.sin_d, &g.cos_d, p, &mut sc.prim[..2 * p]);
-                    dst[..2 * p].copy_from_slice(&sc.prim[..2 * p]);
-                }
+        for pair in self.groups.chunks(2) {
+            kernels::fold1(
+                self.isa,
+                q,
+                &pair[0].sin_d,
+                &pair[0].cos_d,
+                p,
+                &mut sc.cur[..2 * p],
+            );
+            if let Some(g) = pair.get(1) {
+                kernels::fold1(self.isa, q, &g.sin_d, &g.cos_d, p, &mut sc.second[..2 * p]);
             }
-            let y = pair.then_some(&sc.second[..2 * p]);
+            let y = (pair.len() == 2).then_some(&sc.second[..2 * p]);
             self.pack(&sc.cur[..2 * p], y, &mut sc.buf);
             self.transform(sc);
-            for &(j, s) in &self.groups[gi].members {
-                out[j] = sc.buf[s].re;
-            }
-            if pair {
-                for &(j, s) in &self.groups[gi + 1].members {
-                    out[j] = sc.buf[s].im;
+            for (g, im) in pair.iter().zip([false, true]) {
+                let at = |t: usize| if im { sc.buf[t].im } else { sc.buf[t].re };
+                for &(j, t) in &g.members {
+                    out[j] = at(t);
+                }
+                for &(j, t) in &g.mirrored {
+                    out[j] = -at(t);
                 }
             }
-            gi += 2;
         }
         for (j, row) in &self.dense {
             out[*j] = kernels::dot(self.isa, q, row);
@@ -673,34 +563,18 @@ impl PointSampler {
         sc: &mut SamplerScratch,
     ) {
         let p = self.period;
-        for (gi, g) in self.groups.iter().enumerate() {
+        for g in &self.groups {
             sc.buf.fill(Complex::new(0.0, 0.0));
-            for &(j, s) in &g.members {
-                sc.buf[s] = Complex::new(f1[j], f2[j]);
+            for &(j, t) in &g.members {
+                sc.buf[t] = Complex::new(f1[j], f2[j]);
+            }
+            for &(j, t) in &g.mirrored {
+                sc.buf[t] = Complex::new(-f1[j], -f2[j]);
             }
             self.transform(sc);
-            if g.mirror {
-                let (x, y) = sc.cur[..4 * p].split_at_mut(2 * p);
-                self.unpack(&sc.buf, x, Some(y));
-                self.add_mirror_bins(&sc.cur, 2, &mut sc.prim);
-            } else {
-                // A primary group's bins go straight where the unfold (or its mirror) takes them.
-                let (x, y) = sc.prim[..4 * p].split_at_mut(2 * p);
-                self.unpack(&sc.buf, x, Some(y));
-                if self.groups.get(gi + 1).is_some_and(|n| n.mirror) {
-                    continue; // unfold together with the mirror
-                }
-            }
-            let prim = if g.mirror { &self.groups[gi - 1] } else { g };
-            kernels::unfold2(
-                self.isa,
-                &sc.prim[..4 * p],
-                &prim.sin_d,
-                &prim.cos_d,
-                p,
-                o1,
-                o2,
-            );
+            let (x, y) = sc.cur[..4 * p].split_at_mut(2 * p);
+            self.unpack(&sc.buf, x, Some(y));
+            kernels::unfold2(self.isa, &sc.cur[..4 * p], &g.sin_d, &g.cos_d, p, o1, o2);
         }
         for (j, row) in &self.dense {
             kernels::axpy2(self.isa, f1[*j], f2[*j], row, o1, o2);
@@ -709,55 +583,24 @@ impl PointSampler {
 
     fn scatter_one(&self, f: &[f64], out: &mut [f64], scale: &[f64], sc: &mut SamplerScratch) {
         let p = self.period;
-        let ng = self.groups.len();
-        let mut gi = 0;
-        while gi < ng {
-            let pair = gi + 1 < ng;
+        for pair in self.groups.chunks(2) {
             sc.buf.fill(Complex::new(0.0, 0.0));
-            for &(j, s) in &self.groups[gi].members {
-                sc.buf[s].re = f[j];
-            }
-            if pair {
-                for &(j, s) in &self.groups[gi + 1].members {
-                    sc.buf[s].im = f[j];
+            for (g, im) in pair.iter().zip([false, true]) {
+                let signed = g.members.iter().map(|&(j, t)| (t, f[j]));
+                for (t, v) in signed.chain(g.mirrored.iter().map(|&(j, t)| (t, -f[j]))) {
+                    if im {
+                        sc.buf[t].im = v;
+                    } else {
+                        sc.buf[t].re = v;
+                    }
                 }
             }
             self.transform(sc);
-            {
-                let y = pair.then_some(&mut sc.second[..2 * p]);
-                self.unpack(&sc.buf, &mut sc.cur[..2 * p], y);
+            let y = (pair.len() == 2).then_some(&mut sc.second[..2 * p]);
+            self.unpack(&sc.buf, &mut sc.cur[..2 * p], y);
+            for (g, bins) in pair.iter().zip([&sc.cur[..2 * p], &sc.second[..2 * p]]) {
+                kernels::unfold1(self.isa, bins, &g.sin_d, &g.cos_d, p, out, scale);
             }
-            for slot in 0..(if pair { 2 } else { 1 }) {
-                let g = gi + slot;
-                let bins: &[f64] = if slot == 0 {
-                    &sc.cur[..2 * p]
-                } else {
-                    &sc.second[..2 * p]
-                };
-                if self.groups[g].mirror {
-                    self.add_mirror_bins(bins, 1, &mut sc.prim);
-                } else {
-                    sc.prim[..2 * p].copy_from_slice(bins);
-                    if self.groups.get(g + 1).is_some_and(|n| n.mirror) {
-                        continue;
-                    }
-                }
-                let prim = if self.groups[g].mirror {
-                    &self.groups[g - 1]
-                } else {
-                    &self.groups[g]
-                };
-                kernels::unfold1(
-                    self.isa,
-                    &sc.prim[..2 * p],
-                    &prim.sin_d,
-                    &prim.cos_d,
-                    p,
-                    out,
-                    scale,
-                );
-            }
-            gi += 2;
         }
         for (j, row) in &self.dense {
             let fj = f[*j];
