@@ -677,6 +677,174 @@ lanes_kernel! {
     pub fn fold1(q: &[f64], s: &[f64], c: &[f64], p: usize, out: &mut [f64]) = fold1_body;
 }
 
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
+unsafe fn fold2x2_body<S: Lanes, const F: bool>(
+    q1: &[f64],
+    q2: &[f64],
+    tabs: [&[f64]; 4],
+    p: usize,
+    out: [&mut [f64]; 2],
+) {
+    let n = tabs
+        .iter()
+        .fold(q1.len().min(q2.len()), |n, t| n.min(t.len()));
+    let [o1, o2] = out;
+    assert!(
+        p > 0 && o1.len() >= 4 * p && o2.len() >= 4 * p,
+        "fold2x2: output too short"
+    );
+    let (q1, q2) = (q1.as_ptr(), q2.as_ptr());
+    let t = tabs.map(|t| t.as_ptr());
+    let o = [o1.as_mut_ptr(), o2.as_mut_ptr()];
+    // SAFETY: every mode index read is `< n` (the shortest input); every bin written is `< p`
+    // of an output holding `4p`.
+    unsafe {
+        let mut r0 = 0;
+        while r0 + 4 <= p {
+            let mut acc = [[S::zero(); 4]; 2];
+            let mut base = r0;
+            while base + 4 <= n {
+                let (x, y) = (S::load(q1.add(base)), S::load(q2.add(base)));
+                for (g, a) in acc.iter_mut().enumerate() {
+                    let (ss, cc) = (S::load(t[2 * g].add(base)), S::load(t[2 * g + 1].add(base)));
+                    a[0] = S::mad(x, ss, a[0]);
+                    a[1] = S::mad(x, cc, a[1]);
+                    a[2] = S::mad(y, ss, a[2]);
+                    a[3] = S::mad(y, cc, a[3]);
+                }
+                base += p;
+            }
+            for (g, a) in acc.iter().enumerate() {
+                for (k, v) in a.iter().enumerate() {
+                    v.store(o[g].add(k * p + r0));
+                }
+            }
+            for i in 0..4.min(n.saturating_sub(base)) {
+                let (m, r) = (base + i, r0 + i);
+                let (x, y) = (*q1.add(m), *q2.add(m));
+                for g in 0..2 {
+                    let (ss, cc) = (*t[2 * g].add(m), *t[2 * g + 1].add(m));
+                    let og = o[g];
+                    *og.add(r) = mad::<F>(x, ss, *og.add(r));
+                    *og.add(p + r) = mad::<F>(x, cc, *og.add(p + r));
+                    *og.add(2 * p + r) = mad::<F>(y, ss, *og.add(2 * p + r));
+                    *og.add(3 * p + r) = mad::<F>(y, cc, *og.add(3 * p + r));
+                }
+            }
+            r0 += 4;
+        }
+        for r in r0..p {
+            for g in 0..2 {
+                let mut acc = [0.0f64; 4];
+                let mut m = r;
+                while m < n {
+                    let (ss, cc) = (*t[2 * g].add(m), *t[2 * g + 1].add(m));
+                    let (x, y) = (*q1.add(m), *q2.add(m));
+                    acc[0] = mad::<F>(x, ss, acc[0]);
+                    acc[1] = mad::<F>(x, cc, acc[1]);
+                    acc[2] = mad::<F>(y, ss, acc[2]);
+                    acc[3] = mad::<F>(y, cc, acc[3]);
+                    m += p;
+                }
+                for (k, a) in acc.iter().enumerate() {
+                    *o[g].add(k * p + r) = *a;
+                }
+            }
+        }
+    }
+}
+
+lanes_kernel! {
+    /// [`fold2`] of two groups in one pass over the modes (`tabs = [s₁, c₁, s₂, c₂]`, `out[g] =
+    /// [a1 | b1 | a2 | b2]` of group `g`): each mode of `q1`, `q2` is loaded once for both
+    /// groups. Every bin is the same sum, in the same order, as [`fold2`]'s (the same bytes).
+    pub fn fold2x2(q1: &[f64], q2: &[f64], tabs: [&[f64]; 4], p: usize, out: [&mut [f64]; 2]) = fold2x2_body;
+}
+
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
+unsafe fn unfold2x2_body<S: Lanes, const F: bool>(
+    bins: [&[f64]; 2],
+    tabs: [&[f64]; 4],
+    p: usize,
+    o1: &mut [f64],
+    o2: &mut [f64],
+) {
+    let n = tabs
+        .iter()
+        .fold(o1.len().min(o2.len()), |n, t| n.min(t.len()));
+    assert!(
+        p > 0 && bins[0].len() >= 4 * p && bins[1].len() >= 4 * p,
+        "unfold2x2: bins too short"
+    );
+    let bp = bins.map(|b| b.as_ptr());
+    let t = tabs.map(|t| t.as_ptr());
+    let (p1, p2) = (o1.as_mut_ptr(), o2.as_mut_ptr());
+    // SAFETY: every mode index read or written is `< n` (the shortest table or output); every
+    // bin read is `< 4p` of bins holding `4p`.
+    unsafe {
+        let mut r0 = 0;
+        while r0 + 4 <= p {
+            let mut r = [[S::zero(); 4]; 2];
+            for (g, rg) in r.iter_mut().enumerate() {
+                for (k, v) in rg.iter_mut().enumerate() {
+                    *v = S::load(bp[g].add(k * p + r0));
+                }
+            }
+            let mut base = r0;
+            while base + 4 <= n {
+                let (mut x, mut y) = (S::load(p1.add(base)), S::load(p2.add(base)));
+                for (g, rg) in r.iter().enumerate() {
+                    let (ss, cc) = (S::load(t[2 * g].add(base)), S::load(t[2 * g + 1].add(base)));
+                    x = S::mad(rg[0], ss, S::mad(rg[1], cc, x));
+                    y = S::mad(rg[2], ss, S::mad(rg[3], cc, y));
+                }
+                x.store(p1.add(base));
+                y.store(p2.add(base));
+                base += p;
+            }
+            for i in 0..4.min(n.saturating_sub(base)) {
+                for g in 0..2 {
+                    let null = std::ptr::null();
+                    unfold_one::<F, true>(
+                        bp[g],
+                        t[2 * g],
+                        t[2 * g + 1],
+                        null,
+                        p,
+                        r0 + i,
+                        base + i,
+                        p1,
+                        p2,
+                    );
+                }
+            }
+            r0 += 4;
+        }
+        for r in r0..p {
+            let mut o = r;
+            while o < n {
+                for g in 0..2 {
+                    let null = std::ptr::null();
+                    unfold_one::<F, true>(bp[g], t[2 * g], t[2 * g + 1], null, p, r, o, p1, p2);
+                }
+                o += p;
+            }
+        }
+    }
+}
+
+lanes_kernel! {
+    /// [`unfold2`] of two groups in one pass over the modes (`bins[g] = [a1 | b1 | a2 | b2]`
+    /// of group `g`, `tabs = [s₁, c₁, s₂, c₂]`): each mode of `o1`, `o2` is loaded and stored
+    /// once for both. Every mode takes group 1's terms, then group 2's, as two [`unfold2`]
+    /// calls in that order do (the same bytes).
+    pub fn unfold2x2(bins: [&[f64]; 2], tabs: [&[f64]; 4], p: usize, o1: &mut [f64], o2: &mut [f64]) = unfold2x2_body;
+}
+
 /// The unfold of one block of bins (see [`unfold2`], [`unfold1`]): `o1[mP+r] += sc·(a1[r] s +
 /// b1[r] c)` (`sc` = 1 when `scale` is null; the unscaled form is `a s + (b c + o)`), and the
 /// same for `o2` with `a2`, `b2` when `TWO`.

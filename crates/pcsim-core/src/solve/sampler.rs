@@ -80,6 +80,63 @@ struct Group {
     /// (output index, transform index `P − 1 − s`) of each point at `(s + 1)S − d` (the mirror
     /// offset `S − d`), whose value is the transform's negated (see the module).
     mirrored: Vec<(usize, usize)>,
+    /// One more than the largest output index and transform index of its points (checked once
+    /// per call, so that the loops over the points need no check of their own).
+    j_end: usize,
+    t_end: usize,
+}
+
+/// The real (`IM = false`) or imaginary part of a complex number.
+#[inline(always)]
+fn part<const IM: bool>(z: &Complex<f64>) -> &f64 {
+    if IM {
+        &z.im
+    } else {
+        &z.re
+    }
+}
+
+/// [`part`], writable.
+#[inline(always)]
+fn part_mut<const IM: bool>(z: &mut Complex<f64>) -> &mut f64 {
+    if IM {
+        &mut z.im
+    } else {
+        &mut z.re
+    }
+}
+
+impl Group {
+    /// `out[j] = ±part(buf[t])` for every point (− for the mirror offset's).
+    #[inline(always)]
+    fn read<const IM: bool>(&self, buf: &[Complex<f64>], out: &mut [f64]) {
+        assert!(self.j_end <= out.len() && self.t_end <= buf.len());
+        // SAFETY: every `j < j_end ≤ out.len()` and `t < t_end ≤ buf.len()` (checked above;
+        // `j_end`, `t_end` are made with the lists and neither changes after).
+        unsafe {
+            for &(j, t) in &self.members {
+                *out.get_unchecked_mut(j) = *part::<IM>(buf.get_unchecked(t));
+            }
+            for &(j, t) in &self.mirrored {
+                *out.get_unchecked_mut(j) = -*part::<IM>(buf.get_unchecked(t));
+            }
+        }
+    }
+
+    /// `part(buf[t]) = ±f[j]` for every point (the transpose of [`Self::read`]).
+    #[inline(always)]
+    fn place<const IM: bool>(&self, f: &[f64], buf: &mut [Complex<f64>]) {
+        assert!(self.j_end <= f.len() && self.t_end <= buf.len());
+        // SAFETY: as in `read`.
+        unsafe {
+            for &(j, t) in &self.members {
+                *part_mut::<IM>(buf.get_unchecked_mut(t)) = *f.get_unchecked(j);
+            }
+            for &(j, t) in &self.mirrored {
+                *part_mut::<IM>(buf.get_unchecked_mut(t)) = -*f.get_unchecked(j);
+            }
+        }
+    }
 }
 
 /// Precomputed sampler for a fixed set of points on one [`SineBasis`].
@@ -222,11 +279,17 @@ impl PointSampler {
                             .collect();
                     }
                 }
+                let members = offsets[i].1.clone();
+                let all = || members.iter().chain(&mirrored);
+                let j_end = all().map(|&(j, _)| j + 1).max().unwrap_or(0);
+                let t_end = all().map(|&(_, t)| t + 1).max().unwrap_or(0);
                 groups.push(Group {
                     sin_d,
                     cos_d,
-                    members: offsets[i].1.clone(),
+                    members,
                     mirrored,
+                    j_end,
+                    t_end,
                 });
             }
             for g in &groups {
@@ -441,8 +504,8 @@ impl PointSampler {
         self.gather_spread(q, k, out, sc);
     }
 
-    /// Two blocks: one fold pass and one transform per group (its mirror offset's points
-    /// included).
+    /// Two blocks: one transform per group (its mirror offset's points included); the folds of
+    /// two groups in one pass over the modes ([`kernels::fold2x2`]).
     fn gather_pair(
         &self,
         q1: &[f64],
@@ -452,26 +515,31 @@ impl PointSampler {
         sc: &mut SamplerScratch,
     ) {
         let p = self.period;
-        for g in &self.groups {
-            kernels::fold2(
-                self.isa,
-                q1,
-                q2,
-                &g.sin_d,
-                &g.cos_d,
-                p,
-                &mut sc.cur[..4 * p],
-            );
-            let (x, y) = sc.cur[..4 * p].split_at(2 * p);
-            self.pack(x, Some(y), &mut sc.buf);
-            self.transform(sc);
-            for &(j, t) in &g.members {
-                o1[j] = sc.buf[t].re;
-                o2[j] = sc.buf[t].im;
+        for two in self.groups.chunks(2) {
+            match two {
+                [g, h] => {
+                    let tabs = [&g.sin_d[..], &g.cos_d, &h.sin_d, &h.cos_d];
+                    let out = [&mut sc.cur[..4 * p], &mut sc.second[..4 * p]];
+                    kernels::fold2x2(self.isa, q1, q2, tabs, p, out);
+                }
+                [g] => kernels::fold2(
+                    self.isa,
+                    q1,
+                    q2,
+                    &g.sin_d,
+                    &g.cos_d,
+                    p,
+                    &mut sc.cur[..4 * p],
+                ),
+                _ => unreachable!("chunks of one or two"),
             }
-            for &(j, t) in &g.mirrored {
-                o1[j] = -sc.buf[t].re;
-                o2[j] = -sc.buf[t].im;
+            for (i, g) in two.iter().enumerate() {
+                let bins = if i == 0 { &sc.cur } else { &sc.second };
+                let (x, y) = bins[..4 * p].split_at(2 * p);
+                self.pack(x, Some(y), &mut sc.buf);
+                self.transform(sc);
+                g.read::<false>(&sc.buf, o1);
+                g.read::<true>(&sc.buf, o2);
             }
         }
         for (j, row) in &self.dense {
@@ -499,14 +567,9 @@ impl PointSampler {
             let y = (pair.len() == 2).then_some(&sc.second[..2 * p]);
             self.pack(&sc.cur[..2 * p], y, &mut sc.buf);
             self.transform(sc);
-            for (g, im) in pair.iter().zip([false, true]) {
-                let at = |t: usize| if im { sc.buf[t].im } else { sc.buf[t].re };
-                for &(j, t) in &g.members {
-                    out[j] = at(t);
-                }
-                for &(j, t) in &g.mirrored {
-                    out[j] = -at(t);
-                }
+            pair[0].read::<false>(&sc.buf, out);
+            if let Some(g) = pair.get(1) {
+                g.read::<true>(&sc.buf, out);
             }
         }
         for (j, row) in &self.dense {
@@ -563,18 +626,25 @@ impl PointSampler {
         sc: &mut SamplerScratch,
     ) {
         let p = self.period;
-        for g in &self.groups {
-            sc.buf.fill(Complex::new(0.0, 0.0));
-            for &(j, t) in &g.members {
-                sc.buf[t] = Complex::new(f1[j], f2[j]);
+        for two in self.groups.chunks(2) {
+            for (i, g) in two.iter().enumerate() {
+                sc.buf.fill(Complex::new(0.0, 0.0));
+                g.place::<false>(f1, &mut sc.buf);
+                g.place::<true>(f2, &mut sc.buf);
+                self.transform(sc);
+                let bins = if i == 0 { &mut sc.cur } else { &mut sc.second };
+                let (x, y) = bins[..4 * p].split_at_mut(2 * p);
+                self.unpack(&sc.buf, x, Some(y));
             }
-            for &(j, t) in &g.mirrored {
-                sc.buf[t] = Complex::new(-f1[j], -f2[j]);
+            match two {
+                [g, h] => {
+                    let tabs = [&g.sin_d[..], &g.cos_d, &h.sin_d, &h.cos_d];
+                    let bins = [&sc.cur[..4 * p], &sc.second[..4 * p]];
+                    kernels::unfold2x2(self.isa, bins, tabs, p, o1, o2);
+                }
+                [g] => kernels::unfold2(self.isa, &sc.cur[..4 * p], &g.sin_d, &g.cos_d, p, o1, o2),
+                _ => unreachable!("chunks of one or two"),
             }
-            self.transform(sc);
-            let (x, y) = sc.cur[..4 * p].split_at_mut(2 * p);
-            self.unpack(&sc.buf, x, Some(y));
-            kernels::unfold2(self.isa, &sc.cur[..4 * p], &g.sin_d, &g.cos_d, p, o1, o2);
         }
         for (j, row) in &self.dense {
             kernels::axpy2(self.isa, f1[*j], f2[*j], row, o1, o2);
@@ -585,15 +655,9 @@ impl PointSampler {
         let p = self.period;
         for pair in self.groups.chunks(2) {
             sc.buf.fill(Complex::new(0.0, 0.0));
-            for (g, im) in pair.iter().zip([false, true]) {
-                let signed = g.members.iter().map(|&(j, t)| (t, f[j]));
-                for (t, v) in signed.chain(g.mirrored.iter().map(|&(j, t)| (t, -f[j]))) {
-                    if im {
-                        sc.buf[t].im = v;
-                    } else {
-                        sc.buf[t].re = v;
-                    }
-                }
+            pair[0].place::<false>(f, &mut sc.buf);
+            if let Some(g) = pair.get(1) {
+                g.place::<true>(f, &mut sc.buf);
             }
             self.transform(sc);
             let y = (pair.len() == 2).then_some(&mut sc.second[..2 * p]);
@@ -621,11 +685,13 @@ impl PointSampler {
 mod tests {
     use super::*;
 
-    fn xs_periodic(ns: usize, s: f64) -> Vec<f64> {
-        let offs = [0.0, 5.0, 10.5, 17.0, 23.5, 30.0, 36.5, 43.0, 49.5, 55.0];
+    /// Offsets 5/55, 10.5/49.5, 17/43, 23.5/36.5 are mirror pairs: 10 offsets, 6 passes.
+    const OFFSETS: [f64; 10] = [0.0, 5.0, 10.5, 17.0, 23.5, 30.0, 36.5, 43.0, 49.5, 55.0];
+
+    fn xs_periodic_at(ns: usize, s: f64, offs: &[f64]) -> Vec<f64> {
         let mut xs = Vec::new();
         for k in 0..ns {
-            for &d in &offs {
+            for &d in offs {
                 let x = k as f64 * s + d;
                 if x > 0.0 {
                     xs.push(x);
@@ -639,78 +705,82 @@ mod tests {
     #[test]
     fn folded_path_equals_dense_path() {
         let (ns, s) = (12, 60.0);
-        for isa in [Isa::Portable, Isa::best_available()] {
-            for n in [700usize, 720, 1001] {
-                let basis = SineBasis::new(ns as f64 * s, n);
-                let xs = xs_periodic(ns, s);
-                let fast = PointSampler::new(&basis, &xs, Some(s), isa);
-                let slow = PointSampler::new(&basis, &xs, None, isa);
-                assert!(fast.n_folded() > 100);
-                // Offsets 5/55, 10.5/49.5, 17/43, 23.5/36.5 are mirror pairs: 10 groups, 6 passes.
-                assert_eq!(fast.n_mode_passes(), 6);
-                assert_eq!(slow.n_folded(), 0);
-                let q: Vec<f64> = (0..n)
-                    .map(|i| ((i * 37 % 101) as f64 - 50.0) / (1.0 + i as f64))
-                    .collect();
-                let (mut o1, mut o2) = (vec![0.0; xs.len()], vec![0.0; xs.len()]);
-                let (mut s1, mut s2) = (fast.scratch(), slow.scratch());
-                fast.gather(&q, 1, &mut o1, &mut s1);
-                slow.gather(&q, 1, &mut o2, &mut s2);
-                for j in 0..xs.len() {
-                    assert!(
-                        (o1[j] - o2[j]).abs() < 1e-10,
-                        "gather j={j}: {} vs {}",
-                        o1[j],
-                        o2[j]
-                    );
-                }
-                let f: Vec<f64> = (0..xs.len()).map(|j| ((j * 13 % 7) as f64) - 3.0).collect();
-                let (mut g1, mut g2) = (vec![0.0; n], vec![0.0; n]);
-                fast.scatter_add(&f, 1, &mut g1, &mut s1);
-                slow.scatter_add(&f, 1, &mut g2, &mut s2);
-                for k in 0..n {
-                    assert!((g1[k] - g2[k]).abs() < 1e-9, "scatter k={k}");
-                }
-                // Three blocks at once (a pair, then one alone) equal three single calls.
-                let q2: Vec<f64> = q.iter().rev().copied().collect();
-                let q3: Vec<f64> = q.iter().map(|v| 0.5 * v - 1e-3).collect();
-                let qs: Vec<f64> = [&q[..], &q2[..], &q3[..]].concat();
-                let np = xs.len();
-                let mut blocks = vec![0.0; 3 * np];
-                fast.gather(&qs, 3, &mut blocks, &mut s1);
-                for (b, qb) in [&q, &q2, &q3].iter().enumerate() {
-                    let mut one = vec![0.0; np];
-                    slow.gather(qb, 1, &mut one, &mut s2);
-                    for j in 0..np {
+        // The offsets less the middle one (30): 5 passes, so that the paired kernels also
+        // meet a group alone.
+        let odd: Vec<f64> = OFFSETS.iter().copied().filter(|&d| d != 30.0).collect();
+        for (offs, passes) in [(&OFFSETS[..], 6), (&odd[..], 5)] {
+            for isa in [Isa::Portable, Isa::best_available()] {
+                for n in [700usize, 720, 1001] {
+                    let basis = SineBasis::new(ns as f64 * s, n);
+                    let xs = xs_periodic_at(ns, s, offs);
+                    let fast = PointSampler::new(&basis, &xs, Some(s), isa);
+                    let slow = PointSampler::new(&basis, &xs, None, isa);
+                    assert!(fast.n_folded() > 100);
+                    assert_eq!(fast.n_mode_passes(), passes);
+                    assert_eq!(slow.n_folded(), 0);
+                    let q: Vec<f64> = (0..n)
+                        .map(|i| ((i * 37 % 101) as f64 - 50.0) / (1.0 + i as f64))
+                        .collect();
+                    let (mut o1, mut o2) = (vec![0.0; xs.len()], vec![0.0; xs.len()]);
+                    let (mut s1, mut s2) = (fast.scratch(), slow.scratch());
+                    fast.gather(&q, 1, &mut o1, &mut s1);
+                    slow.gather(&q, 1, &mut o2, &mut s2);
+                    for j in 0..xs.len() {
                         assert!(
-                            (blocks[b * np + j] - one[j]).abs() < 1e-10,
-                            "gather block {b}"
+                            (o1[j] - o2[j]).abs() < 1e-10,
+                            "gather j={j}: {} vs {}",
+                            o1[j],
+                            o2[j]
                         );
                     }
-                }
-                let f2: Vec<f64> = f.iter().map(|v| 2.0 * v + 1.0).collect();
-                let f3: Vec<f64> = f.iter().map(|v| v * v).collect();
-                let fs: Vec<f64> = [&f[..], &f2[..], &f3[..]].concat();
-                let mut out = vec![0.0; 3 * n];
-                fast.scatter_add(&fs, 3, &mut out, &mut s1);
-                for (b, fb) in [&f, &f2, &f3].iter().enumerate() {
-                    let mut one = vec![0.0; n];
-                    slow.scatter_add(fb, 1, &mut one, &mut s2);
+                    let f: Vec<f64> = (0..xs.len()).map(|j| ((j * 13 % 7) as f64) - 3.0).collect();
+                    let (mut g1, mut g2) = (vec![0.0; n], vec![0.0; n]);
+                    fast.scatter_add(&f, 1, &mut g1, &mut s1);
+                    slow.scatter_add(&f, 1, &mut g2, &mut s2);
                     for k in 0..n {
-                        let (x, y) = (out[b * n + k], one[k]);
-                        assert!((x - y).abs() < 1e-9 * (1.0 + y.abs()), "scatter block {b}");
+                        assert!((g1[k] - g2[k]).abs() < 1e-9, "scatter k={k}");
                     }
-                }
-                // The scaled scatter: out += scale ⊙ Φᵀ f.
-                let scale: Vec<f64> = (0..n).map(|k| -1.0 / (1.0 + k as f64)).collect();
-                let mut sc_out = q.clone();
-                fast.scatter_scaled(&f, &mut sc_out, &scale, &mut s1);
-                for k in 0..n {
-                    let want = q[k] + scale[k] * g2[k];
-                    assert!(
-                        (sc_out[k] - want).abs() < 1e-9 * (1.0 + want.abs()),
-                        "scaled k={k}"
-                    );
+                    // Three blocks at once (a pair, then one alone) equal three single calls.
+                    let q2: Vec<f64> = q.iter().rev().copied().collect();
+                    let q3: Vec<f64> = q.iter().map(|v| 0.5 * v - 1e-3).collect();
+                    let qs: Vec<f64> = [&q[..], &q2[..], &q3[..]].concat();
+                    let np = xs.len();
+                    let mut blocks = vec![0.0; 3 * np];
+                    fast.gather(&qs, 3, &mut blocks, &mut s1);
+                    for (b, qb) in [&q, &q2, &q3].iter().enumerate() {
+                        let mut one = vec![0.0; np];
+                        slow.gather(qb, 1, &mut one, &mut s2);
+                        for j in 0..np {
+                            assert!(
+                                (blocks[b * np + j] - one[j]).abs() < 1e-10,
+                                "gather block {b}"
+                            );
+                        }
+                    }
+                    let f2: Vec<f64> = f.iter().map(|v| 2.0 * v + 1.0).collect();
+                    let f3: Vec<f64> = f.iter().map(|v| v * v).collect();
+                    let fs: Vec<f64> = [&f[..], &f2[..], &f3[..]].concat();
+                    let mut out = vec![0.0; 3 * n];
+                    fast.scatter_add(&fs, 3, &mut out, &mut s1);
+                    for (b, fb) in [&f, &f2, &f3].iter().enumerate() {
+                        let mut one = vec![0.0; n];
+                        slow.scatter_add(fb, 1, &mut one, &mut s2);
+                        for k in 0..n {
+                            let (x, y) = (out[b * n + k], one[k]);
+                            assert!((x - y).abs() < 1e-9 * (1.0 + y.abs()), "scatter block {b}");
+                        }
+                    }
+                    // The scaled scatter: out += scale ⊙ Φᵀ f.
+                    let scale: Vec<f64> = (0..n).map(|k| -1.0 / (1.0 + k as f64)).collect();
+                    let mut sc_out = q.clone();
+                    fast.scatter_scaled(&f, &mut sc_out, &scale, &mut s1);
+                    for k in 0..n {
+                        let want = q[k] + scale[k] * g2[k];
+                        assert!(
+                            (sc_out[k] - want).abs() < 1e-9 * (1.0 + want.abs()),
+                            "scaled k={k}"
+                        );
+                    }
                 }
             }
         }
