@@ -170,13 +170,14 @@ impl std::fmt::Debug for PointSampler {
     }
 }
 
-/// Scratch for [`PointSampler`]: bins of the current groups, and the complex transform buffers; for the non-uniform transform, its scratch, the points' values of
-/// two blocks and one block of modes.
+/// Scratch for [`PointSampler`]: the bins of the current one or two groups and the complex
+/// transform buffers; for the non-uniform transform, its scratch, the points' values of two
+/// blocks and one block of modes.
 #[derive(Debug, Clone)]
 pub struct SamplerScratch {
-    /// `[a1 | b1 | a2 | b2]` of the current unit(s).
+    /// `[a1 | b1 | a2 | b2]` (two blocks) or `[a | b]` (one) of the current group.
     cur: Vec<f64>,
-    /// The same for the second unit of a single-block chunk.
+    /// The same for the second group of a chunk of two.
     second: Vec<f64>,
     buf: Vec<Complex<f64>>,
     fft: Vec<Complex<f64>>,
