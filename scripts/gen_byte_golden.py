@@ -17,10 +17,10 @@ the two 3D presets' hashes made again when the messenger's undriven torsion left
 issue 23, their statistics within 7e-14 of the previous build's, the coupled stability estimate
 within its power iteration's 6e-7; every hash but line-structure-2002's (no span period: no
 offset groups) made again when a mirror offset's points (S − d) read their partner's transform,
-output P − 1 − s negated, instead of a transform of their own, issue 23: the statistics within
-1e-12 relative of the previous build's on both kernel paths (en50318-2002 at 300 km/h, its
-statistical minimum of −13.14 N, 2.4e-11 N; the 3D presets' blow-outs, zero to 4e-15 mm; the
-crosswind's coupled stability estimate 5.6e-11), the chaotic benchmark-55m within its known
+output P − 1 − s negated, instead of a transform of their own, issue 23: the contact-force
+statistics within 1e-12 relative of the previous build's on both kernel paths (en50318-2002 at
+300 km/h, its statistical minimum of −13.14 N, 2.4e-11 N), the 3D presets' blow-outs zero to
+4e-15 mm in both, the crosswind's coupled stability estimate within 5.6e-11 relative, the chaotic benchmark-55m within its known
 spread (its actual minimum 0.95 %)),
 and for each
 kernel path
