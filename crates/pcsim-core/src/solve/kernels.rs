@@ -1026,8 +1026,9 @@ lanes_kernel! {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The periodic sampler's spectra (`solve/sampler.rs`): its pack and unpack in four lanes. Each lane does the scalar form's operations in its order (multiplies and adds, never
-// fused), so both instruction-set paths give the scalar form's bytes.
+// The periodic sampler's spectra (`solve/sampler.rs`): its pack and unpack in four lanes. Each
+// lane does the scalar form's operations in its order (multiplies and adds, never fused), so both
+// instruction-set paths give the scalar form's bytes.
 
 /// `[v, v, v, v]`.
 ///
@@ -1065,25 +1066,13 @@ unsafe fn pack_bins_body<S: Lanes, const F: bool>(x: &[f64], y: &[f64], p: usize
         let o = buf.as_mut_ptr();
         while i + 4 <= m {
             let j = m - 4 - i;
-            let (a, an) = (
-                S::load(ax.as_ptr().add(i)),
-                S::load(ax.as_ptr().add(j)).rev(),
-            );
-            let (b, bn) = (
-                S::load(bx.as_ptr().add(i)),
-                S::load(bx.as_ptr().add(j)).rev(),
-            );
+            // A chunk at `i` and its mirror at `j`, reversed.
+            let ends = |v: &[f64]| (S::load(v.as_ptr().add(i)), S::load(v.as_ptr().add(j)).rev());
+            let ((a, an), (b, bn)) = (ends(ax), ends(bx));
             let re_x = S::mul(h, S::add(a, an));
             let im_x = S::mul(nh, S::sub(b, bn));
             if two {
-                let (c, cn) = (
-                    S::load(ay.as_ptr().add(i)),
-                    S::load(ay.as_ptr().add(j)).rev(),
-                );
-                let (d, dn) = (
-                    S::load(by.as_ptr().add(i)),
-                    S::load(by.as_ptr().add(j)).rev(),
-                );
+                let ((c, cn), (d, dn)) = (ends(ay), ends(by));
                 let re_y = S::mul(h, S::add(c, cn));
                 let im_y = S::mul(nh, S::sub(d, dn));
                 S::store_joined(S::sub(re_x, im_y), S::add(im_x, re_y), o.add(2 * (i + 1)));
