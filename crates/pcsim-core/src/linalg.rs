@@ -92,7 +92,8 @@ pub fn mat_vec(a: &[f64], n: usize, x: &[f64]) -> Vec<f64> {
 
 /// In-place Cholesky of a symmetric positive definite row-major `n × n` matrix; the lower
 /// triangle holds `L` afterwards, and the upper its transpose (so that both substitutions of
-/// [`cholesky_solve_by`] read rows). A pivot that is not positive is an error, never clamped.
+/// `solve::kernels::cholesky_solve` read rows). A pivot that is not positive is an error, never
+/// clamped.
 pub fn cholesky_in_place(a: &mut [f64], n: usize) -> Result<(), NotPositiveDefinite> {
     for j in 0..n {
         let mut d = a[j * n + j];
@@ -120,26 +121,6 @@ pub fn cholesky_in_place(a: &mut [f64], n: usize) -> Result<(), NotPositiveDefin
     Ok(())
 }
 
-/// Solve `L Lᵀ x = b` in place in `b` (`tmp` is scratch of length n), `l` as
-/// [`cholesky_in_place`] leaves it (`L` below the diagonal, `Lᵀ` above), with the rows' products
-/// `Σ x_k y_k` taken by `dot` (the stepper passes its four-lane kernel, `solve::kernels::dot`):
-/// each substitution reads one contiguous row, of `L` forwards and of `Lᵀ` backwards.
-pub fn cholesky_solve_by(
-    l: &[f64],
-    n: usize,
-    b: &mut [f64],
-    tmp: &mut [f64],
-    dot: impl Fn(&[f64], &[f64]) -> f64,
-) {
-    for i in 0..n {
-        tmp[i] = (b[i] - dot(&l[i * n..i * n + i], &tmp[..i])) / l[i * n + i];
-    }
-    for i in (0..n).rev() {
-        // Row i of Lᵀ (the upper triangle) holds column i of L.
-        b[i] = (tmp[i] - dot(&l[i * n + i + 1..(i + 1) * n], &b[i + 1..n])) / l[i * n + i];
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -156,14 +137,13 @@ mod tests {
         }
         let mut l = a.to_vec();
         cholesky_in_place(&mut l, 3).unwrap();
-        let mut b = [1.0, 2.0, 3.0];
-        let mut tmp = [0.0; 3];
-        cholesky_solve_by(&l, 3, &mut b, &mut tmp, |x, y| {
-            x.iter().zip(y).map(|(a, b)| a * b).sum()
-        });
+        // L Lᵀ = A, with L below the diagonal and Lᵀ mirrored above it.
         for i in 0..3 {
-            let s: f64 = (0..3).map(|k| a[i * 3 + k] * b[k]).sum();
-            assert!((s - [1.0, 2.0, 3.0][i]).abs() < 1e-12);
+            for j in 0..3 {
+                let s: f64 = (0..=i.min(j)).map(|k| l[i * 3 + k] * l[j * 3 + k]).sum();
+                assert!((s - a[i * 3 + j]).abs() < 1e-12);
+                assert_eq!(l[i * 3 + j], l[j * 3 + i]);
+            }
         }
     }
 

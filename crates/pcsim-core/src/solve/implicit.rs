@@ -8,7 +8,7 @@
 //! the contact wire's steady-arm masses are both at the masts) are corrected together: one
 //! gather for all of them, a solve per block, and the scatter fused with the scaling by `−D⁻¹`.
 
-use crate::linalg::{cholesky_in_place, cholesky_solve_by, NotPositiveDefinite};
+use crate::linalg::{cholesky_in_place, NotPositiveDefinite};
 use crate::model::basis::SineBasis;
 use crate::solve::kernels::{self, Isa};
 use crate::solve::sampler::{PointSampler, SamplerScratch};
@@ -123,7 +123,7 @@ impl ImplicitPoints {
         self.sampler.gather(&a[q0..q0 + k * n], k, g, scr);
         for (b, l) in self.chol.iter().enumerate() {
             let gb = &mut g[b * np..(b + 1) * np];
-            cholesky_solve_by(l, np, gb, &mut w.y[..np], |x, y| kernels::dot(isa, x, y));
+            kernels::cholesky_solve(isa, l, np, gb, &mut w.y[..np]);
             let r = q0 + b * n..q0 + (b + 1) * n;
             let d = &neg_d_inv[base + r.start..base + r.end];
             if self.sampler.is_single_group() {

@@ -392,6 +392,40 @@ lanes_kernel! {
 /// # Safety
 /// `S` must be usable on this CPU.
 #[inline(always)]
+unsafe fn cholesky_solve_body<S: Lanes, const F: bool>(
+    l: &[f64],
+    n: usize,
+    b: &mut [f64],
+    tmp: &mut [f64],
+) {
+    assert!(
+        l.len() >= n * n && b.len() >= n && tmp.len() >= n,
+        "cholesky_solve: slices too short"
+    );
+    for i in 0..n {
+        // SAFETY: `dot_body` reads only the shorter of its two slices, both checked by slicing.
+        let d = unsafe { dot_body::<S, F>(&l[i * n..i * n + i], &tmp[..i]) };
+        tmp[i] = (b[i] - d) / l[i * n + i];
+    }
+    for i in (0..n).rev() {
+        // Row i of Lᵀ (the upper triangle) holds column i of L.
+        // SAFETY: as above.
+        let d = unsafe { dot_body::<S, F>(&l[i * n + i + 1..(i + 1) * n], &b[i + 1..n]) };
+        b[i] = (tmp[i] - d) / l[i * n + i];
+    }
+}
+
+lanes_kernel! {
+    /// Solve `L Lᵀ x = b` in place in `b` (`tmp`: scratch of length `n`), `l` as
+    /// [`crate::linalg::cholesky_in_place`] leaves it (`L` below the diagonal, `Lᵀ` above): each
+    /// substitution takes one contiguous row's product, of `L` forwards and of `Lᵀ` backwards,
+    /// by [`dot`]'s sum (inlined: the same sums in the same order as calling it per row).
+    pub fn cholesky_solve(l: &[f64], n: usize, b: &mut [f64], tmp: &mut [f64]) = cholesky_solve_body;
+}
+
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
 unsafe fn dot2_body<S: Lanes, const F: bool>(row: &[f64], x: &[f64], y: &[f64]) -> (f64, f64) {
     let n = row.len().min(x.len()).min(y.len());
     let (pr, px, py) = (row.as_ptr(), x.as_ptr(), y.as_ptr());
@@ -1317,6 +1351,46 @@ mod tests {
                     assert!(same, "n {n}, x {x}, {isa:?}");
                 }
             }
+        }
+    }
+
+    /// The substitutions solve `A x = b` for a factored `A = L Lᵀ`, and are the per-row
+    /// [`dot`] substitutions' bytes on both paths (n = 23: the 16-wide, 4-wide and scalar parts).
+    #[test]
+    fn the_cholesky_substitutions_solve_and_keep_the_dot_kernels_bytes() {
+        let n = 23;
+        let g = data(n * n, 21);
+        // A = G Gᵀ + n I: symmetric positive definite.
+        let a: Vec<f64> = (0..n * n)
+            .map(|ij| {
+                let (i, j) = (ij / n, ij % n);
+                let s: f64 = (0..n).map(|k| g[i * n + k] * g[j * n + k]).sum();
+                s + if i == j { n as f64 } else { 0.0 }
+            })
+            .collect();
+        let mut l = a.clone();
+        crate::linalg::cholesky_in_place(&mut l, n).unwrap();
+        let rhs = data(n, 22);
+        for isa in [Isa::Portable, Isa::best_available()] {
+            let (mut x, mut tmp) = (rhs.clone(), vec![0.0; n]);
+            cholesky_solve(isa, &l, n, &mut x, &mut tmp);
+            for i in 0..n {
+                let ax: f64 = (0..n).map(|k| a[i * n + k] * x[k]).sum();
+                assert!((ax - rhs[i]).abs() < 1e-12, "{isa:?} row {i}");
+            }
+            // The same substitutions, a call of the dot kernel per row.
+            let (mut y, mut t) = (rhs.clone(), vec![0.0; n]);
+            for i in 0..n {
+                t[i] = (y[i] - dot(isa, &l[i * n..i * n + i], &t[..i])) / l[i * n + i];
+            }
+            for i in (0..n).rev() {
+                y[i] =
+                    (t[i] - dot(isa, &l[i * n + i + 1..(i + 1) * n], &y[i + 1..n])) / l[i * n + i];
+            }
+            assert!(
+                x.iter().zip(&y).all(|(u, v)| u.to_bits() == v.to_bits()),
+                "{isa:?}"
+            );
         }
     }
 

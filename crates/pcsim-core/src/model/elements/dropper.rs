@@ -183,6 +183,8 @@ impl PointElement for Droppers {
         self.0[i].stiffness_n_per_m
     }
     fn add_forces(&self, slots: &[Slot], io: &mut Io) {
+        // The slack count kept in a register, added once.
+        let mut slack_n = 0;
         for (d, s) in self.0.iter().zip(slots.chunks_exact(ARITY)) {
             if s[2].u | s[3].u | s[4].u == 0 {
                 // No lateral or torsional attachment (all on the ground, slot 0): δ = φ = 0 and
@@ -191,7 +193,7 @@ impl PointElement for Droppers {
                 // pendulum's terms, which would add zeros to the ground's sink.
                 let e = io.u[s[0].u as usize] - io.u[s[1].u as usize];
                 let (df, slack) = dropper_force_change(d.preload_n, d.stiffness_n_per_m, e);
-                io.slack += slack as usize;
+                slack_n += slack as usize;
                 io.f[s[1].u as usize] += df;
                 io.f[s[0].u as usize] += -df;
                 continue;
@@ -206,13 +208,14 @@ impl PointElement for Droppers {
                 delta,
                 phi,
             );
-            io.slack += slack as usize;
+            slack_n += slack as usize;
             io.f[s[1].u as usize] += df;
             io.f[s[0].u as usize] += -df;
             io.f[s[3].u as usize] += fl;
             io.f[s[4].u as usize] += m;
             io.f[s[2].u as usize] += -fl;
         }
+        io.slack += slack_n;
     }
     fn energy(&self, slots: &[Slot], io: &Io) -> f64 {
         let mut en = 0.0;
