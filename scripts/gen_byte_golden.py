@@ -21,7 +21,12 @@ output P − 1 − s negated, instead of a transform of their own, issue 23: the
 statistics within 1e-12 relative of the previous build's on both kernel paths (en50318-2002 at
 300 km/h, its statistical minimum of −13.14 N, 2.4e-11 N), the 3D presets' blow-outs zero to
 4e-15 mm in both, the crosswind's coupled stability estimate within 5.6e-11 relative, the chaotic benchmark-55m within its known
-spread (its actual minimum 0.95 %)),
+spread (its actual minimum 0.95 %)); every hash made again when the moving rows' sines took each
+block's seeds as the first block's turned by one direct sin_cos (modes past 256), issue 23: the
+statistics within 1.5e-12 relative of the previous build's on both kernel paths (en50318-2002 at
+300 km/h, its statistical minimum of −13.14 N: 2e-11 N; line-structure-2002's 2.8e-11), the 3D
+blow-outs zero to 3e-14 mm, the crosswind's stability estimate within 1.9e-12, the chaotic
+benchmark-55m within its kernel paths' known spread (actual minimum 2.5 %, slack steps 2.3 %)),
 and for each
 kernel path
 (`portable`: PCSIM_PORTABLE=1, the same bytes on every machine; `avx2`: x86-64-v3 with fused

@@ -12,9 +12,29 @@ use std::f64::consts::PI;
 
 use crate::linalg::dot;
 
-/// How often the rotation recurrence is re-seeded with a direct `sin_cos` call (bounds the
+/// How often the rotation recurrence is re-seeded from direct `sin_cos` calls (bounds the
 /// rounding drift of the recurrence to ~`RESEED · ε`).
 pub const RESEED: usize = 64;
+
+/// The seeds of [`SineBasis::fill_sines`]'s four chains: `(sin, cos)` of `(1 + l) θ`,
+/// `l = 0..4`, each a direct `sin_cos` (the last is the chains' step, `4θ`).
+#[inline]
+pub fn chain_seeds(theta: f64) -> ([f64; 4], [f64; 4]) {
+    let (mut s, mut c) = ([0.0; 4], [0.0; 4]);
+    for l in 0..4 {
+        (s[l], c[l]) = ((1 + l) as f64 * theta).sin_cos();
+    }
+    (s, c)
+}
+
+/// The turn that carries the chains' seeds to block `b` of [`SineBasis::fill_sines`] (modes
+/// `4 · RESEED · b + 1 + l`): `(sin, cos)` of `4 · RESEED · b · θ`, one direct `sin_cos` per block
+/// (the seeds are `e^{i(1+l)θ}` turned by it: `s c_b + c s_b`, `c c_b − s s_b`). The error stays
+/// that of a direct call at every block: no block's seed is carried from the one before.
+#[inline]
+pub fn block_turn(theta: f64, b: usize) -> (f64, f64) {
+    ((4 * RESEED * b) as f64 * theta).sin_cos()
+}
 
 /// The trial functions `sin(kπx/L)`, `k = 1..=N`, over a modelled length `L`.
 #[derive(Debug, Clone, PartialEq)]
@@ -55,20 +75,22 @@ impl SineBasis {
     }
 
     /// Fill `out[i] = sin(κ_i x)` for all modes, without a trig call per mode: the complex
-    /// rotation `e^{i(k+1)θ} = e^{ikθ} e^{iθ}` (re-seeded every 64 modes), the recurrence the
-    /// issue suggests for the moving contact point.
+    /// rotation `e^{i(k+4)θ} = e^{ikθ} e^{i4θ}` in four interleaved chains (modes k, k+1, k+2,
+    /// k+3; they break the latency chain of a single recurrence), re-seeded every `4 · RESEED`
+    /// modes from [`chain_seeds`] (the recurrence the issue suggests for the moving contact point).
     pub fn fill_sines(&self, x: f64, out: &mut [f64]) {
         debug_assert_eq!(out.len(), self.n_modes);
         let theta = self.theta(x);
-        // Four interleaved rotation chains (modes k, k+1, k+2, k+3 advance by 4θ) break the
-        // latency chain of a single recurrence; each block of 256 modes is re-seeded directly.
-        let (s4, c4) = (4.0 * theta).sin_cos();
+        let (s0, c0) = chain_seeds(theta);
+        let (s4, c4) = (s0[3], c0[3]);
         for (b, block) in out.chunks_mut(4 * RESEED).enumerate() {
-            let i = b * 4 * RESEED;
-            let mut s = [0.0f64; 4];
-            let mut c = [0.0f64; 4];
-            for l in 0..4 {
-                (s[l], c[l]) = ((i + 1 + l) as f64 * theta).sin_cos();
+            let (mut s, mut c) = (s0, c0);
+            if b > 0 {
+                let (sb, cb) = block_turn(theta, b);
+                for l in 0..4 {
+                    s[l] = s0[l] * cb + c0[l] * sb;
+                    c[l] = c0[l] * cb - s0[l] * sb;
+                }
             }
             let mut chunks = block.chunks_exact_mut(4);
             for chunk in &mut chunks {
@@ -147,6 +169,21 @@ mod tests {
                 let (es, ec) = (b.wavenumber(i) * x).sin_cos();
                 assert!((s[i] - es).abs() < 1e-11, "x={x} i={i}: {} vs {es}", s[i]);
                 assert!((c[i] - ec).abs() < 1e-11);
+            }
+        }
+    }
+
+    /// The four chains, their seeds turned block by block, against a direct call per mode (past
+    /// the eighth block, and at a phase of thousands of radians).
+    #[test]
+    fn four_chain_sines_match_direct_sines() {
+        let b = SineBasis::new(1800.0, 2000);
+        let mut s = vec![0.0; 2000];
+        for &x in &[0.0, 0.3, 17.25, 900.0, 1234.5, 1799.9, -2.5] {
+            b.fill_sines(x, &mut s);
+            for (i, si) in s.iter().enumerate() {
+                let e = (b.wavenumber(i) * x).sin();
+                assert!((si - e).abs() < 1e-11, "x={x} i={i}: {si} vs {e}");
             }
         }
     }

@@ -306,26 +306,39 @@ macro_rules! lanes_kernel {
 // ---------------------------------------------------------------------------------------------
 // Sines of a moving point's row.
 
+/// `[v, v, v, v]`.
+///
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
+unsafe fn splat<S: Lanes>(v: f64) -> S {
+    // SAFETY: reads a local array of four.
+    unsafe { S::load([v; 4].as_ptr()) }
+}
+
 /// # Safety
 /// `S` must be usable on this CPU.
 #[inline(always)]
 unsafe fn fill_sines_body<S: Lanes, const F: bool>(theta: f64, out: &mut [f64]) {
-    let reseed = crate::model::basis::RESEED;
-    let (s4, c4) = (4.0 * theta).sin_cos();
+    use crate::model::basis::{block_turn, chain_seeds, RESEED};
+    let (s0, c0) = chain_seeds(theta);
+    let (s4, c4) = (s0[3], c0[3]);
     // SAFETY: every load reads a local array of four; every store writes four values inside
     // `block` (`4 (j + 1) <= block.len()`), or a local array.
     unsafe {
-        let vs4 = S::load([s4; 4].as_ptr());
-        let vc4 = S::load([c4; 4].as_ptr());
-        let vns4 = S::load([-s4; 4].as_ptr());
-        for (b, block) in out.chunks_mut(4 * reseed).enumerate() {
-            let i = b * 4 * reseed;
-            let mut s = [0.0f64; 4];
-            let mut c = [0.0f64; 4];
-            for l in 0..4 {
-                (s[l], c[l]) = ((i + 1 + l) as f64 * theta).sin_cos();
+        let vs4 = splat::<S>(s4);
+        let vc4 = splat::<S>(c4);
+        let vns4 = splat::<S>(-s4);
+        let (vs0, vc0) = (S::load(s0.as_ptr()), S::load(c0.as_ptr()));
+        for (b, block) in out.chunks_mut(4 * RESEED).enumerate() {
+            let (mut vs, mut vc) = (vs0, vc0);
+            if b > 0 {
+                // The seeds turned to block b: s c_b + c s_b, c c_b + s (−s_b).
+                let (sb, cb) = block_turn(theta, b);
+                let (vsb, vcb, vnsb) = (splat::<S>(sb), splat::<S>(cb), splat::<S>(-sb));
+                vs = S::add(S::mul(vs0, vcb), S::mul(vc0, vsb));
+                vc = S::add(S::mul(vc0, vcb), S::mul(vs0, vnsb));
             }
-            let (mut vs, mut vc) = (S::load(s.as_ptr()), S::load(c.as_ptr()));
             let full = block.len() / 4;
             let p = block.as_mut_ptr();
             for j in 0..full {
@@ -347,7 +360,8 @@ unsafe fn fill_sines_body<S: Lanes, const F: bool>(theta: f64, out: &mut [f64]) 
 
 lanes_kernel! {
     /// `out[i] = sin((i + 1) θ)` by the four-chain rotation of
-    /// [`crate::model::basis::SineBasis::fill_sines`] (re-seeded at the same modes), four
+    /// [`crate::model::basis::SineBasis::fill_sines`] (re-seeded at the same modes from the same
+    /// seeds and turns), four
     /// lanes at a time with a multiply and an add per term, never fused: the same bytes as the
     /// scalar recurrence on both paths.
     pub fn fill_sines(theta: f64, out: &mut [f64]) = fill_sines_body;
@@ -1063,16 +1077,6 @@ lanes_kernel! {
 // The periodic sampler's spectra (`solve/sampler.rs`): its pack and unpack in four lanes. Each
 // lane does the scalar form's operations in its order (multiplies and adds, never fused), so both
 // instruction-set paths give the scalar form's bytes.
-
-/// `[v, v, v, v]`.
-///
-/// # Safety
-/// `S` must be usable on this CPU.
-#[inline(always)]
-unsafe fn splat<S: Lanes>(v: f64) -> S {
-    // SAFETY: reads a local array of four.
-    unsafe { S::load([v; 4].as_ptr()) }
-}
 
 /// # Safety
 /// `S` must be usable on this CPU.
