@@ -24,7 +24,7 @@ fn droppers_go_slack_when_pushed_past_their_preload() {
         s.step();
     }
     let (droppers, slots) = s.integ.compiled().element::<Droppers>().unwrap();
-    let nd = droppers.0.len();
+    let nd = droppers.list().len();
     let mut t = vec![0.0; nd];
     let mut e = vec![0.0; nd];
     let u = s.integ.compiled().displacements(&s.ws);
@@ -32,7 +32,7 @@ fn droppers_go_slack_when_pushed_past_their_preload() {
     droppers.elongations(slots, u, &mut e);
     let mut slack = 0;
     for i in 0..nd {
-        let d = &droppers.0[i];
+        let d = &droppers.list()[i];
         let linear = d.preload_n + d.stiffness_n_per_m * e[i];
         if linear < 0.0 {
             slack += 1;
@@ -47,7 +47,7 @@ fn droppers_go_slack_when_pushed_past_their_preload() {
     );
     assert_eq!(slack, s.ws.slack_droppers());
     // Far from the load the droppers keep (nearly) their preload.
-    assert!((t[0] - droppers.0[0].preload_n).abs() < 0.2 * droppers.0[0].preload_n);
+    assert!((t[0] - droppers.list()[0].preload_n).abs() < 0.2 * droppers.list()[0].preload_n);
 }
 
 #[test]

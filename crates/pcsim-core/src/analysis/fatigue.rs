@@ -236,7 +236,7 @@ impl DropperRecorder {
     /// `keep_history` and they hold at most `max_values` numbers (else only the cycles and the
     /// extremes: [`Self::history`] says which).
     pub fn new(cm: &CompiledModel, n_steps: usize, keep_history: bool, max_values: usize) -> Self {
-        let n = cm.element::<Droppers>().map_or(0, |(d, _)| d.0.len());
+        let n = cm.element::<Droppers>().map_or(0, |(d, _)| d.list().len());
         let history = (keep_history && n.saturating_mul(n_steps) <= max_values)
             .then(|| Vec::with_capacity(n * n_steps));
         DropperRecorder {
@@ -268,7 +268,7 @@ impl DropperRecorder {
         };
         let m = cm.model();
         droppers
-            .0
+            .list()
             .iter()
             .enumerate()
             .map(|(i, d)| {

@@ -647,7 +647,7 @@ pub fn model_from_validated(
     let (pans, contacts) = pantographs(case, &contact_wires, e_c, torsional && e_c != 0.0, lateral);
     // The registration of every element kind, in the order their forces are evaluated.
     let mut elements: Vec<Box<dyn PointElement>> = vec![
-        Box::new(Droppers(droppers)),
+        Box::new(Droppers::new(droppers)),
         Box::new(Supports(supports)),
         Box::new(SteadyArms(arms)),
         Box::new(Stitches(stitches)),

@@ -517,21 +517,25 @@ impl CompiledModel {
         }
     }
 
-    /// The sine row of the moving point `mp` at `x` (filled here unless an earlier point of
-    /// the same pantograph on the same basis filled it).
+    /// `Σ q_k row_k`, the deviation of the moving point `mp` at `x` (Eq. 5; `q`: the modal
+    /// coordinates, its block at `mp.q_off`), with its sine row filled in the same pass
+    /// (`kernels::fill_sines_dot`: the bytes of `kernels::fill_sines`, then `kernels::dot`),
+    /// unless an earlier point of the same pantograph on the same basis filled it.
     #[inline]
-    pub(crate) fn moving_row<'w>(
+    pub(crate) fn moving_deviation(
         &self,
-        rows: &'w mut [f64],
+        rows: &mut [f64],
         mp: &MovingPoint,
         x: f64,
-    ) -> &'w [f64] {
+        q: &[f64],
+    ) -> f64 {
         let row = &mut rows[mp.row_off..mp.row_off + mp.n];
+        let q = &q[mp.q_off..mp.q_off + mp.n];
         if mp.fills_row {
-            // The recurrence of `SineBasis::fill_sines` in four lanes: the same bytes.
-            kernels::fill_sines(self.isa, mp.basis.theta(x - mp.origin_m), row);
+            kernels::fill_sines_dot(self.isa, mp.basis.theta(x - mp.origin_m), row, q)
+        } else {
+            kernels::dot(self.isa, q, row)
         }
-        row
     }
 
     /// The height of moving point `m`'s wire at `x` (model coordinates) in the start state: the
@@ -657,9 +661,9 @@ impl CompiledModel {
         for (mi, mp) in self.moving.iter().enumerate() {
             let x = self.moving_x(st, &ws.external, mp);
             ws.absent[self.moving_u0 + mi] = !mp.covers(x);
-            let row = self.moving_row(&mut ws.rows, mp, x);
             ws.eu[self.moving_u0 + mi] = m.static_height(mp.wire, mp.dir, x, st.track_origin_m)
-                + kernels::dot(self.isa, &st.modal.u[mp.q_off..mp.q_off + mp.n], row);
+                + self.moving_deviation(&mut ws.rows, mp, x, &st.modal.u);
+            let row = &ws.rows[mp.row_off..mp.row_off + mp.n];
             ws.ev[self.moving_u0 + mi] =
                 kernels::dot(self.isa, &st.modal.v[mp.q_off..mp.q_off + mp.n], row);
         }

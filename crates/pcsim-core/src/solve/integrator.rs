@@ -761,8 +761,7 @@ impl Integrator {
             ws.u[self.cm.moving_u0 + mi] = if absent {
                 h
             } else {
-                let row = self.cm.moving_row(&mut ws.rows, mp, x);
-                h + kernels::dot(isa, &st.modal.u[mp.q_off..mp.q_off + mp.n], row)
+                h + self.cm.moving_deviation(&mut ws.rows, mp, x, &st.modal.u)
             };
             ws.samples[mp.pantograph].position_m = x;
         }

@@ -121,13 +121,33 @@ pub fn dropper_energy(f0: f64, k: f64, e: f64) -> f64 {
 
 /// All droppers of a model.
 #[derive(Debug, Clone, PartialEq, Default)]
-pub struct Droppers(pub Vec<Dropper>);
+pub struct Droppers {
+    list: Vec<Dropper>,
+    /// No dropper has a lateral or torsional attachment (every one on the ground): the force
+    /// loop takes the vertical law without asking each dropper.
+    vertical: bool,
+}
 
 impl Droppers {
+    /// The droppers of a model.
+    pub fn new(list: Vec<Dropper>) -> Self {
+        let vertical = list.iter().all(|d| {
+            [&d.top_lateral, &d.bottom_lateral, &d.bottom_twist]
+                .iter()
+                .all(|a| matches!(a, Attach::Ground))
+        });
+        Droppers { list, vertical }
+    }
+
+    /// The droppers, in the order of their slots.
+    pub fn list(&self) -> &[Dropper] {
+        &self.list
+    }
+
     /// Tension of every dropper, N (`max(F0 + k·e, 0)` at the stretched length), from the
     /// slots of a step.
     pub fn tensions(&self, slots: &[Slot], u: &[f64], out: &mut [f64]) {
-        for (i, d) in self.0.iter().enumerate() {
+        for (i, d) in self.list.iter().enumerate() {
             let (e, delta, phi) = Self::geometry(d, &slots[ARITY * i..ARITY * (i + 1)], u);
             let (df, _, _, _) = dropper_force_3d(
                 d.preload_n,
@@ -144,9 +164,22 @@ impl Droppers {
 
     /// Vertical elongation of every dropper from the static state (top minus bottom), m.
     pub fn elongations(&self, slots: &[Slot], u: &[f64], out: &mut [f64]) {
-        for (i, d) in self.0.iter().enumerate() {
+        for (i, d) in self.list.iter().enumerate() {
             out[i] = Self::geometry(d, &slots[ARITY * i..ARITY * (i + 1)], u).0;
         }
+    }
+
+    /// A dropper with no lateral or torsional attachment (all on the ground, slot 0): δ = φ = 0
+    /// and the law is the vertical Eq. 15, evaluated as `dropper_force_3d` evaluates it (the same
+    /// operations on the same values, so the same bytes) without the pendulum's terms, which
+    /// would add zeros to the ground's sink. Returns whether it is slack.
+    #[inline(always)]
+    fn add_vertical(d: &Dropper, s: &[Slot], io: &mut Io) -> bool {
+        let e = io.u[s[0].u as usize] - io.u[s[1].u as usize];
+        let (df, slack) = dropper_force_change(d.preload_n, d.stiffness_n_per_m, e);
+        io.f[s[1].u as usize] += df;
+        io.f[s[0].u as usize] += -df;
+        slack
     }
 
     /// Vertical elongation, lateral offset of the top from the clamp, and the wire's rotation.
@@ -164,13 +197,13 @@ impl PointElement for Droppers {
         "dropper"
     }
     fn len(&self) -> usize {
-        self.0.len()
+        self.list.len()
     }
     fn arity(&self) -> usize {
         ARITY
     }
     fn attachment(&self, i: usize, a: usize) -> Attach {
-        let d = &self.0[i];
+        let d = &self.list[i];
         match a {
             0 => d.top,
             1 => d.bottom,
@@ -180,22 +213,22 @@ impl PointElement for Droppers {
         }
     }
     fn stiffness(&self, i: usize) -> f64 {
-        self.0[i].stiffness_n_per_m
+        self.list[i].stiffness_n_per_m
     }
     fn add_forces(&self, slots: &[Slot], io: &mut Io) {
         // The slack count kept in a register, added once.
         let mut slack_n = 0;
-        for (d, s) in self.0.iter().zip(slots.chunks_exact(ARITY)) {
+        let droppers = self.list.iter().zip(slots.chunks_exact(ARITY));
+        if self.vertical {
+            for (d, s) in droppers {
+                slack_n += Self::add_vertical(d, s, io) as usize;
+            }
+            io.slack += slack_n;
+            return;
+        }
+        for (d, s) in droppers {
             if s[2].u | s[3].u | s[4].u == 0 {
-                // No lateral or torsional attachment (all on the ground, slot 0): δ = φ = 0 and
-                // the law is the vertical Eq. 15, evaluated as `dropper_force_3d` evaluates it
-                // (the same operations on the same values, so the same bytes) without the
-                // pendulum's terms, which would add zeros to the ground's sink.
-                let e = io.u[s[0].u as usize] - io.u[s[1].u as usize];
-                let (df, slack) = dropper_force_change(d.preload_n, d.stiffness_n_per_m, e);
-                slack_n += slack as usize;
-                io.f[s[1].u as usize] += df;
-                io.f[s[0].u as usize] += -df;
+                slack_n += Self::add_vertical(d, s, io) as usize;
                 continue;
             }
             let (e, delta, phi) = Self::geometry(d, s, io.u);
@@ -219,7 +252,7 @@ impl PointElement for Droppers {
     }
     fn energy(&self, slots: &[Slot], io: &Io) -> f64 {
         let mut en = 0.0;
-        for (d, s) in self.0.iter().zip(slots.chunks_exact(ARITY)) {
+        for (d, s) in self.list.iter().zip(slots.chunks_exact(ARITY)) {
             let (e, delta, phi) = Self::geometry(d, s, io.u);
             en += dropper_energy_3d(
                 d.preload_n,
@@ -234,8 +267,8 @@ impl PointElement for Droppers {
         en
     }
     fn restrict(&self, w: &WindowMap) -> Box<dyn PointElement> {
-        Box::new(Droppers(
-            self.0
+        Box::new(Droppers::new(
+            self.list
                 .iter()
                 .filter(|d| w.inside(d.x_m))
                 .filter_map(|d| {
