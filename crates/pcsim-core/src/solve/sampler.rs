@@ -75,15 +75,70 @@ struct Group {
     /// `sin(κ_k d)`, `cos(κ_k d)` for every mode.
     sin_d: Vec<f64>,
     cos_d: Vec<f64>,
-    /// (output index, transform index `s`) of each point at `d + sS`.
-    members: Vec<(usize, usize)>,
+    /// (output index, transform index `s`) of each point at `d + sS`, as runs.
+    members: Vec<Run>,
     /// (output index, transform index `P − 1 − s`) of each point at `(s + 1)S − d` (the mirror
-    /// offset `S − d`), whose value is the transform's negated (see the module).
-    mirrored: Vec<(usize, usize)>,
+    /// offset `S − d`), whose value is the transform's negated (see the module), as runs.
+    mirrored: Vec<Run>,
     /// One more than the largest output index and transform index of its points (checked once
     /// per call, so that the loops over the points need no check of their own).
     j_end: usize,
     t_end: usize,
+}
+
+/// Points whose output and transform indices both step evenly: `(j0 + k·dj, t0 + k·dt)`,
+/// `k < len` (a group's points are one run when every span holds the same points, its output
+/// indices a span's points apart and its transform indices one apart), so that reading and
+/// placing them walks two strides instead of a list of pairs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Run {
+    j0: usize,
+    dj: isize,
+    t0: usize,
+    dt: isize,
+    len: usize,
+}
+
+impl Run {
+    /// The maximal runs of `pairs`, in its order.
+    fn split(pairs: &[(usize, usize)]) -> Vec<Run> {
+        let mut runs: Vec<Run> = Vec::new();
+        for &(j, t) in pairs {
+            if let Some(r) = runs.last_mut() {
+                let (dj, dt) = (j as isize - r.j0 as isize, t as isize - r.t0 as isize);
+                let steps = if r.len == 1 { Some((dj, dt)) } else { None };
+                let (sj, st) = steps.unwrap_or((r.dj, r.dt));
+                let k = r.len as isize;
+                if r.j0 as isize + k * sj == j as isize && r.t0 as isize + k * st == t as isize {
+                    (r.dj, r.dt, r.len) = (sj, st, r.len + 1);
+                    continue;
+                }
+            }
+            runs.push(Run {
+                j0: j,
+                dj: 0,
+                t0: t,
+                dt: 0,
+                len: 1,
+            });
+        }
+        runs
+    }
+
+    /// Point `k`'s (output, transform) indices.
+    #[inline(always)]
+    fn at(&self, k: usize) -> (usize, usize) {
+        let k = k as isize;
+        (
+            (self.j0 as isize + k * self.dj) as usize,
+            (self.t0 as isize + k * self.dt) as usize,
+        )
+    }
+
+    /// Every point's (output, transform) indices.
+    fn pairs(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        (0..self.len).map(|k| self.at(k))
+    }
 }
 
 /// The real (`IM = false`) or imaginary part of a complex number.
@@ -112,13 +167,20 @@ impl Group {
     fn read<const IM: bool>(&self, buf: &[Complex<f64>], out: &mut [f64]) {
         assert!(self.j_end <= out.len() && self.t_end <= buf.len());
         // SAFETY: every `j < j_end ≤ out.len()` and `t < t_end ≤ buf.len()` (checked above;
-        // `j_end`, `t_end` are made with the lists and neither changes after).
+        // `j_end`, `t_end` are made with the lists the runs reproduce, tested, and neither
+        // changes after).
         unsafe {
-            for &(j, t) in &self.members {
-                *out.get_unchecked_mut(j) = *part::<IM>(buf.get_unchecked(t));
+            for r in &self.members {
+                for k in 0..r.len {
+                    let (j, t) = r.at(k);
+                    *out.get_unchecked_mut(j) = *part::<IM>(buf.get_unchecked(t));
+                }
             }
-            for &(j, t) in &self.mirrored {
-                *out.get_unchecked_mut(j) = -*part::<IM>(buf.get_unchecked(t));
+            for r in &self.mirrored {
+                for k in 0..r.len {
+                    let (j, t) = r.at(k);
+                    *out.get_unchecked_mut(j) = -*part::<IM>(buf.get_unchecked(t));
+                }
             }
         }
     }
@@ -129,11 +191,17 @@ impl Group {
         assert!(self.j_end <= f.len() && self.t_end <= buf.len());
         // SAFETY: as in `read`.
         unsafe {
-            for &(j, t) in &self.members {
-                *part_mut::<IM>(buf.get_unchecked_mut(t)) = *f.get_unchecked(j);
+            for r in &self.members {
+                for k in 0..r.len {
+                    let (j, t) = r.at(k);
+                    *part_mut::<IM>(buf.get_unchecked_mut(t)) = *f.get_unchecked(j);
+                }
             }
-            for &(j, t) in &self.mirrored {
-                *part_mut::<IM>(buf.get_unchecked_mut(t)) = -*f.get_unchecked(j);
+            for r in &self.mirrored {
+                for k in 0..r.len {
+                    let (j, t) = r.at(k);
+                    *part_mut::<IM>(buf.get_unchecked_mut(t)) = -*f.get_unchecked(j);
+                }
             }
         }
     }
@@ -287,14 +355,14 @@ impl PointSampler {
                 groups.push(Group {
                     sin_d,
                     cos_d,
-                    members,
-                    mirrored,
+                    members: Run::split(&members),
+                    mirrored: Run::split(&mirrored),
                     j_end,
                     t_end,
                 });
             }
             for g in &groups {
-                for &(j, _) in g.members.iter().chain(&g.mirrored) {
+                for (j, _) in g.members.iter().chain(&g.mirrored).flat_map(Run::pairs) {
                     used[j] = true;
                 }
             }
@@ -366,7 +434,13 @@ impl PointSampler {
     pub fn n_folded(&self) -> usize {
         self.groups
             .iter()
-            .map(|g| g.members.len() + g.mirrored.len())
+            .map(|g| {
+                g.members
+                    .iter()
+                    .chain(&g.mirrored)
+                    .map(|r| r.len)
+                    .sum::<usize>()
+            })
             .sum()
     }
 
@@ -685,6 +759,32 @@ impl PointSampler {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Runs reproduce their list in its order: one run for a span-periodic group (output
+    /// indices a span's points apart, transform indices rising or falling by one), several for
+    /// a list with breaks, repeats and a lone point.
+    #[test]
+    fn runs_reproduce_their_pairs() {
+        let regular: Vec<(usize, usize)> = (0..30).map(|s| (9 * s + 2, s)).collect();
+        let falling: Vec<(usize, usize)> = (0..30).map(|s| (9 * s + 8, 59 - s)).collect();
+        let broken = vec![
+            (5, 1),
+            (7, 2),
+            (9, 3),
+            (4, 4),
+            (4, 4),
+            (4, 4),
+            (20, 0),
+            (1, 9),
+            (0, 10),
+        ];
+        for (list, n_runs) in [(&regular, 1), (&falling, 1), (&broken, 4), (&vec![], 0)] {
+            let runs = Run::split(list);
+            assert_eq!(runs.len(), n_runs, "{list:?}");
+            let back: Vec<_> = runs.iter().flat_map(Run::pairs).collect();
+            assert_eq!(&back, list);
+        }
+    }
 
     /// Offsets 5/55, 10.5/49.5, 17/43, 23.5/36.5 are mirror pairs: 10 offsets, 6 passes.
     const OFFSETS: [f64; 10] = [0.0, 5.0, 10.5, 17.0, 23.5, 30.0, 36.5, 43.0, 49.5, 55.0];
