@@ -134,11 +134,6 @@ impl Run {
             (self.t0 as isize + k * self.dt) as usize,
         )
     }
-
-    /// Every point's (output, transform) indices.
-    fn pairs(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
-        (0..self.len).map(|k| self.at(k))
-    }
 }
 
 /// The real (`IM = false`) or imaginary part of a complex number.
@@ -162,48 +157,50 @@ fn part_mut<const IM: bool>(z: &mut Complex<f64>) -> &mut f64 {
 }
 
 impl Group {
+    /// `f(j, t, negated)` for every point: the members' (output, transform) indices, then the
+    /// mirror offset's (whose values are the transform's negated).
+    #[inline(always)]
+    fn each_point(&self, mut f: impl FnMut(usize, usize, bool)) {
+        // Two calls with a constant `negated`, so that each loop is compiled without the test.
+        #[inline(always)]
+        fn walk(runs: &[Run], negated: bool, f: &mut impl FnMut(usize, usize, bool)) {
+            for r in runs {
+                for k in 0..r.len {
+                    let (j, t) = r.at(k);
+                    f(j, t, negated);
+                }
+            }
+        }
+        walk(&self.members, false, &mut f);
+        walk(&self.mirrored, true, &mut f);
+    }
+
     /// `out[j] = ±part(buf[t])` for every point (− for the mirror offset's).
     #[inline(always)]
     fn read<const IM: bool>(&self, buf: &[Complex<f64>], out: &mut [f64]) {
         assert!(self.j_end <= out.len() && self.t_end <= buf.len());
-        // SAFETY: every `j < j_end ≤ out.len()` and `t < t_end ≤ buf.len()` (checked above;
-        // `j_end`, `t_end` are made with the lists the runs reproduce, tested, and neither
-        // changes after).
-        unsafe {
-            for r in &self.members {
-                for k in 0..r.len {
-                    let (j, t) = r.at(k);
-                    *out.get_unchecked_mut(j) = *part::<IM>(buf.get_unchecked(t));
-                }
+        self.each_point(|j, t, negated| {
+            // SAFETY: every `j < j_end ≤ out.len()` and `t < t_end ≤ buf.len()` (checked above;
+            // `j_end`, `t_end` are made with the lists the runs reproduce, tested, and neither
+            // changes after).
+            unsafe {
+                let v = *part::<IM>(buf.get_unchecked(t));
+                *out.get_unchecked_mut(j) = if negated { -v } else { v };
             }
-            for r in &self.mirrored {
-                for k in 0..r.len {
-                    let (j, t) = r.at(k);
-                    *out.get_unchecked_mut(j) = -*part::<IM>(buf.get_unchecked(t));
-                }
-            }
-        }
+        });
     }
 
     /// `part(buf[t]) = ±f[j]` for every point (the transpose of [`Self::read`]).
     #[inline(always)]
     fn place<const IM: bool>(&self, f: &[f64], buf: &mut [Complex<f64>]) {
         assert!(self.j_end <= f.len() && self.t_end <= buf.len());
-        // SAFETY: as in `read`.
-        unsafe {
-            for r in &self.members {
-                for k in 0..r.len {
-                    let (j, t) = r.at(k);
-                    *part_mut::<IM>(buf.get_unchecked_mut(t)) = *f.get_unchecked(j);
-                }
+        self.each_point(|j, t, negated| {
+            // SAFETY: as in `read`.
+            unsafe {
+                let v = *f.get_unchecked(j);
+                *part_mut::<IM>(buf.get_unchecked_mut(t)) = if negated { -v } else { v };
             }
-            for r in &self.mirrored {
-                for k in 0..r.len {
-                    let (j, t) = r.at(k);
-                    *part_mut::<IM>(buf.get_unchecked_mut(t)) = -*f.get_unchecked(j);
-                }
-            }
-        }
+        });
     }
 }
 
@@ -362,9 +359,7 @@ impl PointSampler {
                 });
             }
             for g in &groups {
-                for (j, _) in g.members.iter().chain(&g.mirrored).flat_map(Run::pairs) {
-                    used[j] = true;
-                }
+                g.each_point(|j, _, _| used[j] = true);
             }
         }
         let rest: Vec<usize> = (0..xs.len()).filter(|&j| !used[j]).collect();
@@ -781,7 +776,10 @@ mod tests {
         for (list, n_runs) in [(&regular, 1), (&falling, 1), (&broken, 4), (&vec![], 0)] {
             let runs = Run::split(list);
             assert_eq!(runs.len(), n_runs, "{list:?}");
-            let back: Vec<_> = runs.iter().flat_map(Run::pairs).collect();
+            let back: Vec<_> = runs
+                .iter()
+                .flat_map(|r| (0..r.len).map(move |k| r.at(k)))
+                .collect();
             assert_eq!(&back, list);
         }
     }
