@@ -57,25 +57,19 @@ fn main() {
     let mut u = vec![0.0; 2 * xs.len()];
     let mut a = vec![0.0; 2 * n];
     if path == "dense" {
-        let rows: Vec<Vec<f64>> = xs
-            .iter()
-            .map(|&x| {
-                let mut r = vec![0.0; n];
-                basis.fill_sines(x, &mut r);
-                r
-            })
-            .collect();
         let np = xs.len();
+        let mut rows = vec![0.0; np * n];
+        for (r, &x) in rows.chunks_exact_mut(n).zip(&xs) {
+            basis.fill_sines(x, r);
+        }
         for _ in 0..rounds {
-            for (j, r) in rows.iter().enumerate() {
+            for (j, r) in rows.chunks_exact(n).enumerate() {
                 let (g1, g2) = kernels::dot2(isa, r, &q[..n], &q[n..]);
                 u[j] = g1;
                 u[np + j] = g2;
             }
             let (a1, a2) = a.split_at_mut(n);
-            for (j, r) in rows.iter().enumerate() {
-                kernels::axpy2(isa, f[j], f[np + j], r, a1, a2);
-            }
+            kernels::axpy2_rows(isa, &rows, &f[..np], &f[np..], a1, a2);
             black_box(&u);
         }
     } else {

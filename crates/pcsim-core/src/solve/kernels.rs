@@ -504,6 +504,42 @@ lanes_kernel! {
 /// # Safety
 /// `S` must be usable on this CPU.
 #[inline(always)]
+unsafe fn all_finite_body<S: Lanes, const F: bool>(xs: &[f64]) -> bool {
+    let (n, p) = (xs.len(), xs.as_ptr());
+    // SAFETY: every read is below `n`.
+    unsafe {
+        let zero = S::zero();
+        let mut acc = [S::zero(); 2];
+        let mut i = 0;
+        while i + 8 <= n {
+            for l in 0..2 {
+                acc[l] = S::mad(S::load(p.add(i + 4 * l)), zero, acc[l]);
+            }
+            i += 8;
+        }
+        if i + 4 <= n {
+            acc[0] = S::mad(S::load(p.add(i)), zero, acc[0]);
+            i += 4;
+        }
+        let mut r = S::add(acc[0], acc[1]).sum();
+        while i < n {
+            r += *p.add(i) * 0.0;
+            i += 1;
+        }
+        r == 0.0
+    }
+}
+
+lanes_kernel! {
+    /// Whether every value is finite, without a branch per value: `x·0 + s` is `s` (up to the
+    /// sign of a zero) for a finite `x` and NaN otherwise, so the sum of `x·0` over the values is
+    /// zero exactly when all are finite (the same answer on both paths: the product is exact).
+    pub fn all_finite(xs: &[f64]) -> bool = all_finite_body;
+}
+
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
 unsafe fn dot2_body<S: Lanes, const F: bool>(row: &[f64], x: &[f64], y: &[f64]) -> (f64, f64) {
     let n = row.len().min(x.len()).min(y.len());
     let (pr, px, py) = (row.as_ptr(), x.as_ptr(), y.as_ptr());
@@ -554,17 +590,91 @@ kernel! {
     pub fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) = axpy_body;
 }
 
+/// # Safety
+/// `S` must be usable on this CPU.
 #[inline(always)]
-fn axpy2_body<const F: bool>(ax: f64, ay: f64, row: &[f64], x: &mut [f64], y: &mut [f64]) {
-    for ((r, xi), yi) in row.iter().zip(x.iter_mut()).zip(y.iter_mut()) {
-        *xi = mad::<F>(ax, *r, *xi);
-        *yi = mad::<F>(ay, *r, *yi);
+unsafe fn axpy2_rows_body<S: Lanes, const F: bool>(
+    rows: &[f64],
+    ax: &[f64],
+    ay: &[f64],
+    x: &mut [f64],
+    y: &mut [f64],
+) {
+    let m = ax.len();
+    let n = x.len();
+    assert!(
+        ay.len() == m && y.len() == n && rows.len() >= m * n,
+        "axpy2_rows: {m} rows of {n} need {} values, {} given; {} and {} coefficients, {} and {} outputs",
+        m * n,
+        rows.len(),
+        ax.len(),
+        ay.len(),
+        x.len(),
+        y.len()
+    );
+    let (pr, px, py) = (rows.as_ptr(), x.as_mut_ptr(), y.as_mut_ptr());
+    // SAFETY: every read of `rows` is below `m·n`, of `x`, `y` below `n`, all checked above;
+    // `x` and `y` are distinct `&mut` slices.
+    unsafe {
+        let mut i = 0;
+        // Sixteen modes of both outputs stay in registers while the rows pass.
+        while i + 16 <= n {
+            let mut sx: [S; 4] = std::array::from_fn(|l| S::load(px.add(i + 4 * l)));
+            let mut sy: [S; 4] = std::array::from_fn(|l| S::load(py.add(i + 4 * l)));
+            for j in 0..m {
+                let (cx, cy) = (
+                    splat::<S>(*ax.get_unchecked(j)),
+                    splat::<S>(*ay.get_unchecked(j)),
+                );
+                let r = pr.add(j * n + i);
+                for l in 0..4 {
+                    let rl = S::load(r.add(4 * l));
+                    sx[l] = S::mad(cx, rl, sx[l]);
+                    sy[l] = S::mad(cy, rl, sy[l]);
+                }
+            }
+            for l in 0..4 {
+                sx[l].store(px.add(i + 4 * l));
+                sy[l].store(py.add(i + 4 * l));
+            }
+            i += 16;
+        }
+        while i + 4 <= n {
+            let (mut sx, mut sy) = (S::load(px.add(i)), S::load(py.add(i)));
+            for j in 0..m {
+                let (cx, cy) = (
+                    splat::<S>(*ax.get_unchecked(j)),
+                    splat::<S>(*ay.get_unchecked(j)),
+                );
+                let rl = S::load(pr.add(j * n + i));
+                sx = S::mad(cx, rl, sx);
+                sy = S::mad(cy, rl, sy);
+            }
+            sx.store(px.add(i));
+            sy.store(py.add(i));
+            i += 4;
+        }
+        while i < n {
+            let (mut sx, mut sy) = (*px.add(i), *py.add(i));
+            for j in 0..m {
+                let r = *pr.add(j * n + i);
+                sx = mad::<F>(*ax.get_unchecked(j), r, sx);
+                sy = mad::<F>(*ay.get_unchecked(j), r, sy);
+            }
+            *px.add(i) = sx;
+            *py.add(i) = sy;
+            i += 1;
+        }
     }
 }
 
-kernel! {
-    /// `x += α_x r`, `y += α_y r`: one row, read once, into two vectors.
-    pub fn axpy2(ax: f64, ay: f64, row: &[f64], x: &mut [f64], y: &mut [f64]) = axpy2_body;
+lanes_kernel! {
+    /// `x += Σ_j α_j r_j`, `y += Σ_j β_j r_j` over the rows `r_j` (row `j` at `rows[j·n..]`,
+    /// `n = x.len()`, `α = ax`, `β = ay`): every output updated row by row, in the rows' order,
+    /// by one multiply-add each (the same operations as a row at a time, `x_i ← α_j r_ji +
+    /// x_i`), with sixteen outputs of each held in registers while the rows pass, so that each
+    /// output is loaded and stored once, not once per row.
+    pub fn axpy2_rows(rows: &[f64], ax: &[f64], ay: &[f64], x: &mut [f64], y: &mut [f64]) = axpy2_rows_body;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -638,59 +748,91 @@ kernel! {
 // The folds of the span-periodic sampler (see `sampler.rs`): bins of period P.
 
 // The blocked kernels below walk down the modes in steps of P with a block of 4·NL bins held
-// in registers (NL = 2, then 1 for what is left); bins beyond a multiple of four, and the last
-// partial row of modes, are done one at a time. Pointers are offset only inside `n` (checked).
+// in registers (NL = 2, then 1 for what is left; NL = 1 throughout for two vectors of two
+// groups, whose sixteen accumulators would not fit twice); bins beyond a multiple of four, and
+// the last partial row of modes, are done one at a time. Each is written once over `TWO` (one
+// or two coefficient vectors) and `G` (one or two groups, each with its tables and bins): every
+// bin is the same sum in the same order whichever form computes it, so a pass over two groups
+// gives the bytes of two passes. Pointers are offset only inside `n` (checked).
 
-/// The fold of one block of bins `r0..r0 + 4·NL` (see [`fold2`]).
+/// The fold of one block of bins `r0..r0 + 4·NL` of `G` groups (see [`fold2`]).
 ///
 /// # Safety
-/// `S` usable; `out` holds `4p` values (`2p` when `q2` is `None`); `q*`, `s`, `c` hold `n`.
+/// `S` usable; each `out[g]` holds `4p` values (`2p` when not `TWO`); `q*`, `s[g]`, `c[g]`
+/// hold `n`.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-unsafe fn fold_block<S: Lanes, const F: bool, const NL: usize, const TWO: bool>(
+unsafe fn fold_block<S: Lanes, const F: bool, const NL: usize, const TWO: bool, const G: usize>(
     q1: *const f64,
     q2: *const f64,
-    s: *const f64,
-    c: *const f64,
+    s: [*const f64; G],
+    c: [*const f64; G],
     n: usize,
     p: usize,
     r0: usize,
-    out: *mut f64,
+    out: [*mut f64; G],
 ) {
     unsafe {
-        let mut acc = [[S::zero(); NL]; 4];
+        let mut acc = [[[S::zero(); NL]; 4]; G];
         let mut base = r0;
         while base + 4 * NL <= n {
             for l in 0..NL {
                 let o = base + 4 * l;
-                let (ss, cc) = (S::load(s.add(o)), S::load(c.add(o)));
                 let x = S::load(q1.add(o));
-                acc[0][l] = S::mad(x, ss, acc[0][l]);
-                acc[1][l] = S::mad(x, cc, acc[1][l]);
-                if TWO {
-                    let y = S::load(q2.add(o));
-                    acc[2][l] = S::mad(y, ss, acc[2][l]);
-                    acc[3][l] = S::mad(y, cc, acc[3][l]);
+                let y = if TWO { S::load(q2.add(o)) } else { x };
+                for g in 0..G {
+                    let (ss, cc) = (S::load(s[g].add(o)), S::load(c[g].add(o)));
+                    acc[g][0][l] = S::mad(x, ss, acc[g][0][l]);
+                    acc[g][1][l] = S::mad(x, cc, acc[g][1][l]);
+                    if TWO {
+                        acc[g][2][l] = S::mad(y, ss, acc[g][2][l]);
+                        acc[g][3][l] = S::mad(y, cc, acc[g][3][l]);
+                    }
                 }
             }
             base += p;
         }
         let nk = if TWO { 4 } else { 2 };
-        for (k, a) in acc.iter().enumerate().take(nk) {
-            for (l, v) in a.iter().enumerate() {
-                v.store(out.add(k * p + r0 + 4 * l));
+        for (g, ag) in acc.iter().enumerate() {
+            for (k, a) in ag.iter().enumerate().take(nk) {
+                for (l, v) in a.iter().enumerate() {
+                    v.store(out[g].add(k * p + r0 + 4 * l));
+                }
             }
         }
         for i in 0..(4 * NL).min(n.saturating_sub(base)) {
-            let (o, r) = (base + i, r0 + i);
-            let (ss, cc, x) = (*s.add(o), *c.add(o), *q1.add(o));
-            *out.add(r) = mad::<F>(x, ss, *out.add(r));
-            *out.add(p + r) = mad::<F>(x, cc, *out.add(p + r));
-            if TWO {
-                let y = *q2.add(o);
-                *out.add(2 * p + r) = mad::<F>(y, ss, *out.add(2 * p + r));
-                *out.add(3 * p + r) = mad::<F>(y, cc, *out.add(3 * p + r));
+            let (m, r) = (base + i, r0 + i);
+            for g in 0..G {
+                fold_one::<F, TWO>(q1, q2, s[g], c[g], p, r, m, out[g]);
             }
+        }
+    }
+}
+
+/// One mode `m` of a fold into bin `r` (the scalar form of [`fold_block`]).
+///
+/// # Safety
+/// As for [`fold_block`].
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+unsafe fn fold_one<const F: bool, const TWO: bool>(
+    q1: *const f64,
+    q2: *const f64,
+    s: *const f64,
+    c: *const f64,
+    p: usize,
+    r: usize,
+    m: usize,
+    out: *mut f64,
+) {
+    unsafe {
+        let (ss, cc, x) = (*s.add(m), *c.add(m), *q1.add(m));
+        *out.add(r) = mad::<F>(x, ss, *out.add(r));
+        *out.add(p + r) = mad::<F>(x, cc, *out.add(p + r));
+        if TWO {
+            let y = *q2.add(m);
+            *out.add(2 * p + r) = mad::<F>(y, ss, *out.add(2 * p + r));
+            *out.add(3 * p + r) = mad::<F>(y, cc, *out.add(3 * p + r));
         }
     }
 }
@@ -698,53 +840,53 @@ unsafe fn fold_block<S: Lanes, const F: bool, const NL: usize, const TWO: bool>(
 /// # Safety
 /// `S` must be usable on this CPU.
 #[inline(always)]
-unsafe fn fold_body<S: Lanes, const F: bool, const TWO: bool>(
+unsafe fn fold_body<S: Lanes, const F: bool, const TWO: bool, const G: usize>(
     q1: &[f64],
     q2: &[f64],
-    s: &[f64],
-    c: &[f64],
+    s: [&[f64]; G],
+    c: [&[f64]; G],
     p: usize,
-    out: &mut [f64],
+    out: [&mut [f64]; G],
 ) {
-    let mut n = q1.len().min(s.len()).min(c.len());
+    let mut n = q1.len();
     if TWO {
         n = n.min(q2.len());
     }
+    for t in s.iter().chain(&c) {
+        n = n.min(t.len());
+    }
     let nk = if TWO { 4 } else { 2 };
-    assert!(out.len() >= nk * p && p > 0, "fold: output too short");
-    let (q1, q2, s, c, o) = (
-        q1.as_ptr(),
-        q2.as_ptr(),
-        s.as_ptr(),
-        c.as_ptr(),
-        out.as_mut_ptr(),
+    assert!(
+        p > 0 && out.iter().all(|o| o.len() >= nk * p),
+        "fold: output too short"
     );
+    let (q1, q2) = (q1.as_ptr(), q2.as_ptr());
+    let (s, c) = (s.map(|t| t.as_ptr()), c.map(|t| t.as_ptr()));
+    let o = out.map(|o| o.as_mut_ptr());
+    // SAFETY: every mode index read is `< n` (the shortest input); every bin written is `< p`
+    // of an output holding `nk·p`.
     unsafe {
         let mut r0 = 0;
-        while r0 + 8 <= p {
-            fold_block::<S, F, 2, TWO>(q1, q2, s, c, n, p, r0, o);
-            r0 += 8;
+        if !(TWO && G == 2) {
+            while r0 + 8 <= p {
+                fold_block::<S, F, 2, TWO, G>(q1, q2, s, c, n, p, r0, o);
+                r0 += 8;
+            }
         }
-        if r0 + 4 <= p {
-            fold_block::<S, F, 1, TWO>(q1, q2, s, c, n, p, r0, o);
+        while r0 + 4 <= p {
+            fold_block::<S, F, 1, TWO, G>(q1, q2, s, c, n, p, r0, o);
             r0 += 4;
         }
         for r in r0..p {
-            let mut acc = [0.0f64; 4];
-            let mut i = r;
-            while i < n {
-                let (ss, cc, x) = (*s.add(i), *c.add(i), *q1.add(i));
-                acc[0] = mad::<F>(x, ss, acc[0]);
-                acc[1] = mad::<F>(x, cc, acc[1]);
-                if TWO {
-                    let y = *q2.add(i);
-                    acc[2] = mad::<F>(y, ss, acc[2]);
-                    acc[3] = mad::<F>(y, cc, acc[3]);
+            for g in 0..G {
+                for k in 0..nk {
+                    *o[g].add(k * p + r) = 0.0;
                 }
-                i += p;
-            }
-            for (k, a) in acc.iter().enumerate().take(nk) {
-                *o.add(k * p + r) = *a;
+                let mut m = r;
+                while m < n {
+                    fold_one::<F, TWO>(q1, q2, s[g], c[g], p, r, m, o[g]);
+                    m += p;
+                }
             }
         }
     }
@@ -761,7 +903,7 @@ unsafe fn fold2_body<S: Lanes, const F: bool>(
     p: usize,
     out: &mut [f64],
 ) {
-    unsafe { fold_body::<S, F, true>(q1, q2, s, c, p, out) }
+    unsafe { fold_body::<S, F, true, 1>(q1, q2, [s], [c], p, [out]) }
 }
 
 lanes_kernel! {
@@ -781,12 +923,32 @@ unsafe fn fold1_body<S: Lanes, const F: bool>(
     p: usize,
     out: &mut [f64],
 ) {
-    unsafe { fold_body::<S, F, false>(q, &[], s, c, p, out) }
+    unsafe { fold_body::<S, F, false, 1>(q, &[], [s], [c], p, [out]) }
 }
 
 lanes_kernel! {
     /// [`fold2`] for one vector: `out = [a | b]`.
     pub fn fold1(q: &[f64], s: &[f64], c: &[f64], p: usize, out: &mut [f64]) = fold1_body;
+}
+
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
+unsafe fn fold1x2_body<S: Lanes, const F: bool>(
+    q: &[f64],
+    tabs: [&[f64]; 4],
+    p: usize,
+    out: [&mut [f64]; 2],
+) {
+    let [s1, c1, s2, c2] = tabs;
+    unsafe { fold_body::<S, F, false, 2>(q, &[], [s1, s2], [c1, c2], p, out) }
+}
+
+lanes_kernel! {
+    /// [`fold1`] of two groups in one pass over the modes (`tabs = [s₁, c₁, s₂, c₂]`, `out[g] =
+    /// [a | b]` of group `g`): each mode of `q` is loaded once for both groups. Every bin is
+    /// the same sum, in the same order, as [`fold1`]'s (the same bytes).
+    pub fn fold1x2(q: &[f64], tabs: [&[f64]; 4], p: usize, out: [&mut [f64]; 2]) = fold1x2_body;
 }
 
 /// # Safety
@@ -799,73 +961,8 @@ unsafe fn fold2x2_body<S: Lanes, const F: bool>(
     p: usize,
     out: [&mut [f64]; 2],
 ) {
-    let n = tabs
-        .iter()
-        .fold(q1.len().min(q2.len()), |n, t| n.min(t.len()));
-    let [o1, o2] = out;
-    assert!(
-        p > 0 && o1.len() >= 4 * p && o2.len() >= 4 * p,
-        "fold2x2: output too short"
-    );
-    let (q1, q2) = (q1.as_ptr(), q2.as_ptr());
-    let t = tabs.map(|t| t.as_ptr());
-    let o = [o1.as_mut_ptr(), o2.as_mut_ptr()];
-    // SAFETY: every mode index read is `< n` (the shortest input); every bin written is `< p`
-    // of an output holding `4p`.
-    unsafe {
-        let mut r0 = 0;
-        while r0 + 4 <= p {
-            let mut acc = [[S::zero(); 4]; 2];
-            let mut base = r0;
-            while base + 4 <= n {
-                let (x, y) = (S::load(q1.add(base)), S::load(q2.add(base)));
-                for (g, a) in acc.iter_mut().enumerate() {
-                    let (ss, cc) = (S::load(t[2 * g].add(base)), S::load(t[2 * g + 1].add(base)));
-                    a[0] = S::mad(x, ss, a[0]);
-                    a[1] = S::mad(x, cc, a[1]);
-                    a[2] = S::mad(y, ss, a[2]);
-                    a[3] = S::mad(y, cc, a[3]);
-                }
-                base += p;
-            }
-            for (g, a) in acc.iter().enumerate() {
-                for (k, v) in a.iter().enumerate() {
-                    v.store(o[g].add(k * p + r0));
-                }
-            }
-            for i in 0..4.min(n.saturating_sub(base)) {
-                let (m, r) = (base + i, r0 + i);
-                let (x, y) = (*q1.add(m), *q2.add(m));
-                for g in 0..2 {
-                    let (ss, cc) = (*t[2 * g].add(m), *t[2 * g + 1].add(m));
-                    let og = o[g];
-                    *og.add(r) = mad::<F>(x, ss, *og.add(r));
-                    *og.add(p + r) = mad::<F>(x, cc, *og.add(p + r));
-                    *og.add(2 * p + r) = mad::<F>(y, ss, *og.add(2 * p + r));
-                    *og.add(3 * p + r) = mad::<F>(y, cc, *og.add(3 * p + r));
-                }
-            }
-            r0 += 4;
-        }
-        for r in r0..p {
-            for g in 0..2 {
-                let mut acc = [0.0f64; 4];
-                let mut m = r;
-                while m < n {
-                    let (ss, cc) = (*t[2 * g].add(m), *t[2 * g + 1].add(m));
-                    let (x, y) = (*q1.add(m), *q2.add(m));
-                    acc[0] = mad::<F>(x, ss, acc[0]);
-                    acc[1] = mad::<F>(x, cc, acc[1]);
-                    acc[2] = mad::<F>(y, ss, acc[2]);
-                    acc[3] = mad::<F>(y, cc, acc[3]);
-                    m += p;
-                }
-                for (k, a) in acc.iter().enumerate() {
-                    *o[g].add(k * p + r) = *a;
-                }
-            }
-        }
-    }
+    let [s1, c1, s2, c2] = tabs;
+    unsafe { fold_body::<S, F, true, 2>(q1, q2, [s1, s2], [c1, c2], p, out) }
 }
 
 lanes_kernel! {
@@ -875,100 +972,25 @@ lanes_kernel! {
     pub fn fold2x2(q1: &[f64], q2: &[f64], tabs: [&[f64]; 4], p: usize, out: [&mut [f64]; 2]) = fold2x2_body;
 }
 
-/// # Safety
-/// `S` must be usable on this CPU.
-#[inline(always)]
-unsafe fn unfold2x2_body<S: Lanes, const F: bool>(
-    bins: [&[f64]; 2],
-    tabs: [&[f64]; 4],
-    p: usize,
-    o1: &mut [f64],
-    o2: &mut [f64],
-) {
-    let n = tabs
-        .iter()
-        .fold(o1.len().min(o2.len()), |n, t| n.min(t.len()));
-    assert!(
-        p > 0 && bins[0].len() >= 4 * p && bins[1].len() >= 4 * p,
-        "unfold2x2: bins too short"
-    );
-    let bp = bins.map(|b| b.as_ptr());
-    let t = tabs.map(|t| t.as_ptr());
-    let (p1, p2) = (o1.as_mut_ptr(), o2.as_mut_ptr());
-    // SAFETY: every mode index read or written is `< n` (the shortest table or output); every
-    // bin read is `< 4p` of bins holding `4p`.
-    unsafe {
-        let mut r0 = 0;
-        while r0 + 4 <= p {
-            let mut r = [[S::zero(); 4]; 2];
-            for (g, rg) in r.iter_mut().enumerate() {
-                for (k, v) in rg.iter_mut().enumerate() {
-                    *v = S::load(bp[g].add(k * p + r0));
-                }
-            }
-            let mut base = r0;
-            while base + 4 <= n {
-                let (mut x, mut y) = (S::load(p1.add(base)), S::load(p2.add(base)));
-                for (g, rg) in r.iter().enumerate() {
-                    let (ss, cc) = (S::load(t[2 * g].add(base)), S::load(t[2 * g + 1].add(base)));
-                    x = S::mad(rg[0], ss, S::mad(rg[1], cc, x));
-                    y = S::mad(rg[2], ss, S::mad(rg[3], cc, y));
-                }
-                x.store(p1.add(base));
-                y.store(p2.add(base));
-                base += p;
-            }
-            for i in 0..4.min(n.saturating_sub(base)) {
-                for g in 0..2 {
-                    let null = std::ptr::null();
-                    unfold_one::<F, true>(
-                        bp[g],
-                        t[2 * g],
-                        t[2 * g + 1],
-                        null,
-                        p,
-                        r0 + i,
-                        base + i,
-                        p1,
-                        p2,
-                    );
-                }
-            }
-            r0 += 4;
-        }
-        for r in r0..p {
-            let mut o = r;
-            while o < n {
-                for g in 0..2 {
-                    let null = std::ptr::null();
-                    unfold_one::<F, true>(bp[g], t[2 * g], t[2 * g + 1], null, p, r, o, p1, p2);
-                }
-                o += p;
-            }
-        }
-    }
-}
-
-lanes_kernel! {
-    /// [`unfold2`] of two groups in one pass over the modes (`bins[g] = [a1 | b1 | a2 | b2]`
-    /// of group `g`, `tabs = [s₁, c₁, s₂, c₂]`): each mode of `o1`, `o2` is loaded and stored
-    /// once for both. Every mode takes group 1's terms, then group 2's, as two [`unfold2`]
-    /// calls in that order do (the same bytes).
-    pub fn unfold2x2(bins: [&[f64]; 2], tabs: [&[f64]; 4], p: usize, o1: &mut [f64], o2: &mut [f64]) = unfold2x2_body;
-}
-
-/// The unfold of one block of bins (see [`unfold2`], [`unfold1`]): `o1[mP+r] += sc·(a1[r] s +
-/// b1[r] c)` (`sc` = 1 when `scale` is null; the unscaled form is `a s + (b c + o)`), and the
-/// same for `o2` with `a2`, `b2` when `TWO`.
+/// The unfold of one block of bins of `G` groups (see [`unfold2`], [`unfold1`]): `o1[mP+r] +=
+/// sc·(a1[r] s + b1[r] c)` for each group in turn (`sc` = 1 when `scale` is null; the
+/// unscaled form is `a s + (b c + o)`), and the same for `o2` with `a2`, `b2` when `TWO`.
 ///
 /// # Safety
-/// As for [`fold_block`]; `scale` is null or holds `n` values.
+/// As for [`fold_block`], with `bins[g]` holding `4p` (`2p`); `scale` is null or holds `n`
+/// values.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-unsafe fn unfold_block<S: Lanes, const F: bool, const NL: usize, const TWO: bool>(
-    bins: *const f64,
-    s: *const f64,
-    c: *const f64,
+unsafe fn unfold_block<
+    S: Lanes,
+    const F: bool,
+    const NL: usize,
+    const TWO: bool,
+    const G: usize,
+>(
+    bins: [*const f64; G],
+    s: [*const f64; G],
+    c: [*const f64; G],
     scale: *const f64,
     n: usize,
     p: usize,
@@ -978,35 +1000,47 @@ unsafe fn unfold_block<S: Lanes, const F: bool, const NL: usize, const TWO: bool
 ) {
     unsafe {
         let nk = if TWO { 4 } else { 2 };
-        let mut r = [[S::zero(); NL]; 4];
-        for (k, rk) in r.iter_mut().enumerate().take(nk) {
-            for (l, v) in rk.iter_mut().enumerate() {
-                *v = S::load(bins.add(k * p + r0 + 4 * l));
+        let mut r = [[[S::zero(); NL]; 4]; G];
+        for (g, rg) in r.iter_mut().enumerate() {
+            for (k, rk) in rg.iter_mut().enumerate().take(nk) {
+                for (l, v) in rk.iter_mut().enumerate() {
+                    *v = S::load(bins[g].add(k * p + r0 + 4 * l));
+                }
             }
         }
         let mut base = r0;
         while base + 4 * NL <= n {
             for l in 0..NL {
                 let o = base + 4 * l;
-                let (ss, cc) = (S::load(s.add(o)), S::load(c.add(o)));
-                let x = S::load(o1.add(o));
-                let x = if scale.is_null() {
-                    S::mad(r[0][l], ss, S::mad(r[1][l], cc, x))
+                let mut x = S::load(o1.add(o));
+                let mut y = if TWO { S::load(o2.add(o)) } else { x };
+                let sv = if scale.is_null() {
+                    x
                 } else {
-                    let val = S::mad(r[0][l], ss, S::mul(r[1][l], cc));
-                    S::mad(S::load(scale.add(o)), val, x)
+                    S::load(scale.add(o))
                 };
+                for (g, rg) in r.iter().enumerate() {
+                    let (ss, cc) = (S::load(s[g].add(o)), S::load(c[g].add(o)));
+                    x = if scale.is_null() {
+                        S::mad(rg[0][l], ss, S::mad(rg[1][l], cc, x))
+                    } else {
+                        S::mad(sv, S::mad(rg[0][l], ss, S::mul(rg[1][l], cc)), x)
+                    };
+                    if TWO {
+                        y = S::mad(rg[2][l], ss, S::mad(rg[3][l], cc, y));
+                    }
+                }
                 x.store(o1.add(o));
                 if TWO {
-                    let y = S::load(o2.add(o));
-                    S::mad(r[2][l], ss, S::mad(r[3][l], cc, y)).store(o2.add(o));
+                    y.store(o2.add(o));
                 }
             }
             base += p;
         }
         for i in 0..(4 * NL).min(n.saturating_sub(base)) {
-            let (o, rr) = (base + i, r0 + i);
-            unfold_one::<F, TWO>(bins, s, c, scale, p, rr, o, o1, o2);
+            for g in 0..G {
+                unfold_one::<F, TWO>(bins[g], s[g], c[g], scale, p, r0 + i, base + i, o1, o2);
+            }
         }
     }
 }
@@ -1046,50 +1080,62 @@ unsafe fn unfold_one<const F: bool, const TWO: bool>(
 /// # Safety
 /// `S` must be usable on this CPU.
 #[inline(always)]
-unsafe fn unfold_body<S: Lanes, const F: bool, const TWO: bool>(
-    bins: &[f64],
-    s: &[f64],
-    c: &[f64],
+#[allow(clippy::too_many_arguments)]
+unsafe fn unfold_body<S: Lanes, const F: bool, const TWO: bool, const G: usize>(
+    bins: [&[f64]; G],
+    s: [&[f64]; G],
+    c: [&[f64]; G],
     p: usize,
     o1: &mut [f64],
     o2: &mut [f64],
     scale: &[f64],
 ) {
-    let mut n = o1.len().min(s.len()).min(c.len());
+    let mut n = o1.len();
     if TWO {
         n = n.min(o2.len());
     }
     if !scale.is_empty() {
         n = n.min(scale.len());
     }
+    for t in s.iter().chain(&c) {
+        n = n.min(t.len());
+    }
     let nk = if TWO { 4 } else { 2 };
-    assert!(bins.len() >= nk * p && p > 0, "unfold: bins too short");
+    assert!(
+        p > 0 && bins.iter().all(|b| b.len() >= nk * p),
+        "unfold: bins too short"
+    );
     let sc = if scale.is_empty() {
         std::ptr::null()
     } else {
         scale.as_ptr()
     };
-    let (bp, sp, cp, p1, p2) = (
-        bins.as_ptr(),
-        s.as_ptr(),
-        c.as_ptr(),
-        o1.as_mut_ptr(),
-        o2.as_mut_ptr(),
+    let (bp, sp, cp) = (
+        bins.map(|b| b.as_ptr()),
+        s.map(|t| t.as_ptr()),
+        c.map(|t| t.as_ptr()),
     );
+    let (p1, p2) = (o1.as_mut_ptr(), o2.as_mut_ptr());
+    // SAFETY: every mode index read or written is `< n` (the shortest table or output); every
+    // bin read is `< nk·p` of bins holding `nk·p`.
     unsafe {
         let mut r0 = 0;
-        while r0 + 8 <= p {
-            unfold_block::<S, F, 2, TWO>(bp, sp, cp, sc, n, p, r0, p1, p2);
-            r0 += 8;
+        if !(TWO && G == 2) {
+            while r0 + 8 <= p {
+                unfold_block::<S, F, 2, TWO, G>(bp, sp, cp, sc, n, p, r0, p1, p2);
+                r0 += 8;
+            }
         }
-        if r0 + 4 <= p {
-            unfold_block::<S, F, 1, TWO>(bp, sp, cp, sc, n, p, r0, p1, p2);
+        while r0 + 4 <= p {
+            unfold_block::<S, F, 1, TWO, G>(bp, sp, cp, sc, n, p, r0, p1, p2);
             r0 += 4;
         }
         for r in r0..p {
             let mut o = r;
             while o < n {
-                unfold_one::<F, TWO>(bp, sp, cp, sc, p, r, o, p1, p2);
+                for g in 0..G {
+                    unfold_one::<F, TWO>(bp[g], sp[g], cp[g], sc, p, r, o, p1, p2);
+                }
                 o += p;
             }
         }
@@ -1107,13 +1153,35 @@ unsafe fn unfold2_body<S: Lanes, const F: bool>(
     o1: &mut [f64],
     o2: &mut [f64],
 ) {
-    unsafe { unfold_body::<S, F, true>(bins, s, c, p, o1, o2, &[]) }
+    unsafe { unfold_body::<S, F, true, 1>([bins], [s], [c], p, o1, o2, &[]) }
 }
 
 lanes_kernel! {
     /// The transpose of [`fold2`]: `o[mP+r] += a[r] s[mP+r] + b[r] c[mP+r]` for both vectors,
     /// `bins = [a1 | b1 | a2 | b2]`.
     pub fn unfold2(bins: &[f64], s: &[f64], c: &[f64], p: usize, o1: &mut [f64], o2: &mut [f64]) = unfold2_body;
+}
+
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
+unsafe fn unfold2x2_body<S: Lanes, const F: bool>(
+    bins: [&[f64]; 2],
+    tabs: [&[f64]; 4],
+    p: usize,
+    o1: &mut [f64],
+    o2: &mut [f64],
+) {
+    let [s1, c1, s2, c2] = tabs;
+    unsafe { unfold_body::<S, F, true, 2>(bins, [s1, s2], [c1, c2], p, o1, o2, &[]) }
+}
+
+lanes_kernel! {
+    /// [`unfold2`] of two groups in one pass over the modes (`bins[g] = [a1 | b1 | a2 | b2]`
+    /// of group `g`, `tabs = [s₁, c₁, s₂, c₂]`): each mode of `o1`, `o2` is loaded and stored
+    /// once for both. Every mode takes group 1's terms, then group 2's, as two [`unfold2`]
+    /// calls in that order do (the same bytes).
+    pub fn unfold2x2(bins: [&[f64]; 2], tabs: [&[f64]; 4], p: usize, o1: &mut [f64], o2: &mut [f64]) = unfold2x2_body;
 }
 
 /// # Safety
@@ -1127,7 +1195,7 @@ unsafe fn unfold1_body<S: Lanes, const F: bool>(
     o: &mut [f64],
     scale: &[f64],
 ) {
-    unsafe { unfold_body::<S, F, false>(bins, s, c, p, o, &mut [], scale) }
+    unsafe { unfold_body::<S, F, false, 1>([bins], [s], [c], p, o, &mut [], scale) }
 }
 
 lanes_kernel! {
@@ -1135,6 +1203,28 @@ lanes_kernel! {
     /// b[r] c[m])` (`scale` empty: 1). The scaled form fuses the Woodbury correction
     /// `a −= D⁻¹ Φᵀ g` into the scatter.
     pub fn unfold1(bins: &[f64], s: &[f64], c: &[f64], p: usize, o: &mut [f64], scale: &[f64]) = unfold1_body;
+}
+
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
+unsafe fn unfold1x2_body<S: Lanes, const F: bool>(
+    bins: [&[f64]; 2],
+    tabs: [&[f64]; 4],
+    p: usize,
+    o: &mut [f64],
+    scale: &[f64],
+) {
+    let [s1, c1, s2, c2] = tabs;
+    unsafe { unfold_body::<S, F, false, 2>(bins, [s1, s2], [c1, c2], p, o, &mut [], scale) }
+}
+
+lanes_kernel! {
+    /// [`unfold1`] of two groups in one pass over the modes (`bins[g] = [a | b]` of group `g`,
+    /// `tabs = [s₁, c₁, s₂, c₂]`), optionally scaled per mode: each mode of `o` is loaded and
+    /// stored once for both, and takes group 1's term, then group 2's, as two [`unfold1`] calls
+    /// in that order do (the same bytes).
+    pub fn unfold1x2(bins: [&[f64]; 2], tabs: [&[f64]; 4], p: usize, o: &mut [f64], scale: &[f64]) = unfold1x2_body;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1470,6 +1560,82 @@ mod tests {
                 x.iter().zip(&y).all(|(u, v)| u.to_bits() == v.to_bits()),
                 "{isa:?}"
             );
+        }
+    }
+
+    /// The rows' updates with sixteen outputs held in registers are a row at a time's bytes on
+    /// both paths (`x_i ← α_j r_ji + x_i`, fused on the x86-64-v3 path, not on the portable
+    /// one), for lengths with a 16-wide, a 4-wide and a scalar part, and for no rows at all.
+    #[test]
+    fn the_rows_updates_are_a_row_at_a_times_bytes() {
+        for (n, m) in [(1, 3), (7, 1), (16, 5), (23, 9), (143, 36), (40, 0)] {
+            let rows = data(m * n, 31);
+            let (ax, ay) = (data(m, 32), data(m, 33));
+            for isa in [Isa::Portable, Isa::best_available()] {
+                let (mut x, mut y) = (data(n, 34), data(n, 35));
+                let (mut x1, mut y1) = (x.clone(), y.clone());
+                axpy2_rows(isa, &rows, &ax, &ay, &mut x, &mut y);
+                for j in 0..m {
+                    for i in 0..n {
+                        let r = rows[j * n + i];
+                        if isa == Isa::Portable {
+                            x1[i] += ax[j] * r;
+                            y1[i] += ay[j] * r;
+                        } else {
+                            x1[i] = ax[j].mul_add(r, x1[i]);
+                            y1[i] = ay[j].mul_add(r, y1[i]);
+                        }
+                    }
+                }
+                let same =
+                    |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(u, v)| u.to_bits() == v.to_bits());
+                assert!(same(&x, &x1) && same(&y, &y1), "{isa:?} n {n} m {m}");
+            }
+        }
+    }
+
+    /// A fold or unfold of two groups in one pass is two passes' bytes, on both paths, with
+    /// and without a scale, for periods with and without 8- and 4-wide blocks of bins and mode
+    /// counts with a partial last row.
+    #[test]
+    fn two_groups_in_one_pass_are_two_passes_bytes() {
+        let same = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(u, v)| u.to_bits() == v.to_bits());
+        for (n, p) in [(5, 2), (37, 6), (61, 13), (143, 8), (250, 60), (1203, 60)] {
+            let (q1, q2) = (data(n, 41), data(n, 42));
+            let t: Vec<Vec<f64>> = (0..4).map(|i| data(n, 43 + i)).collect();
+            let tabs = [&t[0][..], &t[1], &t[2], &t[3]];
+            let scale = data(n, 47);
+            for isa in [Isa::Portable, Isa::best_available()] {
+                let what = format!("{isa:?} n {n} p {p}");
+                // Folds.
+                let (mut a, mut b) = (vec![9.0; 2 * p], vec![9.0; 2 * p]);
+                fold1x2(isa, &q1, tabs, p, [&mut a, &mut b]);
+                let (mut a1, mut b1) = (vec![0.0; 2 * p], vec![0.0; 2 * p]);
+                fold1(isa, &q1, &t[0], &t[1], p, &mut a1);
+                fold1(isa, &q1, &t[2], &t[3], p, &mut b1);
+                assert!(same(&a, &a1) && same(&b, &b1), "fold1x2 {what}");
+                let (mut a, mut b) = (vec![9.0; 4 * p], vec![9.0; 4 * p]);
+                fold2x2(isa, &q1, &q2, tabs, p, [&mut a, &mut b]);
+                let (mut a2, mut b2) = (vec![0.0; 4 * p], vec![0.0; 4 * p]);
+                fold2(isa, &q1, &q2, &t[0], &t[1], p, &mut a2);
+                fold2(isa, &q1, &q2, &t[2], &t[3], p, &mut b2);
+                assert!(same(&a, &a2) && same(&b, &b2), "fold2x2 {what}");
+                // Unfolds of those bins, onto outputs that already hold values.
+                for sc in [&[][..], &scale] {
+                    let mut o = q2.clone();
+                    unfold1x2(isa, [&a1, &b1], tabs, p, &mut o, sc);
+                    let mut o1 = q2.clone();
+                    unfold1(isa, &a1, &t[0], &t[1], p, &mut o1, sc);
+                    unfold1(isa, &b1, &t[2], &t[3], p, &mut o1, sc);
+                    assert!(same(&o, &o1), "unfold1x2 {what} scaled {}", !sc.is_empty());
+                }
+                let (mut x, mut y) = (q1.clone(), q2.clone());
+                unfold2x2(isa, [&a2, &b2], tabs, p, &mut x, &mut y);
+                let (mut x1, mut y1) = (q1.clone(), q2.clone());
+                unfold2(isa, &a2, &t[0], &t[1], p, &mut x1, &mut y1);
+                unfold2(isa, &b2, &t[2], &t[3], p, &mut x1, &mut y1);
+                assert!(same(&x, &x1) && same(&y, &y1), "unfold2x2 {what}");
+            }
         }
     }
 

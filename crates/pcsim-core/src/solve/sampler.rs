@@ -59,15 +59,17 @@ fn reals_mut(buf: &mut [Complex<f64>]) -> &mut [f64] {
 
 /// Whether `nd` points outside the folded groups, on `n` modes, are better served by the
 /// non-uniform transform than by dense rows. Measured (`examples/sampler_cost.rs`, callgrind, a
-/// gather and a scatter of two blocks): dense rows cost about `2.9·nd·N` instructions, the
-/// transform about `26·N·log₂(4N)` (381.8 k at 1 200 modes, since its half-length sine
-/// transform; 59·N·log₂(4N) before), so the transform pays from `nd ≈ 9·log₂(4N)` points (about
-/// 110 at 1 200 modes). On `line-structure-2002` (151 points per wire, 830 modes) it takes the
-/// step from 446 k to 335 k instructions, its statistics within 1.1e-11. Never below 64 points:
-/// the real-time windows (about 35) stay on their rows.
+/// gather and a scatter of two blocks): dense rows cost about `2.1·nd·N` instructions (since
+/// their scatter holds sixteen modes in registers while the rows pass, [`kernels::axpy2_rows`];
+/// 2.9·nd·N before), the transform about `26·N·log₂(4N)` (381.8 k at 1 200 modes, since its
+/// half-length sine transform; 59·N·log₂(4N) before), so the transform pays from `nd ≈
+/// 12·log₂(4N)` points (about 150 at 1 200 modes). On `line-structure-2002` (151 points per
+/// wire, 830 modes) it takes the step from 446 k to 335 k instructions (with the dense rows
+/// of then), its statistics within 1.1e-11. Never below 64 points: the real-time windows
+/// (about 35) stay on their rows.
 pub fn spread_pays(nd: usize, n: usize) -> bool {
     let log = ((4 * n.max(1)) as f64).log2();
-    nd >= 64 && nd as f64 > 9.0 * log
+    nd >= 64 && nd as f64 > 12.0 * log
 }
 
 #[derive(Clone)]
@@ -215,8 +217,10 @@ pub struct PointSampler {
     /// Unnormalised transform `Σ_ρ W_ρ e^{+2πiρs/P}` (an inverse FFT).
     fft: Option<Arc<dyn Fft<f64>>>,
     fft_scratch: usize,
-    /// Dense rows `sin(κ_k x_j)` for the points outside groups: (output index, row).
-    dense: Vec<(usize, Vec<f64>)>,
+    /// The output indices of the points outside groups that take dense rows.
+    dense: Vec<usize>,
+    /// Their rows `sin(κ_k x_j)`, one after the other (`N` values each).
+    dense_rows: Vec<f64>,
     /// The points outside groups when they are too many for dense rows: their output indices
     /// and the non-uniform transform over them ([`crate::solve::nufft`]).
     spread: Option<(Vec<usize>, SineNufft)>,
@@ -249,6 +253,8 @@ pub struct SamplerScratch {
     spread: NufftScratch,
     spread_pts: Vec<f64>,
     spread_modes: Vec<f64>,
+    /// The two blocks' forces of the dense rows' points, in the rows' order.
+    dense_f: Vec<f64>,
 }
 
 impl SamplerScratch {
@@ -266,6 +272,7 @@ impl SamplerScratch {
             || o.fft.len() > self.fft.len()
             || o.spread_pts.len() > self.spread_pts.len()
             || o.spread_modes.len() > self.spread_modes.len()
+            || o.dense_f.len() > self.dense_f.len()
             || o.spread.is_larger_than(&self.spread);
         if grows {
             SamplerScratch {
@@ -276,6 +283,7 @@ impl SamplerScratch {
                 spread: self.spread.max(o.spread),
                 spread_pts: vec![0.0; o.spread_pts.len().max(self.spread_pts.len())],
                 spread_modes: vec![0.0; o.spread_modes.len().max(self.spread_modes.len())],
+                dense_f: vec![0.0; o.dense_f.len().max(self.dense_f.len())],
             }
         } else {
             self
@@ -291,6 +299,7 @@ impl PointSampler {
         let l = basis.length_m();
         let mut groups = Vec::new();
         let mut dense = Vec::new();
+        let mut dense_rows = Vec::new();
         let mut period = 2;
         let n_spans = span_m.and_then(|s| {
             let ns = (l / s).round();
@@ -371,7 +380,8 @@ impl PointSampler {
             for &j in &rest {
                 let mut row = vec![0.0; n];
                 basis.fill_sines(xs[j], &mut row);
-                dense.push((j, row));
+                dense.push(j);
+                dense_rows.extend_from_slice(&row);
             }
         }
         let fft: Option<Arc<dyn Fft<f64>>> = (!groups.is_empty()).then(|| match isa {
@@ -388,6 +398,7 @@ impl PointSampler {
             fft,
             fft_scratch,
             dense,
+            dense_rows,
             spread,
         }
     }
@@ -422,7 +433,15 @@ impl PointSampler {
             spread,
             spread_pts: vec![0.0; 2 * np],
             spread_modes: vec![0.0; nm],
+            dense_f: vec![0.0; 2 * self.dense.len()],
         }
+    }
+
+    /// The dense rows' points: (output index, row).
+    fn dense_rows(&self) -> impl Iterator<Item = (&usize, &[f64])> {
+        self.dense
+            .iter()
+            .zip(self.dense_rows.chunks_exact(self.n_modes.max(1)))
     }
 
     /// Number of points handled by the folded (periodic) path.
@@ -612,10 +631,10 @@ impl PointSampler {
                 g.read::<true>(&sc.buf, o2);
             }
         }
-        for (j, row) in &self.dense {
+        for (&j, row) in self.dense_rows() {
             let (a, b) = kernels::dot2(self.isa, row, q1, q2);
-            o1[*j] = a;
-            o2[*j] = b;
+            o1[j] = a;
+            o2[j] = b;
         }
     }
 
@@ -623,16 +642,14 @@ impl PointSampler {
     fn gather_one(&self, q: &[f64], out: &mut [f64], sc: &mut SamplerScratch) {
         let p = self.period;
         for pair in self.groups.chunks(2) {
-            kernels::fold1(
-                self.isa,
-                q,
-                &pair[0].sin_d,
-                &pair[0].cos_d,
-                p,
-                &mut sc.cur[..2 * p],
-            );
-            if let Some(g) = pair.get(1) {
-                kernels::fold1(self.isa, q, &g.sin_d, &g.cos_d, p, &mut sc.second[..2 * p]);
+            match pair {
+                [g, h] => {
+                    let tabs = [&g.sin_d[..], &g.cos_d, &h.sin_d, &h.cos_d];
+                    let out = [&mut sc.cur[..2 * p], &mut sc.second[..2 * p]];
+                    kernels::fold1x2(self.isa, q, tabs, p, out);
+                }
+                [g] => kernels::fold1(self.isa, q, &g.sin_d, &g.cos_d, p, &mut sc.cur[..2 * p]),
+                _ => unreachable!("chunks of one or two"),
             }
             let y = (pair.len() == 2).then_some(&sc.second[..2 * p]);
             self.pack(&sc.cur[..2 * p], y, &mut sc.buf);
@@ -642,8 +659,8 @@ impl PointSampler {
                 g.read::<true>(&sc.buf, out);
             }
         }
-        for (j, row) in &self.dense {
-            out[*j] = kernels::dot(self.isa, q, row);
+        for (&j, row) in self.dense_rows() {
+            out[j] = kernels::dot(self.isa, q, row);
         }
     }
 
@@ -716,9 +733,12 @@ impl PointSampler {
                 _ => unreachable!("chunks of one or two"),
             }
         }
-        for (j, row) in &self.dense {
-            kernels::axpy2(self.isa, f1[*j], f2[*j], row, o1, o2);
+        let nd = self.dense.len();
+        let (fx, fy) = sc.dense_f[..2 * nd].split_at_mut(nd);
+        for ((&j, x), y) in self.dense.iter().zip(fx.iter_mut()).zip(fy.iter_mut()) {
+            (*x, *y) = (f1[j], f2[j]);
         }
+        kernels::axpy2_rows(self.isa, &self.dense_rows, fx, fy, o1, o2);
     }
 
     fn scatter_one(&self, f: &[f64], out: &mut [f64], scale: &[f64], sc: &mut SamplerScratch) {
@@ -732,12 +752,26 @@ impl PointSampler {
             self.transform(sc);
             let y = (pair.len() == 2).then_some(&mut sc.second[..2 * p]);
             self.unpack(&sc.buf, &mut sc.cur[..2 * p], y);
-            for (g, bins) in pair.iter().zip([&sc.cur[..2 * p], &sc.second[..2 * p]]) {
-                kernels::unfold1(self.isa, bins, &g.sin_d, &g.cos_d, p, out, scale);
+            match pair {
+                [g, h] => {
+                    let tabs = [&g.sin_d[..], &g.cos_d, &h.sin_d, &h.cos_d];
+                    let bins = [&sc.cur[..2 * p], &sc.second[..2 * p]];
+                    kernels::unfold1x2(self.isa, bins, tabs, p, out, scale);
+                }
+                [g] => kernels::unfold1(
+                    self.isa,
+                    &sc.cur[..2 * p],
+                    &g.sin_d,
+                    &g.cos_d,
+                    p,
+                    out,
+                    scale,
+                ),
+                _ => unreachable!("chunks of one or two"),
             }
         }
-        for (j, row) in &self.dense {
-            let fj = f[*j];
+        for (&j, row) in self.dense_rows() {
+            let fj = f[j];
             if fj != 0.0 {
                 if scale.is_empty() {
                     kernels::axpy(self.isa, fj, row, out);

@@ -2,6 +2,7 @@
 //! degrees of freedom, time, and where the model sits along the track.
 
 use crate::model::Model;
+use crate::solve::kernels::{self, Isa};
 
 /// Displacements, velocities and accelerations of a set of degrees of freedom.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -105,23 +106,10 @@ impl<'a> ByteReader<'a> {
     }
 }
 
-/// Whether every value is finite, without a branch per value: `0·x` is ±0 for a finite `x` and
-/// NaN otherwise, and four independent sums of it vectorise (the real-time session checks the
-/// whole state after every step; a short-circuiting scan cost 6 k instructions per step of the
-/// 215 m window).
+/// Whether every value is finite ([`kernels::all_finite`]: no branch per value; the real-time
+/// session checks the whole state after every step).
 fn all_finite(xs: &[f64]) -> bool {
-    let mut acc = [0.0f64; 4];
-    let mut chunks = xs.chunks_exact(4);
-    for c in &mut chunks {
-        for i in 0..4 {
-            acc[i] += c[i] * 0.0;
-        }
-    }
-    let mut r = (acc[0] + acc[1]) + (acc[2] + acc[3]);
-    for &x in chunks.remainder() {
-        r += x * 0.0;
-    }
-    r == 0.0
+    kernels::all_finite(Isa::detect(), xs)
 }
 
 /// The state at time `t`.
@@ -301,6 +289,8 @@ impl State {
 
 #[cfg(test)]
 mod finite_tests {
+    use crate::solve::kernels::{self, Isa};
+
     #[test]
     fn all_finite_finds_any_non_finite_value() {
         for n in 0..11 {
@@ -315,5 +305,17 @@ mod finite_tests {
             }
         }
         assert!(super::all_finite(&[f64::MAX, -f64::MAX, 0.0, -0.0, 1e-310]));
+        // Both instruction sets, past the kernel's eight- and four-wide parts.
+        for isa in [Isa::Portable, Isa::best_available()] {
+            for n in [0, 3, 4, 8, 13, 29] {
+                let v = vec![-2.5e300; n];
+                assert!(kernels::all_finite(isa, &v), "{isa:?} n {n}");
+                for i in 0..n {
+                    let mut w = v.clone();
+                    w[i] = f64::INFINITY;
+                    assert!(!kernels::all_finite(isa, &w), "{isa:?} n {n}, index {i}");
+                }
+            }
+        }
     }
 }
