@@ -597,6 +597,36 @@ fn bench_repeats_and_reports_median_min_max() {
     }
 }
 
+/// A real-time benchmark longer than the catenary drives it again from the start state (the
+/// default million steps at the preset's 222 km/h cover 62 km of an 1 800 m catenary): 60 000
+/// steps are three passes, every step under the contract, and none refused.
+#[test]
+fn realtime_bench_longer_than_the_catenary_drives_it_again() {
+    let r = pcsim()
+        .args([
+            "bench",
+            "--realtime",
+            "--steps",
+            "60000",
+            "--repeat",
+            "1",
+            "--quiet",
+        ])
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let out = String::from_utf8_lossy(&r.stdout);
+    assert!(out.contains("3 pass(es) over the 1800 m catenary"), "{out}");
+    let moves: usize = out
+        .split("window moves")
+        .next()
+        .and_then(|h| h.rsplit('(').next())
+        .and_then(|n| n.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no move count in {out}"));
+    // About 2 × 28 moves per 1 800 m pass of a 215 m window moving by 2 spans.
+    assert!(moves > 40, "{moves} moves in {out}");
+}
+
 /// A short SYT case with a random irregularity (6 spans would be too short for the window: the
 /// preset over its first 900 m).
 fn short_irregular(dir: &std::path::Path) -> PathBuf {
