@@ -973,12 +973,12 @@ lanes_kernel! {
 }
 
 /// The unfold of one block of bins of `G` groups (see [`unfold2`], [`unfold1`]): `o1[mP+r] +=
-/// sc·(a1[r] s + b1[r] c)` for each group in turn (`sc` = 1 when `scale` is null; the
-/// unscaled form is `a s + (b c + o)`), and the same for `o2` with `a2`, `b2` when `TWO`.
+/// sc·(a1[r] s + b1[r] c)` for each group in turn (scaled when `SC`; the unscaled form is
+/// `a s + (b c + o)`), and the same for `o2` with `a2`, `b2` when `TWO`.
 ///
 /// # Safety
-/// As for [`fold_block`], with `bins[g]` holding `4p` (`2p`); `scale` is null or holds `n`
-/// values.
+/// As for [`fold_block`], with `bins[g]` holding `4p` (`2p`); `scale` holds `n` values when
+/// `SC` (and is not read otherwise).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 unsafe fn unfold_block<
@@ -987,6 +987,7 @@ unsafe fn unfold_block<
     const NL: usize,
     const TWO: bool,
     const G: usize,
+    const SC: bool,
 >(
     bins: [*const f64; G],
     s: [*const f64; G],
@@ -1014,17 +1015,13 @@ unsafe fn unfold_block<
                 let o = base + 4 * l;
                 let mut x = S::load(o1.add(o));
                 let mut y = if TWO { S::load(o2.add(o)) } else { x };
-                let sv = if scale.is_null() {
-                    x
-                } else {
-                    S::load(scale.add(o))
-                };
+                let sv = if SC { S::load(scale.add(o)) } else { x };
                 for (g, rg) in r.iter().enumerate() {
                     let (ss, cc) = (S::load(s[g].add(o)), S::load(c[g].add(o)));
-                    x = if scale.is_null() {
-                        S::mad(rg[0][l], ss, S::mad(rg[1][l], cc, x))
-                    } else {
+                    x = if SC {
                         S::mad(sv, S::mad(rg[0][l], ss, S::mul(rg[1][l], cc)), x)
+                    } else {
+                        S::mad(rg[0][l], ss, S::mad(rg[1][l], cc, x))
                     };
                     if TWO {
                         y = S::mad(rg[2][l], ss, S::mad(rg[3][l], cc, y));
@@ -1039,7 +1036,7 @@ unsafe fn unfold_block<
         }
         for i in 0..(4 * NL).min(n.saturating_sub(base)) {
             for g in 0..G {
-                unfold_one::<F, TWO>(bins[g], s[g], c[g], scale, p, r0 + i, base + i, o1, o2);
+                unfold_one::<F, TWO, SC>(bins[g], s[g], c[g], scale, p, r0 + i, base + i, o1, o2);
             }
         }
     }
@@ -1051,7 +1048,7 @@ unsafe fn unfold_block<
 /// As for [`unfold_block`].
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-unsafe fn unfold_one<const F: bool, const TWO: bool>(
+unsafe fn unfold_one<const F: bool, const TWO: bool, const SC: bool>(
     bins: *const f64,
     s: *const f64,
     c: *const f64,
@@ -1065,10 +1062,10 @@ unsafe fn unfold_one<const F: bool, const TWO: bool>(
     unsafe {
         let (ss, cc) = (*s.add(o), *c.add(o));
         let (a, b) = (*bins.add(r), *bins.add(p + r));
-        *o1.add(o) = if scale.is_null() {
-            mad::<F>(a, ss, mad::<F>(b, cc, *o1.add(o)))
-        } else {
+        *o1.add(o) = if SC {
             mad::<F>(*scale.add(o), mad::<F>(a, ss, b * cc), *o1.add(o))
+        } else {
+            mad::<F>(a, ss, mad::<F>(b, cc, *o1.add(o)))
         };
         if TWO {
             let (a, b) = (*bins.add(2 * p + r), *bins.add(3 * p + r));
@@ -1090,11 +1087,43 @@ unsafe fn unfold_body<S: Lanes, const F: bool, const TWO: bool, const G: usize>(
     o2: &mut [f64],
     scale: &[f64],
 ) {
+    // SAFETY: the caller's; the scaled form only with a scale (a constant per form, so that no
+    // loop tests it per mode).
+    unsafe {
+        if scale.is_empty() {
+            unfold_scaled::<S, F, TWO, G, false>(bins, s, c, p, o1, o2, scale)
+        } else {
+            unfold_scaled::<S, F, TWO, G, true>(bins, s, c, p, o1, o2, scale)
+        }
+    }
+}
+
+/// [`unfold_body`], scaled by `scale` when `SC`.
+///
+/// # Safety
+/// `S` must be usable on this CPU.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+unsafe fn unfold_scaled<
+    S: Lanes,
+    const F: bool,
+    const TWO: bool,
+    const G: usize,
+    const SC: bool,
+>(
+    bins: [&[f64]; G],
+    s: [&[f64]; G],
+    c: [&[f64]; G],
+    p: usize,
+    o1: &mut [f64],
+    o2: &mut [f64],
+    scale: &[f64],
+) {
     let mut n = o1.len();
     if TWO {
         n = n.min(o2.len());
     }
-    if !scale.is_empty() {
+    if SC {
         n = n.min(scale.len());
     }
     for t in s.iter().chain(&c) {
@@ -1105,36 +1134,32 @@ unsafe fn unfold_body<S: Lanes, const F: bool, const TWO: bool, const G: usize>(
         p > 0 && bins.iter().all(|b| b.len() >= nk * p),
         "unfold: bins too short"
     );
-    let sc = if scale.is_empty() {
-        std::ptr::null()
-    } else {
-        scale.as_ptr()
-    };
+    let sc = scale.as_ptr();
     let (bp, sp, cp) = (
         bins.map(|b| b.as_ptr()),
         s.map(|t| t.as_ptr()),
         c.map(|t| t.as_ptr()),
     );
     let (p1, p2) = (o1.as_mut_ptr(), o2.as_mut_ptr());
-    // SAFETY: every mode index read or written is `< n` (the shortest table or output); every
-    // bin read is `< nk·p` of bins holding `nk·p`.
+    // SAFETY: every mode index read or written is `< n` (the shortest table, output or scale);
+    // every bin read is `< nk·p` of bins holding `nk·p`; `scale` is read only when `SC`.
     unsafe {
         let mut r0 = 0;
         if !(TWO && G == 2) {
             while r0 + 8 <= p {
-                unfold_block::<S, F, 2, TWO, G>(bp, sp, cp, sc, n, p, r0, p1, p2);
+                unfold_block::<S, F, 2, TWO, G, SC>(bp, sp, cp, sc, n, p, r0, p1, p2);
                 r0 += 8;
             }
         }
         while r0 + 4 <= p {
-            unfold_block::<S, F, 1, TWO, G>(bp, sp, cp, sc, n, p, r0, p1, p2);
+            unfold_block::<S, F, 1, TWO, G, SC>(bp, sp, cp, sc, n, p, r0, p1, p2);
             r0 += 4;
         }
         for r in r0..p {
             let mut o = r;
             while o < n {
                 for g in 0..G {
-                    unfold_one::<F, TWO>(bp[g], sp[g], cp[g], sc, p, r, o, p1, p2);
+                    unfold_one::<F, TWO, SC>(bp[g], sp[g], cp[g], sc, p, r, o, p1, p2);
                 }
                 o += p;
             }
