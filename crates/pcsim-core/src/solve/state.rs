@@ -107,9 +107,10 @@ impl<'a> ByteReader<'a> {
 }
 
 /// Whether every value is finite ([`kernels::all_finite`]: no branch per value; the real-time
-/// session checks the whole state after every step).
+/// session checks the whole state after every step). Both instruction sets give the same
+/// answer, so the best one is taken without fixing the process's choice ([`Isa::detect`]).
 fn all_finite(xs: &[f64]) -> bool {
-    kernels::all_finite(Isa::detect(), xs)
+    kernels::all_finite(Isa::best_available(), xs)
 }
 
 /// The state at time `t`.
