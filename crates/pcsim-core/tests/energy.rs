@@ -129,3 +129,90 @@ fn eva_criteria_on_a_synthetic_exponential_profile() {
 fn want_fraction(lam: f64) -> f64 {
     2.0 * lam * 100.0f64.ln()
 }
+
+/// An observer that has seen enough after `after` steps.
+struct Enough {
+    seen: usize,
+    after: usize,
+}
+
+impl pcsim_core::solve::Observer for Enough {
+    fn observe(
+        &mut self,
+        _: &pcsim_core::solve::CompiledModel,
+        _: &mut pcsim_core::solve::State,
+        _: &pcsim_core::solve::Workspace,
+    ) -> Result<(), pcsim_core::SimError> {
+        self.seen += 1;
+        Ok(())
+    }
+
+    fn finished(&self) -> bool {
+        self.seen >= self.after
+    }
+}
+
+#[test]
+fn the_run_loop_stops_when_every_observer_has_seen_enough() {
+    let setup = pcsim_core::zoo::stitched_three_spans();
+    let n = setup.n_steps();
+    let integ = setup.integrator().unwrap();
+    let run = |observers: &mut [&mut dyn pcsim_core::solve::Observer]| {
+        let mut st = integ.initial_state(setup.plan.start_m);
+        let mut ws = integ.workspace();
+        pcsim_core::solve::run(&integ, &mut st, &mut ws, n, observers, &mut |_| true).unwrap()
+    };
+    let mut a = Enough { seen: 0, after: 37 };
+    assert_eq!(run(&mut [&mut a]).steps, 37);
+    assert_eq!(a.seen, 37);
+    // One observer that wants the whole run keeps it going.
+    let (mut a, mut b) = (
+        Enough { seen: 0, after: 37 },
+        Enough {
+            seen: 0,
+            after: usize::MAX,
+        },
+    );
+    assert_eq!(run(&mut [&mut a, &mut b]).steps, n as u64);
+    assert_eq!((a.seen, b.seen), (n, n));
+    // No observer: every step.
+    assert_eq!(run(&mut []).steps, n as u64);
+}
+
+#[test]
+fn the_energy_run_stops_after_the_section_with_a_whole_runs_outputs() {
+    use pcsim_core::analysis::eva::{run_eva, simulate_with_eva, EvaSettings};
+    let setup = pcsim_core::zoo::stitched_three_spans();
+    let s = EvaSettings::default();
+    let (mut last_alone, mut last_beside) = (0.0, 0.0);
+    let alone = run_eva(&setup, &s, &mut |f| {
+        if f < 1.0 {
+            last_alone = f;
+        }
+        true
+    })
+    .unwrap();
+    let (out, beside) = simulate_with_eva(&setup, &s, &mut |f| {
+        if f < 1.0 {
+            last_beside = f;
+        }
+        true
+    })
+    .unwrap();
+    // The same energy views whether the run stops after the section or records to its end, and
+    // the same record as a run without the energy sampler.
+    assert_eq!(alone, beside);
+    assert!(alone.samples > 5, "{} samples", alone.samples);
+    assert_eq!(out, pcsim_core::simulate(&setup, &mut |_| true).unwrap());
+    // The energy run alone stopped once the pantograph left the section (60–120 m of a run from
+    // 20 m to 160 m: 5/7 of the steps), the recording one ran to the end.
+    let stop = (setup.plan.analysis_m[1] - 20.0) / (160.0 - 20.0);
+    assert!(
+        last_alone > stop - 0.01 && last_alone < stop + 0.01,
+        "stopped at {last_alone} of the run, the section ends at {stop}"
+    );
+    // (progress is reported every 256 steps: the last report before the end is within 256 steps
+    // of it)
+    let to_end = 1.0 - 256.0 / setup.n_steps() as f64;
+    assert!(last_beside >= to_end, "{last_beside} < {to_end}");
+}

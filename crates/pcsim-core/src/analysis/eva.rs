@@ -2,6 +2,7 @@
 //! length at which it converges (paper §2.4; README §2.5–2.7).
 
 use crate::analysis::energy::{integrate, DensityGrid};
+use crate::analysis::record::{simulate_beside, RunOutput};
 use crate::compile::budget::{check_len, Budget};
 use crate::compile::Setup;
 use crate::error::SimError;
@@ -224,93 +225,132 @@ impl Observer for EnergySampler<'_> {
         self.prev_x = xp;
         Ok(())
     }
+
+    fn finished(&self) -> bool {
+        // The pantograph moves forward: past the section, no sample is taken again.
+        self.snapshot.is_some() && self.prev_x > self.analysis[1]
+    }
+}
+
+impl<'a> EnergySampler<'a> {
+    /// The sampler of `setup`'s run under settings `s`, the leading pantograph starting at
+    /// `x0_m` (model coordinates). Checks the energy arrays against the budget.
+    fn new(setup: &Setup, s: &'a EvaSettings, x0_m: f64) -> Result<Self, SimError> {
+        let l = setup.model.length_m();
+        let dt = setup.options.dt_s;
+        // Bounded memory: the window lengths (every Δd up to the largest window, eight arrays)
+        // and the density grid (points per mode × modes, about twenty arrays).
+        let max_window = s.max_window_m.unwrap_or(l).min(2.0 * l);
+        check_len(
+            &s.budget,
+            "eva.step_m (--step)",
+            s.step_m,
+            8.0 * max_window / s.step_m,
+        )?;
+        check_len(
+            &s.budget,
+            "eva.points_per_mode",
+            s.points_per_mode,
+            20.0 * (s.points_per_mode.max(2) * setup.model.n_modes()) as f64,
+        )?;
+        let grid = DensityGrid::new(&setup.model, s.points_per_mode)?;
+        let dx = grid.dx();
+        let half = (0.5 * max_window / dx).round() as isize;
+        let n_xi = (2 * half + 1) as usize;
+        let nd = (max_window / s.step_m).floor() as usize;
+        let d: Vec<f64> = (1..=nd).map(|i| i as f64 * s.step_m).collect();
+        Ok(EnergySampler {
+            s,
+            dens: vec![0.0; grid.n_points()],
+            grid,
+            dx,
+            half,
+            snap_x: s.snapshot_at_m.unwrap_or(0.5 * l),
+            every: ((s.sample_every_s / dt).round() as usize).max(1),
+            analysis: setup.plan.analysis_m,
+            step: 0,
+            prev_x: x0_m,
+            snapshot: None,
+            max_d: vec![0.0; n_xi],
+            sum_d: vec![0.0; n_xi],
+            max_w: vec![0.0; d.len()],
+            sum_w: vec![0.0; d.len()],
+            max_total: 0.0,
+            sum_total: 0.0,
+            samples: 0,
+            d,
+        })
+    }
+
+    /// The energy views of the run observed.
+    fn finish(mut self) -> Result<EvaOutput, SimError> {
+        let snap_x = self.snap_x;
+        let snapshot = self.snapshot.take().ok_or_else(|| {
+            SimError::Case(crate::error::CaseError::Invalid {
+                field: "eva.snapshot_at_m".into(),
+                value: snap_x.to_string(),
+                reason: "the leading pantograph never passes this position during the run".into(),
+            })
+        })?;
+        let s = self.s;
+        let xi: Vec<f64> = (-self.half..=self.half)
+            .map(|i| i as f64 * self.dx)
+            .collect();
+        let ns = self.samples.max(1) as f64;
+        let mean_d: Vec<f64> = self.sum_d.iter().map(|v| v / ns).collect();
+        let mean_w: Vec<f64> = self.sum_w.iter().map(|v| v / ns).collect();
+        let d = self.d;
+        Ok(EvaOutput {
+            max: EnergyView::new(self.max_d, self.max_w, self.max_total, &d, s),
+            mean: EnergyView::new(mean_d, mean_w, self.sum_total / ns, &d, s),
+            snapshot,
+            settings: s.clone(),
+            xi_m: xi,
+            window_m: d,
+            snapshot_at_m: snap_x,
+            samples: self.samples,
+        })
+    }
 }
 
 /// Run a set-up and evaluate the energy distribution around the leading pantograph (Eqs. 20–21).
+/// The run stops once the snapshot is taken and the pantograph has left the analysis section:
+/// nothing after it is observed.
 pub fn run_eva(
     setup: &Setup,
     s: &EvaSettings,
     progress: &mut dyn FnMut(f64) -> bool,
 ) -> Result<EvaOutput, SimError> {
-    let l = setup.model.length_m();
-    let snap_x = s.snapshot_at_m.unwrap_or(0.5 * l);
-    let dt = setup.options.dt_s;
-    let n_steps = setup.n_steps();
-    let every = ((s.sample_every_s / dt).round() as usize).max(1);
-    // Bounded memory: the window lengths (every Δd up to the largest window, eight arrays) and
-    // the density grid (points per mode × modes, about twenty arrays).
-    let max_window = s.max_window_m.unwrap_or(l).min(2.0 * l);
-    check_len(
-        &s.budget,
-        "eva.step_m (--step)",
-        s.step_m,
-        8.0 * max_window / s.step_m,
-    )?;
-    check_len(
-        &s.budget,
-        "eva.points_per_mode",
-        s.points_per_mode,
-        20.0 * (s.points_per_mode.max(2) * setup.model.n_modes()) as f64,
-    )?;
-    let grid = DensityGrid::new(&setup.model, s.points_per_mode)?;
-    let dx = grid.dx();
-    let half = (0.5 * max_window / dx).round() as isize;
-    let xi: Vec<f64> = (-half..=half).map(|i| i as f64 * dx).collect();
-    let nd = (max_window / s.step_m).floor() as usize;
-    let d: Vec<f64> = (1..=nd).map(|i| i as f64 * s.step_m).collect();
     let integ = setup.integrator()?;
     let mut st = integ.initial_state(setup.plan.start_m);
     let mut ws = integ.workspace();
-    let mut sampler = EnergySampler {
-        s,
-        dens: vec![0.0; grid.n_points()],
-        grid,
-        dx,
-        half,
-        snap_x,
-        every,
-        analysis: setup.plan.analysis_m,
-        step: 0,
-        prev_x: integ.position(&st, 0),
-        snapshot: None,
-        max_d: vec![0.0; xi.len()],
-        sum_d: vec![0.0; xi.len()],
-        max_w: vec![0.0; d.len()],
-        sum_w: vec![0.0; d.len()],
-        max_total: 0.0,
-        sum_total: 0.0,
-        samples: 0,
-        d,
-    };
+    let mut sampler = EnergySampler::new(setup, s, integ.position(&st, 0))?;
     run(
         &integ,
         &mut st,
         &mut ws,
-        n_steps,
+        setup.n_steps(),
         &mut [&mut sampler],
         progress,
     )?;
-    let snapshot = sampler.snapshot.take().ok_or_else(|| {
-        SimError::Case(crate::error::CaseError::Invalid {
-            field: "eva.snapshot_at_m".into(),
-            value: snap_x.to_string(),
-            reason: "the leading pantograph never passes this position during the run".into(),
-        })
-    })?;
-    let ns = sampler.samples.max(1) as f64;
-    let mean_d: Vec<f64> = sampler.sum_d.iter().map(|v| v / ns).collect();
-    let mean_w: Vec<f64> = sampler.sum_w.iter().map(|v| v / ns).collect();
-    let d = sampler.d;
-    Ok(EvaOutput {
-        max: EnergyView::new(sampler.max_d, sampler.max_w, sampler.max_total, &d, s),
-        mean: EnergyView::new(mean_d, mean_w, sampler.sum_total / ns, &d, s),
-        snapshot,
-        settings: s.clone(),
-        xi_m: xi,
-        window_m: d,
-        snapshot_at_m: snap_x,
-        samples: sampler.samples,
-    })
+    sampler.finish()
+}
+
+/// [`simulate`](crate::analysis::record::simulate) and [`run_eva`] of the same set-up in one
+/// run (the recorder and the energy sampler observe the same steps): the same outputs as the two
+/// runs.
+pub fn simulate_with_eva(
+    setup: &Setup,
+    s: &EvaSettings,
+    progress: &mut dyn FnMut(f64) -> bool,
+) -> Result<(RunOutput, EvaOutput), SimError> {
+    let (out, sampler) = simulate_beside(
+        setup,
+        None,
+        |integ, st| EnergySampler::new(setup, s, integ.position(st, 0)),
+        progress,
+    )?;
+    Ok((out, sampler.finish()?))
 }
 
 /// One row of an EVA sweep (`eva.csv`): the case, the settings and every EVA variant.

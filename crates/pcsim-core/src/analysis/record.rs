@@ -12,7 +12,7 @@ use crate::model::irregularity::IrregularityReport;
 use crate::model::wind::WindReport;
 use crate::model::Direction;
 use crate::solve::run::{run, Observer, RunStatistics};
-use crate::solve::{CompiledModel, State, Workspace};
+use crate::solve::{CompiledModel, Integrator, State, Workspace};
 
 /// Time histories of one pantograph.
 #[derive(Debug, Clone, PartialEq)]
@@ -421,6 +421,27 @@ pub fn simulate_with(
     droppers: Option<DropperOptions>,
     progress: &mut dyn FnMut(f64) -> bool,
 ) -> Result<RunOutput, SimError> {
+    simulate_beside(setup, droppers, |_, _| Ok(Unobserved), progress).map(|(out, _)| out)
+}
+
+/// An observer that sees nothing ([`simulate_with`] has no third observer).
+struct Unobserved;
+
+impl Observer for Unobserved {
+    fn observe(&mut self, _: &CompiledModel, _: &mut State, _: &Workspace) -> Result<(), SimError> {
+        Ok(())
+    }
+}
+
+/// [`simulate_with`], and beside the recorders one more observer of the same run, made by
+/// `beside` from the integrator and its initial state (the energy sampler of
+/// [`crate::analysis::eva::simulate_with_eva`]); it is handed back after the run.
+pub(crate) fn simulate_beside<O: Observer>(
+    setup: &Setup,
+    droppers: Option<DropperOptions>,
+    beside: impl FnOnce(&Integrator, &State) -> Result<O, SimError>,
+    progress: &mut dyn FnMut(f64) -> bool,
+) -> Result<(RunOutput, O), SimError> {
     let integ = setup.integrator()?;
     let mut st = integ.initial_state(setup.plan.start_m);
     let mut ws = integ.workspace();
@@ -439,16 +460,24 @@ pub fn simulate_with(
             o.history_limit,
         )
     });
+    let mut extra = beside(&integ, &st)?;
     let rs = match &mut drec {
         Some(d) => run(
             &integ,
             &mut st,
             &mut ws,
             n_steps,
-            &mut [&mut rec, d],
+            &mut [&mut rec, d, &mut extra],
             progress,
         )?,
-        None => run(&integ, &mut st, &mut ws, n_steps, &mut [&mut rec], progress)?,
+        None => run(
+            &integ,
+            &mut st,
+            &mut ws,
+            n_steps,
+            &mut [&mut rec, &mut extra],
+            progress,
+        )?,
     };
     let mut out = rec.finish(integ.compiled(), rs);
     out.stability = integ.stability().cloned();
@@ -461,5 +490,5 @@ pub fn simulate_with(
             history_limit: o.history_limit,
         });
     }
-    Ok(out)
+    Ok((out, extra))
 }

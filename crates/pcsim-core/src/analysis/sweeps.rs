@@ -6,12 +6,12 @@
 //!   the errors of every window tried and the energy curves);
 //! - [`validation_runs`]: the runs of a validation plan, assembled into its report.
 
-use crate::analysis::eva::{run_eva, EvaOutput, EvaRow, EvaSettings};
+use crate::analysis::eva::{run_eva, simulate_with_eva, EvaOutput, EvaRow, EvaSettings};
 use crate::analysis::record::{simulate, RunOutput};
 use crate::analysis::sweep::{parallel_map, Grid, Job, Shard};
 use crate::analysis::validation::{ValidationPlan, ValidationReport};
 use crate::analysis::window_length::{
-    accuracy_length, EnergyCurves, SearchResult, SearchSettings, Tolerances,
+    full_stats, search_windows, EnergyCurves, SearchResult, SearchSettings, Tolerances,
 };
 use crate::compile::Budget;
 use crate::compile::Setup;
@@ -200,13 +200,17 @@ pub fn window_sweep(
         ..EvaSettings::default()
     };
     parallel_map(jobs, threads, |job| {
-        // The window carries one pantograph; its energies are the one-pantograph run's.
+        // The window carries one pantograph; its energies are the one-pantograph run's, taken
+        // in the same run as the full model's statistics (the same steps, so the outputs of
+        // two runs, one recording and one sampling the energy).
         let case = crate::compile::window_case(&job.case);
-        let (r, _) =
-            accuracy_length(&case, search, tol, budget).map_err(|e| in_case(job.index, "", e))?;
-        let setup = Setup::from_case_with(&case, budget)?;
-        let eva = run_eva(&setup, &eva_settings, &mut |_| true)
-            .map_err(|e| in_case(job.index, " (energies)", e))?;
+        crate::compile::require_contact(&case, "the window-length search")
+            .map_err(|e| in_case(job.index, "", e))?;
+        let setup = Setup::from_case_with(&case, budget).map_err(|e| in_case(job.index, "", e))?;
+        let (full, eva) = simulate_with_eva(&setup, &eva_settings, &mut |_| true)
+            .map_err(|e| in_case(job.index, "", e))?;
+        let fs = full_stats(&case, &full).map_err(|e| in_case(job.index, "", e))?;
+        let r = search_windows(&case, &fs, search, tol).map_err(|e| in_case(job.index, "", e))?;
         let curves = EnergyCurves::of(&eva);
         let at = r
             .length_m

@@ -23,10 +23,9 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 use crate::analysis::eva::{eva_by_fraction, eva_by_step, EvaOutput};
-use crate::analysis::record::simulate;
+use crate::analysis::record::RunOutput;
 use crate::analysis::stats::ContactStats;
 use crate::analysis::studies::run_window_sil;
-use crate::compile::{Budget, Setup};
 use crate::error::{CaseError, SimError};
 use crate::input::case::Case;
 
@@ -308,32 +307,34 @@ pub fn claim(length_m: Option<f64>, fine_checked_to_m: Option<f64>, s: &SearchSe
     }
 }
 
-/// The accuracy-based length of one case: the full model (leading pantograph) once, then SIL
-/// windows as the search asks.
-pub fn accuracy_length(
-    case: &Case,
-    s: &SearchSettings,
-    tol: &Tolerances,
-    budget: &Budget,
-) -> Result<(SearchResult, ContactStats), SimError> {
-    let single = crate::compile::window_case(case);
-    crate::compile::require_contact(&single, "the window-length search")?;
-    let full = simulate(&Setup::from_case_with(&single, budget)?, &mut |_| true)?;
-    let fs = full.pantographs[0].stats.ok_or_else(|| {
+/// The leading pantograph's statistics of the full model's run `full` of the one-pantograph
+/// case `single` ([`crate::compile::window_case`]): what the windows are measured against.
+pub fn full_stats(single: &Case, full: &RunOutput) -> Result<ContactStats, SimError> {
+    full.pantographs[0].stats.ok_or_else(|| {
         SimError::Case(CaseError::Invalid {
             field: "run.analysis_m".into(),
             value: format!("{:?}", single.run.analysis_m),
             reason: "the full model's pantograph never crossed the analysis section".into(),
         })
-    })?;
-    let r = search(s, tol, |w| {
-        let run = run_window_sil(&single, w)?;
+    })
+}
+
+/// The accuracy-based length of one case ([`search`]) against the full model's statistics `fs`
+/// ([`full_stats`]): SIL windows of the one-pantograph case `single`, as the search asks
+/// ([`crate::analysis::sweeps::window_sweep`] runs the full model once for both).
+pub fn search_windows(
+    single: &Case,
+    fs: &ContactStats,
+    s: &SearchSettings,
+    tol: &Tolerances,
+) -> Result<SearchResult, SimError> {
+    search(s, tol, |w| {
+        let run = run_window_sil(single, w)?;
         Ok::<_, SimError>(match run.stats {
-            Some(ws) => WindowErrors::of(w, &ws, &fs),
+            Some(ws) => WindowErrors::of(w, &ws, fs),
             None => WindowErrors::failed(w),
         })
-    })?;
-    Ok((r, fs))
+    })
 }
 
 /// An energy criterion (Eq. 21 family) that predicts a window length from a case's window

@@ -51,13 +51,21 @@ pub trait Observer {
     fn moves(&self) -> u64 {
         0
     }
+
+    /// Whether this observer has seen all it needs: the run loop stops early once every one of
+    /// its observers says so (a recorder of the whole run never does; the energy sampler does
+    /// once the pantograph has left its analysis section).
+    fn finished(&self) -> bool {
+        false
+    }
 }
 
 /// How often the whole state is checked and progress reported, steps.
 pub const CHECK_EVERY: usize = 256;
 
-/// Step `n_steps` times. `progress(fraction)` is called every [`CHECK_EVERY`] steps; returning
-/// `false` cancels the run. An integrator built for several threads
+/// Step `n_steps` times, or until every observer is [`Observer::finished`] (none is given: all
+/// the steps). `progress(fraction)` is called every [`CHECK_EVERY`] steps; returning `false`
+/// cancels the run. An integrator built for several threads
 /// ([`Integrator::threads`], `Options::threads`) steps with a team of that many
 /// ([`crate::solve::team`]): the same bytes, sooner on a long line.
 pub fn run(
@@ -100,7 +108,8 @@ pub fn run(
             for o in observers.iter_mut() {
                 o.observe(integ.compiled(), st, ws)?;
             }
-            if step % CHECK_EVERY == 0 {
+            let finished = !observers.is_empty() && observers.iter().all(|o| o.finished());
+            if step % CHECK_EVERY == 0 || finished {
                 rs.blow_up_checks += 1;
                 if !st.is_finite() {
                     return Err(SimError::BlowUp {
@@ -112,6 +121,9 @@ pub fn run(
                 if !progress(step as f64 / n_steps as f64) {
                     return Err(SimError::Cancelled);
                 }
+            }
+            if finished {
+                break;
             }
         }
         progress(1.0);
