@@ -246,3 +246,95 @@ pub fn realtime_window_with(
         coupling,
     )
 }
+
+#[cfg(test)]
+mod wind_tests {
+    use crate::compile::Setup;
+    use crate::input::presets;
+    use crate::solve::kernels;
+
+    /// (Here, above `solve/` and `input/`: the engine's own files name no case.) The crosswind's
+    /// generalised forces inside a field interval, as the quadratic of its three
+    /// scatters, against one scatter of the step's own pressures (the law at the field's value
+    /// at `t`), on both kernel paths; and the per-step scatter where the normal wind changes
+    /// sign inside an interval.
+    #[test]
+    fn the_winds_interval_quadratic_is_the_steps_own_scatter() {
+        let (mut case, _) = presets::load("stitched-2018-like-3d-crosswind").unwrap();
+        case.catenary.spans = 4;
+        case.pantographs.truncate(1);
+        case.run.modes = None;
+        case.run.modes_per_m = Some(1.0);
+        case.run.start_m = 40.0;
+        case.run.end_m = 200.0;
+        case.run.analysis_m = [60.0, 180.0];
+        case.run.allow_start_transient = true;
+        let setup = Setup::from_case(&case).unwrap();
+        for portable in [false, true] {
+            let integ = setup.integrator().unwrap();
+            let cm = integ.compiled();
+            let isa = if portable {
+                kernels::Isa::Portable
+            } else {
+                kernels::Isa::best_available()
+            };
+            let mut wl = setup.model.wind.clone().unwrap();
+            let w = cm.wind.as_ref().unwrap();
+            let mut ws = integ.workspace();
+            let kn = w.k * w.n;
+            let check = |wl: &crate::model::wind::WindLoad, ws: &mut crate::solve::Workspace| {
+                let (mut quadratic, mut per_step) = (0, 0);
+                for step in 0..200 {
+                    let t = 0.137 + step as f64 * 1e-3;
+                    let (interval, tau) = wl.field.interval(t);
+                    // The step's own scatter.
+                    let mut direct = w.mean.clone();
+                    for slot in 0..w.k {
+                        let p0 = wl.mean_pressure(slot);
+                        for g in 0..w.ng {
+                            ws.wind_p[slot * w.ng + g] =
+                                (wl.pressure(slot, wl.field.at(g, t)) - p0) * wl.grid_m;
+                        }
+                    }
+                    w.sampler
+                        .scatter_add(&ws.wind_p, w.k, &mut direct, &mut ws.scr);
+                    if w.interval_forces(wl, interval, &mut ws.wind_p, &mut ws.wind_c, &mut ws.scr)
+                    {
+                        quadratic += 1;
+                        let (c0, rest) = ws.wind_c.split_at(kn);
+                        let (c1, c2) = rest.split_at(kn);
+                        let mut q = vec![0.0; kn];
+                        kernels::quadratic(isa, &mut q, c0, c1, c2, tau);
+                        let scale = direct.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                        let err = q
+                            .iter()
+                            .zip(&direct)
+                            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+                        assert!(err <= 1e-12 * scale, "t {t}: {err} of {scale}");
+                    } else {
+                        per_step += 1;
+                        // A sign change inside the interval: at one of its grid points the
+                        // normal wind has both signs at the interval's ends.
+                        let changes = (0..w.k).any(|slot| {
+                            (0..w.ng).any(|g| {
+                                let (u0, u1) = wl.field.ends(g, interval);
+                                wl.pressure_quadratic(slot, u0, u1).is_none()
+                            })
+                        });
+                        assert!(changes, "t {t}");
+                    }
+                }
+                (quadratic, per_step)
+            };
+            // The preset's wind: its normal wind keeps its sign.
+            let (q, s) = check(&wl, &mut ws);
+            assert_eq!((q, s), (200, 0));
+            // A weak mean: the fluctuation reverses the normal wind at some grid points.
+            for ww in &mut wl.wires {
+                ww.mean_normal_m_s = 0.3;
+            }
+            let (q, s) = check(&wl, &mut ws);
+            assert!(s > 0, "{q} quadratic, {s} per step");
+        }
+    }
+}

@@ -99,6 +99,31 @@ impl WindLoad {
         self.pressure(w, 0.0)
     }
 
+    /// [`Self::pressure`] along a fluctuation linear in `τ ∈ [0, 1]` from `u0` to `u1` (the
+    /// field between two of its samples), as `[c0, c1, c2]` with `p(τ) = c0 + c1 τ + c2 τ²`:
+    /// while the normal wind `V = V0 + τ ΔV` keeps its sign `s`,
+    /// `½ρ V|V| = s ½ρ (V0² + 2 V0 ΔV τ + ΔV² τ²)`, the same law expanded (equal to it in exact
+    /// arithmetic). `None` when `V` changes sign inside the interval (the law is not one
+    /// quadratic there).
+    pub fn pressure_quadratic(&self, w: usize, u0: f64, u1: f64) -> Option<[f64; 3]> {
+        let v0 = self.wires[w].mean_normal_m_s + self.normal_fraction * u0;
+        let v1 = self.wires[w].mean_normal_m_s + self.normal_fraction * u1;
+        if v0 * v1 < 0.0 {
+            return None;
+        }
+        let dv = v1 - v0;
+        let half_rho = if v0 < 0.0 || (v0 == 0.0 && v1 < 0.0) {
+            -0.5 * self.air_density_kg_m3
+        } else {
+            0.5 * self.air_density_kg_m3
+        };
+        Some([
+            half_rho * v0 * v0,
+            half_rho * 2.0 * v0 * dv,
+            half_rho * dv * dv,
+        ])
+    }
+
     /// The same load in a window starting at `origin_m` (grid points inside it only).
     pub fn window(&self, origin_m: f64, length_m: f64) -> Self {
         let keep: Vec<usize> = (0..self.field.x_m.len())
@@ -180,3 +205,39 @@ pub enum Profile {
 
 /// The spectrum to generate, or none (mean wind only).
 pub type Turbulence = Option<SpectrumModel>;
+
+#[cfg(test)]
+mod tests {
+    /// The pressure's quadratic over an interval is the law at every fraction (to rounding),
+    /// for both signs of the normal wind and from or to zero, and there is none when the
+    /// normal wind changes sign inside the interval.
+    #[test]
+    fn the_pressures_quadratic_is_the_law_inside_an_interval() {
+        let mut wl = super::WindLoad::uniform_lateral(0, 1.0);
+        wl.air_density_kg_m3 = 1.225;
+        wl.normal_fraction = 0.8;
+        for (mean, u0, u1) in [
+            (20.0, 3.0, -5.0),
+            (-20.0, 3.0, -5.0),
+            (0.0, 0.0, 4.0),
+            (0.0, -4.0, 0.0),
+            (4.0, -5.0, -5.0),
+            (0.0, 0.0, 0.0),
+        ] {
+            wl.wires[0].mean_normal_m_s = mean;
+            let c = wl.pressure_quadratic(0, u0, u1).unwrap();
+            for k in 0..=10 {
+                let tau = k as f64 / 10.0;
+                let want = wl.pressure(0, u0 + tau * (u1 - u0));
+                let got = c[0] + tau * (c[1] + tau * c[2]);
+                assert!(
+                    (got - want).abs() <= 1e-12 * want.abs().max(1.0),
+                    "{mean} {u0} {u1} at {tau}: {got} vs {want}"
+                );
+            }
+        }
+        wl.wires[0].mean_normal_m_s = 1.0;
+        assert_eq!(wl.pressure_quadratic(0, -5.0, 5.0), None);
+        assert_eq!(wl.pressure_quadratic(0, 5.0, -5.0), None);
+    }
+}

@@ -196,13 +196,26 @@ impl WindField {
     /// Fluctuation at point `j` and time `t` (linear between samples, periodic), m/s.
     #[inline]
     pub fn at(&self, j: usize, t: f64) -> f64 {
+        let (i, frac) = self.interval(t);
+        let (u0, u1) = self.ends(j, i);
+        u0 + frac * (u1 - u0)
+    }
+
+    /// The interval of samples holding time `t` (its index, counted from `t = 0` without the
+    /// period's wrap) and `t`'s fraction of it in `[0, 1)`.
+    #[inline]
+    pub fn interval(&self, t: f64) -> (usize, f64) {
         let s = (t / self.dt_s).max(0.0);
         let i = s.floor();
-        let frac = s - i;
-        let i = (i as usize) % self.n_t;
-        let k = (i + 1) % self.n_t;
+        (i as usize, s - i)
+    }
+
+    /// The fluctuation at point `j` at the start and the end of interval `i` (periodic), m/s.
+    #[inline]
+    pub fn ends(&self, j: usize, i: usize) -> (f64, f64) {
+        let i = i % self.n_t;
         let row = self.series(j);
-        row[i] + frac * (row[k] - row[i])
+        (row[i], row[(i + 1) % self.n_t])
     }
 
     /// Standard deviation of the fluctuation over the first `duration_s` at every point, m/s.

@@ -17,6 +17,7 @@ use crate::model::basis::SineBasis;
 use crate::model::dof::Direction;
 use crate::model::elements::{Attach, Io, Slot, Weight};
 use crate::model::pantograph::PantographKind;
+use crate::model::wind::WindLoad;
 use crate::model::{Model, WireRole};
 use crate::solve::implicit::ImplicitScratch;
 use crate::solve::kernels::{self, Isa};
@@ -97,6 +98,45 @@ pub(crate) struct WindStep {
     pub(crate) blocks: Vec<(usize, usize, f64)>,
     /// The mean load's generalised "pressure" of every loaded wire, `P̄ ∫ sin(κ_k x) dx`.
     pub(crate) mean: Vec<f64>,
+}
+
+impl WindStep {
+    /// The generalised forces of the crosswind over field interval `interval` as a quadratic in
+    /// the interval's fraction, into `c = [A0 | A1 | A2]` (the mean in `A0`): the grid's
+    /// pressure coefficients ([`WindLoad::pressure_quadratic`], the fluctuation about the mean
+    /// in `A0`) scattered once each. `false` (and `c` not filled) when the normal wind changes
+    /// sign at a grid point inside the interval.
+    pub(crate) fn interval_forces(
+        &self,
+        wl: &WindLoad,
+        interval: usize,
+        p: &mut [f64],
+        c: &mut [f64],
+        scr: &mut SamplerScratch,
+    ) -> bool {
+        let kn = self.k * self.n;
+        for order in 0..3 {
+            for slot in 0..self.k {
+                let p0 = wl.mean_pressure(slot);
+                for g in 0..self.ng {
+                    let (u0, u1) = wl.field.ends(g, interval);
+                    let Some(q) = wl.pressure_quadratic(slot, u0, u1) else {
+                        return false;
+                    };
+                    let v = if order == 0 { q[0] - p0 } else { q[order] };
+                    p[slot * self.ng + g] = v * wl.grid_m;
+                }
+            }
+            let out = &mut c[order * kn..(order + 1) * kn];
+            if order == 0 {
+                out.copy_from_slice(&self.mean);
+            } else {
+                out.fill(0.0);
+            }
+            self.sampler.scatter_add(p, self.k, out, scr);
+        }
+        true
+    }
 }
 
 /// The implicit point terms (steady-arm masses, support dampers) of consecutive blocks of one
@@ -365,6 +405,9 @@ impl CompiledModel {
             ef: vec![0.0; self.n_u],
             wind_p: vec![0.0; self.wind.as_ref().map_or(0, |w| w.k * w.ng)],
             wind_q: vec![0.0; self.wind.as_ref().map_or(0, |w| w.k * w.n)],
+            wind_interval: None,
+            wind_quadratic: false,
+            wind_c: vec![0.0; self.wind.as_ref().map_or(0, |w| 3 * w.k * w.n)],
         }
     }
 

@@ -720,18 +720,35 @@ impl Integrator {
         let isa = self.cm.isa;
         self.cm.add_steady_loads(&mut st.modal.a);
         // Crosswind: the grid's pressures (fluctuation about the mean, which is projected
-        // exactly), one scatter onto every loaded wire, each block its share.
+        // exactly) onto every loaded wire, each block its share. The field is linear in time
+        // between its samples, so inside one of its intervals the pressures are a quadratic in
+        // the interval's fraction: three scatters when a step enters an interval, and each
+        // step the quadratic's value; where the normal wind changes sign inside the interval,
+        // one scatter per step.
         if let (Some(w), Some(wl)) = (&self.cm.wind, &m.wind) {
-            for slot in 0..w.k {
-                let p0 = wl.mean_pressure(slot);
-                for g in 0..w.ng {
-                    ws.wind_p[slot * w.ng + g] =
-                        (wl.pressure(slot, wl.field.at(g, st.t)) - p0) * wl.grid_m;
-                }
+            let (interval, tau) = wl.field.interval(st.t);
+            if ws.wind_interval != Some(interval) {
+                ws.wind_interval = Some(interval);
+                ws.wind_quadratic =
+                    w.interval_forces(wl, interval, &mut ws.wind_p, &mut ws.wind_c, &mut ws.scr);
             }
-            ws.wind_q.copy_from_slice(&w.mean);
-            w.sampler
-                .scatter_add(&ws.wind_p, w.k, &mut ws.wind_q, &mut ws.scr);
+            if ws.wind_quadratic {
+                let kn = w.k * w.n;
+                let (c0, rest) = ws.wind_c.split_at(kn);
+                let (c1, c2) = rest.split_at(kn);
+                kernels::quadratic(isa, &mut ws.wind_q, c0, c1, c2, tau);
+            } else {
+                for slot in 0..w.k {
+                    let p0 = wl.mean_pressure(slot);
+                    for g in 0..w.ng {
+                        ws.wind_p[slot * w.ng + g] =
+                            (wl.pressure(slot, wl.field.at(g, st.t)) - p0) * wl.grid_m;
+                    }
+                }
+                ws.wind_q.copy_from_slice(&w.mean);
+                w.sampler
+                    .scatter_add(&ws.wind_p, w.k, &mut ws.wind_q, &mut ws.scr);
+            }
             for &(slot, off, coef) in &w.blocks {
                 kernels::axpy(
                     isa,

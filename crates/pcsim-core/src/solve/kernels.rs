@@ -730,6 +730,19 @@ kernel! {
 }
 
 #[inline(always)]
+fn quadratic_body<const F: bool>(out: &mut [f64], c0: &[f64], c1: &[f64], c2: &[f64], tau: f64) {
+    for (((o, a), b), c) in out.iter_mut().zip(c0).zip(c1).zip(c2) {
+        *o = mad::<F>(tau, mad::<F>(tau, *c, *b), *a);
+    }
+}
+
+kernel! {
+    /// `out = c0 + τ (c1 + τ c2)` (a quadratic in `τ` per value: the crosswind's generalised
+    /// forces inside one interval of its field).
+    pub fn quadratic(out: &mut [f64], c0: &[f64], c1: &[f64], c2: &[f64], tau: f64) = quadratic_body;
+}
+
+#[inline(always)]
 fn flow_body<const F: bool>(q: &mut [f64], v: &mut [f64], m: &[[f64; 4]]) {
     for ((qi, vi), c) in q.iter_mut().zip(v.iter_mut()).zip(m) {
         let (q0, v0) = (*qi, *vi);

@@ -120,6 +120,15 @@ pub struct Workspace {
     /// block of modes per wire), the mean included.
     pub(crate) wind_p: Vec<f64>,
     pub(crate) wind_q: Vec<f64>,
+    /// Crosswind: the field interval whose forces `wind_c` holds (a pure function of it, so
+    /// any step in the interval may fill it), and whether they are a quadratic in the
+    /// interval's fraction (false when the normal wind changes sign at a grid point: each step
+    /// then scatters its own pressures).
+    pub(crate) wind_interval: Option<usize>,
+    pub(crate) wind_quadratic: bool,
+    /// `[A0 | A1 | A2]`, each `k·n`: the generalised forces `A0 + τ A1 + τ² A2` (the mean in
+    /// `A0`).
+    pub(crate) wind_c: Vec<f64>,
 }
 
 impl Workspace {
