@@ -270,14 +270,13 @@ mod wind_tests {
         case.run.analysis_m = [60.0, 180.0];
         case.run.allow_start_transient = true;
         let setup = Setup::from_case(&case).unwrap();
-        for portable in [false, true] {
+        for isa in [kernels::Isa::best_available(), kernels::Isa::Portable] {
+            // The whole model on that path: its samplers' scatters as well as the quadratic.
+            let mut setup = setup.clone();
+            setup.options.isa = isa;
             let integ = setup.integrator().unwrap();
             let cm = integ.compiled();
-            let isa = if portable {
-                kernels::Isa::Portable
-            } else {
-                kernels::Isa::best_available()
-            };
+            assert_eq!(cm.isa, isa);
             let mut wl = setup.model.wind.clone().unwrap();
             let w = cm.wind.as_ref().unwrap();
             let mut ws = integ.workspace();
