@@ -56,9 +56,11 @@ int pcsim_rt_check_input(PcsimRt *rt, double force_n, double track_position_m, c
 double pcsim_rt_dt(const PcsimRt *rt);
 double pcsim_rt_start_position(const PcsimRt *rt);
 
-/* Save the state into buf (at least pcsim_rt_state_size bytes); restore continues bit for bit. */
+/* Save the state into buf (at least pcsim_rt_state_size bytes; *written, when not NULL, receives
+ * the bytes written: on a line the windows differ in size, so a state may be shorter); restore
+ * takes that length or any length up to pcsim_rt_state_size, and continues bit for bit. */
 size_t pcsim_rt_state_size(const PcsimRt *rt);
-int pcsim_rt_save(PcsimRt *rt, uint8_t *buf, size_t len);
+int pcsim_rt_save(PcsimRt *rt, uint8_t *buf, size_t len, size_t *written);
 int pcsim_rt_restore(PcsimRt *rt, const uint8_t *buf, size_t len, char *err, size_t err_len);
 
 /* Free the catenary (NULL is a no-op). */

@@ -31,7 +31,12 @@ the crosswind preset's hashes made again when its fluctuating pressures became o
 field interval (three scatters per interval instead of one per step, the same law expanded),
 issue 23: its statistics within 1.8e-13 relative of the previous build's on both kernel paths,
 its lateral offsets and head margins within 2e-16, its time series and stability estimate the
-same bytes, every other preset's hashes unchanged),
+same bytes, every other preset's hashes unchanged); every summary hash made again when summary.json
+gained `uplift_datum` (issue 39, item 3: what the uplift at the supports is measured from),
+compared first against the previous build on both kernel paths: every summary the same but for
+that added line, except the crosswind preset's `max_uplift_at_support_mm`, now measured from the
+loaded static position (the mean wind's lift: 53.350 -> 53.303 mm and 54.749 -> 54.702 mm), every
+timeseries.csv the same bytes,
 and for each
 kernel path
 (`portable`: PCSIM_PORTABLE=1, the same bytes on every machine; `avx2`: x86-64-v3 with fused

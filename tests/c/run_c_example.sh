@@ -52,3 +52,10 @@ for g, w in zip(got, want):
 bad = [w[1] for w in want if w[1] != "ok"]
 print(f"C API on the real-time golden: {len(got)} rows, statuses and outputs identical; refused: {', '.join(bad)}")
 PY
+
+# The README's warm-start pattern on a line of several tension lengths (issue 39, item 4), linked
+# against the static library (no LD_LIBRARY_PATH): the saved state is shorter than
+# pcsim_rt_state_size there, and restore takes either length and continues bit for bit.
+cc -std=c99 -Wall -Wextra -Werror "$root/examples/c/warm_start.c" -I"$root/include" \
+  "$target/libpcsim_capi.a" -lm -lpthread -ldl -o "$work/warm_start"
+"$work/warm_start" en50318-2018-like-simple 240 8000

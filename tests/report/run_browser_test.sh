@@ -19,7 +19,7 @@ trap 'rm -rf "$work"' EXIT
 # The assessment (issue 22, item 3) into the run's directory; it makes the report again.
 "$pcsim" assess "$work/run" --system ac >/dev/null
 "$pcsim" eva --preset syt-7.0-9.8 --speed 150,222 --tension 9.8 --report --quiet --out "$work/eva" >/dev/null
-"$pcsim" window --preset syt-7.0-9.8 --speed 150,222 --tension 9.8 --report --quiet --out "$work/window" >/dev/null
+"$pcsim" window --preset syt-7.0-9.8 --speed 150,222 --tension 9.8 --max-window 260 --resolution 5 --report --quiet --out "$work/window" >/dev/null
 "$pcsim" realtime --preset syt-7.0-9.8 --window 160,240 --quiet --out "$work/realtime" >/dev/null
 "$pcsim" report "$work/realtime" >/dev/null
 "$pcsim" run "$root/examples/cases/syt-irregular.toml" --seeds 4 --plot --quiet --out "$work/montecarlo" >/dev/null

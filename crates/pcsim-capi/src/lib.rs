@@ -304,13 +304,20 @@ pub unsafe extern "C" fn pcsim_rt_state_size(h: *const PcsimRt) -> usize {
 
 /// Save the state into `buf` (`len` ≥ `pcsim_rt_state_size`) in the core's one state format:
 /// the window's place, every modal coordinate, the last input and output, a checksum; restoring
-/// it continues bit for bit.
+/// it continues bit for bit. `*written` (when not NULL) receives the state's length in bytes: on
+/// a line of several tension lengths the windows differ in size, so a state may be shorter than
+/// `pcsim_rt_state_size` (restore takes either length).
 ///
 /// # Safety
 /// `h` is NULL or a live handle used by no other thread meanwhile; `buf` is NULL or holds `len`
-/// writable bytes.
+/// writable bytes; `written` is NULL or points to a writable `size_t`.
 #[no_mangle]
-pub unsafe extern "C" fn pcsim_rt_save(h: *mut PcsimRt, buf: *mut u8, len: usize) -> c_int {
+pub unsafe extern "C" fn pcsim_rt_save(
+    h: *mut PcsimRt,
+    buf: *mut u8,
+    len: usize,
+    written: *mut usize,
+) -> c_int {
     // SAFETY: the handle's contract is the caller's, passed on.
     unsafe {
         with(h, |h| {
@@ -326,6 +333,10 @@ pub unsafe extern "C" fn pcsim_rt_save(h: *mut PcsimRt, buf: *mut u8, len: usize
             // SAFETY: `buf` holds `len ≥ b.len()` writable bytes (the caller's contract) and
             // cannot overlap the fresh vector.
             std::ptr::copy_nonoverlapping(b.as_ptr(), buf, b.len());
+            if !written.is_null() {
+                // SAFETY: `written` points to a writable `size_t` (the caller's contract).
+                *written = b.len();
+            }
             PCSIM_OK
         })
     }
@@ -333,7 +344,9 @@ pub unsafe extern "C" fn pcsim_rt_save(h: *mut PcsimRt, buf: *mut u8, len: usize
 
 /// Restore a state saved by `pcsim_rt_save` of the same case, window and version (else
 /// `PCSIM_ERR_STATE` with the reason in `err`: another configuration or format version,
-/// truncated, or damaged by even one byte; the catenary is unchanged).
+/// truncated, or damaged by even one byte; the catenary is unchanged). `len` is the length
+/// `pcsim_rt_save` wrote, or any length up to `pcsim_rt_state_size` (the buffer it was saved
+/// into): the state's own header says how much of it is the state.
 ///
 /// # Safety
 /// `h` is NULL or a live handle used by no other thread meanwhile; `buf` is NULL or holds `len`

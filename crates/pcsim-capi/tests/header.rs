@@ -19,6 +19,7 @@ fn c_type(rust: &str) -> String {
         "*mut f64" => "double *".into(),
         "*mut u8" => "uint8_t *".into(),
         "*const u8" => "const uint8_t *".into(),
+        "*mut usize" => "size_t *".into(),
         "" | "()" => "void".into(),
         other => panic!("no C spelling for Rust type `{other}`"),
     }

@@ -101,7 +101,10 @@ fn save_and_restore_continue_bit_for_bit_and_foreign_states_are_refused() {
     run(h, 0, 1000);
     let n = unsafe { pcsim_rt_state_size(h) };
     let mut buf = vec![0u8; n];
-    assert_eq!(unsafe { pcsim_rt_save(h, buf.as_mut_ptr(), n) }, PCSIM_OK);
+    assert_eq!(
+        unsafe { pcsim_rt_save(h, buf.as_mut_ptr(), n, std::ptr::null_mut()) },
+        PCSIM_OK
+    );
     let a = run(h, 1000, 1000);
     let mut err = [0i8; 256];
     assert_eq!(
@@ -132,19 +135,19 @@ fn save_and_restore_continue_bit_for_bit_and_foreign_states_are_refused() {
     );
     let mut small = vec![0u8; n - 1];
     assert_eq!(
-        unsafe { pcsim_rt_save(h, small.as_mut_ptr(), n - 1) },
+        unsafe { pcsim_rt_save(h, small.as_mut_ptr(), n - 1, std::ptr::null_mut()) },
         PCSIM_ERR_ARGUMENT
     );
     // A caller's length far beyond the state's size is not an allocation request.
     assert_eq!(
-        unsafe { pcsim_rt_save(h, buf.as_mut_ptr(), usize::MAX / 2) },
+        unsafe { pcsim_rt_save(h, buf.as_mut_ptr(), usize::MAX / 2, std::ptr::null_mut()) },
         PCSIM_OK
     );
     // A refused input leaves the catenary as it was: the saved bytes are the same.
     let (mut y, mut v) = (0.0, 0.0);
     let mut before = vec![0u8; n];
     assert_eq!(
-        unsafe { pcsim_rt_save(h, before.as_mut_ptr(), n) },
+        unsafe { pcsim_rt_save(h, before.as_mut_ptr(), n, std::ptr::null_mut()) },
         PCSIM_OK
     );
     assert_eq!(
@@ -152,7 +155,10 @@ fn save_and_restore_continue_bit_for_bit_and_foreign_states_are_refused() {
         PCSIM_ERR_INPUT
     );
     let mut after = vec![0u8; n];
-    assert_eq!(unsafe { pcsim_rt_save(h, after.as_mut_ptr(), n) }, PCSIM_OK);
+    assert_eq!(
+        unsafe { pcsim_rt_save(h, after.as_mut_ptr(), n, std::ptr::null_mut()) },
+        PCSIM_OK
+    );
     assert_eq!(before, after);
     let d = run(h, 2000, 1000);
     assert_ne!(d.0.to_bits(), 0);
@@ -246,4 +252,57 @@ fn a_case_file_of_unbounded_size_is_refused_at_the_limit() {
     assert!(msg.contains("/dev/zero") && msg.contains("limit"), "{msg}");
     assert!(t0.elapsed() < std::time::Duration::from_secs(30));
     assert!(rss_kib() < 2 * 1024 * 1024, "{} KiB resident", rss_kib());
+}
+
+/// Issue 39, item 4: the README's warm-start pattern on a line of several tension lengths. The
+/// windows along a line differ in size, so `pcsim_rt_state_size` (the largest) is longer than a
+/// saved state: `pcsim_rt_save` says how many bytes it wrote, and `pcsim_rt_restore` takes that
+/// length or the buffer's whole `pcsim_rt_state_size`, right after the save and after the window
+/// has moved on, and continues bit for bit.
+#[test]
+fn issue_39_4_the_readme_warm_start_pattern_restores_on_a_line() {
+    let name = CString::new("en50318-2018-like-simple").unwrap();
+    let mut err = [0i8; 256];
+    let h = unsafe { pcsim_rt_new(name.as_ptr(), 0, 240.0, err.as_mut_ptr(), err.len()) };
+    assert!(!h.is_null());
+    let n = unsafe { pcsim_rt_state_size(h) };
+    let mut warm = vec![0u8; n];
+    let mut used = 0usize;
+    run(h, 0, 200);
+    assert_eq!(
+        unsafe { pcsim_rt_save(h, warm.as_mut_ptr(), n, &mut used) },
+        PCSIM_OK
+    );
+    // On this line the first window is shorter than the largest: the case that failed.
+    assert!(used > 40 && used < n, "written {used} of {n}");
+    // The state format's own length is the one written.
+    assert_eq!(
+        u64::from_le_bytes(warm[24..32].try_into().unwrap()) as usize + 40,
+        used
+    );
+    let restore = |len: usize| {
+        let mut e = [0i8; 256];
+        unsafe { pcsim_rt_restore(h, warm.as_ptr(), len, e.as_mut_ptr(), e.len()) }
+    };
+    // Right after the save, with the buffer's whole length (the README's pattern) and with the
+    // length written.
+    assert_eq!(restore(n), PCSIM_OK);
+    assert_eq!(restore(used), PCSIM_OK);
+    // Far enough for the window to move (a 240 m window at 222 km/h: several moves).
+    let a = run(h, 200, 8000);
+    assert_eq!(restore(n), PCSIM_OK);
+    let b = run(h, 200, 8000);
+    assert_eq!(
+        (a.0.to_bits(), a.1.to_bits()),
+        (b.0.to_bits(), b.1.to_bits())
+    );
+    // A length beyond the session's largest state, or short of the state, is still refused.
+    let mut long = warm.clone();
+    long.resize(n + 1, 0);
+    assert_eq!(
+        unsafe { pcsim_rt_restore(h, long.as_ptr(), n + 1, err.as_mut_ptr(), err.len()) },
+        PCSIM_ERR_STATE
+    );
+    assert_eq!(restore(used - 1), PCSIM_ERR_STATE);
+    unsafe { pcsim_rt_free(h) };
 }

@@ -167,15 +167,35 @@ pub fn jobs_flag(jobs: Option<usize>) -> Result<()> {
     Ok(())
 }
 
-/// `--threads N` of one run, by the core's rule (`team::usable_threads`): 1 to 16, capped at
-/// this machine's cores with a note.
-pub fn threads_flag(threads: usize) -> Result<usize> {
-    let n = pcsim_core::solve::team::usable_threads(threads)
-        .map_err(|e| anyhow::anyhow!("--threads {e}"))?;
+/// `--threads N` of one run, by the core's rules: 1 to 16, capped at this machine's cores with a
+/// note (`team::usable_threads`), and, when `busy_fallback`, fewer when the cores are busy with
+/// other work, measured over 0.2 s before the run (`team::idle_cores`, `team::threads_for_idle`),
+/// with a note that says why. Without `busy_fallback` (a benchmark) a busy machine is only warned
+/// about.
+pub fn threads_flag(threads: usize, busy_fallback: bool) -> Result<usize> {
+    use pcsim_core::solve::team;
+    let n = team::usable_threads(threads).map_err(|e| anyhow::anyhow!("--threads {e}"))?;
     if n < threads {
         eprintln!("note: --threads {threads}: capped at this machine's {n} core(s)");
     }
-    Ok(n)
+    if n == 1 {
+        return Ok(n);
+    }
+    let (m, why) =
+        team::threads_for_idle(n, team::idle_cores(std::time::Duration::from_millis(200)));
+    match why {
+        Some(why) if busy_fallback => {
+            eprintln!("note: --threads {threads}: {why}");
+            Ok(m)
+        }
+        Some(why) => {
+            eprintln!(
+                "warning: --threads {threads}: {why} (not applied here: the benchmark runs on {n})"
+            );
+            Ok(n)
+        }
+        None => Ok(n),
+    }
 }
 
 /// The sweep flags shared by `eva` and `window`: speeds (km/h unless a unit is given), contact-

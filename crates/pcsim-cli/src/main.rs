@@ -6,6 +6,7 @@ mod common;
 mod output;
 mod plot;
 mod progress;
+mod svg_safe;
 mod sweep_dir;
 
 use clap::{Parser, Subcommand};

@@ -33,7 +33,11 @@ pub fn write_file(path: &Path, bytes: impl AsRef<[u8]>) -> Result<()> {
 pub fn write_file_atomic(path: &Path, bytes: impl AsRef<[u8]>) -> Result<()> {
     let name = path.file_name().unwrap_or_default().to_string_lossy();
     let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
-    write_file(&tmp, bytes)?;
+    if let Err(e) = write_file(&tmp, bytes) {
+        // A full disk or a file-size limit: no temporary file is left behind.
+        let _ = std::fs::remove_file(&tmp);
+        return Err(e);
+    }
     std::fs::rename(&tmp, path).with_context(|| {
         let _ = std::fs::remove_file(&tmp);
         format!("cannot move {} into place", path.display())
@@ -174,14 +178,62 @@ fn files_under(dir: &Path) -> Result<Vec<String>> {
     Ok(out)
 }
 
-/// Mark the manifest of `dir` complete, listing every file now in it (written through a rename:
-/// the manifest is the last file to change).
+/// The FNV-1a 64-bit hash of a file's bytes (read in chunks), as 16 hexadecimal digits: what the
+/// manifest records of each file, so that a file changed after pcsim wrote it is detected
+/// ([`edited_files`]). Not cryptographic: it detects an edit, not an attack (the report never
+/// trusts a figure's content anyway: it is sanitised).
+pub fn file_hash(path: &Path) -> Result<String> {
+    use std::io::Read;
+    let mut f =
+        std::fs::File::open(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let mut h = pcsim_core::fingerprint::FNV1A64_START;
+    let mut buf = vec![0u8; 1 << 16];
+    loop {
+        let n = f
+            .read(&mut buf)
+            .with_context(|| format!("cannot read {}", path.display()))?;
+        if n == 0 {
+            break;
+        }
+        h = pcsim_core::fingerprint::fnv1a64_continue(h, &buf[..n]);
+    }
+    Ok(format!("{h:016x}"))
+}
+
+/// The key of the manifest's file hashes.
+const HASHES: &str = "fnv1a64";
+
+/// The files of a complete directory whose bytes are no longer those the manifest recorded
+/// (edited, replaced or truncated after pcsim wrote them), or are missing; files written before
+/// the manifest recorded hashes are not judged.
+pub fn edited_files(dir: &Path, m: &Manifest) -> Vec<String> {
+    let Some(h) = m.value[HASHES].as_object() else {
+        return Vec::new();
+    };
+    let mut out: Vec<String> = h
+        .iter()
+        .filter(|(f, want)| {
+            *f != "report.html" && file_hash(&dir.join(f)).ok().as_deref() != want.as_str()
+        })
+        .map(|(f, _)| f.clone())
+        .collect();
+    out.sort();
+    out
+}
+
+/// Mark the manifest of `dir` complete, listing every file now in it with its hash (written
+/// through a rename: the manifest is the last file to change).
 pub fn complete_manifest(dir: &Path) -> Result<()> {
     let mut m = read_manifest(dir)?
         .with_context(|| format!("{}: no {MANIFEST} to complete", dir.display()))?;
     let files = files_under(dir)?;
+    let mut hashes = serde_json::Map::new();
+    for f in &files {
+        hashes.insert(f.clone(), file_hash(&dir.join(f))?.into());
+    }
     if let Some(o) = m.as_object_mut() {
         o.insert("files".into(), serde_json::json!(files));
+        o.insert(HASHES.into(), serde_json::Value::Object(hashes));
         o.insert("complete".into(), serde_json::Value::Bool(true));
     }
     write_file_atomic(
@@ -196,17 +248,24 @@ pub fn complete_manifest(dir: &Path) -> Result<()> {
 pub fn add_to_manifest(dir: &Path, figures: &[PathBuf]) -> Result<()> {
     let m = read_complete_manifest(dir)?;
     let mut files = m.files;
+    let mut v = m.value;
+    let mut hashes = v[HASHES].as_object().cloned();
     for f in figures {
         let rel = f.strip_prefix(dir).unwrap_or(f);
         let rel = rel.to_string_lossy().replace('\\', "/");
+        if let Some(h) = hashes.as_mut() {
+            h.insert(rel.clone(), file_hash(&dir.join(&rel))?.into());
+        }
         if !files.contains(&rel) {
             files.push(rel);
         }
     }
     files.sort();
-    let mut v = m.value;
     if let Some(o) = v.as_object_mut() {
         o.insert("files".into(), serde_json::json!(files));
+        if let Some(h) = hashes {
+            o.insert(HASHES.into(), serde_json::Value::Object(h));
+        }
     }
     write_file_atomic(
         &dir.join(MANIFEST),
@@ -370,7 +429,22 @@ pub struct OutDir {
 
 impl OutDir {
     /// Lock `target`, check that it may be replaced, and make a fresh staging directory beside it.
+    /// A `target` that is a symbolic link is followed: the output replaces the directory it
+    /// points to (the link itself stays).
     pub fn begin(target: &Path) -> Result<OutDir> {
+        let resolved;
+        let target = match std::fs::symlink_metadata(target) {
+            Ok(md) if md.file_type().is_symlink() => {
+                resolved = std::fs::canonicalize(target).with_context(|| {
+                    format!(
+                        "--out {} is a symbolic link to nothing (its target is missing): create its target directory, or choose another --out",
+                        target.display()
+                    )
+                })?;
+                resolved.as_path()
+            }
+            _ => target,
+        };
         if target.as_os_str().is_empty() || target.file_name().is_none() {
             bail!(
                 "--out `{}`: name a directory (not `.`, `..` or a root)",

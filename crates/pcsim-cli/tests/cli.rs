@@ -1019,7 +1019,13 @@ fn check_report(dir: &std::path::Path) -> String {
     let addresses: Vec<&str> = html
         .match_indices("http")
         .map(|(i, _)| &html[i..(i + 26).min(html.len())])
+        .filter(|a| !a.starts_with("http-equiv=\"Content-Securi"))
         .collect();
+    // Scripts are forbidden by the page's own policy too (issue 39, item 5).
+    assert!(
+        html.contains("<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; script-src 'none'"),
+        "no Content-Security-Policy"
+    );
     assert!(
         addresses
             .iter()

@@ -440,12 +440,23 @@ impl RealtimeSession {
             ));
         }
         let n = r.u64().map_err(|e| bad(&e))?;
-        if n != (bytes.len() - 40) as u64 {
+        let have = bytes.len() as u64 - 40;
+        if n > have {
             return Err(bad(&format!(
-                "the payload should be {n} bytes, {} are there",
-                bytes.len() as u64 - 40
+                "truncated: the payload should be {n} bytes, {have} are there"
             )));
         }
+        if n < have && bytes.len() > self.state_size() {
+            return Err(bad(&format!(
+                "the payload is {n} bytes and {} more follow it: more than this session's largest state ({} bytes)",
+                have - n,
+                self.state_size()
+            )));
+        }
+        // A buffer of the session's largest state size may hold a shorter state (a line's
+        // windows differ in size): the state is the header's length, the rest of the buffer is
+        // not read.
+        let bytes = &bytes[..40 + n as usize];
         let body = bytes.len() - 8;
         let sum = u64::from_le_bytes(bytes[body..].try_into().expect("8 bytes"));
         if fnv1a64(&bytes[..body]) != sum {

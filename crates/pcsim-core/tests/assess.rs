@@ -45,6 +45,7 @@ fn input(speed_kmh: f64, ratio: Option<f64>, pans: &[(f64, f64)]) -> AssessInput
                 head_half_width_m: None,
             })
             .collect(),
+        run_errors: Vec::new(),
     }
 }
 
@@ -266,4 +267,37 @@ status = "user"
     inp.pantographs[0].stats = None;
     let a = assess(&inp, &user, None);
     assert!(a.rows.iter().all(|r| r.verdict == NoValue));
+}
+
+/// Issue 39, item 1: a run's error-level events (summary.json's `errors`) reach the assessment:
+/// listed, said in the conclusion, and the run is not accepted even where every row with a
+/// verdict is met (`pcsim assess --strict` fails on it).
+#[test]
+fn issue_39_1_a_runs_error_events_are_assessed_and_not_accepted() {
+    let list = criteria::builtin();
+    let mut inp = input(250.0, Some(0.5), &[(160.0, 30.0)]);
+    let clean = assess(&inp, &list, Some(System::Ac));
+    assert!(clean.run_errors.is_empty());
+    inp.run_errors = vec!["pantograph p0: dewirement: the contact wire left the head".into()];
+    let a = assess(&inp, &list, Some(System::Ac));
+    assert_eq!(a.met, clean.met);
+    assert_eq!(a.not_met, clean.not_met);
+    assert_eq!(a.run_errors, inp.run_errors);
+    assert!(!a.passes());
+    assert!(
+        a.conclusion().contains("1 error-level event(s)"),
+        "{}",
+        a.conclusion()
+    );
+    // Read from a summary.json that has them (and from one that has none).
+    let json = r#"{"speed_kmh": 250.0, "speed_ratio": 0.5, "pantographs": [], "errors": ["pantograph x: dewirement"]}"#;
+    assert_eq!(
+        AssessInput::from_summary_json(json).unwrap().run_errors,
+        vec!["pantograph x: dewirement".to_string()]
+    );
+    let json = r#"{"speed_kmh": 250.0, "speed_ratio": 0.5, "pantographs": []}"#;
+    assert!(AssessInput::from_summary_json(json)
+        .unwrap()
+        .run_errors
+        .is_empty());
 }

@@ -265,3 +265,38 @@ fn a_journal_row_reads_back_to_the_same_evaluation() {
     assert_eq!(back, e);
     assert_eq!(back.values[1][0].unwrap().to_bits(), (-0.0f64).to_bits());
 }
+
+/// Issue 39, item 6: a journal row edited by hand (or damaged on disk) no longer matches its
+/// checksum and is refused, not trusted; the checksum is of every column before it.
+#[test]
+fn issue_39_6_an_edited_journal_row_is_refused_by_its_checksum() {
+    let d = design(SWARM);
+    let e = Evaluation {
+        index: 2,
+        phase: "search".into(),
+        batch: 0,
+        x: vec![100.0, 20000.0],
+        values: vec![vec![Some(30.0), Some(80.0)], vec![Some(25.0), Some(90.0)]],
+        objective: Some(30.0),
+        violation: 0.0,
+        violated: vec![],
+        error: None,
+        cost: 30.0,
+    };
+    let header = d.journal_header();
+    assert_eq!(header.last().map(String::as_str), Some("row_checksum"));
+    let row = d.journal_row(&e);
+    assert_eq!(d.journal_read(&header, &row).unwrap(), e);
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    for (name, value) in [("objective", "3.0"), ("cost", "3.0"), ("feasible", "false")] {
+        let mut edited = row.clone();
+        edited[col(name)] = value.into();
+        let err = d.journal_read(&header, &edited).unwrap_err().to_string();
+        assert!(err.contains("checksum"), "{name}: {err}");
+    }
+    // A damaged checksum is refused too.
+    let mut edited = row.clone();
+    let last = edited.len() - 1;
+    edited[last] = "0000000000000000".into();
+    assert!(d.journal_read(&header, &edited).is_err());
+}

@@ -334,3 +334,91 @@ fn an_iced_case_below_the_studied_mode_density_is_warned_about() {
     case.run.modes_per_m = Some(1.0);
     assert!(!warned(&case));
 }
+
+/// A short 3D stitched case (8 spans), with 10 mm of ice when `iced`.
+fn short_3d(iced: bool) -> Case {
+    let mut c = presets::load("stitched-2018-like-3d").unwrap().0;
+    c.catenary.spans = 8;
+    c.run.modes = None;
+    c.run.modes_per_m = Some(1.0);
+    c.run.start_m = 90.0;
+    c.run.end_m = 390.0;
+    c.run.analysis_m = [150.0, 330.0];
+    c.pantographs.truncate(1);
+    if iced {
+        c.catenary.ice = Some(IceCase {
+            density_kg_m3: 900.0,
+            contact_wire_m: 0.01,
+            messenger_m: 0.01,
+        });
+    }
+    c
+}
+
+/// Issue 39, item 3: the uplift at the supports of an iced run is measured from the iced static
+/// position (the wire sits tens of millimetres below its design height before the pantograph
+/// comes), not from the ice-free design height, and summary.json says which.
+#[test]
+fn issue_39_3_the_uplift_of_an_iced_run_is_measured_from_its_static_position() {
+    use pcsim_core::analysis::record::{run_case, UpliftDatum};
+    let bare = run_case(&short_3d(false), &mut |_| true).unwrap();
+    let iced = run_case(&short_3d(true), &mut |_| true).unwrap();
+    let up = |o: &pcsim_core::analysis::record::RunOutput| {
+        o.pantographs[0].stats.unwrap().max_uplift_at_support_mm
+    };
+    assert_eq!(bare.uplift_datum, UpliftDatum::DesignStaticPosition);
+    assert_eq!(iced.uplift_datum, UpliftDatum::LoadedStaticPosition);
+    // The same pantograph lifts the iced wire by a comparable amount (measured from the ice-free
+    // height it read zero: the lifted iced wire stayed below its design height).
+    assert!(up(&bare) > 20.0, "{}", up(&bare));
+    assert!(
+        up(&iced) > 0.5 * up(&bare) && up(&iced) < 2.0 * up(&bare),
+        "iced {} mm against ice-free {} mm",
+        up(&iced),
+        up(&bare)
+    );
+}
+
+/// Issue 39, item 3: the EVA's energy is the vibration about the static state. The catenary
+/// passed by a zero force has none: not under ice (its static sag used to count as a background
+/// of about 0.13 J/m along the whole line), and not in a turbulent crosswind (the wind's own
+/// vibration used to be summed with the pantograph's; it is now measured against a twin run
+/// without the pantographs, which a zero force leaves exactly equal).
+#[test]
+fn issue_39_3_ice_and_wind_add_no_vibration_energy_of_their_own_to_the_eva() {
+    use pcsim_core::analysis::eva::{run_eva, EvaSettings};
+    let eva = |case: &Case| {
+        let setup = Setup::from_case(case).unwrap();
+        run_eva(
+            &setup,
+            &EvaSettings {
+                snapshot_at_m: Some(240.0),
+                ..EvaSettings::default()
+            },
+            &mut |_| true,
+        )
+        .unwrap()
+    };
+    let iced = eva(&observed_by_a_zero_force(short_3d(true)));
+    assert!(
+        iced.snapshot.total_j < 1e-9 && iced.max.total_j < 1e-9,
+        "iced, no excitation: {} J",
+        iced.max.total_j
+    );
+    let mut windy = presets::load("stitched-2018-like-3d-crosswind").unwrap().0;
+    windy.catenary.spans = 8;
+    windy.run.modes = None;
+    windy.run.modes_per_m = Some(1.0);
+    windy.run.start_m = 90.0;
+    windy.run.end_m = 390.0;
+    windy.run.analysis_m = [150.0, 330.0];
+    let w = eva(&observed_by_a_zero_force(windy.clone()));
+    assert_eq!(
+        w.max.total_j, 0.0,
+        "the wind's own vibration is not the EVA's"
+    );
+    // With the pantograph, its part is there.
+    windy.pantographs.truncate(1);
+    let with = eva(&windy);
+    assert!(with.snapshot.total_j > 0.5, "{} J", with.snapshot.total_j);
+}

@@ -64,3 +64,28 @@ fn a_model_of_one_basis_group_stays_on_one_thread_with_the_same_bytes() {
         assert_eq!(bits(&one), bits(&two));
     }
 }
+
+/// Issue 39, item 9: `--threads N` on a machine whose cores are busy. The team's threads spin
+/// between the stages of a step, so a thread without an idle core stalls every stage: the rule
+/// takes the threads the idle cores can carry (within half a core), and says why; on idle cores,
+/// or for one thread, it changes nothing.
+#[test]
+fn issue_39_9_threads_fall_back_to_the_idle_cores_and_say_why() {
+    use pcsim_core::solve::team::{idle_cores, threads_for_idle};
+    assert_eq!(threads_for_idle(2, Some(1.9)), (2, None));
+    assert_eq!(threads_for_idle(2, Some(1.6)), (2, None));
+    let (n, why) = threads_for_idle(2, Some(0.9));
+    assert_eq!(n, 1);
+    assert!(why
+        .unwrap()
+        .contains("0.9 of this machine's cores were idle"));
+    assert_eq!(threads_for_idle(4, Some(2.2)).0, 2);
+    assert_eq!(threads_for_idle(4, Some(0.1)).0, 1, "never fewer than one");
+    assert_eq!(threads_for_idle(1, Some(0.0)), (1, None));
+    assert_eq!(threads_for_idle(3, None), (3, None), "unknown: as asked");
+    // The measurement itself: a fraction of the cores this process may use.
+    if let Some(idle) = idle_cores(std::time::Duration::from_millis(50)) {
+        let cores = std::thread::available_parallelism().unwrap().get() as f64;
+        assert!((0.0..=cores).contains(&idle), "{idle} of {cores}");
+    }
+}

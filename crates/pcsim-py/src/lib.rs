@@ -10,7 +10,9 @@ use pyo3::types::{PyDict, PyList, PyTuple};
 
 use pcsim_core::analysis::eva::{EvaRow, EvaSettings};
 use pcsim_core::analysis::record::{simulate, RunOutput};
-use pcsim_core::analysis::report::{timeseries_columns, RunSummary};
+use pcsim_core::analysis::report::{
+    run_errors, timeseries_columns, AllowedErrors, RunErrorKind, RunSummary,
+};
 use pcsim_core::analysis::sweep::{parallel_map, Grid};
 use pcsim_core::analysis::sweep::{Job, Shard};
 use pcsim_core::analysis::sweeps::{
@@ -186,13 +188,16 @@ fn to_py<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, PyAny>> {
     })
 }
 
-/// A run handed to Python: the summary as JSON text and the time-series columns.
+/// A run handed to Python: the summary as JSON text, the time-series columns, and the message
+/// of the first error-level event that `allowed` does not accept (None: the run is accepted;
+/// the Python half raises `RunEventError` with the result, as the CLI exits 2 with its outputs).
 fn hand_over<'py>(
     py: Python<'py>,
     out: &RunOutput,
     case: &pcsim_core::Case,
     wall_s: f64,
     warnings: Vec<String>,
+    allowed: AllowedErrors,
 ) -> PyResult<Bound<'py, PyTuple>> {
     let summary = RunSummary::new(case, out, wall_s, Vec::new(), warnings);
     let json = serde_json::to_string(&summary).map_err(err)?;
@@ -200,7 +205,25 @@ fn hand_over<'py>(
     for c in timeseries_columns(out) {
         cols.append((c.name, c.values.into_pyarray(py)))?;
     }
-    PyTuple::new(py, [json.into_pyobject(py)?.into_any(), cols.into_any()])
+    let errors = run_errors(out);
+    let refused = allowed.first_refused(&errors).map(|e| {
+        let arg = match e.kind {
+            RunErrorKind::Dewirement => "allow_dewirement=True",
+            RunErrorKind::ContactLoss => "allow_contact_loss=True",
+        };
+        format!(
+            "{} (the result is attached as .result; pass {arg} to accept the run)",
+            e.message
+        )
+    });
+    PyTuple::new(
+        py,
+        [
+            json.into_pyobject(py)?.into_any(),
+            cols.into_any(),
+            refused.into_pyobject(py)?.into_any(),
+        ],
+    )
 }
 
 fn run_core(case: &pcsim_core::Case) -> Result<(RunOutput, f64, Vec<String>), String> {
@@ -225,11 +248,36 @@ fn run_core_with(
 /// raises `KeyboardInterrupt`. `threads`: the run's threads (the core's `team::usable_threads`
 /// rule; the same numbers on any count).
 #[pyfunction]
-#[pyo3(signature = (case, threads=1))]
-fn run<'py>(py: Python<'py>, case: &Case, threads: usize) -> PyResult<Bound<'py, PyTuple>> {
+#[pyo3(signature = (case, threads=1, allow_dewirement=false, allow_contact_loss=false))]
+fn run<'py>(
+    py: Python<'py>,
+    case: &Case,
+    threads: usize,
+    allow_dewirement: bool,
+    allow_contact_loss: bool,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let allowed = AllowedErrors {
+        dewirement: allow_dewirement,
+        contact_loss: allow_contact_loss,
+    };
     guarded(|| {
-        let threads = pcsim_core::solve::team::usable_threads(threads)
+        use pcsim_core::solve::team;
+        let threads = team::usable_threads(threads)
             .map_err(|e| PyValueError::new_err(format!("threads={e}")))?;
+        // Busy cores: fewer threads, and a RuntimeWarning that says why (the CLI's rule).
+        let threads = if threads > 1 {
+            let (n, why) = team::threads_for_idle(
+                threads,
+                team::idle_cores(std::time::Duration::from_millis(200)),
+            );
+            if let Some(why) = why {
+                let cat = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+                PyErr::warn(py, &cat, &std::ffi::CString::new(why).map_err(err)?, 1)?;
+            }
+            n
+        } else {
+            threads
+        };
         let c = case.inner.clone();
         let mut interrupted: Option<PyErr> = None;
         let res = py.detach(|| {
@@ -252,25 +300,31 @@ fn run<'py>(py: Python<'py>, case: &Case, threads: usize) -> PyResult<Bound<'py,
             return Err(e);
         }
         let (out, wall, warnings) = res.map_err(err)?;
-        hand_over(py, &out, &case.inner, wall, warnings)
+        hand_over(py, &out, &case.inner, wall, warnings, allowed)
     })
 }
 
 /// Run several cases on up to `jobs` threads (all cores by default), in order.
 #[pyfunction]
-#[pyo3(signature = (cases, jobs=None))]
+#[pyo3(signature = (cases, jobs=None, allow_dewirement=false, allow_contact_loss=false))]
 fn run_many<'py>(
     py: Python<'py>,
     cases: Vec<Case>,
     jobs: Option<usize>,
+    allow_dewirement: bool,
+    allow_contact_loss: bool,
 ) -> PyResult<Bound<'py, PyList>> {
+    let allowed = AllowedErrors {
+        dewirement: allow_dewirement,
+        contact_loss: allow_contact_loss,
+    };
     guarded(|| {
         let inner: Vec<pcsim_core::Case> = cases.iter().map(|c| c.inner.clone()).collect();
         let outs = py.detach(move || parallel_map(&inner, jobs, run_core));
         let list = PyList::empty(py);
         for (o, c) in outs.into_iter().zip(&cases) {
             let (out, wall, w) = o.map_err(err)?;
-            list.append(hand_over(py, &out, &c.inner, wall, w)?)?;
+            list.append(hand_over(py, &out, &c.inner, wall, w, allowed)?)?;
         }
         Ok(list)
     })
@@ -351,7 +405,7 @@ fn eva(
 /// `window.csv` as JSON text, by the core's one sweep (the CLI's `pcsim window`). The case's
 /// leading pantograph is used; tolerances in %, lengths in m.
 #[pyfunction]
-#[pyo3(signature = (case, speeds_kmh, tensions_n, mean_tol_pct=1.0, sigma_tol_pct=3.0, max_tol_pct=5.0, min_window_m=None, max_window_m=400.0, coarse_m=20.0, resolution_m=1.0, jobs=None, seeds=None, shard=None, max_steps=None, max_memory_gb=None, full_scan=false))]
+#[pyo3(signature = (case, speeds_kmh, tensions_n, mean_tol_pct=1.0, sigma_tol_pct=3.0, max_tol_pct=5.0, min_window_m=None, max_window_m=400.0, coarse_m=20.0, resolution_m=1.0, jobs=None, seeds=None, shard=None, max_steps=None, max_memory_gb=None, full_scan=true))]
 #[allow(clippy::too_many_arguments)]
 fn window(
     py: Python<'_>,
@@ -582,6 +636,9 @@ fn design(
             return Err(e);
         }
         let r = result.map_err(err)?;
+        if let Some(e) = r.confirmation_error(&d) {
+            return Err(err(e));
+        }
         Ok((serde_json::to_string(&r.to_json(&d)).map_err(err)?, header))
     })
 }

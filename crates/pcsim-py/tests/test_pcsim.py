@@ -254,7 +254,7 @@ def _same(a, b):
 def test_window_rows_match_the_golden_of_the_cli():
     """Issue 18: pcsim.window is the CLI's window sweep (the golden rows of pcsim window)."""
     rows = pcsim.window(pcsim.Case.preset("syt-7.0-9.8"), [150.0], [9800.0], max_window_m=240.0,
-                        coarse_m=40.0, resolution_m=10.0)
+                        coarse_m=40.0, resolution_m=10.0, coarse_only=True)
     want = _golden_rows("window.csv")
     assert len(rows) == len(want) == 1
     for k, v in want[0].items():
@@ -336,3 +336,56 @@ def test_design_on_a_dask_local_cluster_gives_the_local_answer(tmp_path):
         answer = pcsim.design(str(spec), client=client, journal=str(journal))
     assert answer == cli_answer
     assert journal.read_bytes() == cli_journal
+
+
+def _lossy_case():
+    """Short SYT with 8 mm of irregularity: contact lost over more than 10 % of the section."""
+    case = pcsim.Case.preset("syt-7.0-9.8").with_overrides({
+        "catenary.spans": 8, "run.modes": 480, "run.start_m": 60.0, "run.end_m": 400.0,
+        "run.analysis_m": [180.0, 300.0]})
+    return pcsim.Case.from_toml(case.to_toml() + (
+        '\n[[irregularity]]\nkind = "psd"\nrms_m = 0.008\nmin_wavelength_m = 2.0\n'
+        'max_wavelength_m = 60.0\nexponent = 2.0\nseed = 1\n'))
+
+
+def test_issue_39_1_an_error_event_raises_with_the_result_as_the_cli_exits_2(tmp_path):
+    case = _lossy_case()
+    with pytest.raises(pcsim.RunEventError, match="allow_contact_loss=True") as e:
+        pcsim.run(case)
+    assert isinstance(e.value, ValueError)
+    assert e.value.result.errors and "contact lost over" in e.value.result.errors[0]
+    res = pcsim.run(case, allow_contact_loss=True)
+    assert res.errors == e.value.result.errors
+    with pytest.raises(pcsim.RunEventError):
+        pcsim.sweep([case])
+    swept = pcsim.sweep([case], allow_contact_loss=True)[0]
+    assert swept.summary["pantographs"] == res.summary["pantographs"]
+    # The CLI refuses the same run with the same event; its summary carries it too.
+    path = tmp_path / "lossy.toml"
+    path.write_text(case.to_toml())
+    out = tmp_path / "cli"
+    p = subprocess.run([PCSIM, "run", str(path), "--quiet", "--out", str(out)], capture_output=True, text=True)
+    assert p.returncode == 2 and "--allow-contact-loss" in p.stderr
+    with open(out / "summary.json") as f:
+        assert json.load(f)["errors"] == res.errors
+    # The assessment lists the event; the run is not accepted.
+    a = pcsim.assess(res, system="ac")
+    assert a["run_errors"] == res.errors
+    # The exception pickles with its result (it crosses from Dask workers).
+    back = pickle.loads(pickle.dumps(e.value))
+    assert back.result.errors == res.errors
+
+
+def test_issue_39_9_a_missing_path_is_not_read_as_toml_text(tmp_path):
+    res = pcsim.run(short_case())
+    with pytest.raises(FileNotFoundError, match="criteria: no such file"):
+        pcsim.assess(res, criteria=str(tmp_path / "missing.toml"))
+    with pytest.raises(FileNotFoundError, match="spec: no such file"):
+        pcsim.design(str(tmp_path / "missing-spec.toml"))
+    # A path object or an existing path is read; TOML text is text.
+    crit = tmp_path / "crit.toml"
+    crit.write_text('[[criterion]]\nid = "mine"\nquantity = "mean_force_n"\nkind = "max"\n'
+                    'limit = 1000.0\nclause = "c"\nsource = "s"\nstatus = "user"\n')
+    for given in (crit, str(crit), crit.read_text()):
+        rows = {r["id"]: r for r in pcsim.assess(res, criteria=given)["rows"]}
+        assert rows["mine"]["verdict"] == "met"

@@ -25,8 +25,9 @@ pub struct AssessArgs {
     /// same id.
     #[arg(long, value_name = "FILE")]
     criteria: Option<PathBuf>,
-    /// Exit with status 1 when a criterion is not met (by default the status is 0 whenever the
-    /// assessment is made).
+    /// Exit with status 1 when a criterion is not met or the run had an error-level event (a
+    /// dewirement, contact lost over 10 %); by default the status is 0 whenever the assessment
+    /// is made.
     #[arg(long)]
     strict: bool,
 }
@@ -59,7 +60,7 @@ pub fn run(a: AssessArgs) -> Result<i32> {
         let p = crate::cmd::report::write(&a.dir)?;
         println!("wrote {}", p.display());
     }
-    Ok(if a.strict && result.not_met > 0 { 1 } else { 0 })
+    Ok(if a.strict && !result.passes() { 1 } else { 0 })
 }
 
 /// What the run's `summary.json` gives the assessment.
@@ -94,6 +95,9 @@ fn print(r: &Assessment) {
         r.speed_kmh,
         r.system.unwrap_or("not given (--system)")
     );
+    for e in &r.run_errors {
+        println!("  ERROR of the run: {e}");
+    }
     println!(
         "  {:<22} {:<10} {:>10} {:>12} {:<16} {:<15}",
         "criterion", "pantograph", "value", "limit", "verdict", "status"

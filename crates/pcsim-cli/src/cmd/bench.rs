@@ -113,7 +113,7 @@ pub fn bench(a: BenchArgs, ctx: &Ctx) -> Result<i32> {
     };
     let case = apply(&case, &overrides)?;
     let ctx = &Ctx {
-        threads: crate::common::threads_flag(a.threads)?,
+        threads: crate::common::threads_flag(a.threads, false)?,
         ..*ctx
     };
     let speed = case.run.speed_kmh;

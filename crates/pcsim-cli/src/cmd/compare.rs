@@ -31,6 +31,10 @@ pub struct CompareArgs {
     /// No figures.
     #[arg(long)]
     no_plot: bool,
+    /// Exit with status 1 when the alignment is doubtful (a correlation below 0.5, or the shift
+    /// at the edge of the search range); by default it is a warning in the outputs.
+    #[arg(long)]
+    strict: bool,
 }
 
 pub fn compare(a: CompareArgs) -> Result<i32> {
@@ -92,6 +96,8 @@ pub fn compare(a: CompareArgs) -> Result<i32> {
             "pantograph": trace.name,
             "case": run.case_name,
             "speed_kmh": run.speed_kmh,
+            "correlation": c.correlation,
+            "warnings": c.warnings,
         }),
     )?;
     let files = if a.no_plot {
@@ -138,6 +144,13 @@ pub fn compare(a: CompareArgs) -> Result<i32> {
     if !files.is_empty() {
         crate::plot::report(&files);
     }
+    for w in &c.warnings {
+        eprintln!("warning: {w}");
+    }
+    if a.strict && !c.warnings.is_empty() {
+        eprintln!("--strict: the alignment is doubtful (above); the outputs are written");
+        return Ok(1);
+    }
     Ok(0)
 }
 
@@ -145,6 +158,10 @@ fn write_outputs(dir: &Path, c: &Comparison) -> Result<()> {
     let mut t = String::from("quantity,run,measured,difference\n");
     let _ = writeln!(t, "shift_m,,{},", c.shift_m);
     let _ = writeln!(t, "correlation,,{},", c.correlation);
+    for w in &c.warnings {
+        // A doubtful alignment travels with the numbers it qualifies.
+        let _ = writeln!(t, "warning,,\"{}\",", w.replace('"', "'"));
+    }
     for ((name, s), (_, m)) in c.simulated.rows().iter().zip(c.measured.rows()) {
         let _ = writeln!(t, "{name},{s},{m},{}", m - s);
     }

@@ -332,10 +332,11 @@ pub fn design(a: DesignArgs, ctx: &Ctx) -> Result<i32> {
     )?;
     let shown = od.in_target(&files);
     od.commit()?;
+    let unconfirmed = result.confirmation_error(&d);
     println!(
         "wrote {}/design.csv, design.json, traces.csv{}",
         a.out.display(),
-        if result.best.is_some() {
+        if result.best.is_some() && unconfirmed.is_none() {
             ", best-case.toml"
         } else {
             ""
@@ -343,6 +344,9 @@ pub fn design(a: DesignArgs, ctx: &Ctx) -> Result<i32> {
     );
     if !shown.is_empty() {
         crate::plot::report(&shown);
+    }
+    if let Some(e) = unconfirmed {
+        anyhow::bail!("{e}");
     }
     Ok(if result.best.is_some() { 0 } else { 1 })
 }
@@ -502,7 +506,7 @@ fn write_outputs(out: &Path, d: &Design, r: &DesignResult, journal: &Path) -> Re
         serde_json::to_string_pretty(&v)? + "\n",
     )?;
     write_file(&out.join("traces.csv"), traces(d, r))?;
-    if let Some(e) = best {
+    if let Some(e) = best.filter(|_| r.confirmation_error(d).is_none()) {
         let case = d
             .case_at(&e.x, d.base.run.speed_kmh)
             .map_err(|e| anyhow::anyhow!("the best design's case: {e}"))?;

@@ -5,6 +5,7 @@
 
 use anyhow::Result;
 use pcsim_core::analysis::montecarlo::{monte_carlo, stat_of, Spread, MC_STATS};
+use pcsim_core::analysis::report::{count_events, run_errors, AllowedErrors};
 use pcsim_core::Case;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -13,16 +14,39 @@ use crate::common::{shown, Ctx, Override};
 use crate::output::{write_file, write_manifest};
 use crate::progress::Progress;
 
-/// `(case, case_text)`: the case, and its text as given (written as `case.toml`).
+/// A Monte Carlo study as the command line gives it.
+pub struct Study<'a> {
+    /// The case.
+    pub case: &'a Case,
+    /// Its text as given (written as `case.toml`).
+    pub case_text: &'a str,
+    /// The flags that overrode case values.
+    pub overrides: &'a [Override],
+    /// The number of realisations.
+    pub n: usize,
+    /// Worker threads.
+    pub jobs: Option<usize>,
+    /// The error-level events accepted by flag (`--allow-contact-loss`, `--allow-dewirement`).
+    pub allowed: AllowedErrors,
+}
+
+/// Run the study into `out`; `(plot, report)`: draw the figures, write `report.html`. Exits 2
+/// (after writing every output) when a realisation had an error-level event that no flag
+/// accepts, naming how many realisations had which event.
 pub fn run_seeds(
-    (case, case_text): (&Case, &str),
-    overrides: &[Override],
-    n: usize,
-    jobs: Option<usize>,
+    st: Study<'_>,
     out: &Path,
-    plot: bool,
+    (plot, report): (bool, bool),
     ctx: &Ctx,
 ) -> Result<i32> {
+    let Study {
+        case,
+        case_text,
+        overrides,
+        n,
+        jobs,
+        allowed,
+    } = st;
     crate::common::setup(case, overrides, ctx)?;
     let od = crate::output::OutDir::begin(out)?;
     let target = out;
@@ -43,15 +67,18 @@ pub fn run_seeds(
         .iter()
         .map(|p| p.name.clone())
         .collect();
+    // The error-level events of each realisation, counted per kind.
+    let per_run: Vec<_> = real.iter().map(|r| run_errors(&r.output)).collect();
+    let events = count_events(&per_run, allowed);
     // One row per realisation.
-    let mut csv = String::from("realisation,seed_offset,seeds,irregularity_rms_m");
+    let mut csv = String::from("realisation,seed_offset,seeds,irregularity_rms_m,errors");
     for nm in &names {
         for s in MC_STATS {
             let _ = write!(csv, ",{nm}_{s}");
         }
     }
     csv.push('\n');
-    for r in &real {
+    for (k, r) in real.iter().enumerate() {
         let c = case.with_seed_offset(r.seed_offset);
         let mut seeds: Vec<String> = c
             .irregularity
@@ -72,13 +99,15 @@ pub fn run_seeds(
             .map(|x| x.rms_achieved_m.powi(2))
             .sum::<f64>()
             .sqrt();
+        let kinds: Vec<&str> = per_run[k].iter().map(|e| e.kind.name()).collect();
         let _ = write!(
             csv,
-            "{},{},{},{:.6e}",
+            "{},{},{},{:.6e},{}",
             r.seed_offset,
             r.seed_offset,
             seeds.join(" "),
-            rms
+            rms,
+            kinds.join(" ")
         );
         for p in 0..names.len() {
             for s in MC_STATS {
@@ -112,6 +141,7 @@ pub fn run_seeds(
         "irregularity": real[0].output.irregularity,
         "wind": real[0].output.wind,
         "statistics": stats,
+        "errors": events,
         "note": "spread over the realisations: mean, standard deviation (N-1), 95 % confidence interval of the mean (Student's t), min, max",
     });
     write_file(
@@ -161,6 +191,31 @@ pub fn run_seeds(
     );
     if plot {
         crate::plot::report(&files);
+    }
+    if report {
+        let p = crate::cmd::report::write(target)?;
+        println!("report: {}", p.display());
+    }
+    // Error-level events: refused (exit 2) unless their flag accepts them, as for one run.
+    let mut refused = None;
+    for e in &events {
+        let line = format!(
+            "{} of {n} realisations: {} (the first, realisation {}: {})",
+            e.runs.len(),
+            e.kind.replace('_', " "),
+            e.runs[0],
+            e.first_message
+        );
+        let flag = crate::cmd::run::allow_flag(e.of);
+        if e.allowed {
+            eprintln!("warning: {line} (allowed by {flag})");
+        } else {
+            eprintln!("error: {line}");
+            refused.get_or_insert(flag);
+        }
+    }
+    if let Some(flag) = refused {
+        anyhow::bail!("the study's realisations had error-level events (above; montecarlo.json's `errors`, montecarlo.csv's `errors` column): the outputs are written; give {flag} to accept them");
     }
     Ok(0)
 }

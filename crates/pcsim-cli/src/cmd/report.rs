@@ -1,15 +1,17 @@
 //! `pcsim report DIR` (and `pcsim run --report`): one self-contained `report.html` of a run's
 //! output directory (issue 22, item 1; runs first): the case with every value and its source,
 //! the run's statistics and warnings, the passages through the overlaps, the droppers, every
-//! figure inline (SVG) with its caption, the versions and the command line. No script, no
-//! network: the page needs nothing but itself.
+//! figure inline (SVG, rebuilt from a whitelist: `svg_safe.rs`) with its caption, the versions
+//! and the command line. No script, no network: the page needs nothing but itself, and its
+//! Content-Security-Policy forbids scripts and every outside resource. A file changed after the
+//! run (its hash is no longer the manifest's) is said at the top of the page.
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use clap::Args;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::output::{add_to_manifest, read_complete_manifest, write_file};
+use crate::output::{add_to_manifest, read_complete_manifest};
 
 #[derive(Args)]
 pub struct ReportArgs {
@@ -111,7 +113,7 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
     let mut h = String::new();
     let _ = write!(
         h,
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>pcsim report: {}</title>\n<style>{}</style></head><body>\n",
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">{CSP}<title>pcsim report: {}</title>\n<style>{}</style></head><body>\n",
         esc(name),
         STYLE
     );
@@ -125,6 +127,13 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         esc(summary["kernels"].as_str().unwrap_or("")),
         esc(m.value["command"].as_str().unwrap_or("(command line not recorded)"))
     );
+    edited_box(&mut h, dir, &m);
+    // The run's error-level events, above everything else.
+    let errors: Vec<String> = summary["errors"]
+        .as_array()
+        .map(|a| a.iter().map(num).collect())
+        .unwrap_or_default();
+    errors_box(&mut h, &errors);
     // The run.
     let mut rows = Vec::new();
     for key in [
@@ -221,12 +230,27 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
             &orows,
         );
     }
-    // Droppers.
+    // Droppers: the worst inside the analysis section, as the terminal lists them (outside it the
+    // pantographs start and stop: those droppers carry the run's transients, not a passage).
     if let Ok(text) = std::fs::read_to_string(dir.join("droppers.csv")) {
-        let mut rows: Vec<Vec<String>> = text
-            .lines()
-            .skip(1)
-            .map(|l| l.split(',').map(str::to_owned).collect())
+        let section = [
+            summary["analysis_section_m"][0]
+                .as_f64()
+                .unwrap_or(f64::NEG_INFINITY),
+            summary["analysis_section_m"][1]
+                .as_f64()
+                .unwrap_or(f64::INFINITY),
+        ];
+        let mut r = csv::Reader::from_reader(text.as_bytes());
+        let mut rows: Vec<Vec<String>> = r
+            .records()
+            .filter_map(|x| x.ok())
+            .map(|x| x.iter().map(str::to_owned).collect::<Vec<_>>())
+            .filter(|r| {
+                r.get(1)
+                    .and_then(|v| v.parse::<f64>().ok())
+                    .is_some_and(|x| x >= section[0] && x <= section[1])
+            })
             .collect();
         let key = |r: &Vec<String>| -> f64 {
             r.get(9)
@@ -239,7 +263,11 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         h.push_str("<h2>Droppers</h2>\n");
         table(
             &mut h,
-            "The ten worst droppers (by damage, else by the largest tension range; every dropper in droppers.csv)",
+            &format!(
+                "The ten worst droppers inside the analysis section {}–{} m (by damage, else by the largest tension range; every dropper in droppers.csv)",
+                num(&summary["analysis_section_m"][0]),
+                num(&summary["analysis_section_m"][1])
+            ),
             &["#", "x [m]", "wire", "preload [N]", "min [N]", "max [N]", "slack steps", "cycles", "largest range [N]", "damage"],
             &rows,
         );
@@ -252,6 +280,70 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         .unwrap_or_default();
     provenance(&mut h, dir, &overrides)?;
     finish(dir, h)
+}
+
+/// The page's Content-Security-Policy: no script, no outside resource of any kind; only its own
+/// inline style (and inline SVG, which is part of the page).
+const CSP: &str = "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; script-src 'none'; object-src 'none'; base-uri 'none'; form-action 'none'; style-src 'unsafe-inline'\">";
+
+/// Files changed after pcsim wrote them (their hashes differ from the manifest's), said at the top
+/// of the page: what the page shows of them is what they hold now, not what the run wrote.
+fn edited_box(h: &mut String, dir: &Path, m: &crate::output::Manifest) {
+    let edited = crate::output::edited_files(dir, m);
+    if edited.is_empty() {
+        return;
+    }
+    h.push_str("<section class=\"errors\" id=\"edited\"><h2>Files changed after the run</h2><ul>");
+    for f in &edited {
+        let _ = write!(h, "<li><code>{}</code></li>", esc(f));
+    }
+    h.push_str("</ul><p>Their bytes are no longer those pcsim wrote (the manifest records each file's hash): this page shows them as they are now, which is not what the run wrote. Run the case again for a report of it.</p></section>\n");
+}
+
+/// The error-level events of a run or a study (a dewirement, contact lost over the limit), in a
+/// box of their own at the top of the page: its numbers describe a run that is not acceptable as
+/// it is.
+fn errors_box(h: &mut String, errors: &[String]) {
+    if errors.is_empty() {
+        return;
+    }
+    h.push_str("<section class=\"errors\" id=\"errors\"><h2>Errors of the run</h2><ul>");
+    for e in errors {
+        let _ = write!(h, "<li>{}</li>", esc(e));
+    }
+    h.push_str("</ul><p>The statistics below come from this run; they describe it with these events, and the run is not accepted as it is.</p></section>\n");
+}
+
+/// The error-level events of a study's directory: a Monte Carlo study's `errors` in its
+/// montecarlo.json (per kind, how many realisations had it).
+fn study_errors(dir: &Path, kind: &str) -> Result<Vec<String>> {
+    if kind != "montecarlo" {
+        return Ok(Vec::new());
+    }
+    let p = dir.join("montecarlo.json");
+    let text =
+        std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
+    let v: serde_json::Value =
+        serde_json::from_str(&text).with_context(|| format!("{} is not JSON", p.display()))?;
+    let n = v["realisations"].as_u64().unwrap_or(0);
+    Ok(v["errors"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .map(|e| {
+            format!(
+                "{} of {n} realisations: {}{} (the first: {})",
+                e["runs"].as_array().map_or(0, Vec::len),
+                e["kind"].as_str().unwrap_or("").replace('_', " "),
+                if e["allowed"] == true {
+                    ", accepted by flag"
+                } else {
+                    ""
+                },
+                e["first_message"].as_str().unwrap_or("")
+            )
+        })
+        .collect())
 }
 
 /// The run against the acceptance criteria: the assessment `pcsim assess` wrote into the
@@ -333,10 +425,18 @@ fn assessment(h: &mut String, dir: &Path, summary: &str) -> Result<()> {
         }
         h.push_str("</ul>\n");
     }
+    let n_err = a["run_errors"].as_array().map_or(0, Vec::len);
     let _ = writeln!(
         h,
-        "<p><strong>{} met, {} not met, {} without a verdict.</strong></p>",
-        a["met"], a["not_met"], a["without_verdict"]
+        "<p><strong>{} met, {} not met, {} without a verdict{}.</strong></p>",
+        a["met"],
+        a["not_met"],
+        a["without_verdict"],
+        if n_err > 0 {
+            format!("; the run had {n_err} error-level event(s) (at the top of the page): it is not accepted")
+        } else {
+            String::new()
+        }
     );
     Ok(())
 }
@@ -349,6 +449,14 @@ fn provenance(h: &mut String, dir: &Path, overrides: &[String]) -> Result<()> {
         h.push_str("<p>This directory has no case.toml (made by an older pcsim, or by a command that does not write it): see the case file or preset it was made from.</p>\n");
         return Ok(());
     };
+    if let Ok(m) = crate::output::read_complete_manifest(dir) {
+        if crate::output::edited_files(dir, &m)
+            .iter()
+            .any(|f| f == "case.toml")
+        {
+            h.push_str("<p class=\"edited\"><strong>case.toml was changed after the run</strong> (its hash is not the manifest's): the table shows the file as it is now, not the case that was run.</p>\n");
+        }
+    }
     let (case, prov) =
         pcsim_core::Case::from_toml_str(&text).map_err(|e| anyhow::anyhow!("case.toml: {e}"))?;
     let value: toml::Value =
@@ -380,7 +488,9 @@ fn provenance(h: &mut String, dir: &Path, overrides: &[String]) -> Result<()> {
 fn finish(dir: &Path, mut h: String) -> Result<PathBuf> {
     h.push_str("</body></html>\n");
     let path = dir.join("report.html");
-    write_file(&path, h)?;
+    // Through a temporary file and a rename: a full disk leaves the previous report (or none),
+    // never a truncated one, and no temporary file.
+    crate::output::write_file_atomic(&path, h)?;
     add_to_manifest(dir, std::slice::from_ref(&path))?;
     Ok(path)
 }
@@ -390,12 +500,10 @@ fn figures(h: &mut String, dir: &Path, files: &[String]) -> Result<()> {
     h.push_str("<h2>Figures</h2>\n");
     let mut n_fig = 0;
     for f in files.iter().filter(|f| f.ends_with(".svg")) {
-        let svg = std::fs::read_to_string(dir.join(f))
+        let text = std::fs::read_to_string(dir.join(f))
             .with_context(|| format!("cannot read {}", dir.join(f).display()))?;
-        let svg = match svg.find("<svg") {
-            Some(i) => &svg[i..],
-            None => bail!("{f} is not an SVG figure"),
-        };
+        // Never copied verbatim: rebuilt from the whitelist of drawing elements.
+        let svg = crate::svg_safe::sanitize(&text).with_context(|| f.clone())?;
         let stem = f.trim_end_matches(".svg");
         let _ = writeln!(
             h,
@@ -421,7 +529,7 @@ fn write_study(dir: &Path, m: &crate::output::Manifest) -> Result<PathBuf> {
     let mut h = String::new();
     let _ = write!(
         h,
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>pcsim report: {} {}</title>\n<style>{}</style></head><body>\n",
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">{CSP}<title>pcsim report: {} {}</title>\n<style>{}</style></head><body>\n",
         esc(&m.kind),
         esc(&dir.display().to_string()),
         STYLE
@@ -436,6 +544,8 @@ fn write_study(dir: &Path, m: &crate::output::Manifest) -> Result<PathBuf> {
             .as_str()
             .unwrap_or("(command line not recorded)"))
     );
+    edited_box(&mut h, dir, m);
+    errors_box(&mut h, &study_errors(dir, &m.kind)?);
     let described: Vec<Vec<String>> = m
         .value
         .as_object()
@@ -626,4 +736,5 @@ h1{font-size:1.6em}h2{margin-top:1.6em;border-bottom:1px solid #ccc}\
 table{border-collapse:collapse;margin:.8em 0}caption{text-align:left;font-weight:bold;margin-bottom:.3em}\
 th,td{border:1px solid #bbb;padding:.2em .5em;font-size:.9em}th{background:#eee}\
 td:nth-child(n+2){font-variant-numeric:tabular-nums}\
+.errors{border:2px solid #b00;background:#fff0f0;padding:0 1em;margin:1em 0}.errors h2{color:#b00;border:none}\
 figure{margin:1.2em 0}figure svg{width:100%;height:auto}figcaption{color:#444;font-size:.9em}";

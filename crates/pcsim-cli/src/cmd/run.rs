@@ -65,6 +65,25 @@ pub struct RunArgs {
     report: bool,
 }
 
+/// The flag that accepts an error-level event of `kind`.
+pub fn allow_flag(kind: pcsim_core::analysis::report::RunErrorKind) -> &'static str {
+    use pcsim_core::analysis::report::RunErrorKind;
+    match kind {
+        RunErrorKind::Dewirement => "--allow-dewirement",
+        RunErrorKind::ContactLoss => "--allow-contact-loss",
+    }
+}
+
+impl RunArgs {
+    /// The error-level events accepted by flag.
+    fn allowed(&self) -> pcsim_core::analysis::report::AllowedErrors {
+        pcsim_core::analysis::report::AllowedErrors {
+            dewirement: self.allow_dewirement,
+            contact_loss: self.allow_contact_loss,
+        }
+    }
+}
+
 pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
     let (base, case_text) =
         crate::common::load_case_with_text(a.case.as_ref(), a.preset.as_deref())?;
@@ -87,7 +106,7 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
     }
     crate::common::jobs_flag(a.jobs)?;
     let ctx = &Ctx {
-        threads: crate::common::threads_flag(a.threads)?,
+        threads: crate::common::threads_flag(a.threads, true)?,
         ..*ctx
     };
     if a.seeds.is_some() && a.threads != 1 {
@@ -96,13 +115,20 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
     // The output directory is locked before the work starts: a second writer is refused at once.
     if a.seeds.is_some() {
         let n = crate::common::seeds_flag(a.seeds, &case)?;
+        if a.dropper_forces {
+            anyhow::bail!("--dropper-forces with --seeds {n}: the droppers' tensions are followed in one run, not gathered over realisations; run the realisation you want alone (its seeds are in montecarlo.csv) with --dropper-forces");
+        }
         return crate::cmd::montecarlo::run_seeds(
-            (&case, &case_text),
-            &overrides,
-            n,
-            a.jobs,
+            crate::cmd::montecarlo::Study {
+                case: &case,
+                case_text: &case_text,
+                overrides: &overrides,
+                n,
+                jobs: a.jobs,
+                allowed: a.allowed(),
+            },
             &a.out,
-            a.plot,
+            (a.plot || a.report, a.report),
             ctx,
         );
     }
@@ -206,21 +232,17 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
         }
     }
     // Error-level events: each kind is refused (exit 2) unless its flag accepts it.
-    use pcsim_core::analysis::report::{run_errors, RunErrorKind};
-    let mut refused = None;
-    for e in run_errors(&out) {
-        let flag = match e.kind {
-            RunErrorKind::Dewirement => ("--allow-dewirement", a.allow_dewirement),
-            RunErrorKind::ContactLoss => ("--allow-contact-loss", a.allow_contact_loss),
-        };
-        if flag.1 {
-            eprintln!("warning: {} (allowed by {})", e.message, flag.0);
-        } else if refused.is_none() {
-            refused = Some((e.message, flag.0));
-        }
+    let allowed = a.allowed();
+    let errors = pcsim_core::analysis::report::run_errors(&out);
+    for e in errors.iter().filter(|e| allowed.allows(e.kind)) {
+        eprintln!("warning: {} (allowed by {})", e.message, allow_flag(e.kind));
     }
-    if let Some((msg, flag)) = refused {
-        anyhow::bail!("{msg} (the outputs are written; give {flag} to accept the run)");
+    if let Some(e) = allowed.first_refused(&errors) {
+        anyhow::bail!(
+            "{} (the outputs are written; give {} to accept the run)",
+            e.message,
+            allow_flag(e.kind)
+        );
     }
     Ok(0)
 }

@@ -43,20 +43,27 @@ pub struct WindowArgs {
     /// Shortest window searched, m [default: half a span].
     #[arg(long, value_name = "M")]
     min_window: Option<String>,
-    /// Longest window searched, m: the length found matches, and so does every longer window
-    /// the search ran up to this one (printed with the answer; --full-scan runs them all)
-    /// [default: 400 m].
+    /// Longest window searched, m: the length found matches, and so does every longer window at
+    /// the resolution up to this one (with --coarse-only, every longer window the search ran:
+    /// printed with the answer) [default: 400 m].
     #[arg(long, value_name = "M")]
     max_window: Option<String>,
-    /// Step of the coarse scan, m.
+    /// Step of the coarse scan (--coarse-only), m.
     #[arg(long, default_value = "20", value_name = "M")]
     coarse: String,
-    /// Resolution of the refinement, m.
+    /// Resolution of the search, m.
     #[arg(long, default_value = "1", value_name = "M")]
     resolution: String,
-    /// Run every window at the resolution from --max-window down to the first that fails, so
-    /// that the length found holds for every longer window at the resolution (slower: about
-    /// (max − length)/resolution windows per case, against about 20 for the coarse scan).
+    /// The quick answer: a coarse scan from --max-window down, refined below the lowest coarse
+    /// window that matches. The windows between the coarse points above it are not run, so a
+    /// longer window may fail (the output names them). By default every window at the
+    /// resolution from --max-window down to the first that fails is run: the length found is
+    /// the shortest with every longer window matching (about (max − length)/resolution windows
+    /// per case, against about 20).
+    #[arg(long, conflicts_with = "full_scan")]
+    coarse_only: bool,
+    /// The default search (every window at the resolution from --max-window down to the first
+    /// that fails); kept for scripts written when it was not the default.
     #[arg(long)]
     full_scan: bool,
     /// Output directory.
@@ -144,7 +151,7 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
         },
         coarse_m: metres("--coarse", &a.coarse)?,
         resolution_m: metres("--resolution", &a.resolution)?,
-        full_scan: a.full_scan,
+        full_scan: !a.coarse_only,
     };
     tol.check()?;
     search.check_for(base.length_m())?;

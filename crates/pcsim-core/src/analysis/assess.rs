@@ -29,6 +29,9 @@ pub struct AssessInput {
     pub speed_ratio: Option<f64>,
     /// The pantographs.
     pub pantographs: Vec<PantographInput>,
+    /// The run's error-level events (`summary.json`'s `errors`: a dewirement, contact lost over
+    /// the limit): a run that had one is not accepted, whatever its rows say.
+    pub run_errors: Vec<String>,
 }
 
 #[derive(Deserialize)]
@@ -36,6 +39,8 @@ struct SummaryView {
     speed_kmh: f64,
     speed_ratio: Option<f64>,
     pantographs: Vec<PantographView>,
+    #[serde(default)]
+    errors: Vec<String>,
 }
 
 #[derive(Deserialize)]
@@ -60,6 +65,7 @@ impl AssessInput {
         Ok(AssessInput {
             speed_kmh: v.speed_kmh,
             speed_ratio: v.speed_ratio,
+            run_errors: v.errors,
             pantographs: v
                 .pantographs
                 .into_iter()
@@ -154,6 +160,9 @@ pub struct Assessment {
     pub not_met: usize,
     /// Rows without a verdict (no limit held, a target without tolerance, or no value).
     pub without_verdict: usize,
+    /// The run's error-level events (a dewirement, contact lost over the limit): with any, the
+    /// run is not accepted, whatever its rows say (`pcsim assess --strict` fails).
+    pub run_errors: Vec<String>,
 }
 
 impl Assessment {
@@ -167,10 +176,24 @@ impl Assessment {
         } else {
             String::new()
         };
+        let errors = if self.run_errors.is_empty() {
+            String::new()
+        } else {
+            format!(
+                "; the run had {} error-level event(s) (listed first): it is not accepted",
+                self.run_errors.len()
+            )
+        };
         format!(
-            "{} criteria rows met, {} not met{open}",
+            "{} criteria rows met, {} not met{open}{errors}",
             self.met, self.not_met
         )
+    }
+
+    /// Whether the run is accepted on what was assessed: every row with a verdict met and no
+    /// error-level event (rows without a verdict are said by [`Assessment::conclusion`]).
+    pub fn passes(&self) -> bool {
+        self.not_met == 0 && self.run_errors.is_empty()
     }
 }
 
@@ -265,6 +288,7 @@ pub fn assess(input: &AssessInput, criteria: &[Criterion], system: Option<System
         without_verdict: rows.len() - met - not_met,
         rows,
         skipped,
+        run_errors: input.run_errors.clone(),
     }
 }
 

@@ -105,7 +105,16 @@ pub struct Comparison {
     pub spectrum: Vec<[f64; 3]>,
     /// Fraction of the span (0 at a support) and each record's mean over the spans, N.
     pub profile: Vec<[f64; 3]>,
+    /// What makes the alignment doubtful: a correlation below [`MIN_CORRELATION`], or a shift at
+    /// the edge of the search range (the best may lie beyond it). Empty when the alignment holds;
+    /// `pcsim compare --strict` fails on any.
+    pub warnings: Vec<String>,
 }
+
+/// The correlation coefficient below which the alignment is not trusted (a guess, stated: below
+/// 0.5 the two filtered records share less than a quarter of their variance, so the shift that
+/// maximises it says little about where the measurement was taken).
+pub const MIN_CORRELATION: f64 = 0.5;
 
 /// The most sample comparisons the alignment's search may make (shifts × samples: a few
 /// seconds).
@@ -264,6 +273,26 @@ pub fn compare(
     ];
     let simulated = ForceStats::of(&simulated_n, &sim_b[0], &sim_b[1]);
     let measured = ForceStats::of(&measured_n, &mea_b[0], &mea_b[1]);
+    for (who, st) in [("the run", &simulated), ("the measurement", &measured)] {
+        if let Some((name, v)) = st.rows().into_iter().find(|(_, v)| !v.is_finite()) {
+            return Err(inv(
+                "statistics",
+                format!("{name} = {v}"),
+                &format!("{who}'s statistics over the section are not finite numbers: its forces are beyond what a sum of squares can hold"),
+            ));
+        }
+    }
+    let mut warnings = Vec::new();
+    if r < MIN_CORRELATION {
+        warnings.push(format!(
+            "the best correlation of the two records is {r:.3}, below {MIN_CORRELATION}: the alignment is not trustworthy (a record of another place, another run, or of no force at all)"
+        ));
+    }
+    if k_max > 0 && k.abs() == k_max {
+        warnings.push(format!(
+            "the best shift, {d:+.2} m, is at the edge of the search range (± {search_m} m): the true alignment may lie beyond it (widen --search)"
+        ));
+    }
     Ok(Comparison {
         shift_m: d,
         shift_samples: k,
@@ -281,6 +310,7 @@ pub fn compare(
         position_m,
         simulated_n,
         measured_n,
+        warnings,
     })
 }
 

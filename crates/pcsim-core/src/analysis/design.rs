@@ -671,8 +671,15 @@ impl Design {
                 h.push(format!("{}@{}", n.label(), s.kmh));
             }
         }
-        h.extend(["violated", "error", "seed", "fingerprint"].map(String::from));
+        h.extend(["violated", "error", "seed", "fingerprint", "row_checksum"].map(String::from));
         h
+    }
+
+    /// The checksum of a journal row's fields (every column before `row_checksum`): FNV-1a 64 of
+    /// the fields joined by the unit separator. A row edited by hand or damaged on disk no longer
+    /// matches it, and is refused ([`Design::journal_read`]) rather than trusted.
+    fn row_checksum(fields: &[String]) -> String {
+        crate::fingerprint::fnv1a64_hex(fields.join("\u{1f}").as_bytes())
     }
 
     /// An evaluation as a journal row (numbers in their shortest exact form, so that a row read
@@ -692,6 +699,8 @@ impl Design {
         r.push(e.error.clone().unwrap_or_default());
         r.push(self.spec.budget.seed.to_string());
         r.push(self.fingerprint.clone());
+        let sum = Self::row_checksum(&r);
+        r.push(sum);
         r
     }
 
@@ -714,6 +723,14 @@ impl Design {
                 format!("{} columns, the header has {}", row.len(), want.len()),
             ));
         }
+        let last = want.len() - 1;
+        if row[last] != Self::row_checksum(&row[..last]) {
+            return Err(invalid(
+                "journal row",
+                row[..last.min(4)].join(","),
+                "its checksum does not match its values: the row was edited by hand or damaged on disk, so its evaluation cannot be trusted".to_string(),
+            ));
+        }
         let at = |k: usize| row[k].as_str();
         let bad = |k: usize, why: &str| {
             invalid(
@@ -722,7 +739,7 @@ impl Design {
                 why.to_string(),
             )
         };
-        let fp = at(want.len() - 1);
+        let fp = at(want.len() - 2);
         if fp != self.fingerprint {
             return Err(invalid(
                 "journal fingerprint",
@@ -1205,6 +1222,34 @@ pub fn search(
 }
 
 impl DesignResult {
+    /// An error when the best design's confirmation run differs from its evaluation in the
+    /// search (a journal row that does not reproduce: evaluated by another build or machine, or
+    /// changed): then there is no best design to hand over (the CLI writes no `best-case.toml`
+    /// and exits non-zero; Python raises).
+    pub fn confirmation_error(&self, d: &Design) -> Option<String> {
+        let (c, same) = self.confirmation.as_ref()?;
+        if *same {
+            return None;
+        }
+        let j = &self.evaluations[self.best?];
+        Some(format!(
+            "the best design (evaluation {}, {}) did not reproduce: run again it gives objective {:?} and {:?}, the search's evaluation {:?} and {:?} (columns {}); its journal row was not made by this build on this machine, or was changed. No best design is handed over: run the search afresh (--fresh)",
+            j.index,
+            d.spec
+                .variables
+                .iter()
+                .zip(&j.x)
+                .map(|(v, x)| format!("{} = {x}", v.path))
+                .collect::<Vec<_>>()
+                .join(", "),
+            c.objective,
+            c.values,
+            j.objective,
+            j.values,
+            d.needs.iter().map(|n| n.label()).collect::<Vec<_>>().join(", ")
+        ))
+    }
+
     /// The answer as every front end writes it (the CLI's design.json, Python's
     /// `pcsim.design(...)`): no wall time, so the same search gives the same bytes.
     pub fn to_json(&self, d: &Design) -> serde_json::Value {

@@ -99,22 +99,28 @@ impl DensityGrid {
     }
 
     /// Add one block's density `½ (mass u̇² + slope u'² + bending u''²)` (Eq. 20, consistent
-    /// form) to `out`.
-    fn add_block(&mut self, c: Coefficients, q: &[f64], v: &[f64], out: &mut [f64]) {
+    /// form) to `out`, of the modal displacements `q(i)` and velocities `v(i)`.
+    fn add_block(
+        &mut self,
+        c: Coefficients,
+        q: impl Fn(usize) -> f64,
+        v: impl Fn(usize) -> f64,
+        out: &mut [f64],
+    ) {
         let n = self.basis.n_modes();
         let k = &self.kappa;
-        transform(&self.fft, &mut self.buf, &mut self.scratch, n, |i| v[i]);
+        transform(&self.fft, &mut self.buf, &mut self.scratch, n, &v);
         for j in 0..=self.m {
             self.tmp[0][j] = self.buf[j].im; // u̇ (sine series)
         }
         transform(&self.fft, &mut self.buf, &mut self.scratch, n, |i| {
-            q[i] * k[i]
+            q(i) * k[i]
         });
         for j in 0..=self.m {
             self.tmp[1][j] = self.buf[j].re; // u' (cosine series)
         }
         transform(&self.fft, &mut self.buf, &mut self.scratch, n, |i| {
-            -q[i] * k[i] * k[i]
+            -q(i) * k[i] * k[i]
         });
         for j in 0..=self.m {
             self.tmp[2][j] = self.buf[j].im; // u'' (sine series)
@@ -126,14 +132,35 @@ impl DensityGrid {
     }
 
     /// Energy density at the grid points `x_j = j·dx`, J/m, every wire and direction (Eq. 20,
-    /// consistent form).
+    /// consistent form), of the deviation from the design's static shape.
     pub fn density(&mut self, model: &Model, st: &State, out: &mut [f64]) {
+        self.density_about(model, st, None, out);
+    }
+
+    /// [`DensityGrid::density`] of the vibration about `reference` (the static state under
+    /// steady loads, or a twin run without the pantographs in a turbulent wind): the density of
+    /// `st − reference` in every modal coordinate and velocity. `None`: about the design's static
+    /// shape (the same numbers as [`DensityGrid::density`]).
+    pub fn density_about(
+        &mut self,
+        model: &Model,
+        st: &State,
+        reference: Option<&State>,
+        out: &mut [f64],
+    ) {
         out.fill(0.0);
         for b in 0..model.layout.blocks.len() {
             let key = model.layout.blocks[b].key;
             let c = model.wires[key.wire].coefficients(key.dir);
             let r = model.layout.range(b);
-            self.add_block(c, &st.modal.u[r.clone()], &st.modal.v[r], out);
+            let (q, v) = (&st.modal.u[r.clone()], &st.modal.v[r.clone()]);
+            match reference {
+                None => self.add_block(c, |i| q[i], |i| v[i], out),
+                Some(s0) => {
+                    let (q0, v0) = (&s0.modal.u[r.clone()], &s0.modal.v[r]);
+                    self.add_block(c, |i| q[i] - q0[i], |i| v[i] - v0[i], out)
+                }
+            }
         }
     }
 }

@@ -6,8 +6,49 @@ use crate::analysis::record::{simulate_beside, RunOutput};
 use crate::compile::budget::{check_len, Budget};
 use crate::compile::Setup;
 use crate::error::SimError;
+use crate::model::PantographKind;
 use crate::solve::run::{run, Observer};
-use crate::solve::{CompiledModel, State, Workspace};
+use crate::solve::{CompiledModel, Integrator, State, Workspace};
+
+/// What the vibration energy is measured about: the EVA is the energy of the catenary's
+/// vibration caused by the pantograph, so a steady load's static deflection (ice, a mean wind)
+/// and a turbulent wind's own vibration are not part of it.
+enum Datum {
+    /// No steady load: the design's static shape (modal zero).
+    Design,
+    /// Steady loads without a wind (ice): the static start state.
+    Static(Box<State>),
+    /// A wind: the same run without the pantographs (each a zero moving force), stepped beside
+    /// the run through the same wind field; the energy is that of the difference of the two
+    /// (the pantograph's part of the vibration).
+    Twin(Box<(Integrator, State, Workspace)>),
+}
+
+impl Datum {
+    /// The datum of `setup`'s run by `integ` from its initial state `st`.
+    fn of(setup: &Setup, integ: &Integrator, st: &State) -> Result<Datum, SimError> {
+        let m = integ.model();
+        if m.wind.is_some() {
+            let mut twin = m.clone();
+            for p in &mut twin.pantographs {
+                p.kind = PantographKind::MovingForce {
+                    force_n: 0.0,
+                    lateral_force_n: 0.0,
+                };
+            }
+            let mut options = setup.options;
+            options.threads = 1;
+            let ti = Integrator::new(twin, &setup.plan, options)?;
+            let ts = ti.initial_state(setup.plan.start_m);
+            let tw = ti.workspace();
+            return Ok(Datum::Twin(Box::new((ti, ts, tw))));
+        }
+        if integ.compiled().initial.is_some() {
+            return Ok(Datum::Static(Box::new(st.clone())));
+        }
+        Ok(Datum::Design)
+    }
+}
 
 /// Settings of an EVA evaluation.
 #[derive(Debug, Clone, PartialEq)]
@@ -145,6 +186,8 @@ pub struct EvaOutput {
 /// pantograph at the snapshot and at regular times of its passage through the analysis section.
 struct EnergySampler<'a> {
     s: &'a EvaSettings,
+    /// What the energy is measured about.
+    datum: Datum,
     grid: DensityGrid,
     dx: f64,
     half: isize,
@@ -190,12 +233,23 @@ impl Observer for EnergySampler<'_> {
         _ws: &Workspace,
     ) -> Result<(), SimError> {
         self.step += 1;
+        if let Datum::Twin(t) = &mut self.datum {
+            // The twin takes the same step through the same wind field.
+            let (ti, ts, tw) = &mut **t;
+            ti.step(ts, tw);
+        }
         let xp = cm.position(st, 0);
         let snap_now = self.snapshot.is_none() && self.prev_x < self.snap_x && xp >= self.snap_x;
         let in_passage =
             xp >= self.analysis[0] && xp <= self.analysis[1] && self.step % self.every == 0;
         if snap_now || in_passage {
-            self.grid.density(cm.model(), st, &mut self.dens);
+            let reference = match &self.datum {
+                Datum::Design => None,
+                Datum::Static(s0) => Some(&**s0),
+                Datum::Twin(t) => Some(&t.1),
+            };
+            self.grid
+                .density_about(cm.model(), st, reference, &mut self.dens);
             let total = integrate(&self.dens, self.dx);
             let w = window_energy(&self.dens, self.dx, xp, &self.d);
             if snap_now {
@@ -233,9 +287,15 @@ impl Observer for EnergySampler<'_> {
 }
 
 impl<'a> EnergySampler<'a> {
-    /// The sampler of `setup`'s run under settings `s`, the leading pantograph starting at
-    /// `x0_m` (model coordinates). Checks the energy arrays against the budget.
-    fn new(setup: &Setup, s: &'a EvaSettings, x0_m: f64) -> Result<Self, SimError> {
+    /// The sampler of `setup`'s run by `integ` under settings `s`, from the initial state `st`.
+    /// Checks the energy arrays against the budget.
+    fn new(
+        setup: &Setup,
+        s: &'a EvaSettings,
+        integ: &Integrator,
+        st: &State,
+    ) -> Result<Self, SimError> {
+        let x0_m = integ.position(st, 0);
         let l = setup.model.length_m();
         let dt = setup.options.dt_s;
         // Bounded memory: the window lengths (every Δd up to the largest window, eight arrays)
@@ -261,6 +321,7 @@ impl<'a> EnergySampler<'a> {
         let d: Vec<f64> = (1..=nd).map(|i| i as f64 * s.step_m).collect();
         Ok(EnergySampler {
             s,
+            datum: Datum::of(setup, integ, st)?,
             dens: vec![0.0; grid.n_points()],
             grid,
             dx,
@@ -324,7 +385,7 @@ pub fn run_eva(
     let integ = setup.integrator()?;
     let mut st = integ.initial_state(setup.plan.start_m);
     let mut ws = integ.workspace();
-    let mut sampler = EnergySampler::new(setup, s, integ.position(&st, 0))?;
+    let mut sampler = EnergySampler::new(setup, s, &integ, &st)?;
     run(
         &integ,
         &mut st,
@@ -347,7 +408,7 @@ pub fn simulate_with_eva(
     let (out, sampler) = simulate_beside(
         setup,
         None,
-        |integ, st| EnergySampler::new(setup, s, integ.position(st, 0)),
+        |integ, st| EnergySampler::new(setup, s, integ, st),
         progress,
     )?;
     Ok((out, sampler.finish()?))

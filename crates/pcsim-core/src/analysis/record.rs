@@ -81,9 +81,25 @@ pub struct RunOutput {
     /// The slowest contact wire's wave speed √(T/ρA) ([`crate::model::Wire::wave_speed`]),
     /// m/s (none: the model has no contact wire).
     pub contact_wire_wave_speed_m_s: Option<f64>,
+    /// What the uplift at the supports is measured from.
+    pub uplift_datum: UpliftDatum,
+    /// Every contact wire's wave speed, m/s, in track order (one per tension length of a line).
+    pub contact_wire_wave_speeds_m_s: Vec<f64>,
     /// Every dropper's tension through the run, its cycles and damage, when asked for
     /// ([`simulate_with`]).
     pub droppers: Option<DropperRun>,
+}
+
+/// What `max_uplift_at_support_mm` is measured from: the static position of the wires before
+/// any pantograph arrives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum UpliftDatum {
+    /// The design's static shape (no steady load).
+    DesignStaticPosition,
+    /// The static position under the steady loads (ice, a mean wind): the wires' equilibrium
+    /// below or beside the design ([`crate::solve::equilibrium`]).
+    LoadedStaticPosition,
 }
 
 /// The droppers' fatigue of a run ([`crate::analysis::fatigue`]).
@@ -119,6 +135,9 @@ pub struct Recorder {
     lateral: Vec<Vec<f64>>,
     twist: Vec<Vec<f64>>,
     uplift: Vec<f64>,
+    /// Each monitor's deviation in the static start state, m (empty: zero, the design's static
+    /// shape): uplift is measured from it ([`Recorder::measure_uplift_from`]).
+    datum: Vec<f64>,
     /// Largest lateral deflection of the contact wire at the probes inside the section, m.
     blowout: f64,
     /// Whether lateral motion is recorded.
@@ -201,6 +220,7 @@ impl Recorder {
             lateral: vec![Vec::with_capacity(if lateral { n_steps } else { 0 }); np],
             twist: vec![Vec::with_capacity(if twist { n_steps } else { 0 }); np],
             uplift: vec![0.0; np],
+            datum: Vec::new(),
             blowout: 0.0,
             dt_s,
             record_lateral: lateral,
@@ -210,6 +230,20 @@ impl Recorder {
             analysis_m,
             support,
         }
+    }
+
+    /// Measure the uplift at the supports from `datum`, each monitor's deviation in the static
+    /// start state ([`Integrator::monitors_at`]): under ice or a mean wind the wires sit below
+    /// (or beside) their design position before any pantograph arrives, and the uplift a
+    /// pantograph causes is the rise from there.
+    pub fn measure_uplift_from(&mut self, datum: Vec<f64>) {
+        self.datum = datum;
+    }
+
+    /// The uplift at monitor `k` now: its deviation less its static datum, m.
+    #[inline]
+    fn uplift_at(&self, cm: &CompiledModel, ws: &Workspace, k: usize) -> f64 {
+        cm.monitor(ws, k) - self.datum.get(k).copied().unwrap_or(0.0)
     }
 
     /// The statistics and traces of the recorded run.
@@ -289,12 +323,17 @@ impl Recorder {
                 .as_ref()
                 .map_or_else(Vec::new, |r| r.reports.clone()),
             stability: None,
-            contact_wire_wave_speed_m_s: m
-                .wires
-                .iter()
-                .filter(|w| w.role == crate::model::WireRole::Contact)
-                .map(|w| w.wave_speed())
-                .reduce(f64::min),
+            contact_wire_wave_speed_m_s: m.slowest_contact_wire().map(|(_, c)| c),
+            uplift_datum: if self.datum.is_empty() {
+                UpliftDatum::DesignStaticPosition
+            } else {
+                UpliftDatum::LoadedStaticPosition
+            },
+            contact_wire_wave_speeds_m_s: m
+                .contact_wave_speeds()
+                .into_iter()
+                .map(|(_, c)| c)
+                .collect(),
             droppers: None,
         }
     }
@@ -363,13 +402,14 @@ impl Observer for Recorder {
                 let monitors = self.support.get(j).map_or(&[][..], |v| &v[..]);
                 if xs >= self.analysis_m[0] && xs <= self.analysis_m[1] {
                     for &k in monitors {
-                        self.uplift[p] = self.uplift[p].max(cm.monitor(ws, k));
+                        self.uplift[p] = self.uplift[p].max(self.uplift_at(cm, ws, k));
                     }
                 }
+                let datum = &self.datum;
                 for o in self.overlaps[p].iter_mut().filter(|o| o.contains(xs)) {
                     for &k in monitors {
-                        o.max_uplift_at_support_mm =
-                            o.max_uplift_at_support_mm.max(cm.monitor(ws, k) * 1e3);
+                        let u = cm.monitor(ws, k) - datum.get(k).copied().unwrap_or(0.0);
+                        o.max_uplift_at_support_mm = o.max_uplift_at_support_mm.max(u * 1e3);
                     }
                 }
             }
@@ -378,7 +418,7 @@ impl Observer for Recorder {
                 let xs = j * span + origin;
                 if j >= 0.0 && xs >= self.analysis_m[0] && xs <= self.analysis_m[1] {
                     if let Some(&[k]) = self.support.get(j as usize).map(|v| &v[..]) {
-                        self.uplift[p] = self.uplift[p].max(cm.monitor(ws, k));
+                        self.uplift[p] = self.uplift[p].max(self.uplift_at(cm, ws, k));
                     }
                 }
             }
@@ -452,6 +492,10 @@ pub(crate) fn simulate_beside<O: Observer>(
         n_steps,
         setup.plan.analysis_m,
     );
+    if integ.compiled().initial.is_some() {
+        // Steady loads (ice, a mean wind): the uplift is measured from the loaded static state.
+        rec.measure_uplift_from(integ.monitors_at(&st));
+    }
     let mut drec = droppers.map(|o| {
         crate::analysis::fatigue::DropperRecorder::new(
             integ.compiled(),

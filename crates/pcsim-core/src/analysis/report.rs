@@ -56,6 +56,10 @@ pub struct RunSummary {
     /// The train speed over that wave speed (EN 50119 asks below 0.7; `pcsim assess`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub speed_ratio: Option<f64>,
+    /// On a line of several tension lengths: the speed ratio of each tension length's contact
+    /// wire, in track order (`speed_ratio` is the largest).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub speed_ratio_per_tension_length: Vec<f64>,
     /// Span length, m (none for a `[line]`: its supports are listed in `supports_m`).
     pub span_m: Option<f64>,
     /// The supports of a `[line]`, track positions, m (absent for a `[catenary]` of equal spans).
@@ -90,6 +94,9 @@ pub struct RunSummary {
     /// non-zero when there is one, unless `--allow-dewirement` is given.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub errors: Vec<String>,
+    /// What each pantograph's `max_uplift_at_support_mm` is measured from: the design's static
+    /// position, or under ice or a mean wind the loaded static position.
+    pub uplift_datum: crate::analysis::record::UpliftDatum,
     /// Per pantograph: its statistics.
     pub pantographs: Vec<PantographSummary>,
     /// The crosswind (mean speed, spectrum, seed, turbulence intensity achieved).
@@ -148,6 +155,91 @@ pub enum RunErrorKind {
     Dewirement,
     /// Contact lost over more than [`LOSS_OF_CONTACT_ERROR_PERCENT`] of the analysis section.
     ContactLoss,
+}
+
+impl RunErrorKind {
+    /// Every kind, in the order they are reported.
+    pub const ALL: [RunErrorKind; 2] = [RunErrorKind::Dewirement, RunErrorKind::ContactLoss];
+
+    /// Its name in the outputs (`montecarlo.json`, Python's `allow=`): `dewirement`,
+    /// `contact_loss`.
+    pub fn name(self) -> &'static str {
+        match self {
+            RunErrorKind::Dewirement => "dewirement",
+            RunErrorKind::ContactLoss => "contact_loss",
+        }
+    }
+}
+
+/// The error-level events a user accepted on request (the CLI's `--allow-dewirement` and
+/// `--allow-contact-loss`, Python's `allow_dewirement=` and `allow_contact_loss=`): the one rule
+/// that decides whether a run's events refuse it, for every front end and for a Monte Carlo study.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct AllowedErrors {
+    /// A dewirement is accepted.
+    pub dewirement: bool,
+    /// Contact loss over [`LOSS_OF_CONTACT_ERROR_PERCENT`] is accepted.
+    pub contact_loss: bool,
+}
+
+impl AllowedErrors {
+    /// Whether events of `kind` are accepted.
+    pub fn allows(&self, kind: RunErrorKind) -> bool {
+        match kind {
+            RunErrorKind::Dewirement => self.dewirement,
+            RunErrorKind::ContactLoss => self.contact_loss,
+        }
+    }
+
+    /// The first of `errors` that is not accepted (the one a front end refuses the run with).
+    pub fn first_refused<'a>(&self, errors: &'a [RunError]) -> Option<&'a RunError> {
+        errors.iter().find(|e| !self.allows(e.kind))
+    }
+}
+
+/// How often each kind of error-level event occurred over several runs (a Monte Carlo study's
+/// realisations): per kind, the indices of the runs that had it and the first run's message.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EventCount {
+    /// The kind's name ([`RunErrorKind::name`]).
+    pub kind: &'static str,
+    /// The runs (realisation indices) that had it.
+    pub runs: Vec<usize>,
+    /// The first such run's message.
+    pub first_message: String,
+    /// Whether the user accepted it by flag.
+    pub allowed: bool,
+    #[serde(skip)]
+    /// Its kind.
+    pub of: RunErrorKind,
+}
+
+/// The events of several runs, counted per kind (kinds that did not occur are left out).
+pub fn count_events(per_run: &[Vec<RunError>], allowed: AllowedErrors) -> Vec<EventCount> {
+    RunErrorKind::ALL
+        .iter()
+        .filter_map(|&k| {
+            let runs: Vec<usize> = per_run
+                .iter()
+                .enumerate()
+                .filter(|(_, es)| es.iter().any(|e| e.kind == k))
+                .map(|(i, _)| i)
+                .collect();
+            let first = runs.first()?;
+            let first_message = per_run[*first]
+                .iter()
+                .find(|e| e.kind == k)
+                .map(|e| e.message.clone())
+                .unwrap_or_default();
+            Some(EventCount {
+                kind: k.name(),
+                runs,
+                first_message,
+                allowed: allowed.allows(k),
+                of: k,
+            })
+        })
+        .collect()
 }
 
 /// One error-level event of a run.
@@ -210,6 +302,14 @@ impl RunSummary {
             contact_wire_tension_n: case.catenary.contact_wire.tension_n,
             contact_wire_wave_speed_kmh: out.contact_wire_wave_speed_m_s.map(|c| c * 3.6),
             speed_ratio: out.contact_wire_wave_speed_m_s.map(|c| out.speed_m_s / c),
+            speed_ratio_per_tension_length: if out.contact_wire_wave_speeds_m_s.len() > 1 {
+                out.contact_wire_wave_speeds_m_s
+                    .iter()
+                    .map(|c| out.speed_m_s / c)
+                    .collect()
+            } else {
+                Vec::new()
+            },
             span_m: case.line.is_none().then_some(case.catenary.span_m),
             supports_m: case.line.as_ref().map_or(Vec::new(), |l| l.supports_m()),
             overlaps_m: case
@@ -228,6 +328,7 @@ impl RunSummary {
             overrides,
             warnings: warnings.into_iter().chain(run_verdicts(out)).collect(),
             errors: run_errors(out).into_iter().map(|e| e.message).collect(),
+            uplift_datum: out.uplift_datum,
             pantographs: out
                 .pantographs
                 .iter()

@@ -299,7 +299,7 @@ pub fn claim(length_m: Option<f64>, fine_checked_to_m: Option<f64>, s: &SearchSe
                 )
             };
             format!(
-                "{fine} and every {} m from there to {} m were run and match; the windows between those coarse points were not run (--full-scan runs them)",
+                "{fine} and every {} m from there to {} m were run and match; the windows between those coarse points were not run (--coarse-only: without it every one is run)",
                 s.coarse_m, s.max_m
             )
         }

@@ -36,6 +36,17 @@ pub const SPAN: Bound = b((1.0, 1000.0), (20.0, 100.0), "m", "27–70 m");
 /// where the model's small-slope wires stop meaning anything, the soft one beyond the height
 /// changes of ordinary lines.
 pub const CONTACT_HEIGHT_CHANGE: Bound = b((-3.0, 3.0), (-1.0, 1.0), "m", "0 to ±0.5 m");
+/// Gradient of the working contact wire between two consecutive supports of a line (the height
+/// change over the span; a ratio). Hard bound: 1:40 (guess: about the steepest gradient that
+/// design rules allow at all, and only at walking speed; steeper, the runs of this model blow up:
+/// docs/validation.md, "A line judged per tension length"); soft bound: 1:200 (guess: running
+/// lines are designed at a few per mille).
+pub const CONTACT_GRADIENT: Bound = b(
+    (0.0, 0.025),
+    (0.0, 0.005),
+    "",
+    "at most a few per mille on a running line",
+);
 /// Rise of an overlap's out-of-running contact wire at its anchor support, m. A guess: public
 /// designs raise it by a few decimetres; the hard bound is where the small-slope wire stops
 /// meaning anything.

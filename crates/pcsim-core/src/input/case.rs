@@ -259,6 +259,23 @@ pub enum PantographCase {
 }
 
 impl PantographCase {
+    /// The name as given (may be empty).
+    pub fn name(&self) -> &str {
+        match self {
+            PantographCase::Lumped { name, .. } | PantographCase::MovingForce { name, .. } => name,
+        }
+    }
+
+    /// The name the outputs use for pantograph `i` (its CSV columns, figures): its own, or
+    /// `p{i}` without one.
+    pub fn output_name(&self, i: usize) -> String {
+        if self.name().is_empty() {
+            format!("p{i}")
+        } else {
+            self.name().to_string()
+        }
+    }
+
     /// Distance behind the leading pantograph.
     pub fn offset_m(&self) -> f64 {
         match self {

@@ -277,7 +277,7 @@ struct CriterionRaw {
     quantity: String,
     kind: String,
     limit: Option<f64>,
-    formula_kmh: Option<[f64; 3]>,
+    formula_kmh: Option<Vec<f64>>,
     factor_of: Option<FactorRaw>,
     tolerance_percent: Option<f64>,
     #[serde(default)]
@@ -411,6 +411,14 @@ fn criterion(i: usize, r: CriterionRaw, user: bool) -> Result<Criterion, CaseErr
     let limit = if let Some(v) = r.limit {
         Limit::Constant(finite("limit", v)?)
     } else if let Some(p) = r.formula_kmh {
+        // Exactly three coefficients: a fourth is never dropped in silence.
+        let Ok(p) = <[f64; 3]>::try_from(p.as_slice()) else {
+            return Err(bad(
+                "formula_kmh",
+                format!("{p:?}"),
+                "give exactly three coefficients [a, b, c] of a + b·v + c·v² (v in km/h)",
+            ));
+        };
         for (k, c) in p.iter().enumerate() {
             finite(&format!("formula_kmh[{k}]"), *c)?;
         }

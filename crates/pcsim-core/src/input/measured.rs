@@ -18,6 +18,11 @@ pub struct MeasuredForce {
 
 /// The fewest samples a measured record may have.
 pub const MIN_SAMPLES: usize = 64;
+/// The largest contact force a record may hold, N: a thousand times any pantograph's (so that
+/// the statistics' sums of squares stay finite numbers).
+pub const MAX_FORCE_N: f64 = 1e6;
+/// The largest position a record may hold, m (ten thousand kilometres).
+pub const MAX_POSITION_M: f64 = 1e7;
 /// How far the spacing may vary along the record (relative).
 pub const SPACING_TOLERANCE: f64 = 0.01;
 
@@ -60,7 +65,8 @@ impl MeasuredForce {
             };
             return Err(inv(source, format!("header `{}`", header.trim()), &why));
         }
-        let (mut x, mut f) = (Vec::new(), Vec::new());
+        // The file's line of each row (1-based), for the errors.
+        let (mut x, mut f, mut at) = (Vec::new(), Vec::new(), Vec::new());
         for (i, line) in lines {
             let v: Vec<&str> = line.split(',').map(str::trim).collect();
             let num = |k: usize| {
@@ -69,9 +75,20 @@ impl MeasuredForce {
                     .filter(|y| y.is_finite())
             };
             match (v.len(), num(0), num(1)) {
-                (2, Some(a), Some(b)) => {
+                (2, Some(a), Some(b)) if a.abs() <= MAX_POSITION_M && b.abs() <= MAX_FORCE_N => {
                     x.push(a);
                     f.push(b);
+                    at.push(i + 1);
+                }
+                (2, Some(a), Some(b)) => {
+                    return Err(inv(
+                        source,
+                        format!("line {}: `{}`", i + 1, line.trim()),
+                        &format!(
+                            "{} is beyond what a measured record holds (positions within ± {MAX_POSITION_M:e} m, forces within ± {MAX_FORCE_N:e} N)",
+                            if a.abs() > MAX_POSITION_M { format!("position {a} m") } else { format!("force {b} N") }
+                        ),
+                    ))
                 }
                 _ => {
                     return Err(inv(
@@ -95,7 +112,13 @@ impl MeasuredForce {
             if d <= 0.0 || (d - spacing).abs() > SPACING_TOLERANCE * spacing.abs() {
                 return Err(inv(
                     source,
-                    format!("rows {} and {}: positions {} and {} m", k + 1, k + 2, w[0], w[1]),
+                    format!(
+                        "lines {} and {}: positions {} and {} m",
+                        at[k],
+                        at[k + 1],
+                        w[0],
+                        w[1]
+                    ),
                     &format!(
                         "positions must increase at a uniform spacing (the record's mean is {spacing} m, within {} %): resample the record first",
                         100.0 * SPACING_TOLERANCE
@@ -139,6 +162,13 @@ mod tests {
         assert!(e.contains("10 rows") && e.contains("64"), "{e}");
         let e = err(&rows(100, 0.25).replace("112.5,", "112.6,"));
         assert!(e.contains("uniform spacing") && e.contains("112.6"), "{e}");
+        // Issue 39, item 7: the error names the file's lines (the header is line 1), not the
+        // rows counted from 1 after it.
+        assert!(e.contains("lines 51 and 52"), "{e}");
+        // Forces a sum of squares cannot hold are refused by value, never read into NaN
+        // statistics.
+        let e = err(&rows(100, 0.25).replace("101,124", "101,1e308"));
+        assert!(e.contains("line 6") && e.contains("1e308"), "{e}");
         let e = err(&rows(100, 0.25).replace("101,", "101,abc,"));
         assert!(
             e.contains("line") && e.contains("two finite numbers"),

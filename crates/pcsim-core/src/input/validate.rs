@@ -8,7 +8,7 @@ use crate::input::bounds::{self, check_bound, inv, Bound};
 use crate::input::case::*;
 use crate::input::irregularity::IrregularityCase;
 use crate::input::lateral::*;
-use crate::input::line::{TensionLengthCase, OVERRIDES};
+use crate::input::line::{LineCase, TensionLengthCase, OVERRIDES};
 
 /// A positive finite number, or an error naming the field.
 fn pos(field: &str, v: f64) -> Result<(), CaseError> {
@@ -196,6 +196,72 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
                 line.n_spans()
             ),
         ));
+    }
+    working_gradients(line, w)
+}
+
+/// The working contact wire's design gradient between consecutive supports of a line: the
+/// height the pantograph runs at, at each support, is the lowest of the contact wires there (an
+/// overlap's rise added at each wire's anchor). A gradient above
+/// [`bounds::CONTACT_GRADIENT`]'s hard bound is a geometry error naming the support where the
+/// height changes; above its soft bound, a warning.
+fn working_gradients(line: &LineCase, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    // (track position, working height, tension length, support index within it)
+    let mut at: Vec<(f64, f64, usize, usize)> = Vec::new();
+    let ntl = line.tension_lengths.len();
+    for (k, t) in line.tension_lengths.iter().enumerate() {
+        let xs = line.tension_length_supports_m(k);
+        for (j, &x) in xs.iter().enumerate() {
+            let mut h = t.contact_height_m.get(j).copied().unwrap_or(0.0);
+            if j == 0 && k > 0 {
+                h += line.overlaps.get(k - 1).map_or(0.0, |o| o.rise_m);
+            }
+            if j + 1 == xs.len() && k + 1 < ntl {
+                h += line.overlaps.get(k).map_or(0.0, |o| o.rise_m);
+            }
+            match at.iter_mut().find(|a| (a.0 - x).abs() < 1e-3) {
+                Some(a) if h < a.1 => *a = (x, h, k, j),
+                Some(_) => {}
+                None => at.push((x, h, k, j)),
+            }
+        }
+    }
+    at.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let b = &bounds::CONTACT_GRADIENT;
+    let mut worst: Option<(f64, usize)> = None;
+    for i in 1..at.len() {
+        let (x0, h0, ..) = at[i - 1];
+        let (x1, h1, k, j) = at[i];
+        let g = (h1 - h0) / (x1 - x0);
+        let field = format!("line.tension_lengths[{k}].contact_height_m[{j}]");
+        if g.abs() > b.hard.1 {
+            return Err(inv(
+                &field,
+                format!("{h1} m"),
+                &format!(
+                    "the working contact wire changes height by {:+.3} m between the supports at {x0:.1} m and {x1:.1} m (tension length {}, support {j}): a gradient of {:.2} % (1:{:.0}), steeper than {:.1} % (1:{:.0}), {}; a pantograph cannot follow it (the run would blow up, not measure anything)",
+                    h1 - h0,
+                    k + 1,
+                    100.0 * g.abs(),
+                    1.0 / g.abs(),
+                    100.0 * b.hard.1,
+                    1.0 / b.hard.1,
+                    b.typical
+                ),
+            ));
+        }
+        if g.abs() > b.soft.1 && worst.is_none_or(|(v, _)| g.abs() > v) {
+            worst = Some((g.abs(), i));
+        }
+    }
+    if let Some((g, i)) = worst {
+        let (x0, x1, k, j) = (at[i - 1].0, at[i].0, at[i].2, at[i].3);
+        w.push(Warning(format!(
+            "line.tension_lengths[{k}].contact_height_m[{j}]: the working contact wire's gradient reaches {:.2} % (1:{:.0}) between the supports at {x0:.1} m and {x1:.1} m: unusual (typical: {})",
+            100.0 * g,
+            1.0 / g,
+            b.typical
+        )));
     }
     Ok(())
 }
@@ -692,6 +758,26 @@ pub(super) fn contact_and_pantographs(case: &Case, w: &mut Vec<Warning>) -> Resu
     }
     for (i, p) in case.pantographs.iter().enumerate() {
         let base = format!("pantographs[{i}]");
+        // The name heads the pantograph's columns in timeseries.csv and names its figures: one
+        // per pantograph, and nothing a CSV header or a file name would split.
+        let name = p.output_name(i);
+        if let Some(c) = name
+            .chars()
+            .find(|c| c.is_control() || matches!(c, ',' | '"' | '/' | '\\'))
+        {
+            return Err(inv(
+                &format!("{base}.name"),
+                format!("{:?}", p.name()),
+                &format!("holds {c:?}: a name heads CSV columns and names files (letters, digits, spaces, - and _)"),
+            ));
+        }
+        if let Some(j) = (0..i).find(|&j| case.pantographs[j].output_name(j) == name) {
+            return Err(inv(
+                &format!("{base}.name"),
+                format!("{name:?}"),
+                &format!("pantographs[{j}] has the same name: each pantograph's columns and figures need their own name"),
+            ));
+        }
         check_bound(
             w,
             &format!("{base}.offset_m"),

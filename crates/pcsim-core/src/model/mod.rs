@@ -157,6 +157,25 @@ impl Model {
         self.wires.iter().position(|w| w.role == role)
     }
 
+    /// Every contact wire's transverse wave speed √(T/ρA) ([`wire::Wire::wave_speed`]), in wire
+    /// order (one per tension length of a line): `(wire index, m/s)`.
+    pub fn contact_wave_speeds(&self) -> Vec<(usize, f64)> {
+        self.wires
+            .iter()
+            .enumerate()
+            .filter(|(_, w)| w.role == WireRole::Contact)
+            .map(|(i, w)| (i, w.wave_speed()))
+            .collect()
+    }
+
+    /// The slowest contact wire, `(wire index, wave speed m/s)`: the one that decides the speed
+    /// check and the speed ratio on a line of several tension lengths.
+    pub fn slowest_contact_wire(&self) -> Option<(usize, f64)> {
+        self.contact_wave_speeds()
+            .into_iter()
+            .reduce(|a, b| if b.1 < a.1 { b } else { a })
+    }
+
     /// The block of the first wire with role `role` in direction `dir`.
     pub fn block(&self, role: WireRole, dir: Direction) -> Option<usize> {
         self.layout.find(self.wire_index(role)?, dir)

@@ -438,6 +438,19 @@ impl Integrator {
         st
     }
 
+    /// The wire's deviation at every monitored point (the registration points) in state `st`,
+    /// m, by monitor index ([`CompiledModel::monitor`]): in the static state, the datum that
+    /// uplift is measured from (under ice or a mean wind the wires' static position is not the
+    /// design's). Allocates a workspace: not for the step.
+    pub fn monitors_at(&self, st: &State) -> Vec<f64> {
+        let mut st = st.clone();
+        let mut ws = self.workspace();
+        self.gather(&mut st, &mut ws);
+        (0..self.cm.monitor_positions().len())
+            .map(|k| self.cm.monitor(&ws, k))
+            .collect()
+    }
+
     /// Position of pantograph `p` at the state's time (model coordinates), m.
     #[inline]
     pub fn position(&self, st: &State, p: usize) -> f64 {

@@ -3,7 +3,7 @@
 
 use crate::error::CaseError;
 use crate::error::Warning;
-use crate::model::{Model, WireRole};
+use crate::model::Model;
 use crate::solve::kernels::Isa;
 
 /// Where and how fast the pantographs run, and where the statistics are taken.
@@ -52,28 +52,38 @@ impl Plan {
         (self.duration_s / dt).ceil() as usize
     }
 
-    /// Check the speed against the contact wire's wave speed ([`crate::model::Wire::wave_speed`],
-    /// the one definition): an error at or above it, a warning above 0.7 of it.
+    /// Check the speed against every contact wire's wave speed
+    /// ([`crate::model::Wire::wave_speed`], the one definition; on a line, each tension
+    /// length's): an error at or above the slowest, a warning above 0.7 of it. Both name the
+    /// wire that decides.
     pub fn check(&self, model: &Model) -> Result<Vec<Warning>, CaseError> {
         let mut w = Vec::new();
-        let Some(cw) = model.wire_index(WireRole::Contact) else {
+        let Some((cw, wave)) = model.slowest_contact_wire() else {
             return Ok(w);
         };
-        let wave = model.wires[cw].wave_speed();
+        let which = if model.contact_wave_speeds().len() > 1 {
+            format!(
+                " of {} (the slowest of the line's {} contact wires)",
+                model.wires[cw].name,
+                model.contact_wave_speeds().len()
+            )
+        } else {
+            String::new()
+        };
         let v = self.speed_m_s;
         if v >= wave {
             return Err(CaseError::Invalid {
                 field: "run.speed_kmh".into(),
                 value: self.speed_kmh.to_string(),
                 reason: format!(
-                    "at or above the contact-wire wave speed √(T/ρA) = {:.1} km/h",
+                    "at or above the contact-wire wave speed √(T/ρA) = {:.1} km/h{which}",
                     wave * 3.6
                 ),
             });
         }
         if v / wave > 0.7 {
             w.push(Warning(format!(
-                "speed ratio v/c = {:.3} is above 0.7 (c = {:.1} km/h, clamps and droppers included in ρA): expect strong wave effects",
+                "speed ratio v/c = {:.3} is above 0.7 (c = {:.1} km/h{which}, clamps and droppers included in ρA): expect strong wave effects",
                 v / wave,
                 wave * 3.6
             )));

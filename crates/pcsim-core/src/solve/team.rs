@@ -41,6 +41,59 @@ pub fn usable_threads(requested: usize) -> Result<usize, String> {
     Ok(requested.min(cores))
 }
 
+/// How many of this machine's cores were idle over `sample` (from the kernel's CPU counters,
+/// `/proc/stat`, read twice), at most the cores this process may use; `None` where the counters
+/// cannot be read. A query of the machine, as [`std::thread::available_parallelism`] is: no input
+/// file is read.
+pub fn idle_cores(sample: std::time::Duration) -> Option<f64> {
+    fn counters() -> Option<(u64, u64, usize)> {
+        let text = std::fs::read_to_string("/proc/stat").ok()?;
+        let mut lines = text.lines();
+        let cpu = lines.next()?.strip_prefix("cpu ")?;
+        let v: Vec<u64> = cpu
+            .split_whitespace()
+            .filter_map(|x| x.parse().ok())
+            .collect();
+        // user nice system idle iowait irq softirq steal (guest time is inside user).
+        let total: u64 = v.iter().take(8).sum();
+        let idle = v.get(3)? + v.get(4).copied().unwrap_or(0);
+        let cpus = lines.filter(|l| l.starts_with("cpu")).count();
+        Some((total, idle, cpus))
+    }
+    let (t0, i0, cpus) = counters()?;
+    std::thread::sleep(sample);
+    let (t1, i1, _) = counters()?;
+    let dt = t1.checked_sub(t0)?;
+    if dt == 0 || cpus == 0 {
+        return None;
+    }
+    let idle = (i1.saturating_sub(i0)) as f64 / dt as f64 * cpus as f64;
+    let mine = std::thread::available_parallelism().map_or(1, |n| n.get()) as f64;
+    Some(idle.min(mine))
+}
+
+/// The threads to run on when `threads` were asked for ([`usable_threads`]) and `idle` cores
+/// were measured free ([`idle_cores`]): the team's threads spin between the stages of a step, so
+/// a thread whose core is busy with another process stalls every stage (on a 2-core machine
+/// with both cores busy, `--threads 2` ran 2.25× slower than one thread: docs/performance.md,
+/// "`--threads` on busy cores"). Fewer
+/// threads, and the reason, when fewer cores than threads are idle (within half a core); the
+/// output bytes are the same on any count.
+pub fn threads_for_idle(threads: usize, idle: Option<f64>) -> (usize, Option<String>) {
+    match idle {
+        Some(idle) if threads > 1 && idle < threads as f64 - 0.5 => {
+            let n = (idle.round() as usize).clamp(1, threads);
+            (
+                n,
+                Some(format!(
+                    "{threads} threads asked for, but only {idle:.1} of this machine's cores were idle: a thread without a core of its own stalls every step of the team (measured 2.25x slower than one thread with both cores of a 2-core machine busy: docs/performance.md), so the run takes {n} (the same bytes)"
+                )),
+            )
+        }
+        _ => (threads, None),
+    }
+}
+
 /// A share of the step's per-group work (see the module's doc).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct Part {

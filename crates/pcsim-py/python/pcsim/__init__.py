@@ -27,6 +27,7 @@ __version__ = _pcsim.__version__
 __all__ = [
     "Case",
     "Result",
+    "RunEventError",
     "RealtimeCatenary",
     "run",
     "window",
@@ -37,6 +38,20 @@ __all__ = [
     "design",
     "presets",
 ]
+
+
+class RunEventError(ValueError):
+    """A run had an error-level event (a dewirement, contact lost over 10 % of the analysis
+    section) that was not accepted by ``allow_dewirement=True`` or ``allow_contact_loss=True``:
+    the CLI's exit status 2. The run's result is in ``.result`` (its ``errors`` name every
+    event), as the CLI writes its outputs."""
+
+    def __init__(self, message: str, result: "Result"):
+        super().__init__(message)
+        self.result = result
+
+    def __reduce__(self):
+        return (RunEventError, (self.args[0], self.result))
 
 
 class Result:
@@ -57,9 +72,20 @@ class Result:
         self.timeseries = timeseries
 
     @classmethod
-    def _from_native(cls, handed: Tuple[str, List[Tuple[str, np.ndarray]]]) -> "Result":
-        summary_json, columns = handed
-        return cls(json.loads(summary_json), dict(columns))
+    def _from_native(cls, handed: Tuple[str, List[Tuple[str, np.ndarray]], Optional[str]]) -> "Result":
+        """The result, or ``RunEventError`` (with the result attached) when the run had an
+        error-level event that was not accepted."""
+        summary_json, columns, refused = handed
+        result = cls(json.loads(summary_json), dict(columns))
+        if refused is not None:
+            raise RunEventError(refused, result)
+        return result
+
+    @property
+    def errors(self) -> List[str]:
+        """The run's error-level events (``summary.json``'s ``errors``): a dewirement, contact
+        lost over 10 % of the analysis section. Empty for a run without one."""
+        return list(self.summary.get("errors", []))
 
     def __getstate__(self):
         return (self.summary, self.timeseries)
@@ -75,26 +101,34 @@ class Result:
         )
 
 
-def run(case: Case, threads: int = 1) -> Result:
+def run(case: Case, threads: int = 1, allow_dewirement: bool = False,
+        allow_contact_loss: bool = False) -> Result:
     """Simulate one case (the interpreter released) and take its statistics.
 
     ``threads``: the run's threads, as the CLI's ``run --threads`` (a line of several tension
     lengths splits its work between them; capped at the machine's cores; the same numbers on any
-    count). ``sweep`` runs one case per thread instead."""
-    return Result._from_native(_pcsim.run(case, threads))
+    count). ``sweep`` runs one case per thread instead. A run with an error-level event (a
+    dewirement, contact lost over 10 % of the analysis section) raises ``RunEventError`` with
+    the result attached, unless ``allow_dewirement`` or ``allow_contact_loss`` accepts it (the
+    CLI's ``--allow-dewirement``, ``--allow-contact-loss``)."""
+    return Result._from_native(_pcsim.run(case, threads, allow_dewirement, allow_contact_loss))
 
 
-def sweep(cases: Sequence[Case], client: Any = None, jobs: Optional[int] = None) -> List[Result]:
+def sweep(cases: Sequence[Case], client: Any = None, jobs: Optional[int] = None,
+          allow_dewirement: bool = False, allow_contact_loss: bool = False) -> List[Result]:
     """Run many cases and return their results in case order.
 
     Without ``client``: a local thread pool of ``jobs`` threads (all cores by default). With a
     ``dask.distributed.Client``: the cases are mapped over its workers, each case
     single-threaded on its worker; the numbers are the same as a local run's and the CLI's (the
-    runs are deterministic)."""
+    runs are deterministic). A case with an error-level event raises ``RunEventError`` as
+    ``run`` does, unless the ``allow_`` flags accept it."""
     cases = list(cases)
     if client is None:
-        return [Result._from_native(h) for h in _pcsim.run_many(cases, jobs)]
-    futures = client.map(run, cases, pure=False)
+        handed = _pcsim.run_many(cases, jobs, allow_dewirement, allow_contact_loss)
+        return [Result._from_native(h) for h in handed]
+    futures = client.map(run, cases, allow_dewirement=allow_dewirement,
+                         allow_contact_loss=allow_contact_loss, pure=False)
     return client.gather(futures)
 
 
@@ -138,13 +172,17 @@ def window(
     shard: Optional[Tuple[int, int]] = None,
     max_steps: Optional[int] = None,
     max_memory_gb: Optional[float] = None,
+    coarse_only: bool = False,
 ) -> List[Dict[str, Any]]:
     """The accuracy-based real-time window length over speeds (km/h) × tensions (N): one dict
-    per case with the columns of ``pcsim window``'s ``window.csv``, by the same core sweep."""
+    per case with the columns of ``pcsim window``'s ``window.csv``, by the same core sweep. As
+    the CLI, every window at ``resolution_m`` from ``max_window_m`` down to the first that fails
+    is run, so the length is the shortest with every longer window matching; ``coarse_only``
+    gives the quick lattice answer (``--coarse-only``)."""
     return json.loads(
         _pcsim.window(case, list(speeds_kmh), list(tensions_n), mean_tol_pct, sigma_tol_pct,
                       max_tol_pct, min_window_m, max_window_m, coarse_m, resolution_m, jobs, seeds,
-                      shard, max_steps, max_memory_gb)
+                      shard, max_steps, max_memory_gb, not coarse_only)
     )
 
 
@@ -154,13 +192,40 @@ def validate(name: str = "en50318-2002", jobs: Optional[int] = None) -> Dict[str
     return json.loads(_pcsim.validate(name, jobs))
 
 
-def assess(result: "Result", system: Optional[str] = None, criteria: Optional[str] = None) -> Dict[str, Any]:
+def _text_or_path(value: Any, what: str) -> Tuple[str, Optional[str]]:
+    """``(text, path)`` of an argument that is a file's path or its TOML text: a path object is
+    always a path; a string with a line break is text; a one-line string is a path when no
+    ``=`` in it makes it TOML. A path that does not exist raises ``FileNotFoundError`` naming the
+    argument (it is never parsed as TOML text)."""
+    import os
+
+    if isinstance(value, os.PathLike) or (
+        isinstance(value, str) and "\n" not in value and "=" not in value
+    ):
+        path = os.fspath(value)
+        if not os.path.isfile(path):
+            raise FileNotFoundError(
+                "{}: no such file: {!r} (give the path of an existing file, or the TOML text "
+                "itself)".format(what, path)
+            )
+        with open(path, encoding="utf-8") as f:
+            return f.read(), path
+    if not isinstance(value, str):
+        raise TypeError("{}: a path or TOML text, not {}".format(what, type(value).__name__))
+    return value, None
+
+
+def assess(result: "Result", system: Optional[str] = None, criteria: Any = None) -> Dict[str, Any]:
     """A run against the acceptance criteria (EN 50367, TSI Energy, EN 50119): the assessment of
     ``pcsim assess`` as a dict (``rows``: value, limit, verdict, clause and source per criterion
     and pantograph). ``system``: ``"ac"``, ``"dc-3kv"`` or ``"dc-1.5kv"`` (without it the
     criteria that depend on it are listed in ``skipped``); ``criteria``: your own criteria as TOML
     text (status ``"user"``, each with its source). A criterion whose limit pcsim cannot cite
-    gives the value and the verdict ``"no-limit"``."""
+    gives the value and the verdict ``"no-limit"``; ``criteria`` may also be the path of such a
+    file (a path that does not exist raises ``FileNotFoundError``). The run's error-level events
+    are in ``run_errors``; with any, the run is not accepted."""
+    if criteria is not None:
+        criteria, _ = _text_or_path(criteria, "criteria")
     return json.loads(_pcsim.assess(json.dumps(result.summary), system, criteria))
 
 
@@ -179,7 +244,8 @@ def design(
     content of its ``design.json``: ``best``, ``sensitivity``, ``constraints``, ``feasible``…).
 
     ``spec``: a path to the spec (its ``base.file`` is read relative to it) or its TOML text
-    (``base.file`` relative to the working directory). ``journal``: a path to a journal
+    (``base.file`` relative to the working directory); a path that does not exist raises
+    ``FileNotFoundError``. ``journal``: a path to a journal
     (design.csv's format, the CLI's): resumed when it exists (its evaluations are not run again),
     appended to batch by batch, so an interrupted search continues where it stopped. ``client``:
     a ``dask.distributed.Client``: each batch's designs are evaluated on its workers (one design
@@ -189,12 +255,8 @@ def design(
     import io
     import os
 
-    text = str(spec)
-    base_dir = os.getcwd()
-    if "\n" not in text and os.path.exists(text):
-        with open(text, encoding="utf-8") as f:
-            base_dir = os.path.dirname(os.path.abspath(text))
-            text = f.read()
+    text, path = _text_or_path(spec, "spec")
+    base_dir = os.getcwd() if path is None else os.path.dirname(os.path.abspath(path))
     rows: List[List[str]] = []
     if journal is not None and os.path.exists(journal):
         with open(journal, encoding="utf-8", newline="") as f:
