@@ -42,7 +42,7 @@ kernel path
 (`portable`: PCSIM_PORTABLE=1, the same bytes on every machine; `avx2`: x86-64-v3 with fused
 multiply-add, the same bytes on every machine that has it): the FNV-1a 64-bit hash of
 timeseries.csv and of summary.json less its `wall_time_s` line, and for the 3D
-preset its warnings in full. Compared by crates/pcsim-cli/tests/byte_golden.rs.
+preset its warnings in full. Compared by crates/pcsim-cli/tests/suite/byte_golden.rs.
 """
 import json
 import os

@@ -6,7 +6,7 @@ timeseries.csv byte-identical).
 Run:  python3 scripts/gen_preset_golden.py target/release/pcsim
 Output: data/golden/preset_runs.json: per run, the preset, the speed, the EN 50318 statistics of
 each pantograph (exact, as summary.json prints them), the run statistics, and the FNV-1a 64-bit
-hash and size of timeseries.csv. Compared by crates/pcsim-cli/tests/preset_golden.rs.
+hash and size of timeseries.csv. Compared by crates/pcsim-cli/tests/suite/preset_golden.rs.
 """
 import json
 import pathlib

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The rows of `pcsim eva`, `pcsim window` and `pcsim validate --json` for a small grid, made with
 # the build *before* a refactor (issue 18), on the portable kernels (the same bytes on every
-# machine). Compared by crates/pcsim-cli/tests/byte_golden.rs, and by the Python tests (the
+# machine). Compared by crates/pcsim-cli/tests/suite/byte_golden.rs, and by the Python tests (the
 # core's typed rows through `pcsim.eva`, `pcsim.window`, `pcsim.validate`).
 # Made again in issue 23 when the implicit corrections' triangular solves took their row sums in
 # the four-lane dot kernel: validate.json's values moved by at most 2e-14 relative, the EVA and

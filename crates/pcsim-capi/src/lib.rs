@@ -16,7 +16,7 @@
 //! - Every entry point runs under `catch_unwind`: a panic gives `PCSIM_ERR_INTERNAL` and marks
 //!   the handle unusable.
 //!
-//! `tests/header.rs` checks `include/pcsim.h` against the signatures below, so that the two
+//! `tests/suite/header.rs` checks `include/pcsim.h` against the signatures below, so that the two
 //! cannot drift apart.
 
 #![deny(clippy::undocumented_unsafe_blocks, clippy::missing_safety_doc)]

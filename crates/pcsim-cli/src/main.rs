@@ -10,7 +10,6 @@ mod svg_safe;
 mod sweep_dir;
 
 use clap::{Parser, Subcommand};
-use pcsim_core::compile::Budget;
 
 use crate::common::Ctx;
 use crate::progress::ProgressMode;
@@ -107,19 +106,17 @@ fn context(cli: &Cli) -> anyhow::Result<Ctx> {
     if cli.portable && !pcsim_core::solve::Isa::force_portable() {
         anyhow::bail!("--portable: the kernels were chosen before the flag was read");
     }
-    let mut budget = Budget::default();
-    if let Some(n) = cli.max_steps {
-        if n == 0 {
-            anyhow::bail!("--max-steps 0: must be at least 1");
-        }
-        budget.max_steps = n;
-    }
-    if let Some(g) = cli.max_memory_gb {
-        if !(g.is_finite() && g > 0.0 && g <= 1e6) {
-            anyhow::bail!("--max-memory-gb {g}: must be a number of GiB in (0, 1e6]");
-        }
-        budget.max_memory_bytes = (g * (1u64 << 30) as f64) as u64;
-    }
+    // The core's one conversion and check of the limits, named by flag.
+    let budget =
+        pcsim_core::analysis::specs::budget_of(cli.max_steps, cli.max_memory_gb).map_err(|e| {
+            pcsim_core::analysis::specs::with_flags(
+                e,
+                &[
+                    ("max_steps", "--max-steps"),
+                    ("max_memory_gb", "--max-memory-gb"),
+                ],
+            )
+        })?;
     if let Some(mb) = cli.max_input_mb {
         if !(0.001..=1e6).contains(&mb) {
             anyhow::bail!("--max-input-mb {mb}: must be a number of MB in [0.001, 1e6]");

@@ -22,8 +22,6 @@ pub struct SweepKind {
     pub finish: fn(&Path) -> Result<()>,
 }
 
-pub use pcsim_core::fingerprint::fnv1a64_hex as fnv1a64;
-
 /// A shard directory, read for the merge.
 struct ShardDir {
     dir: PathBuf,

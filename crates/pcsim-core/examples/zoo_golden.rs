@@ -5,7 +5,7 @@
 //! ```
 //!
 //! Values are written with 17 significant digits, so they read back bit for bit. The goldens
-//! were made before the core restructure (issue 9) and guard it: `tests/zoo.rs` compares every
+//! were made before the core restructure (issue 9) and guard it: `tests/suite/zoo.rs` compares every
 //! value with them.
 
 use std::fmt::Write as _;

@@ -4,7 +4,7 @@
 //! the Effective Vibration Area of the Catenary in a Pantograph–Catenary Interaction System"
 //! (MDPI, 2024). The physics, the solver and the analysis; no file, terminal or network I/O.
 //!
-//! Layers, each importing only from the ones above it in this list (`tests/layers.rs`):
+//! Layers, each importing only from the ones above it in this list (`tests/suite/layers.rs`):
 //! - [`model`]: wires and their modal series, point elements, pantographs, statics — the problem;
 //! - [`solve`]: plan and options, state, workspace, integrator, the run loop, the real-time window;
 //! - [`input`]: cases (TOML with provenance), presets, validation targets (reusing the model's
@@ -21,6 +21,8 @@
 #![allow(clippy::needless_range_loop)]
 // Every public item says what it is (issue 18); CI denies warnings.
 #![warn(missing_docs)]
+// Every unsafe block says why it is sound (a `SAFETY:` comment), as in the FFI crates.
+#![deny(clippy::undocumented_unsafe_blocks)]
 
 pub mod analysis;
 pub mod compile;

@@ -29,8 +29,8 @@ pub const NAMES: &[&str] = &[
 ];
 
 /// The reference each zoo model is checked against: its golden time history (made by
-/// `examples/zoo_golden.rs` before the issue-9 restructure and compared by `tests/zoo.rs`; the
-/// exact solutions of `tests/analytic.rs` are checked on models of their own).
+/// `examples/zoo_golden.rs` before the issue-9 restructure and compared by `tests/suite/zoo.rs`; the
+/// exact solutions of `tests/suite/analytic.rs` are checked on models of their own).
 pub fn reference(name: &str) -> Option<&'static str> {
     Some(match name {
         "taut_string" => "golden data/golden/zoo/taut_string.csv",
@@ -222,8 +222,8 @@ pub fn trace_of(setup: &Setup) -> Trace {
 }
 
 /// The byte spans `[start, end)` of the numbers in a case's TOML text (a leading minus
-/// included), for the tests that mutate cases: `tests/mutations.rs` (the core's proptest) and
-/// the CLI's `tests/fuzz_run.rs`.
+/// included), for the tests that mutate cases: `tests/suite/mutations.rs` (the core's proptest) and
+/// the CLI's `tests/suite/fuzz_run.rs`.
 pub fn number_spans(text: &str) -> Vec<(usize, usize)> {
     let b = text.as_bytes();
     let mut out = Vec::new();

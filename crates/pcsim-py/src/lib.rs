@@ -13,13 +13,11 @@ use pcsim_core::analysis::record::{simulate, RunOutput};
 use pcsim_core::analysis::report::{
     run_errors, timeseries_columns, AllowedErrors, RunErrorKind, RunSummary,
 };
-use pcsim_core::analysis::sweep::{parallel_map, Grid};
-use pcsim_core::analysis::sweep::{Job, Shard};
-use pcsim_core::analysis::sweeps::{
-    eva_sweep, run_quietly, shard_jobs, validation_runs, window_sweep, WindowRow,
-};
+use pcsim_core::analysis::specs::{EvaSweepSpec, GridSpec, WindowSweepSpec};
+use pcsim_core::analysis::sweep::{parallel_map, Shard};
+use pcsim_core::analysis::sweeps::{run_quietly, validation_runs, WindowRow};
 use pcsim_core::analysis::validation::ValidationPlan;
-use pcsim_core::analysis::window_length::{SearchSettings, Tolerances};
+use pcsim_core::analysis::window_length::Tolerances;
 use pcsim_core::compile::Budget;
 use pcsim_core::input::overrides::{with_overrides, OverrideValue};
 use pcsim_core::session::{Coupling, RealtimeSession};
@@ -81,12 +79,14 @@ impl Case {
     #[staticmethod]
     fn from_file(path: std::path::PathBuf) -> PyResult<Case> {
         guarded(|| {
-            let text = std::fs::File::open(&path)
-                .and_then(|f| {
-                    pcsim_core::input::read_text_limited(f, pcsim_core::input::MAX_INPUT_BYTES)
-                })
-                .map_err(|e| err(format!("case file {}: {e}", path.display())))?;
-            Self::from_toml(&text).map_err(|e| err(format!("case file {}: {e}", path.display())))
+            // The core's one case loader and its wording, as the CLI's.
+            let text = std::fs::File::open(&path).and_then(|f| {
+                pcsim_core::input::read_text_limited(f, pcsim_core::input::MAX_INPUT_BYTES)
+            });
+            Ok(Case {
+                inner: pcsim_core::input::case_from_file(&path.display().to_string(), text)
+                    .map_err(err)?,
+            })
         })
     }
 
@@ -330,34 +330,34 @@ fn run_many<'py>(
     })
 }
 
-/// The grid and shard of a sweep, as the CLI builds them.
-fn sweep_jobs(
+/// The grid of a sweep from the keyword arguments (the seeds checked against the case, the
+/// shard parsed), as the CLI builds it.
+fn grid_spec(
     case: &pcsim_core::Case,
     speeds_kmh: Vec<f64>,
     tensions_n: Vec<f64>,
     seeds: Option<usize>,
     shard: Option<(usize, usize)>,
-) -> Result<Vec<Job>, String> {
+) -> Result<GridSpec, String> {
     let seeds = pcsim_core::analysis::sweep::check_seeds(seeds, case)
         .map_err(|e| format!("seeds = {}: {e}", seeds.unwrap_or(1)))?;
     let shard = match shard {
         None => Shard::ALL,
         Some((i, n)) => Shard::parse(&format!("{i}/{n}")).map_err(|e| e.to_string())?,
     };
-    let grid = Grid::new(case.clone(), speeds_kmh, tensions_n, Vec::new()).with_seeds(seeds);
-    Ok(shard_jobs(&grid, shard).map_err(|e| e.to_string())?.0)
+    Ok(GridSpec {
+        speeds_kmh,
+        tensions_n,
+        dampings: Vec::new(),
+        seeds,
+        shard,
+    })
 }
 
-/// The resource budget of a sweep (the CLI's `--max-steps`, `--max-memory-gb`).
-fn budget(max_steps: Option<u64>, max_memory_gb: Option<f64>) -> Budget {
-    let mut b = Budget::default();
-    if let Some(n) = max_steps {
-        b.max_steps = n;
-    }
-    if let Some(g) = max_memory_gb {
-        b.max_memory_bytes = (g * (1u64 << 30) as f64) as u64;
-    }
-    b
+/// The resource budget of a sweep (the CLI's `--max-steps`, `--max-memory-gb`): the core's one
+/// conversion and check.
+fn budget(max_steps: Option<u64>, max_memory_gb: Option<f64>) -> Result<Budget, String> {
+    pcsim_core::analysis::specs::budget_of(max_steps, max_memory_gb).map_err(|e| e.to_string())
 }
 
 /// EVA over speeds (km/h) × tensions (N): the rows of `eva.csv` as JSON text, by the core's one
@@ -382,16 +382,22 @@ fn eva(
     guarded(|| {
         let base = case.inner.clone();
         let rows = py.detach(move || -> Result<Vec<EvaRow>, String> {
-            let list = sweep_jobs(&base, speeds_kmh, tensions_n, seeds, shard)?;
-            let b = budget(max_steps, max_memory_gb);
-            let settings = EvaSettings {
-                step_m,
-                tolerance_j,
-                fraction,
-                budget: b,
-                ..EvaSettings::default()
+            let b = budget(max_steps, max_memory_gb)?;
+            // The keyword arguments become the core's spec: its checks, its sweep.
+            let spec = EvaSweepSpec {
+                grid: grid_spec(&base, speeds_kmh, tensions_n, seeds, shard)?,
+                settings: EvaSettings {
+                    step_m,
+                    tolerance_j,
+                    fraction,
+                    budget: b,
+                    ..EvaSettings::default()
+                },
             };
-            Ok(eva_sweep(&list, &settings, &b, jobs, &|| ())
+            spec.check().map_err(|e| e.to_string())?;
+            let (_, mine) = spec.grid.jobs(&base).map_err(|e| e.to_string())?;
+            Ok(spec
+                .run(&mine, &b, jobs, &|| ())
                 .map_err(|e| e.to_string())?
                 .into_iter()
                 .map(|c| c.row)
@@ -427,24 +433,27 @@ fn window(
     full_scan: bool,
 ) -> PyResult<String> {
     guarded(|| {
-        let single = pcsim_core::compile::window_case(&case.inner);
+        let base = case.inner.clone();
         let rows = py.detach(move || -> Result<Vec<WindowRow>, String> {
-            let search = SearchSettings {
-                min_m: min_window_m.unwrap_or(0.5 * single.catenary.span_m),
-                max_m: max_window_m,
+            let spec = WindowSweepSpec {
+                grid: grid_spec(&base, speeds_kmh, tensions_n, seeds, shard)?,
+                tolerances: Tolerances {
+                    mean_pct: mean_tol_pct,
+                    sigma_pct: sigma_tol_pct,
+                    max_pct: max_tol_pct,
+                },
+                min_window_m,
+                max_window_m,
                 coarse_m,
                 resolution_m,
-                full_scan,
+                coarse_only: !full_scan,
             };
-            let tol = Tolerances {
-                mean_pct: mean_tol_pct,
-                sigma_pct: sigma_tol_pct,
-                max_pct: max_tol_pct,
-            };
-            // The tolerances and the search are checked by the core's sweep, as for the CLI.
-            let list = sweep_jobs(&single, speeds_kmh, tensions_n, seeds, shard)?;
-            let b = budget(max_steps, max_memory_gb);
-            Ok(window_sweep(&list, &search, &tol, &b, jobs, &|| ())
+            // The tolerances and the search are checked by the core's spec, as for the CLI.
+            spec.check(&base).map_err(|e| e.to_string())?;
+            let (_, mine) = spec.jobs(&base).map_err(|e| e.to_string())?;
+            let b = budget(max_steps, max_memory_gb)?;
+            Ok(spec
+                .run(&base, &mine, &b, jobs, &|| ())
                 .map_err(|e| e.to_string())?
                 .into_iter()
                 .map(|c| c.row)

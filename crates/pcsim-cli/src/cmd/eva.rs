@@ -1,11 +1,11 @@
 //! `pcsim eva`: EVA sweeps over speed, tension and damping, in parallel, with shards and a merge
 //! that refuses shards of different sweeps.
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 use pcsim_core::analysis::eva::{EvaOutput, EvaRow, EvaSettings};
-use pcsim_core::analysis::sweep::{parse_damping, Grid, Job, Shard};
-use pcsim_core::analysis::sweeps::eva_sweep;
+use pcsim_core::analysis::specs::{with_flags, EvaSweepSpec, GridSpec};
+use pcsim_core::analysis::sweep::{parse_damping, Job, Shard};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -13,7 +13,6 @@ use crate::common::{apply, shown, Ctx, Override};
 use crate::output::{write_file, write_manifest};
 use crate::progress::Progress;
 use crate::sweep_dir::{merge, SweepKind};
-use pcsim_core::fingerprint::fnv1a64_hex as fnv1a64;
 
 #[derive(Args)]
 #[command(args_conflicts_with_subcommands = true)]
@@ -161,25 +160,32 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
         .iter()
         .map(|d| parse_damping(d, &base.catenary.damping))
         .collect::<Result<Vec<_>, _>>()?;
-    for (name, v) in [
-        ("--step", a.step),
-        ("--tol", a.tol),
-        ("--max-window", a.max_window.unwrap_or(1.0)),
-    ] {
-        if !(v.is_finite() && v > 0.0) {
-            bail!("{name} = {v}: must be a finite number > 0");
-        }
-    }
-    if !(a.fraction > 0.0 && a.fraction < 1.0) {
-        bail!("--fraction = {}: must lie in (0, 1)", a.fraction);
-    }
     let (speeds, tensions, shard) =
         crate::common::sweep_flags(&a.speed, &a.tension, a.jobs, a.shard.as_deref())?;
     // Every grid point is checked up front, with the flags named on error.
     let base = apply(&base, &[])?;
-    let n_seeds = crate::common::seeds_flag(a.seeds, &base)?;
-    let grid = Grid::new(base.clone(), speeds, tensions, dampings).with_seeds(n_seeds);
-    let jobs = grid.jobs().with_context(|| {
+    // The flags become the core's spec, which holds the defaults, the checks and the fingerprint.
+    let spec = EvaSweepSpec {
+        grid: GridSpec {
+            speeds_kmh: speeds,
+            tensions_n: tensions,
+            dampings,
+            seeds: crate::common::seeds_flag(a.seeds, &base)?,
+            shard,
+        },
+        settings: EvaSettings {
+            step_m: a.step,
+            max_window_m: a.max_window,
+            tolerance_j: a.tol,
+            fraction: a.fraction,
+            snapshot_at_m: a.snapshot_at,
+            budget: ctx.budget,
+            ..EvaSettings::default()
+        },
+    };
+    spec.check()
+        .map_err(|e| with_flags(e, &EvaSweepSpec::FLAGS))?;
+    let (jobs, mine) = spec.grid.jobs(&base).with_context(|| {
         let mut o: Vec<Override> = Vec::new();
         if !a.speed.is_empty() {
             o.push(Override {
@@ -199,40 +205,7 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
         }
         format!("in the sweep (with {})", crate::common::override_note(&o))
     })?;
-    let settings = EvaSettings {
-        step_m: a.step,
-        max_window_m: a.max_window,
-        tolerance_j: a.tol,
-        fraction: a.fraction,
-        snapshot_at_m: a.snapshot_at,
-        budget: ctx.budget,
-        ..EvaSettings::default()
-    };
-    // The sweep's fingerprint: its case, grid and options, and the number of shards.
-    let mut desc = base.to_toml_string();
-    let _ = write!(
-        desc,
-        "\n[sweep]\nspeeds = {:?}\ntensions = {:?}\ndampings = {:?}\nstep = {}\ntol = {}\nfraction = {}\nmax_window = {:?}\nsnapshot_at = {:?}\npoints_per_mode = {}\nsample_every = {}\nshards = {}\nseeds = {}\nversion = {}\n",
-        grid.speeds_kmh,
-        grid.tensions_n,
-        grid.dampings.iter().map(pcsim_core::analysis::sweep::damping_label).collect::<Vec<_>>(),
-        settings.step_m,
-        settings.tolerance_j,
-        settings.fraction,
-        settings.max_window_m,
-        settings.snapshot_at_m,
-        settings.points_per_mode,
-        settings.sample_every_s,
-        shard.count,
-        n_seeds,
-        env!("CARGO_PKG_VERSION")
-    );
-    let fingerprint = fnv1a64(desc.as_bytes());
-    let mine: Vec<Job> = jobs
-        .iter()
-        .filter(|j| shard.contains(j.index))
-        .cloned()
-        .collect();
+    let fingerprint = spec.fingerprint(&base);
     let od = crate::output::OutDir::begin(&a.out)?;
     let dir = od.path();
     // The case as given (every value with its source), for the report.
@@ -243,7 +216,7 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
         ctx.progress,
         "eva [{bar:40}] {pos}/{len} cases {elapsed_precise} eta {eta}",
     );
-    let results = eva_sweep(&mine, &settings, &ctx.budget, a.jobs, &|| pb.inc());
+    let results = spec.run(&mine, &ctx.budget, a.jobs, &|| pb.inc());
     pb.finish();
     let results = results?;
     for c in &results {

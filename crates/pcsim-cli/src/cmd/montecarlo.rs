@@ -5,7 +5,8 @@
 
 use anyhow::Result;
 use pcsim_core::analysis::montecarlo::{monte_carlo, stat_of, Spread, MC_STATS};
-use pcsim_core::analysis::report::{count_events, run_errors, AllowedErrors};
+use pcsim_core::analysis::report::{count_events, run_errors};
+use pcsim_core::analysis::specs::MonteCarloSpec;
 use pcsim_core::Case;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -22,12 +23,11 @@ pub struct Study<'a> {
     pub case_text: &'a str,
     /// The flags that overrode case values.
     pub overrides: &'a [Override],
-    /// The number of realisations.
-    pub n: usize,
+    /// The study: its realisations and the error-level events accepted by flag
+    /// (`--allow-contact-loss`, `--allow-dewirement`).
+    pub spec: MonteCarloSpec,
     /// Worker threads.
     pub jobs: Option<usize>,
-    /// The error-level events accepted by flag (`--allow-contact-loss`, `--allow-dewirement`).
-    pub allowed: AllowedErrors,
 }
 
 /// Run the study into `out`; `(plot, report)`: draw the figures, write `report.html`. Exits 2
@@ -43,10 +43,13 @@ pub fn run_seeds(
         case,
         case_text,
         overrides,
-        n,
+        spec,
         jobs,
-        allowed,
     } = st;
+    let n = spec
+        .check(case)
+        .map_err(|e| anyhow::anyhow!("--seeds {}: {e}", spec.realisations))?;
+    let allowed = spec.allowed;
     crate::common::setup(case, overrides, ctx)?;
     let od = crate::output::OutDir::begin(out)?;
     let target = out;

@@ -123,9 +123,11 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
                 case: &case,
                 case_text: &case_text,
                 overrides: &overrides,
-                n,
+                spec: pcsim_core::analysis::specs::MonteCarloSpec {
+                    realisations: n,
+                    allowed: a.allowed(),
+                },
                 jobs: a.jobs,
-                allowed: a.allowed(),
             },
             &a.out,
             (a.plot || a.report, a.report),

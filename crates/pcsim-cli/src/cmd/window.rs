@@ -4,16 +4,17 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
-use pcsim_core::analysis::sweep::{Grid, Job, Shard};
-use pcsim_core::analysis::sweeps::{window_sweep, WindowRow};
-use pcsim_core::analysis::window_length::{fit_criteria, EnergyCurves, SearchSettings, Tolerances};
+use pcsim_core::analysis::specs::{with_flags, GridSpec, WindowSweepSpec};
+use pcsim_core::analysis::sweep::Shard;
+use pcsim_core::analysis::sweeps::WindowRow;
+use pcsim_core::analysis::window_length::{fit_criteria, EnergyCurves, Tolerances};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::common::{apply, shown, Ctx};
 use crate::output::{write_file, write_manifest};
 use crate::progress::Progress;
-use crate::sweep_dir::{fnv1a64, merge, write_montecarlo, SweepKind};
+use crate::sweep_dir::{merge, write_montecarlo, SweepKind};
 
 #[derive(Args)]
 #[command(args_conflicts_with_subcommands = true)]
@@ -135,49 +136,42 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
     let (base, case_text) =
         crate::common::load_case_with_text(a.case.as_ref(), a.preset.as_deref())?;
     let base = apply(&base, &[])?;
-    let tol = Tolerances {
-        mean_pct: pct("--mean-tol", &a.mean_tol)?,
-        sigma_pct: pct("--sigma-tol", &a.sigma_tol)?,
-        max_pct: pct("--max-tol", &a.max_tol)?,
-    };
-    let search = SearchSettings {
-        min_m: match &a.min_window {
-            Some(s) => metres("--min-window", s)?,
-            None => 0.5 * base.catenary.span_m,
+    let (speeds, tensions, shard) =
+        crate::common::sweep_flags(&a.speed, &a.tension, a.jobs, a.shard.as_deref())?;
+    // The flags become the core's spec, which holds the defaults, the checks and the fingerprint.
+    let d = WindowSweepSpec::default();
+    let spec = WindowSweepSpec {
+        grid: GridSpec {
+            speeds_kmh: speeds,
+            tensions_n: tensions,
+            dampings: Vec::new(),
+            seeds: crate::common::seeds_flag(a.seeds, &base)?,
+            shard,
         },
-        max_m: match &a.max_window {
+        tolerances: Tolerances {
+            mean_pct: pct("--mean-tol", &a.mean_tol)?,
+            sigma_pct: pct("--sigma-tol", &a.sigma_tol)?,
+            max_pct: pct("--max-tol", &a.max_tol)?,
+        },
+        min_window_m: a
+            .min_window
+            .as_deref()
+            .map(|s| metres("--min-window", s))
+            .transpose()?,
+        max_window_m: match &a.max_window {
             Some(s) => metres("--max-window", s)?,
-            None => 400.0,
+            None => d.max_window_m,
         },
         coarse_m: metres("--coarse", &a.coarse)?,
         resolution_m: metres("--resolution", &a.resolution)?,
-        full_scan: !a.coarse_only,
+        coarse_only: a.coarse_only,
     };
-    tol.check()?;
-    search.check_for(base.length_m())?;
-    let (speeds, tensions, shard) =
-        crate::common::sweep_flags(&a.speed, &a.tension, a.jobs, a.shard.as_deref())?;
-    let n_seeds = crate::common::seeds_flag(a.seeds, &base)?;
-    let single = pcsim_core::compile::window_case(&base);
-    let grid = Grid::new(single.clone(), speeds, tensions, Vec::new()).with_seeds(n_seeds);
-    let jobs = grid.jobs().context("in the window sweep")?;
-    let mut desc = single.to_toml_string();
-    let _ = write!(
-        desc,
-        "\n[window]\nspeeds = {:?}\ntensions = {:?}\ntol = {:?}\nsearch = {:?}\nseeds = {n_seeds}\nshards = {}\nversion = {}\n",
-        grid.speeds_kmh,
-        grid.tensions_n,
-        tol,
-        search,
-        shard.count,
-        env!("CARGO_PKG_VERSION")
-    );
-    let fingerprint = fnv1a64(desc.as_bytes());
-    let mine: Vec<Job> = jobs
-        .iter()
-        .filter(|j| shard.contains(j.index))
-        .cloned()
-        .collect();
+    spec.check(&base)
+        .map_err(|e| with_flags(e, &WindowSweepSpec::FLAGS))?;
+    let search = spec.search(&base);
+    let tol = spec.tolerances;
+    let (jobs, mine) = spec.jobs(&base).context("in the window sweep")?;
+    let fingerprint = spec.fingerprint(&base);
     let od = crate::output::OutDir::begin(&a.out)?;
     let dir = od.path();
     // The case as given (every value with its source), for the report.
@@ -190,7 +184,7 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
         ctx.progress,
         "window [{bar:40}] {pos}/{len} cases {elapsed_precise} eta {eta}",
     );
-    let results = window_sweep(&mine, &search, &tol, &ctx.budget, a.jobs, &|| pb.inc());
+    let results = spec.run(&base, &mine, &ctx.budget, a.jobs, &|| pb.inc());
     pb.finish();
     let results = results?;
     for c in &results {

@@ -28,6 +28,7 @@ pub mod filter;
 pub mod montecarlo;
 pub mod record;
 pub mod report;
+pub mod specs;
 pub mod stats;
 pub mod studies;
 pub mod sweep;

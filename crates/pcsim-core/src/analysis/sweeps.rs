@@ -8,7 +8,7 @@
 
 use crate::analysis::eva::{run_eva, simulate_with_eva, EvaOutput, EvaRow, EvaSettings};
 use crate::analysis::record::{simulate, RunOutput};
-use crate::analysis::sweep::{parallel_map, Grid, Job, Shard};
+use crate::analysis::sweep::{parallel_map, Job};
 use crate::analysis::validation::{ValidationPlan, ValidationReport};
 use crate::analysis::window_length::{
     full_stats, search_windows, EnergyCurves, SearchResult, SearchSettings, Tolerances,
@@ -25,18 +25,6 @@ fn in_case(index: usize, what: &str, e: impl std::fmt::Display) -> SimError {
     })
 }
 
-/// The cases of `grid` that belong to `shard`, in index order.
-pub fn shard_jobs(grid: &Grid, shard: Shard) -> Result<(Vec<Job>, usize), CaseError> {
-    let all = grid.jobs()?;
-    let n = all.len();
-    Ok((
-        all.into_iter()
-            .filter(|j| shard.contains(j.index))
-            .collect(),
-        n,
-    ))
-}
-
 /// One case of an EVA sweep.
 #[derive(Debug, Clone)]
 pub struct EvaCase {
@@ -48,7 +36,7 @@ pub struct EvaCase {
     pub row: EvaRow,
 }
 
-/// EVA of every case of `jobs` (one shard of a grid, [`shard_jobs`]) on up to `threads` threads
+/// EVA of every case of `jobs` (one shard of a grid, [`crate::analysis::specs::GridSpec::jobs`]) on up to `threads` threads
 /// (`None`: every core), within `budget`; `done` is called after each case (progress). The rows
 /// come in the order of `jobs`, the same bytes with any number of threads.
 pub fn eva_sweep(

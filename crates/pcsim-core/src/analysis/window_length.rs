@@ -115,9 +115,9 @@ impl Tolerances {
     /// Check the tolerances, naming the flag: each a percentage in (0, 1000).
     pub fn check(&self) -> Result<(), CaseError> {
         for (flag, v) in [
-            ("--mean-tol", self.mean_pct),
-            ("--sigma-tol", self.sigma_pct),
-            ("--max-tol", self.max_pct),
+            ("mean_tol_pct", self.mean_pct),
+            ("sigma_tol_pct", self.sigma_pct),
+            ("max_tol_pct", self.max_pct),
         ] {
             if !(v.is_finite() && v > 0.0 && v < 1000.0) {
                 return Err(CaseError::Invalid {
@@ -137,7 +137,7 @@ impl SearchSettings {
         self.check()?;
         if self.max_m >= model_length_m {
             return Err(CaseError::Invalid {
-                field: "--max-window".into(),
+                field: "max_window_m".into(),
                 value: format!("{} m", self.max_m),
                 reason: format!("must be shorter than the model ({model_length_m} m)"),
             });
@@ -153,26 +153,26 @@ impl SearchSettings {
             reason: r.into(),
         };
         if !(self.resolution_m.is_finite() && self.resolution_m > 0.0) {
-            return Err(bad("--resolution", self.resolution_m, "must be > 0"));
+            return Err(bad("resolution_m", self.resolution_m, "must be > 0"));
         }
         if !(self.coarse_m.is_finite() && self.coarse_m >= self.resolution_m) {
             return Err(bad(
-                "--coarse",
+                "coarse_m",
                 self.coarse_m,
                 "must be at least the resolution",
             ));
         }
         if !(self.min_m.is_finite() && self.min_m > 0.0) {
-            return Err(bad("--min-window", self.min_m, "must be > 0"));
+            return Err(bad("min_window_m", self.min_m, "must be > 0"));
         }
         if !(self.max_m.is_finite() && self.max_m > self.min_m) {
-            return Err(bad("--max-window", self.max_m, "must exceed --min-window"));
+            return Err(bad("max_window_m", self.max_m, "must exceed min_window_m"));
         }
         if (self.max_m - self.min_m) / self.resolution_m > 1e5 {
             return Err(bad(
-                "--resolution",
+                "resolution_m",
                 self.resolution_m,
-                "more than 100 000 lattice points between --min-window and --max-window",
+                "more than 100 000 lattice points between min_window_m and max_window_m",
             ));
         }
         Ok(())

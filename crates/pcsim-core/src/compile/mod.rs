@@ -4,7 +4,7 @@
 //! resources estimated against the [`Budget`], the speed and the time step checked for stability.
 //!
 //! Layers: `model/` and `solve/` import nothing from `input/`; `input/` reuses the model's
-//! vocabulary (damping, pre-sag, sections); this module imports them all (`tests/layers.rs`).
+//! vocabulary (damping, pre-sag, sections); this module imports them all (`tests/suite/layers.rs`).
 
 pub mod budget;
 pub mod model;

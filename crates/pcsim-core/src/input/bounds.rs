@@ -281,5 +281,5 @@ pub const LATERAL_MODES_PER_M_FOR_1_PCT: f64 = 1.25;
 /// Modes per metre from which the ice's static sag (`Σ T sag` over half a span against its closed
 /// form) lies within 1 % (−0.88 % at 2 per metre with the presets' bending stiffness, −1.46 % at
 /// 1 per metre: the sine series falls short by `8/(π² ρ S)` at the kinks of the support
-/// reactions; docs/validation.md, `tests/steady_loads.rs`).
+/// reactions; docs/validation.md, `tests/suite/steady_loads.rs`).
 pub const ICE_MODES_PER_M_FOR_1_PCT: f64 = 2.0;

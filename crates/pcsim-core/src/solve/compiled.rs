@@ -24,6 +24,7 @@ use crate::solve::kernels::{self, Isa};
 use crate::solve::plan::Plan;
 use crate::solve::sampler::{PointSampler, SamplerScratch};
 use crate::solve::state::State;
+use crate::solve::workspace::ExternalInput;
 use crate::solve::workspace::{ContactSample, Workspace, MAX_PLAUSIBLE_HEIGHT_M};
 
 /// Wire points of one basis group, gathered for all its blocks at once.
@@ -394,7 +395,7 @@ impl CompiledModel {
             lanes: Vec::new(),
             prhs: vec![0.0; self.max_pdof],
             loads: vec![0.0; 2 * np],
-            external: vec![(0.0, 0.0); np],
+            external: vec![ExternalInput::default(); np],
             off_head: vec![false; np],
             absent: vec![false; self.n_u],
             sample_point: self.pan_point.iter().map(|p| p.unwrap_or(0)).collect(),
@@ -552,10 +553,10 @@ impl CompiledModel {
     /// Where the moving point `mp` is this step, model coordinates, m: an external
     /// pantograph's input position, else its pantograph's own position.
     #[inline]
-    pub(crate) fn moving_x(&self, st: &State, external: &[(f64, f64)], mp: &MovingPoint) -> f64 {
+    pub(crate) fn moving_x(&self, st: &State, external: &[ExternalInput], mp: &MovingPoint) -> f64 {
         let p = mp.pantograph;
         match self.model.pantographs[p].kind {
-            PantographKind::External => external[p].0,
+            PantographKind::External => external[p].position_m,
             _ => self.position(st, p),
         }
     }

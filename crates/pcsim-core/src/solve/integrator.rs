@@ -102,6 +102,32 @@ pub fn oscillator_flow(m: f64, c: f64, k: f64, t: f64) -> [f64; 4] {
     ]
 }
 
+/// How a stage of [`Integrator::drive`] is run: the one driver's two strategies.
+pub(crate) trait StageStrategy {
+    /// Run `stage` of `integ`'s step.
+    fn stage(&self, integ: &Integrator, stage: Stage, st: &mut State, ws: &mut Workspace);
+}
+
+/// Every stage on this thread ([`Integrator::step`]).
+pub(crate) struct Serial;
+
+impl StageStrategy for Serial {
+    #[inline(always)]
+    fn stage(&self, integ: &Integrator, stage: Stage, st: &mut State, ws: &mut Workspace) {
+        integ.serial_stage(stage, st, ws);
+    }
+}
+
+/// The per-group stages shared by a team of threads ([`Integrator::step_team`]).
+pub(crate) struct TeamStages<'t, 'u>(&'t Team<'u>);
+
+impl StageStrategy for TeamStages<'_, '_> {
+    #[inline(always)]
+    fn stage(&self, integ: &Integrator, stage: Stage, st: &mut State, ws: &mut Workspace) {
+        integ.team_stage(self.0, stage, st, ws);
+    }
+}
+
 /// The named stages of [`Integrator::step`], in order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Stage {
@@ -464,10 +490,26 @@ impl Integrator {
 
     /// Advance `st` by one fixed step Δt (Eq. 18), in eight named stages, as MuJoCo's
     /// `mj_step`: drift, gather, fixed point forces, modal right-hand side, wind, moving points,
-    /// implicit solve and kick, pantographs. Allocation-free; the work is the same every step.
+    /// implicit solve and kick, pantographs ([`Stage::ALL`], run by [`Integrator::drive`]).
+    /// Allocation-free; the work is the same every step.
     pub fn step(&self, st: &mut State, ws: &mut Workspace) {
-        self.drift(st);
-        self.accelerations(st, ws);
+        self.drive(&Serial, &Stage::ALL, st, ws);
+    }
+
+    /// The one driver of the stages: `stages` (a run of [`Stage::ALL`], in its order), each by
+    /// `how` (one thread, or a team: [`Serial`], [`TeamStages`]). Every way of stepping goes
+    /// through it, so the order is written once.
+    #[inline(always)]
+    fn drive<H: StageStrategy>(
+        &self,
+        how: &H,
+        stages: &[Stage],
+        st: &mut State,
+        ws: &mut Workspace,
+    ) {
+        for &s in stages {
+            how.stage(self, s, st, ws);
+        }
     }
 
     /// One stage of [`Integrator::step`] alone, for the benches that time and count each stage
@@ -475,6 +517,12 @@ impl Integrator {
     /// step; one called alone works on whatever `st` and `ws` hold.
     #[inline(never)]
     pub fn step_stage(&self, stage: Stage, st: &mut State, ws: &mut Workspace) {
+        Serial.stage(self, stage, st, ws);
+    }
+
+    /// One stage on this thread.
+    #[inline(always)]
+    fn serial_stage(&self, stage: Stage, st: &mut State, ws: &mut Workspace) {
         match stage {
             Stage::Drift => self.drift(st),
             Stage::Gather => self.gather(st, ws),
@@ -495,63 +543,66 @@ impl Integrator {
         if n <= 1 || team.threads() < n || ws.lanes.len() < n {
             return self.step(st, ws);
         }
-        // Stages 1 and 2: drift and gather, part by part.
-        {
-            let m = &mut st.modal;
-            let lanes = Lane::split(&self.parts, m, &mut ws.u, &mut ws.vel, &mut ws.lanes);
-            team.fork(n, &|i| {
-                let Some(l) = Lane::take(&lanes, i) else {
-                    return;
-                };
-                let p = &self.parts[i];
-                self.drift_modal(p, &mut *l.q, &mut *l.v, &*l.a);
-                self.gather_part(p, &*l.q, &*l.v, &mut *l.u, &mut *l.vel, &mut l.scr.0);
-            });
-        }
-        self.drift_rest(st);
-        self.gather_rest(st, ws);
-        self.fixed_point_forces(st, ws);
-        // Stage 4: the modal right-hand side and the scatter, part by part.
-        {
-            let m = &mut st.modal;
-            let f = &ws.f;
-            let lanes = Lane::split(&self.parts, m, &mut ws.u, &mut ws.vel, &mut ws.lanes);
-            team.fork(n, &|i| {
-                let Some(l) = Lane::take(&lanes, i) else {
-                    return;
-                };
-                self.modal_rhs_part(&self.parts[i], l.a, l.q, l.v, f, &mut l.scr.0);
-            });
-        }
-        self.wind(st, ws);
-        self.moving_points(st, ws);
-        // Stage 7: the implicit solve and the kick, part by part.
-        {
-            let m = &mut st.modal;
-            let lanes = Lane::split(&self.parts, m, &mut ws.u, &mut ws.vel, &mut ws.lanes);
-            team.fork(n, &|i| {
-                let Some(l) = Lane::take(&lanes, i) else {
-                    return;
-                };
-                let (scr, imp) = (&mut l.scr.0, &mut l.scr.1);
-                self.implicit_part(&self.parts[i], l.a, l.v, scr, imp);
-            });
-        }
-        self.pantographs(st, ws);
+        self.drive(&TeamStages(team), &Stage::ALL, st, ws);
     }
 
-    /// Stages 2–8 of [`Integrator::step`]: the accelerations at `st` (the velocities are
-    /// half-kicked on the way; callers that only want the accelerations reset them). The coupled
-    /// stability check differences it without the drift ([`crate::solve::stability`]).
+    /// One stage with a team: the per-group stages part by part on the team's threads (the
+    /// drift and the gather of a part in one fork: a part's gather reads only its own drifted
+    /// coordinates), the others on this thread as [`Integrator::serial_stage`].
+    fn team_stage(&self, team: &Team, stage: Stage, st: &mut State, ws: &mut Workspace) {
+        let n = self.parts.len();
+        match stage {
+            Stage::Drift => {
+                // Stages 1 and 2 of the parts' modal coordinates, then the rest's drift.
+                let m = &mut st.modal;
+                let lanes = Lane::split(&self.parts, m, &mut ws.u, &mut ws.vel, &mut ws.lanes);
+                team.fork(n, &|i| {
+                    let Some(l) = Lane::take(&lanes, i) else {
+                        return;
+                    };
+                    let p = &self.parts[i];
+                    self.drift_modal(p, &mut *l.q, &mut *l.v, &*l.a);
+                    self.gather_part(p, &*l.q, &*l.v, &mut *l.u, &mut *l.vel, &mut l.scr.0);
+                });
+                self.drift_rest(st);
+            }
+            // The parts' gather ran with their drift: the rest's.
+            Stage::Gather => self.gather_rest(st, ws),
+            Stage::ModalRhs => {
+                let m = &mut st.modal;
+                let f = &ws.f;
+                let lanes = Lane::split(&self.parts, m, &mut ws.u, &mut ws.vel, &mut ws.lanes);
+                team.fork(n, &|i| {
+                    let Some(l) = Lane::take(&lanes, i) else {
+                        return;
+                    };
+                    self.modal_rhs_part(&self.parts[i], l.a, l.q, l.v, f, &mut l.scr.0);
+                });
+            }
+            Stage::ImplicitSolve => {
+                let m = &mut st.modal;
+                let lanes = Lane::split(&self.parts, m, &mut ws.u, &mut ws.vel, &mut ws.lanes);
+                team.fork(n, &|i| {
+                    let Some(l) = Lane::take(&lanes, i) else {
+                        return;
+                    };
+                    let (scr, imp) = (&mut l.scr.0, &mut l.scr.1);
+                    self.implicit_part(&self.parts[i], l.a, l.v, scr, imp);
+                });
+            }
+            Stage::FixedPointForces | Stage::Wind | Stage::MovingPoints | Stage::Pantographs => {
+                self.serial_stage(stage, st, ws)
+            }
+        }
+    }
+
+    /// Stages 2–8 of [`Integrator::step`] ([`Integrator::drive`] from the gather): the
+    /// accelerations at `st` (the velocities are half-kicked on the way; callers that only want
+    /// the accelerations reset them). The coupled stability check differences it without the
+    /// drift ([`crate::solve::stability`]).
     #[inline(always)]
     pub(crate) fn accelerations(&self, st: &mut State, ws: &mut Workspace) {
-        self.gather(st, ws);
-        self.fixed_point_forces(st, ws);
-        self.modal_rhs(st, ws);
-        self.wind(st, ws);
-        self.moving_points(st, ws);
-        self.implicit_solve(st, ws);
-        self.pantographs(st, ws);
+        self.drive(&Serial, &Stage::ALL[1..], st, ws);
     }
 
     /// Stage 1, drift: the half kick and the drift of the modal coordinates (the exact flow of the
@@ -835,7 +886,7 @@ impl Integrator {
             };
             ws.loads[p] = match pan.kind {
                 PantographKind::MovingForce { force_n, .. } => force_n,
-                PantographKind::External => ws.external[p].1,
+                PantographKind::External => ws.external[p].force_n,
                 PantographKind::Lumped(_) => 0.0,
             };
         }

@@ -147,10 +147,12 @@ impl Lanes for Plain {
     }
     #[inline(always)]
     unsafe fn load(p: *const f64) -> Self {
+        // SAFETY: the trait's contract: `p` is valid for four reads (read unaligned).
         Plain(unsafe { p.cast::<[f64; 4]>().read_unaligned() })
     }
     #[inline(always)]
     unsafe fn store(self, p: *mut f64) {
+        // SAFETY: the trait's contract: `p` is valid for four writes (written unaligned).
         unsafe { p.cast::<[f64; 4]>().write_unaligned(self.0) }
     }
     #[inline(always)]
@@ -175,6 +177,7 @@ impl Lanes for Plain {
     }
     #[inline(always)]
     unsafe fn load_split(p: *const f64) -> (Self, Self) {
+        // SAFETY: the trait's contract: `p` is valid for eight reads (four complex numbers).
         let v = unsafe { p.cast::<[f64; 8]>().read_unaligned() };
         (
             Plain([v[0], v[2], v[4], v[6]]),
@@ -184,6 +187,7 @@ impl Lanes for Plain {
     #[inline(always)]
     unsafe fn store_joined(re: Self, im: Self, p: *mut f64) {
         let (r, i) = (re.0, im.0);
+        // SAFETY: the trait's contract: `p` is valid for eight writes (four complex numbers).
         unsafe {
             p.cast::<[f64; 8]>()
                 .write_unaligned([r[0], i[0], r[1], i[1], r[2], i[2], r[3], i[3]])
@@ -211,11 +215,14 @@ mod avx {
         #[inline]
         #[target_feature(enable = "avx2,fma")]
         unsafe fn load(p: *const f64) -> Self {
+            // SAFETY: the trait's contract (`p` valid for four reads); this impl is only reached on a
+            // CPU with AVX2 and FMA (`lanes_kernel!` dispatches on `Isa::detect`).
             Avx(unsafe { _mm256_loadu_pd(p) })
         }
         #[inline]
         #[target_feature(enable = "avx2,fma")]
         unsafe fn store(self, p: *mut f64) {
+            // SAFETY: the trait's contract (`p` valid for four writes); AVX2 checked as for `load`.
             unsafe { _mm256_storeu_pd(p, self.0) }
         }
         #[inline]
@@ -247,6 +254,7 @@ mod avx {
         #[target_feature(enable = "avx2,fma")]
         unsafe fn load_split(p: *const f64) -> (Self, Self) {
             // [r0 i0 r1 i1], [r2 i2 r3 i3] → [r0 i0 r2 i2], [r1 i1 r3 i3] → [r0..r3], [i0..i3].
+            // SAFETY: the trait's contract (`p` valid for eight reads: both halves); AVX2 as for `load`.
             let (a, b) = unsafe { (_mm256_loadu_pd(p), _mm256_loadu_pd(p.add(4))) };
             let t0 = _mm256_permute2f128_pd::<0x20>(a, b);
             let t1 = _mm256_permute2f128_pd::<0x31>(a, b);
@@ -261,6 +269,7 @@ mod avx {
             // [re0 im0 re2 im2], [re1 im1 re3 im3] → [re0 im0 re1 im1], [re2 im2 re3 im3].
             let lo = _mm256_unpacklo_pd(re.0, im.0);
             let hi = _mm256_unpackhi_pd(re.0, im.0);
+            // SAFETY: the trait's contract (`p` valid for eight writes: both halves); AVX2 as for `load`.
             unsafe {
                 _mm256_storeu_pd(p, _mm256_permute2f128_pd::<0x20>(lo, hi));
                 _mm256_storeu_pd(p.add(4), _mm256_permute2f128_pd::<0x31>(lo, hi));
@@ -440,6 +449,8 @@ lanes_kernel! {
 unsafe fn dot_body<S: Lanes, const F: bool>(a: &[f64], b: &[f64]) -> f64 {
     let n = a.len().min(b.len());
     let (pa, pb) = (a.as_ptr(), b.as_ptr());
+    // SAFETY: `S` is usable (this function's contract); every read is of four values at
+    // `i..i + 4 <= n`, or one at `i < n`, with `n` the shorter slice's length.
     unsafe {
         let mut acc = [S::zero(); 4];
         let mut i = 0;
@@ -543,6 +554,8 @@ lanes_kernel! {
 unsafe fn dot2_body<S: Lanes, const F: bool>(row: &[f64], x: &[f64], y: &[f64]) -> (f64, f64) {
     let n = row.len().min(x.len()).min(y.len());
     let (pr, px, py) = (row.as_ptr(), x.as_ptr(), y.as_ptr());
+    // SAFETY: `S` is usable (this function's contract); every read of `row`, `x`, `y` is at
+    // `i..i + 4 <= n` or `i < n`, with `n` the shortest slice's length.
     unsafe {
         let mut ax = [S::zero(); 2];
         let mut ay = [S::zero(); 2];
@@ -785,6 +798,9 @@ unsafe fn fold_block<S: Lanes, const F: bool, const NL: usize, const TWO: bool, 
     r0: usize,
     out: [*mut f64; G],
 ) {
+    // SAFETY: the caller's contract (above): the reads of `q*`, `s[g]`, `c[g]` stay below `n`
+    // (`base + 4·NL <= n`, then single modes `m < n`) and the writes of `out[g]` below its
+    // `4p` (`2p`) values (`r0 + 4·NL <= p`).
     unsafe {
         let mut acc = [[[S::zero(); NL]; 4]; G];
         let mut base = r0;
@@ -838,6 +854,8 @@ unsafe fn fold_one<const F: bool, const TWO: bool>(
     m: usize,
     out: *mut f64,
 ) {
+    // SAFETY: the caller's contract (`fold_block`'s): `m < n` indexes `q*`, `s`, `c`; `r` and
+    // `p + r` (`2p + r`, `3p + r` with `TWO`) index `out`'s `4p` (`2p`) values, `r < p`.
     unsafe {
         let (ss, cc, x) = (*s.add(m), *c.add(m), *q1.add(m));
         *out.add(r) = mad::<F>(x, ss, *out.add(r));
@@ -916,6 +934,8 @@ unsafe fn fold2_body<S: Lanes, const F: bool>(
     p: usize,
     out: &mut [f64],
 ) {
+    // SAFETY: `S` is usable (this function's contract); `fold_body` takes `n` as the shortest
+    // input and asserts that every output holds `nk·p` values before it offsets a pointer.
     unsafe { fold_body::<S, F, true, 1>(q1, q2, [s], [c], p, [out]) }
 }
 
@@ -936,6 +956,7 @@ unsafe fn fold1_body<S: Lanes, const F: bool>(
     p: usize,
     out: &mut [f64],
 ) {
+    // SAFETY: as for `fold2_body` (one vector: `q2` empty, unread when not `TWO`).
     unsafe { fold_body::<S, F, false, 1>(q, &[], [s], [c], p, [out]) }
 }
 
@@ -954,6 +975,7 @@ unsafe fn fold1x2_body<S: Lanes, const F: bool>(
     out: [&mut [f64]; 2],
 ) {
     let [s1, c1, s2, c2] = tabs;
+    // SAFETY: as for `fold2_body`, two groups, each with its own tables and output.
     unsafe { fold_body::<S, F, false, 2>(q, &[], [s1, s2], [c1, c2], p, out) }
 }
 
@@ -975,6 +997,7 @@ unsafe fn fold2x2_body<S: Lanes, const F: bool>(
     out: [&mut [f64]; 2],
 ) {
     let [s1, c1, s2, c2] = tabs;
+    // SAFETY: as for `fold2_body`, two vectors of two groups.
     unsafe { fold_body::<S, F, true, 2>(q1, q2, [s1, s2], [c1, c2], p, out) }
 }
 
@@ -1012,6 +1035,9 @@ unsafe fn unfold_block<
     o1: *mut f64,
     o2: *mut f64,
 ) {
+    // SAFETY: the caller's contract (`unfold_body`'s checks): the reads of `bins[g]` (`nk·p`
+    // values), `s[g]`, `c[g]` and `scale` stay below their checked lengths, the writes of `o1`, `o2`
+    // below `n` (`r0 + 4·NL <= p`, outputs `o = m·p + r < n`).
     unsafe {
         let nk = if TWO { 4 } else { 2 };
         let mut r = [[[S::zero(); NL]; 4]; G];
@@ -1072,6 +1098,8 @@ unsafe fn unfold_one<const F: bool, const TWO: bool, const SC: bool>(
     o1: *mut f64,
     o2: *mut f64,
 ) {
+    // SAFETY: the caller's contract (`unfold_block`'s): `o < n` indexes `s`, `c`, `scale`, `o1`,
+    // `o2`; `r`, `p + r` (and `2p + r`, `3p + r` with `TWO`) index the bins, `r < p`.
     unsafe {
         let (ss, cc) = (*s.add(o), *c.add(o));
         let (a, b) = (*bins.add(r), *bins.add(p + r));
@@ -1191,6 +1219,9 @@ unsafe fn unfold2_body<S: Lanes, const F: bool>(
     o1: &mut [f64],
     o2: &mut [f64],
 ) {
+    // SAFETY: `S` is usable (this function's contract); `unfold_scaled` takes `n` as the
+    // shortest table, output or scale and asserts that every bin array holds `nk·p` values
+    // before it offsets a pointer.
     unsafe { unfold_body::<S, F, true, 1>([bins], [s], [c], p, o1, o2, &[]) }
 }
 
@@ -1211,6 +1242,7 @@ unsafe fn unfold2x2_body<S: Lanes, const F: bool>(
     o2: &mut [f64],
 ) {
     let [s1, c1, s2, c2] = tabs;
+    // SAFETY: as for `unfold2_body`, two groups.
     unsafe { unfold_body::<S, F, true, 2>(bins, [s1, s2], [c1, c2], p, o1, o2, &[]) }
 }
 
@@ -1233,6 +1265,7 @@ unsafe fn unfold1_body<S: Lanes, const F: bool>(
     o: &mut [f64],
     scale: &[f64],
 ) {
+    // SAFETY: as for `unfold2_body` (one output: `o2` empty and unwritten when not `TWO`).
     unsafe { unfold_body::<S, F, false, 1>([bins], [s], [c], p, o, &mut [], scale) }
 }
 
@@ -1254,6 +1287,7 @@ unsafe fn unfold1x2_body<S: Lanes, const F: bool>(
     scale: &[f64],
 ) {
     let [s1, c1, s2, c2] = tabs;
+    // SAFETY: as for `unfold1_body`, two groups.
     unsafe { unfold_body::<S, F, false, 2>(bins, [s1, s2], [c1, c2], p, o, &mut [], scale) }
 }
 
@@ -1423,6 +1457,9 @@ unsafe fn project_rows<S: Lanes, const F: bool, const NV: usize>(
     let xp: [*const f64; NV] = xs.map(|x| x.as_ptr());
     let (pp, op) = (p.as_ptr(), out.as_mut_ptr());
     let tail = m / 4 * 4;
+    // SAFETY: `S` is usable (this function's contract); the assert above gives `p` at least
+    // `n·m` values, every `x_v` at least `m` and `out` at least `NV·n`: row `k < n` reads
+    // `p[k·m..(k + 1)·m]` and `x_v[..m]` (four at a time below `tail <= m`), and writes `out[v·n + k]`.
     unsafe {
         let mut k = 0;
         while k < n {
@@ -1469,6 +1506,7 @@ unsafe fn project2_body<S: Lanes, const F: bool>(
     x1: &[f64],
     out: &mut [f64],
 ) {
+    // SAFETY: `S` is usable (this function's contract); `project_rows` asserts every length.
     unsafe { project_rows::<S, F, 2>(p, (n, n), [x0, x1], out) }
 }
 
@@ -1481,6 +1519,7 @@ unsafe fn project4_body<S: Lanes, const F: bool>(
     x: [&[f64]; 4],
     out: &mut [f64],
 ) {
+    // SAFETY: as for `project2_body`.
     unsafe { project_rows::<S, F, 4>(p, (n, n), x, out) }
 }
 
@@ -1505,6 +1544,7 @@ unsafe fn project2_rect_body<S: Lanes, const F: bool>(
     x1: &[f64],
     out: &mut [f64],
 ) {
+    // SAFETY: as for `project2_body`.
     unsafe { project_rows::<S, F, 2>(p, shape, [x0, x1], out) }
 }
 

@@ -40,4 +40,4 @@ pub use plan::{Options, Plan};
 pub use run::{run, Observer, RunStatistics};
 pub use stability::{CoupledLimit, StableStep};
 pub use state::State;
-pub use workspace::{ContactSample, Workspace};
+pub use workspace::{ContactSample, ExternalInput, Workspace};

@@ -51,6 +51,7 @@ use crate::solve::kernels::Isa;
 use crate::solve::plan::Plan;
 use crate::solve::run::Observer;
 use crate::solve::state::State;
+use crate::solve::workspace::ExternalInput;
 use crate::solve::workspace::Workspace;
 
 /// How the real-time catenary is coupled to the pantograph.
@@ -656,7 +657,7 @@ pub struct RealtimeCatenary {
     coupling: Coupling,
     window_m: f64,
     n: usize,
-    input: (f64, f64),
+    input: ExternalInput,
     /// The full model's run length and analysis section (track coordinates), for comparisons.
     full_duration_s: f64,
     analysis_m: [f64; 2],
@@ -778,7 +779,10 @@ impl RealtimeCatenary {
             coupling,
             window_m,
             n,
-            input: (x_start, 0.0),
+            input: ExternalInput {
+                position_m: x_start,
+                force_n: 0.0,
+            },
             start_m: x_start,
             full_duration_s: full_plan.duration_s,
             analysis_m: full_plan.analysis_m,
@@ -878,7 +882,7 @@ impl RealtimeCatenary {
                 limit_n: self.force_limit_n,
             });
         }
-        let previous_m = self.input.0;
+        let previous_m = self.input.position_m;
         let speed_kmh = (position_m - previous_m).abs()
             / elapsed_s.max(self.frames[self.cur].integ.dt_s())
             * 3.6;
@@ -948,7 +952,10 @@ impl RealtimeCatenary {
     /// HIL input for the next step: the measured contact force (N, pushing the wire up) and the
     /// pantograph position along the track (m).
     pub fn set_input(&mut self, contact_force_n: f64, position_m: f64) {
-        self.input = (position_m, contact_force_n);
+        self.input = ExternalInput {
+            position_m,
+            force_n: contact_force_n,
+        };
     }
 
     /// Advance one fixed step. Allocation-free; the work is bounded (a window move adds a fixed
@@ -956,8 +963,14 @@ impl RealtimeCatenary {
     pub fn step(&mut self) -> RealtimeOutput {
         let f = &mut self.frames[self.cur];
         if self.coupling == Coupling::Hil {
-            let (x, force) = self.input;
-            f.ws.set_external(0, x - f.st.track_origin_m, force);
+            // The input in track coordinates, the workspace's in the window's model coordinates.
+            f.ws.set_external(
+                0,
+                ExternalInput {
+                    position_m: self.input.position_m - f.st.track_origin_m,
+                    ..self.input
+                },
+            );
         }
         f.integ.step(&mut f.st, &mut f.ws);
         let s = f.ws.samples()[0];
@@ -1000,7 +1013,7 @@ pub struct Snapshot {
     /// The current position.
     cur: usize,
     moves: u64,
-    input: (f64, f64),
+    input: ExternalInput,
 }
 
 impl Snapshot {
@@ -1012,8 +1025,8 @@ impl Snapshot {
         }
         self.st[self.cur].write_bytes(out);
         out.extend_from_slice(&self.moves.to_le_bytes());
-        out.extend_from_slice(&self.input.0.to_le_bytes());
-        out.extend_from_slice(&self.input.1.to_le_bytes());
+        out.extend_from_slice(&self.input.position_m.to_le_bytes());
+        out.extend_from_slice(&self.input.force_n.to_le_bytes());
     }
 }
 
@@ -1087,7 +1100,10 @@ impl RealtimeCatenary {
         let st = &mut s.st[s.cur];
         st.read_bytes(r)?;
         s.moves = r.u64()?;
-        s.input = (r.f64()?, r.f64()?);
+        s.input = ExternalInput {
+            position_m: r.f64()?,
+            force_n: r.f64()?,
+        };
         if self.line.is_some() && s.moves != s.cur as u64 {
             return Err(format!(
                 "the window's moves ({}) do not match its position ({}) on the line",
@@ -1098,8 +1114,8 @@ impl RealtimeCatenary {
         if !(st.is_finite()
             && st.x0_m.is_finite()
             && st.track_origin_m.is_finite()
-            && s.input.0.is_finite()
-            && s.input.1.is_finite())
+            && s.input.position_m.is_finite()
+            && s.input.force_n.is_finite())
         {
             return Err("the serialised state holds non-finite numbers".into());
         }

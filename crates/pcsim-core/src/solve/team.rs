@@ -9,7 +9,7 @@
 //! stay on the calling thread. Every modal coordinate and every slot is computed by the same
 //! operations in the same order whichever thread computes it, and the parts never depend on one
 //! another inside a stage, so **the output bytes are the same with one thread or several**
-//! (`tests/threads.rs`). The partition depends on the thread count only through where it cuts.
+//! (`tests/suite/threads.rs`). The partition depends on the thread count only through where it cuts.
 //!
 //! # Why a hand-written team and not rayon's `join`
 //! A step of the 10 km line takes 50–190 µs (139 to 1 380 modes per wire, docs/performance.md)

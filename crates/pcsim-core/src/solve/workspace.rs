@@ -81,6 +81,18 @@ impl ContactSample {
     }
 }
 
+/// What an external pantograph (hardware in the loop) applies during a step: where it is and how
+/// hard it pushes. Named, in the one place it is defined, so that no caller can swap the two
+/// numbers (every front end takes them as force, then position).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ExternalInput {
+    /// Position of the contact point, m (model coordinates in the workspace, track coordinates
+    /// in the real-time window's last input).
+    pub position_m: f64,
+    /// Upward contact force on the wire, N.
+    pub force_n: f64,
+}
+
 /// Scratch, outputs and inputs of [`crate::solve::Integrator::step`]. Make it with
 /// [`crate::solve::Integrator::workspace`].
 #[derive(Debug, Clone)]
@@ -102,8 +114,8 @@ pub struct Workspace {
     pub(crate) prhs: Vec<f64>,
     /// Prescribed loads per pantograph, N.
     pub(crate) loads: Vec<f64>,
-    /// Position (model coordinates, m) and upward force (N) of each external pantograph.
-    pub(crate) external: Vec<(f64, f64)>,
+    /// The input of each external pantograph (hardware in the loop).
+    pub(crate) external: Vec<ExternalInput>,
     /// Per pantograph: the contact point lies beyond the head this step (no contact).
     pub(crate) off_head: Vec<bool>,
     /// By displacement slot: a moving point beyond its wire's ends this step (no contact).
@@ -132,10 +144,10 @@ pub struct Workspace {
 }
 
 impl Workspace {
-    /// Set the position (model coordinates, m) and the upward contact force (N) that the
-    /// external pantograph `p` applies during the next step.
-    pub fn set_external(&mut self, p: usize, x_m: f64, force_n: f64) {
-        self.external[p] = (x_m, force_n);
+    /// Set what the external pantograph `p` applies during the next step (its position in model
+    /// coordinates).
+    pub fn set_external(&mut self, p: usize, input: ExternalInput) {
+        self.external[p] = input;
     }
 
     /// Contact samples of the last step (one per pantograph).

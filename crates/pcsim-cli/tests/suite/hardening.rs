@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::Output;
 use std::time::Duration;
 
-mod common;
+use crate::common;
 use common::{pcsim, refused, run_within, stderr, stdout};
 
 fn scratch(name: &str) -> PathBuf {

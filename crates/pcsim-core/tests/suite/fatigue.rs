@@ -3,7 +3,7 @@
 //! exactly; the droppers' tensions through a run over a line with an overlap, their cycles and
 //! Miner's damage.
 
-mod common;
+use crate::common;
 
 use pcsim_core::analysis::fatigue::{rainflow, Cycle};
 

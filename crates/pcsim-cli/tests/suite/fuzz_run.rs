@@ -3,7 +3,7 @@
 //! accept only exit status 0 or 2, no panic, no hang, and no NaN or infinity in any output.
 //!
 //! CI runs 200 mutations; the documented longer run is
-//! `PCSIM_FUZZ_CASES=1000 cargo test --release -p pcsim-cli --test fuzz_run -- --nocapture`.
+//! `PCSIM_FUZZ_CASES=1000 cargo test --release -p pcsim-cli --test suite fuzz_run:: -- --nocapture`.
 
 use pcsim_core::zoo::number_spans as numbers;
 use std::path::Path;

@@ -3,7 +3,7 @@
 //! loading and validating never panic and never accept a NaN or an infinity into a run.
 //!
 //! CI runs a bounded number of cases; the documented longer run is
-//! `PCSIM_MUTATION_CASES=20000 cargo test --release -p pcsim-core --test mutations`.
+//! `PCSIM_MUTATION_CASES=20000 cargo test --release -p pcsim-core --test suite mutations::`.
 
 use pcsim_core::presets::PRESETS;
 use pcsim_core::zoo::number_spans as numbers;
@@ -140,7 +140,7 @@ proptest! {
     #[test]
     fn mutated_design_specs_never_panic(ops in proptest::collection::vec(op(), 1..4)) {
         use pcsim_core::analysis::design::Design;
-        let mut text = include_str!("../../../tests/design/swarm.toml").to_string();
+        let mut text = include_str!("../../../../tests/design/swarm.toml").to_string();
         for o in &ops {
             text = apply(&text, o);
         }

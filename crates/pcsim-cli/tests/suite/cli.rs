@@ -749,6 +749,8 @@ fn window_shards_merge_to_the_unsharded_result() {
         "40",
         "--resolution",
         "5",
+        // The merge is what is tested: the quick search keeps the four runs short.
+        "--coarse-only",
         "--quiet",
         "--no-plot",
         "--out",

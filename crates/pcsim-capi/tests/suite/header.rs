@@ -85,8 +85,8 @@ fn c_signatures(h: &str) -> BTreeMap<String, (String, Vec<String>)> {
 
 #[test]
 fn the_header_declares_every_function_with_the_rust_signature() {
-    let src = include_str!("../src/lib.rs");
-    let header = include_str!("../../../include/pcsim.h");
+    let src = include_str!("../../src/lib.rs");
+    let header = include_str!("../../../../include/pcsim.h");
     let rust: BTreeMap<_, _> = rust_signatures(src)
         .into_iter()
         .map(|(k, (r, p))| (k, (norm(&r), p.iter().map(|x| norm(x)).collect::<Vec<_>>())))
@@ -109,7 +109,7 @@ fn the_header_declares_every_function_with_the_rust_signature() {
 
 #[test]
 fn the_header_constants_have_the_library_values() {
-    let header = include_str!("../../../include/pcsim.h");
+    let header = include_str!("../../../../include/pcsim.h");
     let consts = [
         ("PCSIM_OK", pcsim_capi::PCSIM_OK),
         ("PCSIM_ERR_ARGUMENT", pcsim_capi::PCSIM_ERR_ARGUMENT),

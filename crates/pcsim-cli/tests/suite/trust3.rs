@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-mod common;
+use crate::common;
 use common::{ok, pcsim, refused, stderr, stdout};
 
 fn scratch(name: &str) -> PathBuf {
@@ -341,7 +341,7 @@ fn fnv1a64_hex(data: &[u8]) -> String {
 fn issue_39_6_a_journal_row_that_does_not_reproduce_is_an_error_without_best_case() {
     let d = scratch("journal");
     // The design tests' spec, on 6 spans of en50318-2002.
-    let text = include_str!("../../../tests/design/swarm.toml");
+    let text = include_str!("../../../../tests/design/swarm.toml");
     let (mut c, _) = pcsim_core::presets::load("en50318-2002").unwrap();
     c.catenary.spans = 6;
     c.run.start_m = 60.0;

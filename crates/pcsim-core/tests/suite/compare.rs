@@ -2,7 +2,7 @@
 //! shifted, scaled, with noise added, at a recording car's spacing — gives the shift back within
 //! one sample and the statistics within the noise.
 
-mod common;
+use crate::common;
 
 use pcsim_core::analysis::compare::compare;
 use pcsim_core::input::measured::MeasuredForce;

@@ -4,7 +4,7 @@
 //! equal spans runs as the `[catenary]` it spells; the line's errors name their field; a string
 //! over spans that differ, under a moving force, against the exact solution of its spans.
 
-mod common;
+use crate::common;
 
 use pcsim_core::compile::model::{static_design, tension_length_design};
 use pcsim_core::input::case::{Case, LineCase, SpanRun, TensionLengthCase, G};
@@ -997,7 +997,7 @@ fn hil_height_error(case: &Case, window_m: f64) -> ([f64; 4], usize) {
 /// Issue 21, item 7, hardware in the loop: fed with the full model's contact force and position
 /// over the 2018-like line, a 400 m window returns the contact-wire height at the contact point,
 /// overlaps included, within 5 % of the height's σ (RMS over the analysis section, the bound of
-/// the span-periodic check in `tests/realtime.rs`), and no worse than on the same catenary
+/// the span-periodic check in `tests/suite/realtime.rs`), and no worse than on the same catenary
 /// without overlaps: the overlaps add no error of their own. The measured force is the total on
 /// the head: in an overlap it acts on the lower wire (`Contacts::carries`), where the full model
 /// shares it between both in the transfer region.

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-mod common;
+use crate::common;
 use common::{ok, pcsim, refused, run_within, stderr};
 
 fn scratch(name: &str) -> PathBuf {

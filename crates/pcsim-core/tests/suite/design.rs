@@ -76,7 +76,7 @@ fn the_search_finds_the_uplift_whose_mean_force_is_the_target() {
 
 /// The shared test spec (`tests/design/swarm.toml`): two variables, a swarm of 4 over 3 batches,
 /// two speeds, a constraint and the acceptance criteria, on 6 spans.
-const SWARM: &str = include_str!("../../../tests/design/swarm.toml");
+const SWARM: &str = include_str!("../../../../tests/design/swarm.toml");
 
 /// Two searches gave the same evaluations, bit for bit.
 fn same_search(a: &DesignResult, b: &DesignResult) {

@@ -259,18 +259,18 @@ fn wind_spectrum_matches_its_target_band_by_band() {
     }
 }
 
-/// One-sided periodogram `|X_l|² · 2 dt / n` at `f_l = l / (n dt)`.
+/// One-sided periodogram `|X_l|² · 2 dt / n` at `f_l = l / (n dt)`, `X_l = Σ x_k e^{−2πi lk/n}`
+/// (the DFT by rustfft's FFT: the same sums as the direct one, which took 10 s here).
 fn periodogram(x: &[f64], dt: f64) -> Vec<f64> {
+    use rustfft::num_complex::Complex;
     let n = x.len();
+    let mut buf: Vec<Complex<f64>> = x.iter().map(|&v| Complex::new(v, 0.0)).collect();
+    rustfft::FftPlanner::<f64>::new()
+        .plan_fft_forward(n)
+        .process(&mut buf);
     let mut p = vec![0.0; n / 2];
     for (l, pl) in p.iter_mut().enumerate().skip(1) {
-        let (mut re, mut im) = (0.0, 0.0);
-        for (k, v) in x.iter().enumerate() {
-            let a = -2.0 * std::f64::consts::PI * (l * k) as f64 / n as f64;
-            re += v * a.cos();
-            im += v * a.sin();
-        }
-        *pl = 2.0 * dt / n as f64 * (re * re + im * im);
+        *pl = 2.0 * dt / n as f64 * buf[l].norm_sqr();
     }
     p
 }

@@ -4,7 +4,7 @@
 use pcsim_core::analysis::filter::{butter, Band};
 
 fn golden() -> (Vec<String>, Vec<Vec<Option<f64>>>) {
-    let text = include_str!("../../../data/golden/filter_golden.csv");
+    let text = include_str!("../../../../data/golden/filter_golden.csv");
     let mut lines = text.lines();
     let names: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
     let mut cols = vec![Vec::new(); names.len()];

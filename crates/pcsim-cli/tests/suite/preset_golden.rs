@@ -19,7 +19,7 @@ const TOL_CHAOTIC: f64 = 3e-2;
 #[test]
 fn five_preset_runs_are_unchanged() {
     let golden: serde_json::Value =
-        serde_json::from_str(include_str!("../../../data/golden/preset_runs.json")).unwrap();
+        serde_json::from_str(include_str!("../../../../data/golden/preset_runs.json")).unwrap();
     let runs = golden.as_array().unwrap();
     assert_eq!(runs.len(), 5);
     let dir = std::env::temp_dir().join(format!("pcsim-preset-golden-{}", std::process::id()));

@@ -1,6 +1,6 @@
 //! Dynamics of the full catenary: slack droppers, the energy balance, determinism.
 
-mod common;
+use crate::common;
 
 use common::{short_en50318, short_preset, with_moving_force};
 use pcsim_core::analysis::energy::{dissipation_rate, system_energy};

@@ -18,7 +18,7 @@ fn scratch(name: &str) -> PathBuf {
 /// The shared test spec (`tests/design/swarm.toml`, 6 spans of en50318-2002), its base read from a
 /// case file beside it (`base.file`), with `min_force` for its constraint.
 fn spec(dir: &Path, min_force: f64) -> PathBuf {
-    let text = include_str!("../../../tests/design/swarm.toml");
+    let text = include_str!("../../../../tests/design/swarm.toml");
     let (mut c, _) = pcsim_core::presets::load("en50318-2002").unwrap();
     c.catenary.spans = 6;
     c.run.start_m = 60.0;

@@ -1,0 +1,30 @@
+//! The integration tests of pcsim-core, one binary (one build and one link for all): each
+//! module is one former test file, named as before (`cargo test -p pcsim-core --test suite NAME::`).
+
+mod analytic;
+mod assess;
+mod cases;
+mod common;
+mod compare;
+mod convergence;
+mod design;
+mod dynamics;
+mod en50318_2002;
+mod energy;
+mod fatigue;
+mod filter_golden;
+mod irregularity;
+mod isa;
+mod lateral;
+mod layers;
+mod line;
+mod mutations;
+mod realtime;
+mod realtime_alloc;
+mod realtime_session;
+mod stability;
+mod statics;
+mod steady_loads;
+mod stitched;
+mod threads;
+mod zoo;
