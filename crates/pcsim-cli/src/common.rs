@@ -338,3 +338,12 @@ pub fn read_irregularity_csv(path: &Path) -> Result<pcsim_core::input::case::Irr
     pcsim_core::input::case::IrregularityCase::from_csv(&text, &path.display().to_string())
         .map_err(|e| anyhow::anyhow!("--irregularity: {e}"))
 }
+
+/// The flag that accepts an error-level event of `kind`.
+pub fn allow_flag(kind: pcsim_core::analysis::report::RunErrorKind) -> &'static str {
+    use pcsim_core::analysis::report::RunErrorKind;
+    match kind {
+        RunErrorKind::Dewirement => "--allow-dewirement",
+        RunErrorKind::ContactLoss => "--allow-contact-loss",
+    }
+}

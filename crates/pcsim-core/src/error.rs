@@ -38,6 +38,18 @@ pub enum CaseError {
         /// chain printed whole says it once).
         error: Box<CaseError>,
     },
+    /// A quantity of the model the engine refuses, named in the model's terms (`solve/` and
+    /// `model/` never read the file format); `compile/` maps it to the case field that sets it
+    /// ([`crate::compile::in_case_terms`]).
+    #[error("invalid {what} = {value}: {reason}")]
+    Model {
+        /// What is refused, in the model's terms.
+        what: ModelQuantity,
+        /// Its value.
+        value: String,
+        /// Why, with the bound.
+        reason: String,
+    },
     /// An error of one case of a sweep or a study, with the case it belongs to.
     #[error("{case}: {error}")]
     InCase {
@@ -46,6 +58,64 @@ pub enum CaseError {
         /// What was wrong in it.
         error: Box<CaseError>,
     },
+}
+
+/// A quantity of the model, as the engine names it in an error.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModelQuantity {
+    /// The time step Δt, s.
+    TimeStep,
+    /// The train speed, km/h.
+    Speed,
+    /// The penalty contact's stiffness, N/m.
+    ContactStiffness,
+    /// The masses of pantograph `0` (its index in the model).
+    PantographMasses(usize),
+    /// The stiffnesses of pantograph `.0`, or its `.1`-th one.
+    PantographStiffness(usize, Option<usize>),
+    /// The pantographs of a model (their number).
+    Pantographs,
+    /// The steady loads of the static start state (the mean wind, the ice's weight).
+    SteadyLoads,
+}
+
+impl std::fmt::Display for ModelQuantity {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ModelQuantity::TimeStep => write!(f, "time step Δt [s]"),
+            ModelQuantity::Speed => write!(f, "train speed [km/h]"),
+            ModelQuantity::ContactStiffness => write!(f, "contact stiffness [N/m]"),
+            ModelQuantity::PantographMasses(p) => write!(f, "masses of pantograph {p} [kg]"),
+            ModelQuantity::PantographStiffness(p, None) => {
+                write!(f, "stiffnesses of pantograph {p} [N/m]")
+            }
+            ModelQuantity::PantographStiffness(p, Some(j)) => {
+                write!(f, "stiffness {j} of pantograph {p} [N/m]")
+            }
+            ModelQuantity::Pantographs => write!(f, "pantographs"),
+            ModelQuantity::SteadyLoads => write!(f, "static start state under the steady loads"),
+        }
+    }
+}
+
+impl ModelQuantity {
+    /// The case field that sets it (its path in the case file): how `compile/` names it.
+    pub fn case_path(self) -> String {
+        match self {
+            ModelQuantity::TimeStep => "run.dt_s".into(),
+            ModelQuantity::Speed => "run.speed_kmh".into(),
+            ModelQuantity::ContactStiffness => "contact.stiffness_n_per_m".into(),
+            ModelQuantity::PantographMasses(p) => format!("pantographs[{p}].masses_kg"),
+            ModelQuantity::PantographStiffness(p, None) => {
+                format!("pantographs[{p}].stiffness_n_per_m")
+            }
+            ModelQuantity::PantographStiffness(p, Some(j)) => {
+                format!("pantographs[{p}].stiffness_n_per_m[{j}]")
+            }
+            ModelQuantity::Pantographs => "pantographs".into(),
+            ModelQuantity::SteadyLoads => "wind / catenary.ice".into(),
+        }
+    }
 }
 
 /// A run that failed.

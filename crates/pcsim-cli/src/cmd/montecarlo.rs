@@ -209,7 +209,7 @@ pub fn run_seeds(
             e.runs[0],
             e.first_message
         );
-        let flag = crate::cmd::run::allow_flag(e.of);
+        let flag = crate::common::allow_flag(e.of);
         if e.allowed {
             eprintln!("warning: {line} (allowed by {flag})");
         } else {

@@ -65,15 +65,6 @@ pub struct RunArgs {
     report: bool,
 }
 
-/// The flag that accepts an error-level event of `kind`.
-pub fn allow_flag(kind: pcsim_core::analysis::report::RunErrorKind) -> &'static str {
-    use pcsim_core::analysis::report::RunErrorKind;
-    match kind {
-        RunErrorKind::Dewirement => "--allow-dewirement",
-        RunErrorKind::ContactLoss => "--allow-contact-loss",
-    }
-}
-
 impl RunArgs {
     /// The error-level events accepted by flag.
     fn allowed(&self) -> pcsim_core::analysis::report::AllowedErrors {
@@ -237,13 +228,17 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
     let allowed = a.allowed();
     let errors = pcsim_core::analysis::report::run_errors(&out);
     for e in errors.iter().filter(|e| allowed.allows(e.kind)) {
-        eprintln!("warning: {} (allowed by {})", e.message, allow_flag(e.kind));
+        eprintln!(
+            "warning: {} (allowed by {})",
+            e.message,
+            crate::common::allow_flag(e.kind)
+        );
     }
     if let Some(e) = allowed.first_refused(&errors) {
         anyhow::bail!(
             "{} (the outputs are written; give {} to accept the run)",
             e.message,
-            allow_flag(e.kind)
+            crate::common::allow_flag(e.kind)
         );
     }
     Ok(0)

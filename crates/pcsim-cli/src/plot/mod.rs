@@ -3,6 +3,7 @@
 //! Fig. 3), `eva.rs` (energy distribution and EVA, Figs. 4–7), `realtime.rs` (the window against
 //! the full model, Figs. 8–9). This file holds the house style they share.
 
+pub mod compare;
 pub mod design;
 pub mod eva;
 pub mod montecarlo;
@@ -412,7 +413,7 @@ pub fn redraw_kind(dir: &Path, kind: &str) -> Result<Vec<PathBuf>> {
         "realtime" => realtime::redraw(dir),
         "montecarlo" => montecarlo::redraw(dir),
         "window" => window::redraw(dir),
-        "compare" => crate::cmd::compare::redraw(dir),
+        "compare" => compare::redraw(dir),
         "design" => design::redraw(dir),
         other => anyhow::bail!(
             "{}: pcsim.json names kind `{other}`, which has no figures",

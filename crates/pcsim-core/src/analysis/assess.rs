@@ -59,9 +59,10 @@ impl AssessInput {
     /// What a run's `summary.json` ([`crate::analysis::report::RunSummary`]) gives the
     /// assessment: the one reading of it for every front end (the CLI's `assess`, the report,
     /// Python's `pcsim.assess`). An error names what is missing or malformed.
-    pub fn from_summary_json(text: &str) -> Result<AssessInput, crate::CaseError> {
-        let v: SummaryView = serde_json::from_str(text)
-            .map_err(|e| crate::CaseError::Parse(format!("not a run's summary.json: {e}")))?;
+    pub fn from_summary_json(text: &str) -> Result<AssessInput, crate::error::CaseError> {
+        let v: SummaryView = serde_json::from_str(text).map_err(|e| {
+            crate::error::CaseError::Parse(format!("not a run's summary.json: {e}"))
+        })?;
         Ok(AssessInput {
             speed_kmh: v.speed_kmh,
             speed_ratio: v.speed_ratio,

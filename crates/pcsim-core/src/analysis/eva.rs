@@ -38,7 +38,8 @@ impl Datum {
             }
             let mut options = setup.options;
             options.threads = 1;
-            let ti = Integrator::new(twin, &setup.plan, options)?;
+            let ti = Integrator::new(twin, &setup.plan, options)
+                .map_err(crate::compile::in_case_terms)?;
             let ts = ti.initial_state(setup.plan.start_m);
             let tw = ti.workspace();
             return Ok(Datum::Twin(Box::new((ti, ts, tw))));

@@ -244,7 +244,7 @@ pub fn window_sweep(
 pub fn validation_runs(
     plan: &ValidationPlan,
     threads: Option<usize>,
-    run: &(dyn Fn(&crate::Case) -> Result<RunOutput, SimError> + Sync),
+    run: &(dyn Fn(&crate::input::case::Case) -> Result<RunOutput, SimError> + Sync),
 ) -> Result<(Vec<(RunOutput, f64)>, ValidationReport), SimError> {
     // No contact, no numbers: a validation of a pantograph that never touches is refused.
     for c in &plan.cases {
@@ -262,7 +262,10 @@ pub fn validation_runs(
 }
 
 /// One case run within `budget`, with no progress.
-pub fn run_quietly(case: &crate::Case, budget: &Budget) -> Result<RunOutput, SimError> {
+pub fn run_quietly(
+    case: &crate::input::case::Case,
+    budget: &Budget,
+) -> Result<RunOutput, SimError> {
     let setup = Setup::from_case_with(case, budget)?;
     simulate(&setup, &mut |_| true)
 }

@@ -68,12 +68,12 @@ impl Setup {
         budget.check(case)?;
         let (model, mut warnings) = model::model_from_validated(case, validated)?;
         let plan = plan_of(case);
-        warnings.extend(plan.check(&model)?);
+        warnings.extend(plan.check(&model).map_err(in_case_terms)?);
         let options = Options::new(case.run.dt_s);
         // Δt against the local explicit limits, here, so that a case is refused before anything
         // is compiled; the coupled limit needs the compiled model and is checked when the
         // integrator is built (`solve::stability`).
-        stability::check_local(&model, options.dt_s)?;
+        stability::check_local(&model, options.dt_s).map_err(in_case_terms)?;
         Ok(Setup {
             model,
             plan,
@@ -102,7 +102,7 @@ impl Setup {
     /// The integrator of this set-up: the model compiled, the time step checked against the
     /// local and coupled limits ([`crate::solve::stability`]), the Δt operators built.
     pub fn integrator(&self) -> Result<Integrator, CaseError> {
-        Integrator::new(self.model.clone(), &self.plan, self.options)
+        Integrator::new(self.model.clone(), &self.plan, self.options).map_err(in_case_terms)
     }
 
     /// Number of steps of the run.
@@ -245,6 +245,33 @@ pub fn realtime_window_with(
         window_m,
         coupling,
     )
+    .map_err(in_case_terms)
+}
+
+/// An engine's error in the case's terms: a quantity the engine names in the model's terms
+/// ([`CaseError::Model`]) becomes the case field that sets it; nested errors are mapped inside.
+/// The one place where the engine's vocabulary meets the file format's.
+pub fn in_case_terms(e: CaseError) -> CaseError {
+    match e {
+        CaseError::Model {
+            what,
+            value,
+            reason,
+        } => CaseError::Invalid {
+            field: what.case_path(),
+            value,
+            reason,
+        },
+        CaseError::InCase { case, error } => CaseError::InCase {
+            case,
+            error: Box::new(in_case_terms(*error)),
+        },
+        CaseError::InFile { path, error } => CaseError::InFile {
+            path,
+            error: Box::new(in_case_terms(*error)),
+        },
+        other => other,
+    }
 }
 
 #[cfg(test)]

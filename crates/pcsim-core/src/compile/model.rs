@@ -370,53 +370,135 @@ pub fn model_from_case(case: &Case) -> Result<(Model, Vec<Warning>), CaseError> 
     model_from_validated(case, warnings)
 }
 
-/// [`model_from_case`] for a case already validated, whose validation gave `warnings`.
+/// [`model_from_case`] for a case already validated, whose validation gave `warnings`: a short
+/// driver over the named builders, each one part of the model (the elements' list and their
+/// order visible here, in one place).
 pub fn model_from_validated(
     case: &Case,
     mut warnings: Vec<Warning>,
 ) -> Result<(Model, Vec<Warning>), CaseError> {
-    let dirs = directions(case);
-    let lateral = dirs.contains(&Direction::Lateral);
-    let torsional = dirs.contains(&Direction::Torsional);
+    let dirs = Dirs::of(case);
     // Ice: its mass joins the wires' (statics and dynamics); the design geometry is kept.
-    let mut c = case.catenary.clone();
-    let diam = |w: &WireCase| w.section.as_ref().map_or(0.0, |s| s.diameter_m);
-    let mut diameters = [diam(&c.messenger), diam(&c.contact_wire)];
-    let mut ice_polar = [0.0; 2];
-    let mut ice_mass_kg_m = [0.0; 2];
-    if let Some(ice) = &c.ice {
-        for (i, t) in [(MESSENGER, ice.messenger_m), (CONTACT, ice.contact_wire_m)] {
-            let (m, j) = ice_mass(ice.density_kg_m3, diameters[i], t);
-            ice_mass_kg_m[i] = m;
-            let w = if i == MESSENGER {
-                &mut c.messenger
-            } else {
-                &mut c.contact_wire
-            };
-            w.mass_per_m_kg += m;
-            ice_polar[i] = j;
-            diameters[i] += 2.0 * t;
-        }
-    }
-    let c = &c;
+    let iced = Iced::of(case);
     // The design's static shape, dropper lengths and preloads are those of the ice-free line:
     // the ice's weight is a steady load on that geometry (it lowers the wires, solved in the
     // start state, `solve::equilibrium`).
     let placed = place(case)?;
+    let wind = wind_load(case, iced.diameters, case.length_m());
+    let wires = build_wires(case, &iced, &placed, wind.as_ref(), &dirs);
+    warnings.extend(wind_warnings(wind.as_ref(), &wires, &dirs));
+    let points = build_point_elements(&placed, &iced.catenary, &dirs);
+    let (registrations, geometry) = build_registrations(&iced.catenary, &placed.tls[0], &dirs);
+    let (pans, contacts) = build_pantographs(case, &placed, &iced.catenary, &dirs);
+    // The registration of every element kind, in the order their forces are evaluated.
+    let mut elements: Vec<Box<dyn PointElement>> = vec![
+        Box::new(Droppers::new(points.droppers)),
+        Box::new(Supports(points.supports)),
+        Box::new(SteadyArms(points.arms)),
+        Box::new(Stitches(points.stitches)),
+    ];
+    if !registrations.is_empty() {
+        elements.push(Box::new(Registrations(registrations)));
+    }
+    elements.push(Box::new(contacts));
+    let mut model = Model::new(
+        wires,
+        points.nodes,
+        elements,
+        pans,
+        placed.shape,
+        placed.span_m,
+    );
+    model.supports_m = placed.supports_m;
+    model.overlaps_m = case
+        .line
+        .as_ref()
+        .map_or(Vec::new(), |l| l.overlap_sections_m());
+    model.lateral = geometry;
+    model.wind = wind;
+    model.irregularity = build_irregularity(case, &iced.catenary);
+    Ok((model, warnings))
+}
+
+/// The directions a case models.
+struct Dirs {
+    all: Vec<Direction>,
+    lateral: bool,
+    torsional: bool,
+}
+
+impl Dirs {
+    fn of(case: &Case) -> Dirs {
+        let all = directions(case);
+        Dirs {
+            lateral: all.contains(&Direction::Lateral),
+            torsional: all.contains(&Direction::Torsional),
+            all,
+        }
+    }
+}
+
+/// The catenary with its ice: the ice's mass added to each wire's, the iced diameters (for the
+/// wind) and the ice's polar inertia and weight per metre, by wire (`MESSENGER`, `CONTACT`).
+struct Iced {
+    catenary: CatenaryCase,
+    diameters: [f64; 2],
+    polar_kg_m: [f64; 2],
+    mass_kg_m: [f64; 2],
+}
+
+impl Iced {
+    fn of(case: &Case) -> Iced {
+        let mut c = case.catenary.clone();
+        let diam = |w: &WireCase| w.section.as_ref().map_or(0.0, |s| s.diameter_m);
+        let mut diameters = [diam(&c.messenger), diam(&c.contact_wire)];
+        let mut polar_kg_m = [0.0; 2];
+        let mut mass_kg_m = [0.0; 2];
+        if let Some(ice) = &c.ice {
+            let ice = ice.clone();
+            for (i, t) in [(MESSENGER, ice.messenger_m), (CONTACT, ice.contact_wire_m)] {
+                let (m, j) = ice_mass(ice.density_kg_m3, diameters[i], t);
+                mass_kg_m[i] = m;
+                let w = if i == MESSENGER {
+                    &mut c.messenger
+                } else {
+                    &mut c.contact_wire
+                };
+                w.mass_per_m_kg += m;
+                polar_kg_m[i] = j;
+                diameters[i] += 2.0 * t;
+            }
+        }
+        Iced {
+            catenary: c,
+            diameters,
+            polar_kg_m,
+            mass_kg_m,
+        }
+    }
+}
+
+/// The wires: two per tension length, the messenger then the contact wire (wire 2k is tension
+/// length k's messenger, 2k + 1 its contact wire; `MESSENGER`, `CONTACT` for the first), each on
+/// its basis, with the wind's aerodynamic damping and the ice's weight.
+fn build_wires(
+    case: &Case,
+    iced: &Iced,
+    placed: &Placed,
+    wind: Option<&WindLoad>,
+    dirs: &Dirs,
+) -> Vec<Wire> {
+    let c = &iced.catenary;
     let l = case.length_m();
-    let wind = wind_load(case, diameters, l);
     // The linearised aerodynamic damping of the wind joins each wire's modal damping.
     let aero = |wire: usize, dir: Direction| {
-        wind.as_ref()
-            .and_then(|wl| wl.wires.iter().find(|ww| ww.wire == wire))
+        wind.and_then(|wl| wl.wires.iter().find(|ww| ww.wire == wire))
             .map_or(0.0, |ww| match dir {
                 Direction::Lateral => ww.damping_lateral,
                 Direction::Vertical => ww.damping_vertical,
                 Direction::Torsional => ww.damping_torsional,
             })
     };
-    // Two wires per tension length, the messenger then the contact wire: wire 2k is tension
-    // length k's messenger, 2k + 1 its contact wire (MESSENGER, CONTACT for the first).
     let one = placed.tls.len() == 1;
     let mut wires: Vec<Wire> = Vec::with_capacity(2 * placed.tls.len());
     for (k, tl) in placed.tls.iter().enumerate() {
@@ -458,13 +540,14 @@ pub fn model_from_validated(
             // so only a wind moment (`d² C_M ≠ 0`) does. Undriven, it would stay exactly zero
             // at the cost of a sixth of a 3D step (issue 23, item 2).
             let driven = |w: usize| {
-                wind.as_ref().is_some_and(|wl| {
+                wind.is_some_and(|wl| {
                     wl.wires
                         .iter()
                         .any(|ww| ww.wire == w && ww.torsional_m2 != 0.0)
                 })
             };
             let wire_dirs: Vec<Direction> = dirs
+                .all
                 .iter()
                 .copied()
                 .filter(|&d| d != Direction::Torsional || i != MESSENGER || driven(w))
@@ -475,52 +558,83 @@ pub fn model_from_validated(
                     role,
                     tl.start_m,
                     basis.clone(),
-                    section(rho, wc, ice_polar[i]),
+                    section(rho, wc, iced.polar_kg_m[i]),
                     c.damping.clone(),
                     &wire_dirs,
                 )
                 .with_added_damping(Direction::Lateral, aero(w, Direction::Lateral))
                 .with_added_damping(Direction::Vertical, aero(w, Direction::Vertical))
                 .with_added_damping(Direction::Torsional, aero(w, Direction::Torsional))
-                .with_static_load(Direction::Vertical, -ice_mass_kg_m[i] * G),
+                .with_static_load(Direction::Vertical, -iced.mass_kg_m[i] * G),
             );
         }
     }
-    if let Some(wl) = &wind {
-        for ww in &wl.wires {
-            if ww.damping_vertical < 0.0 {
-                warnings.push(Warning(format!(
-                    "wind: the {} has negative vertical aerodynamic damping ({:.3} N·s/m², C_L' + C_D < 0): Den Hartog galloping is possible",
-                    wires[ww.wire].name, ww.damping_vertical
-                )));
-            }
-            if ww.damping_torsional < 0.0 && dirs.contains(&Direction::Torsional) {
-                warnings.push(Warning(format!(
-                    "wind: the {} has negative torsional aerodynamic damping ({:.3e} N·m·s/m, C_M' < 0): torsional galloping is possible",
-                    wires[ww.wire].name, ww.damping_torsional
-                )));
-            }
+    wires
+}
+
+/// The wind's warnings: negative aerodynamic damping (galloping possible), by wire.
+fn wind_warnings(wind: Option<&WindLoad>, wires: &[Wire], dirs: &Dirs) -> Vec<Warning> {
+    let mut warnings = Vec::new();
+    for ww in wind.iter().flat_map(|wl| &wl.wires) {
+        if ww.damping_vertical < 0.0 {
+            warnings.push(Warning(format!(
+                "wind: the {} has negative vertical aerodynamic damping ({:.3} N·s/m², C_L' + C_D < 0): Den Hartog galloping is possible",
+                wires[ww.wire].name, ww.damping_vertical
+            )));
+        }
+        if ww.damping_torsional < 0.0 && dirs.torsional {
+            warnings.push(Warning(format!(
+                "wind: the {} has negative torsional aerodynamic damping ({:.3e} N·m·s/m, C_M' < 0): torsional galloping is possible",
+                wires[ww.wire].name, ww.damping_torsional
+            )));
         }
     }
-    let on_dir = |wire: usize, dir: Direction, x_m: f64, modelled: bool| {
-        if modelled {
-            Attach::Wire { wire, dir, x_m }
-        } else {
-            Attach::Ground
-        }
-    };
-    let on = |wire: usize, x_m: f64| Attach::Wire {
+    warnings
+}
+
+/// Where a point of wire `wire` attaches in direction `dir`: the wire there when the direction
+/// is modelled, else the ground.
+fn on_dir(wire: usize, dir: Direction, x_m: f64, modelled: bool) -> Attach {
+    if modelled {
+        Attach::Wire { wire, dir, x_m }
+    } else {
+        Attach::Ground
+    }
+}
+
+/// A vertical attachment to wire `wire` at `x_m`.
+fn on(wire: usize, x_m: f64) -> Attach {
+    Attach::Wire {
         wire,
         dir: Direction::Vertical,
         x_m,
+    }
+}
+
+/// The point elements hung on the placed tension lengths, and the stitch clamps' nodes.
+struct PointElements {
+    droppers: Vec<Dropper>,
+    stitches: Vec<Stitch>,
+    nodes: Vec<Node>,
+    supports: Vec<Support>,
+    arms: Vec<SteadyArm>,
+}
+
+/// The droppers (with their stitch wires and clamp nodes), the messenger supports and the steady
+/// arms of every tension length.
+fn build_point_elements(placed: &Placed, c: &CatenaryCase, dirs: &Dirs) -> PointElements {
+    let (lateral, torsional) = (dirs.lateral, dirs.torsional);
+    let dropper_ecc = c
+        .lateral
+        .as_ref()
+        .map_or(0.0, |l| l.dropper_clamp_eccentricity_m);
+    let mut p = PointElements {
+        droppers: Vec::new(),
+        stitches: Vec::new(),
+        nodes: Vec::new(),
+        supports: Vec::new(),
+        arms: Vec::new(),
     };
-    let lat_ecc = c.lateral.as_ref();
-    let dropper_ecc = lat_ecc.map_or(0.0, |l| l.dropper_clamp_eccentricity_m);
-    let mut droppers = Vec::new();
-    let mut stitches = Vec::new();
-    let mut nodes = Vec::new();
-    let mut supports = Vec::new();
-    let mut arms = Vec::new();
     for (k, tl) in placed.tls.iter().enumerate() {
         let (mw, cw) = (2 * k + MESSENGER, 2 * k + CONTACT);
         let ck = &tl.catenary;
@@ -536,13 +650,13 @@ pub fn model_from_validated(
                         }
                         None => 0.0,
                     };
-                    nodes.push(Node {
+                    p.nodes.push(Node {
                         x_m: x,
                         mass_kg: st.node_mass_kg,
                         dir: Direction::Vertical,
                     });
-                    let node = Attach::Node(nodes.len() - 1);
-                    stitches.push(Stitch {
+                    let node = Attach::Node(p.nodes.len() - 1);
+                    p.stitches.push(Stitch {
                         wire: on(mw, x),
                         node,
                         stiffness_n_per_m: st.stiffness_n_per_m,
@@ -552,7 +666,7 @@ pub fn model_from_validated(
                 }
                 None => on(mw, x),
             };
-            droppers.push(Dropper {
+            p.droppers.push(Dropper {
                 x_m: x,
                 stiffness_n_per_m: h.stiffness_n_per_m,
                 preload_n: h.preload_n,
@@ -566,113 +680,123 @@ pub fn model_from_validated(
             });
         }
         for &x in &tl.interior_supports_m {
-            supports.push(Support {
+            p.supports.push(Support {
                 at: on(mw, x),
                 stiffness_n_per_m: sup.stiffness_n_per_m,
                 damping_ns_per_m: sup.damping_ns_per_m,
             });
-            arms.push(SteadyArm {
+            p.arms.push(SteadyArm {
                 at: on(cw, x),
                 mass_kg: ck.steady_arm.mass_kg,
                 stiffness_n_per_m: ck.steady_arm.stiffness_n_per_m,
             });
         }
     }
-    let first = &placed.tls[0];
-    // Lateral registration at the inner supports (the model's ends are pinned by the sine
-    // series): the contact wire's steady arm, eccentric by e_s, and the messenger's support.
+    p
+}
+
+/// Lateral registration at the inner supports of the first tension length (the model's ends are
+/// pinned by the sine series): the contact wire's steady arm, eccentric by e_s, and the
+/// messenger's support; and the lateral geometry (stagger, probes). None without lateral motion.
+fn build_registrations(
+    c: &CatenaryCase,
+    first: &PlacedTl,
+    dirs: &Dirs,
+) -> (Vec<Registration>, Option<LateralGeometry>) {
+    let torsional = dirs.torsional;
     let mut registrations = Vec::new();
-    let mut geometry = None;
-    if let (true, Some(lc)) = (lateral, &c.lateral) {
-        let e_s = if torsional {
-            lc.steady_arm_clamp_eccentricity_m
-        } else {
-            0.0
-        };
-        for (k, &x) in first.interior_supports_m.iter().enumerate() {
-            let k_phi = lc.steady_arm_torsional_stiffness_nm_per_rad;
-            registrations.push(Registration {
-                at: on_dir(CONTACT, Direction::Lateral, x, true),
-                twist: on_dir(
-                    CONTACT,
-                    Direction::Torsional,
-                    x,
-                    torsional && (e_s != 0.0 || k_phi != 0.0),
-                ),
-                torsional_stiffness_nm_per_rad: if torsional { k_phi } else { 0.0 },
-                eccentricity_m: e_s,
-                stiffness_n_per_m: lc.steady_arm_stiffness_n_per_m,
-                mass_kg: lc.steady_arm_mass_kg,
-                vertical_force_n: if c.steady_arm.static_support {
-                    first.arm_force_n[k]
-                } else {
-                    0.0
-                },
-            });
-            registrations.push(Registration {
-                at: on_dir(MESSENGER, Direction::Lateral, x, true),
-                twist: Attach::Ground,
-                eccentricity_m: 0.0,
-                stiffness_n_per_m: lc.messenger_support_stiffness_n_per_m,
-                mass_kg: 0.0,
-                vertical_force_n: 0.0,
-                torsional_stiffness_nm_per_rad: 0.0,
-            });
-        }
-        let mut probes: Vec<f64> = Vec::new();
-        for s in 0..c.spans {
-            let x0 = s as f64 * c.span_m;
-            probes.extend(c.droppers.positions_m.iter().map(|d| x0 + d));
-            probes.push(x0 + 0.5 * c.span_m);
-        }
-        probes.sort_by(f64::total_cmp);
-        probes.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
-        geometry = Some(LateralGeometry {
-            first_support_m: 0.0,
-            span_m: c.span_m,
-            stagger_m: (0..=c.spans).map(|i| lc.stagger_at(i)).collect(),
-            contact_point_eccentricity_m: if torsional {
-                lc.contact_point_eccentricity_m
+    let (true, Some(lc)) = (dirs.lateral, &c.lateral) else {
+        return (registrations, None);
+    };
+    let e_s = if torsional {
+        lc.steady_arm_clamp_eccentricity_m
+    } else {
+        0.0
+    };
+    for (k, &x) in first.interior_supports_m.iter().enumerate() {
+        let k_phi = lc.steady_arm_torsional_stiffness_nm_per_rad;
+        registrations.push(Registration {
+            at: on_dir(CONTACT, Direction::Lateral, x, true),
+            twist: on_dir(
+                CONTACT,
+                Direction::Torsional,
+                x,
+                torsional && (e_s != 0.0 || k_phi != 0.0),
+            ),
+            torsional_stiffness_nm_per_rad: if torsional { k_phi } else { 0.0 },
+            eccentricity_m: e_s,
+            stiffness_n_per_m: lc.steady_arm_stiffness_n_per_m,
+            mass_kg: lc.steady_arm_mass_kg,
+            vertical_force_n: if c.steady_arm.static_support {
+                first.arm_force_n[k]
             } else {
                 0.0
             },
-            probes_m: probes,
+        });
+        registrations.push(Registration {
+            at: on_dir(MESSENGER, Direction::Lateral, x, true),
+            twist: Attach::Ground,
+            eccentricity_m: 0.0,
+            stiffness_n_per_m: lc.messenger_support_stiffness_n_per_m,
+            mass_kg: 0.0,
+            vertical_force_n: 0.0,
+            torsional_stiffness_nm_per_rad: 0.0,
         });
     }
-    let e_c = match (&c.lateral, torsional) {
+    let mut probes: Vec<f64> = Vec::new();
+    for s in 0..c.spans {
+        let x0 = s as f64 * c.span_m;
+        probes.extend(c.droppers.positions_m.iter().map(|d| x0 + d));
+        probes.push(x0 + 0.5 * c.span_m);
+    }
+    probes.sort_by(f64::total_cmp);
+    probes.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    let geometry = LateralGeometry {
+        first_support_m: 0.0,
+        span_m: c.span_m,
+        stagger_m: (0..=c.spans).map(|i| lc.stagger_at(i)).collect(),
+        contact_point_eccentricity_m: if torsional {
+            lc.contact_point_eccentricity_m
+        } else {
+            0.0
+        },
+        probes_m: probes,
+    };
+    (registrations, Some(geometry))
+}
+
+/// The pantographs and their contacts with every contact wire (the contact point below the axis
+/// by e_c where torsion is modelled).
+fn build_pantographs(
+    case: &Case,
+    placed: &Placed,
+    c: &CatenaryCase,
+    dirs: &Dirs,
+) -> (Vec<Pantograph>, Contacts) {
+    let e_c = match (&c.lateral, dirs.torsional) {
         (Some(lc), true) => lc.contact_point_eccentricity_m,
         _ => 0.0,
     };
     let contact_wires: Vec<usize> = (0..placed.tls.len()).map(|k| 2 * k + CONTACT).collect();
-    let (pans, contacts) = pantographs(case, &contact_wires, e_c, torsional && e_c != 0.0, lateral);
-    // The registration of every element kind, in the order their forces are evaluated.
-    let mut elements: Vec<Box<dyn PointElement>> = vec![
-        Box::new(Droppers::new(droppers)),
-        Box::new(Supports(supports)),
-        Box::new(SteadyArms(arms)),
-        Box::new(Stitches(stitches)),
-    ];
-    if !registrations.is_empty() {
-        elements.push(Box::new(Registrations(registrations)));
-    }
-    elements.push(Box::new(contacts));
-    let mut model = Model::new(wires, nodes, elements, pans, placed.shape, placed.span_m);
-    model.supports_m = placed.supports_m;
-    model.overlaps_m = case
-        .line
-        .as_ref()
-        .map_or(Vec::new(), |l| l.overlap_sections_m());
-    model.lateral = geometry;
-    model.wind = wind;
-    if !case.irregularity.is_empty() {
-        model.irregularity = Some(IrregularityProfile::build(
+    pantographs(
+        case,
+        &contact_wires,
+        e_c,
+        dirs.torsional && e_c != 0.0,
+        dirs.lateral,
+    )
+}
+
+/// The contact wire's irregularity (the case's sources on the line), if any.
+fn build_irregularity(case: &Case, c: &CatenaryCase) -> Option<IrregularityProfile> {
+    (!case.irregularity.is_empty()).then(|| {
+        IrregularityProfile::build(
             &irregularity_sources(&case.irregularity),
-            l,
+            case.length_m(),
             c.span_m,
             &c.droppers.positions_m,
-        ));
-    }
-    Ok((model, warnings))
+        )
+    })
 }
 
 /// One dropper of the model, where it hangs, with its static data.

@@ -19,14 +19,17 @@ pub use case::{Case, Provenance, Warning, G};
 
 /// The one case loader of every front end (CLI, C API, Python, FMU), with one error wording. The
 /// core does no I/O: the front end reads the file and hands over what the read gave.
-pub fn case_from_file(path: &str, read: std::io::Result<String>) -> Result<Case, crate::CaseError> {
-    let text = read.map_err(|e| crate::CaseError::Read {
+pub fn case_from_file(
+    path: &str,
+    read: std::io::Result<String>,
+) -> Result<Case, crate::error::CaseError> {
+    let text = read.map_err(|e| crate::error::CaseError::Read {
         path: path.to_string(),
         reason: e.to_string(),
     })?;
     Case::from_toml_str(&text)
         .map(|(c, _)| c)
-        .map_err(|e| crate::CaseError::InFile {
+        .map_err(|e| crate::error::CaseError::InFile {
             path: path.to_string(),
             error: Box::new(e),
         })
@@ -61,6 +64,6 @@ pub fn read_text_limited(reader: impl std::io::Read, limit_bytes: u64) -> std::i
 }
 
 /// An embedded preset by name (the same wording for an unknown name everywhere).
-pub fn case_from_preset(name: &str) -> Result<Case, crate::CaseError> {
+pub fn case_from_preset(name: &str) -> Result<Case, crate::error::CaseError> {
     Ok(presets::load(name)?.0)
 }

@@ -165,6 +165,35 @@ fn index_of(pts: &mut Vec<f64>, x: f64) -> usize {
     }
 }
 
+/// The static start state under the steady loads and how it was found
+/// (`equilibrium.rs`'s `static_start`, set by `Integrator::new` in `stability.rs`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StaticStart {
+    /// Modal coordinates (by the layout).
+    pub modal: Vec<f64>,
+    /// Node displacements.
+    pub nodes: Vec<f64>,
+    /// Newton steps taken.
+    pub newton_steps: usize,
+    /// Conjugate-gradient iterations in all.
+    pub cg_iterations: usize,
+    /// The residual's norm against the steady loads' (N against N).
+    pub relative_residual: f64,
+}
+
+/// A quantity of the model refused, in the model's terms (`compile/` names the case field).
+pub(crate) fn refused(
+    what: crate::error::ModelQuantity,
+    value: impl std::fmt::Display,
+    reason: String,
+) -> CaseError {
+    CaseError::Model {
+        what,
+        value: value.to_string(),
+        reason,
+    }
+}
+
 pub(crate) fn invalid(field: &str, value: impl std::fmt::Display, reason: String) -> CaseError {
     CaseError::Invalid {
         field: field.to_string(),
@@ -230,7 +259,7 @@ pub struct CompiledModel {
     pub(crate) steady_loads: Vec<(usize, Vec<f64>)>,
     /// The static state under the steady loads (modal coordinates, node displacements), the
     /// initial state's; `None` when there are none (the design shape is the equilibrium).
-    pub(crate) initial: Option<crate::solve::equilibrium::StaticStart>,
+    pub(crate) initial: Option<StaticStart>,
     /// The blow-up bound of the contact wire's deviation from its design height, m.
     pub(crate) max_deviation_m: f64,
 }
@@ -311,7 +340,7 @@ impl CompiledModel {
                 PointSampler::new(&SineBasis::new(1.0, 1), &[], None, isa).scratch(),
                 |a, b| a.max(b),
             );
-        let mut cm = CompiledModel {
+        let cm = CompiledModel {
             offsets: model.pantographs.iter().map(|p| p.offset_m).collect(),
             isa,
             speed_m_s: plan.speed_m_s,
@@ -349,7 +378,6 @@ impl CompiledModel {
             max_deviation_m: system_height_m(&model).unwrap_or(MAX_PLAUSIBLE_HEIGHT_M),
             model,
         };
-        cm.initial = crate::solve::equilibrium::static_start(&cm)?;
         Ok(cm)
     }
 
@@ -414,7 +442,7 @@ impl CompiledModel {
 
     /// The static start state under the steady loads and how it was found (`None` without
     /// steady loads: the design shape is the start).
-    pub fn static_start(&self) -> Option<&crate::solve::equilibrium::StaticStart> {
+    pub fn static_start(&self) -> Option<&StaticStart> {
         self.initial.as_ref()
     }
 

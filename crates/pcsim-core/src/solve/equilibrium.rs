@@ -24,24 +24,11 @@
 //! included: a constant force `Q = k q` is kicked in and out around the trapezoidal flow with no
 //! net motion), so a steady load gives a run that stays at rest.
 
-use crate::error::CaseError;
-use crate::solve::compiled::{invalid, CompiledModel};
+use crate::error::{CaseError, ModelQuantity};
+use crate::solve::compiled::{refused, CompiledModel};
 use crate::solve::implicit::ImplicitScratch;
 
-/// The static start state and how it was found.
-#[derive(Debug, Clone, PartialEq)]
-pub struct StaticStart {
-    /// Modal coordinates (by the layout).
-    pub modal: Vec<f64>,
-    /// Node displacements.
-    pub nodes: Vec<f64>,
-    /// Newton steps taken.
-    pub newton_steps: usize,
-    /// Conjugate-gradient iterations in all.
-    pub cg_iterations: usize,
-    /// The residual's norm against the steady loads' (N against N).
-    pub relative_residual: f64,
-}
+pub use crate::solve::compiled::StaticStart;
 
 /// The residual the Newton iteration stops at, relative to the steady loads'.
 pub const RESIDUAL_TOLERANCE: f64 = 1e-10;
@@ -166,8 +153,8 @@ pub fn static_start(cm: &CompiledModel) -> Result<Option<StaticStart>, CaseError
         }
         cm.static_residual(&x, &mut ws, &mut r);
     }
-    Err(invalid(
-        "wind / catenary.ice",
+    Err(refused(
+        ModelQuantity::SteadyLoads,
         "the static start state",
         format!(
             "the equilibrium under the steady loads (the mean crosswind, the ice's weight) was not found: residual {:.2e} of the load after {MAX_NEWTON} Newton steps; a load the catenary cannot carry, or a part with no stiffness?",

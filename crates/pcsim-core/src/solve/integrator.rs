@@ -37,17 +37,19 @@
 //! modal diagonal, the torsional flow, the implicit corrections, the pantographs' chains) and
 //! steps in eight named stages.
 
-use crate::error::CaseError;
+use crate::error::{CaseError, ModelQuantity};
 use crate::model::dof::Direction;
 use crate::model::elements::{Io, Weight};
 use crate::model::pantograph::{ChainOperators, PantographKind};
 use crate::model::Model;
-use crate::solve::compiled::{contact_stiffness, contact_stiffness_on, invalid, CompiledModel};
+use crate::solve::compiled::{
+    contact_stiffness, contact_stiffness_on, invalid, refused, CompiledModel,
+};
 use crate::solve::implicit::{ImplicitPoints, ImplicitScratch};
 use crate::solve::kernels::{self, Isa};
-use crate::solve::plan::{Options, Plan};
+use crate::solve::limits::CoupledLimit;
+use crate::solve::plan::Plan;
 use crate::solve::sampler::SamplerScratch;
-use crate::solve::stability::{check_stability, CoupledLimit};
 use crate::solve::state::State;
 use crate::solve::team::{self, Part, Team, Unit};
 use crate::solve::workspace::{Lane, Workspace};
@@ -178,16 +180,12 @@ impl Stage {
 }
 
 impl Integrator {
-    /// Precompute everything a step needs: compile the model, check that the time step is
-    /// stable for its explicit parts, local and coupled ([`check_stability`]), and build the Δt
-    /// operators on that proof.
-    pub fn new(model: Model, plan: &Plan, options: Options) -> Result<Self, CaseError> {
-        let cm = CompiledModel::new(model, plan, options.isa)?;
-        let stable = check_stability(&cm, plan, options.dt_s)?;
-        let mut integ = Self::from_compiled(cm, plan, stable.dt_s())?;
-        integ.limit = Some(stable.limit().clone());
-        integ.parts = integ.partition(options.threads);
-        Ok(integ)
+    /// The integrator with the coupled limit its Δt was checked against, on `threads` threads
+    /// ([`Integrator::new`], in `stability.rs` beside the check).
+    pub(crate) fn with_limit(mut self, limit: CoupledLimit, threads: usize) -> Self {
+        self.limit = Some(limit);
+        self.parts = self.partition(threads);
+        self
     }
 
     /// The coupled stability limit this integrator's Δt was checked against (`None` for the
@@ -285,8 +283,8 @@ impl Integrator {
             match &pan.kind {
                 PantographKind::Lumped(l) => {
                     let ops = l.operators(dt, plan.speed_kmh).ok_or_else(|| {
-                        invalid(
-                            &format!("pantographs[{p}].masses_kg"),
+                        refused(
+                            ModelQuantity::PantographMasses(p),
                             format!("{:?}", l.masses_kg),
                             "the pantograph's mass matrix M + Δt/2 C is singular".into(),
                         )
@@ -325,8 +323,8 @@ impl Integrator {
                         None => (contact_stiffness(model, p), 0.0),
                     };
                     let y = ops.static_equilibrium(kn, h).ok_or_else(|| {
-                        invalid(
-                            &format!("pantographs[{p}].stiffness_n_per_m"),
+                        refused(
+                            ModelQuantity::PantographStiffness(p, None),
                             format!("{:?}", l.stiffness_n_per_m),
                             "the pantograph has no static equilibrium (a spring of zero stiffness?)".into(),
                         )

@@ -23,6 +23,7 @@ pub mod equilibrium;
 pub mod implicit;
 pub mod integrator;
 pub mod kernels;
+pub mod limits;
 pub mod nufft;
 pub mod plan;
 pub mod realtime;

@@ -72,8 +72,8 @@ impl Plan {
         };
         let v = self.speed_m_s;
         if v >= wave {
-            return Err(CaseError::Invalid {
-                field: "run.speed_kmh".into(),
+            return Err(CaseError::Model {
+                what: crate::error::ModelQuantity::Speed,
                 value: self.speed_kmh.to_string(),
                 reason: format!(
                     "at or above the contact-wire wave speed √(T/ρA) = {:.1} km/h{which}",

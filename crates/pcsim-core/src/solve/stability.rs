@@ -21,14 +21,14 @@
 //! [`check_stability`] runs both and issues the [`StableStep`] proof that the integrator is built
 //! on. A Δt is accepted when `ω Δt ≤ 2 · MARGIN`.
 
-use crate::error::CaseError;
+use crate::error::{CaseError, ModelQuantity};
 use crate::model::dof::Direction;
 use crate::model::elements::{Attach, Io};
 use crate::model::pantograph::PantographKind;
 use crate::model::Model;
-use crate::solve::compiled::{contact_stiffness, invalid, CompiledModel};
+use crate::solve::compiled::{contact_stiffness, refused, CompiledModel};
 use crate::solve::integrator::Integrator;
-use crate::solve::plan::Plan;
+use crate::solve::plan::{Options, Plan};
 use crate::solve::state::State;
 use crate::solve::workspace::Workspace;
 
@@ -56,54 +56,36 @@ const MAX_ITERATIONS: usize = 3000;
 const MIN_ITERATIONS: usize = 60;
 const TOLERANCE: f64 = 1e-5;
 
-/// A time step that [`check_stability`] accepted for one compiled model: the proof the
-/// integrator is built on.
-#[derive(Debug, Clone, PartialEq)]
-pub struct StableStep {
-    dt_s: f64,
-    limit: CoupledLimit,
-}
+pub use crate::solve::limits::{CoupledLimit, StableStep};
 
-impl StableStep {
-    /// The time step that was checked, s.
-    pub fn dt_s(&self) -> f64 {
-        self.dt_s
+impl Integrator {
+    /// Precompute everything a step needs: compile the model (and solve its static start under
+    /// the steady loads, [`crate::solve::equilibrium`]), check that the time step is stable for
+    /// its explicit parts, local and coupled ([`check_stability`]), and build the Δt operators
+    /// on that proof. (Here, beside the check it relies on: the integrator itself knows only the
+    /// proof's type, so the two files import one way.)
+    pub fn new(model: Model, plan: &Plan, options: Options) -> Result<Self, CaseError> {
+        let mut cm = CompiledModel::new(model, plan, options.isa)?;
+        cm.initial = crate::solve::equilibrium::static_start(&cm)?;
+        let stable = check_stability(&cm, plan, options.dt_s)?;
+        Integrator::from_compiled(cm, plan, stable.dt_s())
+            .map(|integ| integ.with_limit(stable.limit().clone(), options.threads))
     }
-
-    /// The coupled limit it was checked against.
-    pub fn limit(&self) -> &CoupledLimit {
-        &self.limit
-    }
-}
-
-/// The highest frequency of the coupled explicit system and what limits it (reported in a run's
-/// `summary.json` as `stability`).
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct CoupledLimit {
-    /// The highest circular frequency found, rad/s.
-    pub omega_rad_s: f64,
-    /// The largest accepted time step, `MARGIN · 2/ω`, s.
-    pub dt_max_s: f64,
-    /// The part of the model holding the largest share of that mode's strain energy, in words
-    /// ("the droppers (61 % …)").
-    pub limiting: String,
-    /// Power iterations made.
-    pub iterations: usize,
 }
 
 /// Check `dt` against the local limits and the coupled limit of the compiled model: the proof
-/// that an integrator at `dt` is stable, or an error naming `run.dt_s` (or the stiff field), the
+/// that an integrator at `dt` is stable, or an error naming the time step (or the stiff part), the
 /// limit with its margin and the element that sets it.
 pub fn check_stability(cm: &CompiledModel, plan: &Plan, dt: f64) -> Result<StableStep, CaseError> {
     check_local(cm.model(), dt)?;
     let lim = coupled_limit(cm, plan)?;
     if dt > lim.dt_max_s {
         let f = lim.omega_rad_s / (2.0 * std::f64::consts::PI);
-        return Err(invalid(
-            "run.dt_s",
+        return Err(refused(
+            ModelQuantity::TimeStep,
             dt,
             format!(
-                "too large for the coupled system: its fastest mode is at {f:.0} Hz (ω = {:.0} rad/s), set by {}. The explicit scheme is unstable from ω·Δt = 2 (Δt = {:.3e} s) and loses accuracy before: pcsim accepts ω·Δt ≤ {:.1} (σ within 2 % of the converged value, docs/validation.md), i.e. run.dt_s ≤ {:.3e} s",
+                "too large for the coupled system: its fastest mode is at {f:.0} Hz (ω = {:.0} rad/s), set by {}. The explicit scheme is unstable from ω·Δt = 2 (Δt = {:.3e} s) and loses accuracy before: pcsim accepts ω·Δt ≤ {:.1} (σ within 2 % of the converged value, docs/validation.md), i.e. Δt ≤ {:.3e} s",
                 lim.omega_rad_s,
                 lim.limiting,
                 2.0 / lim.omega_rad_s,
@@ -112,18 +94,15 @@ pub fn check_stability(cm: &CompiledModel, plan: &Plan, dt: f64) -> Result<Stabl
             ),
         ));
     }
-    Ok(StableStep {
-        dt_s: dt,
-        limit: lim,
-    })
+    Ok(StableStep::new(dt, lim))
 }
 
 /// The local explicit limits (central differences: ω Δt < 2, with the margin): every node on its
 /// springs, every penalty contact on its pantograph head, every pantograph spring. Errors name
-/// the case field to change.
+/// the model's quantity to change (`compile/` names its case field).
 pub fn check_local(model: &Model, dt: f64) -> Result<(), CaseError> {
     let limit = 2.0 * MARGIN;
-    let dt_field = |reason: String| invalid("run.dt_s", dt, reason);
+    let dt_field = |reason: String| refused(ModelQuantity::TimeStep, dt, reason);
     // A block's highest mode is not checked here: the coupled limit holds it, with the elements
     // that raise it.
     // Nodes on the springs attached to them.
@@ -153,11 +132,11 @@ pub fn check_local(model: &Model, dt: f64) -> Result<(), CaseError> {
             let kn = contact_stiffness(model, p);
             let m0 = l.masses_kg[0];
             if (kn / m0).sqrt() * dt > 1.0 {
-                return Err(invalid(
-                    "contact.stiffness_n_per_m",
+                return Err(refused(
+                    ModelQuantity::ContactStiffness,
                     kn,
                     format!(
-                        "too stiff for run.dt_s = {dt} s with a {m0} kg head: need √(k/m)·Δt < 1, i.e. Δt < {:.2e} s",
+                        "too stiff for Δt = {dt} s with a {m0} kg head: need √(k/m)·Δt < 1, i.e. Δt < {:.2e} s",
                         (m0 / kn).sqrt()
                     ),
                 ));
@@ -165,10 +144,10 @@ pub fn check_local(model: &Model, dt: f64) -> Result<(), CaseError> {
             for j in 0..l.masses_kg.len() {
                 let m_inv = 1.0 / l.masses_kg[j] + l.masses_kg.get(j + 1).map_or(0.0, |m| 1.0 / m);
                 if (l.stiffness_n_per_m[j] * m_inv).sqrt() * dt > limit {
-                    return Err(invalid(
-                        &format!("pantographs[{p}].stiffness_n_per_m[{j}]"),
+                    return Err(refused(
+                        ModelQuantity::PantographStiffness(p, Some(j)),
                         l.stiffness_n_per_m[j],
-                        format!("too stiff for run.dt_s = {dt} s (explicit stability)"),
+                        format!("too stiff for Δt = {dt} s (explicit stability)"),
                     ));
                 }
             }
@@ -211,8 +190,8 @@ pub fn coupled_limit(cm: &CompiledModel, plan: &Plan) -> Result<CoupledLimit, Ca
         );
         lambda = norm(&y);
         if !lambda.is_finite() {
-            return Err(invalid(
-                "run.dt_s",
+            return Err(refused(
+                ModelQuantity::TimeStep,
                 "(stability check)",
                 "the coupled stability check met a non-finite acceleration about the static state"
                     .into(),

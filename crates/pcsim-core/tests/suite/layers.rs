@@ -73,6 +73,47 @@ fn the_engine_never_reads_the_file_format() {
     }
 }
 
+/// The engine's errors speak the model's terms (issue 40, item 4): no case-file path
+/// (`run.dt_s`, `pantographs[0].masses_kg`, `catenary.ice`, …) is written in the code of
+/// `model/` or `solve/` (comments aside); `compile::in_case_terms` maps the engine's
+/// `CaseError::Model` to the case field.
+#[test]
+fn the_engines_errors_name_no_case_path() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    sources(&src.join("model"), &mut files);
+    sources(&src.join("solve"), &mut files);
+    let sections = [
+        "run.",
+        "catenary.",
+        "pantographs[",
+        "line.",
+        "contact.",
+        "wind.",
+        "irregularity[",
+    ];
+    for f in files {
+        let text = std::fs::read_to_string(&f).unwrap();
+        for (i, line) in text.lines().enumerate() {
+            let code = line.split("//").next().unwrap_or("");
+            // Inside string literals only (a field access such as `model.pantographs[p]` is code).
+            for lit in code.split('"').skip(1).step_by(2) {
+                for sec in sections {
+                    let starts = lit.starts_with(sec)
+                        || lit.contains(&format!(" {sec}"))
+                        || lit.contains(&format!("`{sec}"));
+                    assert!(
+                        !starts,
+                        "{}:{}: a case path in the engine's text: \"{lit}\"",
+                        f.display(),
+                        i + 1
+                    );
+                }
+            }
+        }
+    }
+}
+
 /// The Python bindings stay out of the workspace's default members, so that the README's
 /// `cargo test --release` and `cargo run --release` need no Python and build nothing twice
 /// (they had slipped in once, by an edit of the list).
@@ -105,7 +146,7 @@ fn python_bindings_stay_out_of_the_default_members() {
 }
 
 /// Validation flows one way (issue 18): the case's section types (`lateral.rs`,
-/// `irregularity.rs`) import neither `case.rs` nor the validation, and only `validate.rs` holds
+/// `irregularity.rs`) import neither `case.rs` nor the validation, and only `validate/mod.rs` holds
 /// `Case::validate`; every bound is in `bounds.rs`, in one style.
 #[test]
 fn validation_has_no_circle_and_one_table_of_bounds() {
@@ -122,7 +163,12 @@ fn validation_has_no_circle_and_one_table_of_bounds() {
     for f in &files {
         let text = std::fs::read_to_string(f).unwrap();
         if text.contains("pub fn validate(&self)") {
-            with_validate.push(f.file_name().unwrap().to_string_lossy().into_owned());
+            with_validate.push(
+                f.strip_prefix(&input)
+                    .unwrap()
+                    .to_string_lossy()
+                    .into_owned(),
+            );
         }
         if !f.ends_with("bounds.rs") {
             assert!(
@@ -132,7 +178,7 @@ fn validation_has_no_circle_and_one_table_of_bounds() {
             );
         }
     }
-    assert_eq!(with_validate, ["validate.rs"]);
+    assert_eq!(with_validate, ["validate/mod.rs"]);
 }
 
 /// Analysis depends on the compiled model, not on the stepper (issue 18, item 3): the energy view

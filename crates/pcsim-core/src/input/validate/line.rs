@@ -1,0 +1,368 @@
+//! A `[line]`: its tension lengths, the overlaps between them, and the working contact wire's
+//! gradient along the supports.
+
+use super::*;
+
+/// A `[line]`: its tension lengths (spans, dropper layouts, heights at the supports, the wires
+/// they override), the overlaps between them, and what a line does not carry yet.
+pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let Some(line) = &case.line else {
+        return Ok(());
+    };
+    let c = &case.catenary;
+    let ntl = line.tension_lengths.len();
+    if ntl == 0 {
+        return Err(inv(
+            "line.tension_lengths",
+            "[]",
+            "give at least one [[line.tension_lengths]]",
+        ));
+    }
+    if ntl > 64 {
+        return Err(inv(
+            "line.tension_lengths",
+            format!("{ntl} tension lengths"),
+            "more than 64 tension lengths (about 90 km) is not a line this tool runs in one model",
+        ));
+    }
+    for (field, given) in [
+        (
+            "run.dofs",
+            case.run.dofs.iter().any(|d| *d != Dof::Vertical),
+        ),
+        ("catenary.lateral", c.lateral.is_some()),
+        ("catenary.ice", c.ice.is_some()),
+        ("wind", case.wind.is_some()),
+        ("irregularity", !case.irregularity.is_empty()),
+    ] {
+        if given {
+            return Err(inv(
+                field,
+                "given",
+                "a [line] is vertical only in this version, without ice, wind or irregularity: use [catenary] for those",
+            ));
+        }
+    }
+    for (k, t) in line.tension_lengths.iter().enumerate() {
+        tension_length(case, k, t, w)?;
+    }
+    if line.overlaps.len() != ntl - 1 {
+        return Err(inv(
+            "line.overlaps",
+            format!("{} overlaps", line.overlaps.len()),
+            &format!(
+                "need one [[line.overlaps]] between each two consecutive tension lengths ({})",
+                ntl - 1
+            ),
+        ));
+    }
+    for (k, o) in line.overlaps.iter().enumerate() {
+        let f = |key: &str| format!("line.overlaps[{k}].{key}");
+        let (a, b) = (
+            line.tension_lengths[k].span_lengths_m(),
+            line.tension_lengths[k + 1].span_lengths_m(),
+        );
+        if o.spans == 0 || o.spans > a.len() || o.spans > b.len() {
+            return Err(inv(
+                &f("spans"),
+                o.spans,
+                &format!(
+                    "an overlap shares 1 to min({}, {}) spans (the two tension lengths' spans)",
+                    a.len(),
+                    b.len()
+                ),
+            ));
+        }
+        for i in 0..o.spans {
+            let (la, lb) = (a[a.len() - o.spans + i], b[i]);
+            if (la - lb).abs() > 1e-3 {
+                return Err(inv(
+                    &f("spans"),
+                    o.spans,
+                    &format!(
+                        "shared span {} is {la} m in tension length {k} but {lb} m in tension length {}: an overlap's spans are the same spans",
+                        i + 1,
+                        k + 1
+                    ),
+                ));
+            }
+        }
+        check_bound(w, &f("rise_m"), o.rise_m, &bounds::OVERLAP_RISE)?;
+        check_bound(
+            w,
+            &f("separation_m"),
+            o.separation_m,
+            &bounds::OVERLAP_SEPARATION,
+        )?;
+        if k + 1 < line.overlaps.len() {
+            let next = &line.overlaps[k + 1];
+            if o.spans + next.spans > b.len() {
+                return Err(inv(
+                    &f("spans"),
+                    o.spans,
+                    &format!(
+                        "tension length {} has {} spans: its two overlaps ({} and {} spans) may not meet",
+                        k + 1,
+                        b.len(),
+                        o.spans,
+                        next.spans
+                    ),
+                ));
+            }
+        }
+    }
+    if c.spans != line.n_spans() {
+        return Err(inv(
+            "catenary.spans",
+            c.spans,
+            &format!(
+                "the line has {} spans: omit catenary.spans with [line], or give {}",
+                line.n_spans(),
+                line.n_spans()
+            ),
+        ));
+    }
+    working_gradients(line, w)
+}
+
+/// The working contact wire's design gradient between consecutive supports of a line: the
+/// height the pantograph runs at, at each support, is the lowest of the contact wires there (an
+/// overlap's rise added at each wire's anchor). A gradient above
+/// [`bounds::CONTACT_GRADIENT`]'s hard bound is a geometry error naming the support where the
+/// height changes; above its soft bound, a warning.
+pub(super) fn working_gradients(line: &LineCase, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    // (track position, working height, tension length, support index within it)
+    let mut at: Vec<(f64, f64, usize, usize)> = Vec::new();
+    let ntl = line.tension_lengths.len();
+    for (k, t) in line.tension_lengths.iter().enumerate() {
+        let xs = line.tension_length_supports_m(k);
+        for (j, &x) in xs.iter().enumerate() {
+            let mut h = t.contact_height_m.get(j).copied().unwrap_or(0.0);
+            if j == 0 && k > 0 {
+                h += line.overlaps.get(k - 1).map_or(0.0, |o| o.rise_m);
+            }
+            if j + 1 == xs.len() && k + 1 < ntl {
+                h += line.overlaps.get(k).map_or(0.0, |o| o.rise_m);
+            }
+            match at.iter_mut().find(|a| (a.0 - x).abs() < 1e-3) {
+                Some(a) if h < a.1 => *a = (x, h, k, j),
+                Some(_) => {}
+                None => at.push((x, h, k, j)),
+            }
+        }
+    }
+    at.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let b = &bounds::CONTACT_GRADIENT;
+    let mut worst: Option<(f64, usize)> = None;
+    for i in 1..at.len() {
+        let (x0, h0, ..) = at[i - 1];
+        let (x1, h1, k, j) = at[i];
+        let g = (h1 - h0) / (x1 - x0);
+        let field = format!("line.tension_lengths[{k}].contact_height_m[{j}]");
+        if g.abs() > b.hard.1 {
+            return Err(inv(
+                &field,
+                format!("{h1} m"),
+                &format!(
+                    "the working contact wire changes height by {:+.3} m between the supports at {x0:.1} m and {x1:.1} m (tension length {}, support {j}): a gradient of {:.2} % (1:{:.0}), steeper than {:.1} % (1:{:.0}), {}; a pantograph cannot follow it (the run would blow up, not measure anything)",
+                    h1 - h0,
+                    k + 1,
+                    100.0 * g.abs(),
+                    1.0 / g.abs(),
+                    100.0 * b.hard.1,
+                    1.0 / b.hard.1,
+                    b.typical
+                ),
+            ));
+        }
+        if g.abs() > b.soft.1 && worst.is_none_or(|(v, _)| g.abs() > v) {
+            worst = Some((g.abs(), i));
+        }
+    }
+    if let Some((g, i)) = worst {
+        let (x0, x1, k, j) = (at[i - 1].0, at[i].0, at[i].2, at[i].3);
+        w.push(Warning(format!(
+            "line.tension_lengths[{k}].contact_height_m[{j}]: the working contact wire's gradient reaches {:.2} % (1:{:.0}) between the supports at {x0:.1} m and {x1:.1} m: unusual (typical: {})",
+            100.0 * g,
+            1.0 / g,
+            b.typical
+        )));
+    }
+    Ok(())
+}
+
+/// Tension length `k` of a line.
+pub(super) fn tension_length(
+    case: &Case,
+    k: usize,
+    t: &TensionLengthCase,
+    w: &mut Vec<Warning>,
+) -> Result<(), CaseError> {
+    let base = &case.catenary;
+    let c = t.catenary(base);
+    let f = |key: &str| format!("line.tension_lengths[{k}].{key}");
+    // The catenary's own checks on what this tension length overrides, named as its fields.
+    if OVERRIDES.iter().any(|key| t.overrides(key)) {
+        let mut alone = case.clone();
+        alone.line = None;
+        alone.catenary = c.clone();
+        let rename = |e: CaseError| match e {
+            CaseError::Invalid {
+                field,
+                value,
+                reason,
+            } => {
+                let key = OVERRIDES
+                    .iter()
+                    .find(|key| t.overrides(key) && field.starts_with(&format!("catenary.{key}")));
+                CaseError::Invalid {
+                    field: match key {
+                        Some(key) => field.replacen(&format!("catenary.{key}"), &f(key), 1),
+                        None => field,
+                    },
+                    value,
+                    reason,
+                }
+            }
+            other => other,
+        };
+        let mut scratch = Vec::new();
+        geometry_and_wires(&alone, &mut scratch).map_err(rename)?;
+        droppers(&alone, &mut scratch).map_err(rename)?;
+        supports_and_arms(&alone, &mut scratch).map_err(rename)?;
+        stitch_wire(&alone, &mut scratch).map_err(rename)?;
+        for Warning(text) in scratch {
+            if let Some(key) = OVERRIDES
+                .iter()
+                .find(|key| t.overrides(key) && text.contains(&format!("catenary.{key}")))
+            {
+                w.push(Warning(text.replace(&format!("catenary.{key}"), &f(key))));
+            }
+        }
+    }
+    let n = t.n_spans();
+    if t.spans_m.is_empty() == t.span_runs.is_empty() {
+        return Err(inv(
+            &f("spans_m"),
+            if t.spans_m.is_empty() {
+                "neither"
+            } else {
+                "both"
+            },
+            "give the spans one by one (spans_m) or as runs (span_runs), one of them",
+        ));
+    }
+    if !(2..=5000).contains(&n) {
+        return Err(inv(
+            &f("spans_m"),
+            format!("{n} spans"),
+            "need 2 to 5000 spans in a tension length",
+        ));
+    }
+    for (j, r) in t.span_runs.iter().enumerate() {
+        if r.count == 0 {
+            return Err(inv(&f(&format!("span_runs[{j}].count")), 0, "must be ≥ 1"));
+        }
+        check_bound(
+            w,
+            &f(&format!("span_runs[{j}].length_m")),
+            r.length_m,
+            &bounds::SPAN,
+        )?;
+    }
+    for (j, &s) in t.spans_m.iter().enumerate() {
+        check_bound(w, &f(&format!("spans_m[{j}]")), s, &bounds::SPAN)?;
+    }
+    let lengths = t.span_lengths_m();
+    if !t.droppers_m.is_empty() && t.droppers_m.len() != n {
+        return Err(inv(
+            &f("droppers_m"),
+            format!("{} layouts", t.droppers_m.len()),
+            &format!("need one dropper layout per span ({n}), or none (the catenary's, scaled)"),
+        ));
+    }
+    let n_ref = c.droppers.positions_m.len();
+    for (j, d) in t.droppers_m.iter().enumerate() {
+        let field = f(&format!("droppers_m[{j}]"));
+        if d.is_empty() {
+            return Err(inv(&field, "[]", "need at least one dropper per span"));
+        }
+        let needs_ref_count = c.stitch_wire.is_some() || matches!(c.presag, Presag::Table { .. });
+        if needs_ref_count && d.len() != n_ref {
+            return Err(inv(
+                &field,
+                format!("{} droppers", d.len()),
+                &format!("the stitch wire's dropper indices and a pre-sag table refer to catenary.droppers.positions_m: give {n_ref} droppers in every span"),
+            ));
+        }
+        let mut prev = 0.0;
+        for (i, &x) in d.iter().enumerate() {
+            if x <= prev || x >= lengths[j] {
+                return Err(inv(
+                    &format!("{field}[{i}]"),
+                    x,
+                    &format!(
+                        "positions must increase inside the span (0, {}) m",
+                        lengths[j]
+                    ),
+                ));
+            }
+            prev = x;
+        }
+    }
+    for (key, v) in [
+        ("contact_height_m", &t.contact_height_m),
+        ("encumbrance_m", &t.encumbrance_m),
+    ] {
+        if !v.is_empty() && v.len() != n + 1 {
+            return Err(inv(
+                &f(key),
+                format!("{} values", v.len()),
+                &format!("need one value per support ({}), or none", n + 1),
+            ));
+        }
+    }
+    for (j, &h) in t.contact_height_m.iter().enumerate() {
+        check_bound(
+            w,
+            &f(&format!("contact_height_m[{j}]")),
+            h,
+            &bounds::CONTACT_HEIGHT_CHANGE,
+        )?;
+    }
+    for (j, &e) in t.encumbrance_m.iter().enumerate() {
+        check_bound(
+            w,
+            &f(&format!("encumbrance_m[{j}]")),
+            e,
+            &bounds::ENCUMBRANCE,
+        )?;
+    }
+    if let Some(st) = &c.stitch_wire {
+        for (j, &len) in lengths.iter().enumerate() {
+            if st.length_m >= len {
+                return Err(inv(
+                    &f(&format!("spans_m[{j}]")),
+                    len,
+                    &format!(
+                        "the stitch wire ({} m) must be shorter than every span",
+                        st.length_m
+                    ),
+                ));
+            }
+            let d = t.droppers_of_span(j, len, &c.droppers.positions_m, c.span_m);
+            for &i in &st.droppers {
+                if let Some(&x) = d.get(i) {
+                    if x.min(len - x) >= 0.5 * st.length_m - 1e-9 {
+                        return Err(inv(
+                            &f(&format!("droppers_m[{j}]")),
+                            x,
+                            &format!("stitch dropper {i} of span {j} is not under a stitch wire (±{} m around the support)", 0.5 * st.length_m),
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,202 @@
+//! The contact and the pantographs: their names, masses, springs and dampers, uplift and
+//! aerodynamic force, and their heads.
+
+use super::*;
+
+/// The contact stiffness and the pantographs.
+pub(super) fn contact_and_pantographs(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    check_bound(
+        w,
+        "contact.stiffness_n_per_m",
+        case.contact.stiffness_n_per_m,
+        &bounds::CONTACT_STIFFNESS,
+    )?;
+
+    let r = &case.run;
+    check_bound(w, "run.speed_kmh", r.speed_kmh, &bounds::SPEED)?;
+    // The speed is checked against the wave speed of the built model (one definition, with the
+    // clamps smeared in): see `solve::Plan::check`.
+    if case.pantographs.is_empty() {
+        return Err(inv("pantographs", "[]", "need at least one pantograph"));
+    }
+    for (i, p) in case.pantographs.iter().enumerate() {
+        let base = format!("pantographs[{i}]");
+        // The name heads the pantograph's columns in timeseries.csv and names its figures: one
+        // per pantograph, and nothing a CSV header or a file name would split.
+        let name = p.output_name(i);
+        if let Some(c) = name
+            .chars()
+            .find(|c| c.is_control() || matches!(c, ',' | '"' | '/' | '\\'))
+        {
+            return Err(inv(
+                &format!("{base}.name"),
+                format!("{:?}", p.name()),
+                &format!("holds {c:?}: a name heads CSV columns and names files (letters, digits, spaces, - and _)"),
+            ));
+        }
+        if let Some(j) = (0..i).find(|&j| case.pantographs[j].output_name(j) == name) {
+            return Err(inv(
+                &format!("{base}.name"),
+                format!("{name:?}"),
+                &format!("pantographs[{j}] has the same name: each pantograph's columns and figures need their own name"),
+            ));
+        }
+        check_bound(
+            w,
+            &format!("{base}.offset_m"),
+            p.offset_m(),
+            &bounds::OFFSET,
+        )?;
+        match p {
+            PantographCase::Lumped { .. } => lumped_pantograph(w, &base, p, r.speed_kmh)?,
+            PantographCase::MovingForce {
+                force_n,
+                lateral_force_n,
+                ..
+            } => {
+                check_bound(
+                    w,
+                    &format!("{base}.force_n"),
+                    *force_n,
+                    &bounds::MOVING_FORCE,
+                )?;
+                check_bound(
+                    w,
+                    &format!("{base}.lateral_force_n"),
+                    *lateral_force_n,
+                    &bounds::MOVING_LATERAL_FORCE,
+                )?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A lumped pantograph (Eq. 16): its masses, springs and dampers (one each per mass), static
+/// uplift and aerodynamic polynomial (its force at the run's speed).
+pub(super) fn lumped_pantograph(
+    w: &mut Vec<Warning>,
+    base: &str,
+    p: &PantographCase,
+    speed_kmh: f64,
+) -> Result<(), CaseError> {
+    let PantographCase::Lumped {
+        masses_kg,
+        stiffness_n_per_m,
+        damping_ns_per_m,
+        uplift_n,
+        aero_coeffs_kmh,
+        ..
+    } = p
+    else {
+        return Ok(());
+    };
+    if masses_kg.is_empty() {
+        return Err(inv(
+            &format!("{base}.masses_kg"),
+            "[]",
+            "need at least one mass",
+        ));
+    }
+    if masses_kg.len() > 20 {
+        return Err(inv(
+            &format!("{base}.masses_kg"),
+            format!("{} masses", masses_kg.len()),
+            "a lumped pantograph has a handful of masses (at most 20)",
+        ));
+    }
+    for (j, &m) in masses_kg.iter().enumerate() {
+        check_bound(
+            w,
+            &format!("{base}.masses_kg[{j}]"),
+            m,
+            &bounds::PANTOGRAPH_MASS,
+        )?;
+    }
+    for (field, v, b) in [
+        (
+            "stiffness_n_per_m",
+            stiffness_n_per_m,
+            &bounds::PANTOGRAPH_STIFFNESS,
+        ),
+        (
+            "damping_ns_per_m",
+            damping_ns_per_m,
+            &bounds::PANTOGRAPH_DAMPING,
+        ),
+    ] {
+        if v.len() != masses_kg.len() {
+            return Err(inv(
+                &format!("{base}.{field}"),
+                format!("{} values", v.len()),
+                &format!("need one value per mass ({})", masses_kg.len()),
+            ));
+        }
+        for (j, &x) in v.iter().enumerate() {
+            check_bound(w, &format!("{base}.{field}[{j}]"), x, b)?;
+        }
+    }
+    check_bound(w, &format!("{base}.uplift_n"), *uplift_n, &bounds::UPLIFT)?;
+    if aero_coeffs_kmh.len() > 8 {
+        return Err(inv(
+            &format!("{base}.aero_coeffs_kmh"),
+            format!("{} coefficients", aero_coeffs_kmh.len()),
+            "a polynomial of degree at most 7",
+        ));
+    }
+    let v = speed_kmh;
+    let aero = crate::model::pantograph::aero_force_n(aero_coeffs_kmh, v);
+    check_bound(
+        w,
+        &format!("{base}.aero_coeffs_kmh (the force at {v} km/h, N)"),
+        aero,
+        &bounds::AERO,
+    )?;
+    Ok(())
+}
+
+/// The pantograph heads' widths.
+pub(super) fn pantograph_heads(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    for (i, p) in case.pantographs.iter().enumerate() {
+        if let PantographCase::Lumped {
+            head_half_width_m,
+            working_half_width_m,
+            ..
+        } = p
+        {
+            if let Some(h) = head_half_width_m {
+                check_bound(
+                    w,
+                    &format!("pantographs[{i}].head_half_width_m"),
+                    *h,
+                    &bounds::HALF_WIDTH,
+                )?;
+                if *h <= 0.0 {
+                    return Err(inv(
+                        &format!("pantographs[{i}].head_half_width_m"),
+                        h,
+                        "must be > 0",
+                    ));
+                }
+            }
+            if let Some(wr) = working_half_width_m {
+                check_bound(
+                    w,
+                    &format!("pantographs[{i}].working_half_width_m"),
+                    *wr,
+                    &bounds::HALF_WIDTH,
+                )?;
+                if let Some(h) = head_half_width_m {
+                    if wr > h {
+                        return Err(inv(
+                            &format!("pantographs[{i}].working_half_width_m"),
+                            wr,
+                            &format!("must not exceed the head's half-width ({h} m)"),
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
