@@ -216,34 +216,7 @@ pub fn compare(
         })
     };
     let min_pairs = crate::input::measured::MIN_SAMPLES;
-    let mut best: Option<(i64, f64)> = None;
-    for k in -k_max..=k_max {
-        let (mut c, mut ss, mut sm, mut sss, mut smm, mut ssm) = (0usize, 0.0, 0.0, 0.0, 0.0, 0.0);
-        for (_, s, i) in pairs(k) {
-            let m = m20[i];
-            c += 1;
-            ss += s;
-            sm += m;
-            sss += s * s;
-            smm += m * m;
-            ssm += s * m;
-        }
-        if c < min_pairs {
-            continue;
-        }
-        let cf = c as f64;
-        let cov = ssm - ss * sm / cf;
-        let vs = sss - ss * ss / cf;
-        let vm = smm - sm * sm / cf;
-        let r = if vs > 0.0 && vm > 0.0 {
-            cov / (vs * vm).sqrt()
-        } else {
-            0.0
-        };
-        if best.is_none_or(|(_, rb)| r > rb) {
-            best = Some((k, r));
-        }
-    }
+    let best = best_shift(k_max, min_pairs, &m20, &pairs);
     let Some((k, r)) = best else {
         return Err(inv(
             "measured positions",
@@ -312,6 +285,47 @@ pub fn compare(
         measured_n,
         warnings,
     })
+}
+
+/// The shift `k` (in the measurement's samples, within ± `k_max`) that maximises Pearson's
+/// coefficient of the two filtered records over the section, with the coefficient; `pairs(k)`
+/// gives the run's value and the measurement's index of each sample inside the section at that
+/// shift. Shifts with fewer than `min_pairs` samples are not taken. `None`: no shift has enough.
+fn best_shift<I: Iterator<Item = (f64, f64, usize)>>(
+    k_max: i64,
+    min_pairs: usize,
+    m20: &[f64],
+    pairs: &dyn Fn(i64) -> I,
+) -> Option<(i64, f64)> {
+    let mut best: Option<(i64, f64)> = None;
+    for k in -k_max..=k_max {
+        let (mut c, mut ss, mut sm, mut sss, mut smm, mut ssm) = (0usize, 0.0, 0.0, 0.0, 0.0, 0.0);
+        for (_, s, i) in pairs(k) {
+            let m = m20[i];
+            c += 1;
+            ss += s;
+            sm += m;
+            sss += s * s;
+            smm += m * m;
+            ssm += s * m;
+        }
+        if c < min_pairs {
+            continue;
+        }
+        let cf = c as f64;
+        let cov = ssm - ss * sm / cf;
+        let vs = sss - ss * ss / cf;
+        let vm = smm - sm * sm / cf;
+        let r = if vs > 0.0 && vm > 0.0 {
+            cov / (vs * vm).sqrt()
+        } else {
+            0.0
+        };
+        if best.is_none_or(|(_, rb)| r > rb) {
+            best = Some((k, r));
+        }
+    }
+    best
 }
 
 /// Welch's power spectral density of two records sampled every `dx` (m): Hann windows of the

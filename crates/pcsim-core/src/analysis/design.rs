@@ -996,50 +996,11 @@ impl CostFunction for View<'_, '_> {
     }
 }
 
-/// Run the design search: the optimiser within the budget, then the best design's confirmation,
-/// the base design, the sensitivity and the constraints' status.
-///
-/// `journal`: the evaluations of an earlier, interrupted run of the same search (read back with
-/// [`Design::journal_read`]); they are not run again. `on_batch` receives every new evaluation,
-/// batch by batch in order (the front end appends them to design.csv); returning `false` stops
-/// the search after that batch (an interrupt), with the answer from what was evaluated.
-/// `evaluator` runs the search's batches ([`Local`]: this machine); the base design and the
-/// confirmation run here on `jobs` workers (`None`: every core). The answer depends on neither.
-pub fn search(
-    design: &Design,
-    journal: Vec<Evaluation>,
-    evaluator: &dyn Evaluator,
-    jobs: Option<usize>,
-    on_batch: &mut (dyn FnMut(&[Evaluation]) -> bool + Send),
-) -> Result<DesignResult, CaseError> {
-    let n = design.spec.variables.len();
-    let mut by_x = HashMap::new();
-    for (k, e) in journal.iter().enumerate() {
-        if e.index != k || e.x.len() != n {
-            return Err(invalid(
-                "journal",
-                format!("row {k}"),
-                format!("evaluation {} out of order", e.index),
-            ));
-        }
-        by_x.insert(bits(&e.x), k);
-    }
+/// Run the spec's optimiser over `problem` within its budget: why it stopped.
+fn run_optimiser(problem: &Problem<'_>) -> Result<StopReason, CaseError> {
+    let design = problem.design;
     let b = &design.spec.budget;
-    let problem = Problem {
-        design,
-        evaluator,
-        penalise_outside: b.method == Method::NelderMead,
-        book: Mutex::new(Book {
-            evaluations: journal,
-            by_x,
-            asked: 0,
-            run_now: 0,
-            batch: 0,
-            started: Instant::now(),
-            stop: None,
-            on_batch,
-        }),
-    };
+    let n = design.spec.variables.len();
     let outcome: Result<bool, ArgminError> = match b.method {
         Method::ParticleSwarm => {
             let p = b
@@ -1091,8 +1052,8 @@ pub fn search(
             }
         }
     };
-    let stop = match outcome {
-        Ok(converged) => problem
+    match outcome {
+        Ok(converged) => Ok(problem
             .book
             .lock()
             .expect("book")
@@ -1101,13 +1062,108 @@ pub fn search(
                 StopReason::Converged
             } else {
                 StopReason::Evaluations
-            }),
+            })),
         Err(e) => match e.downcast_ref::<Halt>() {
-            Some(Halt::Stop(s)) => *s,
-            Some(Halt::Failed(f)) => return Err(invalid("design search", "the evaluator", f)),
-            None => return Err(invalid("design search", "the optimiser", e.to_string())),
+            Some(Halt::Stop(s)) => Ok(*s),
+            Some(Halt::Failed(f)) => Err(invalid("design search", "the evaluator", f)),
+            None => Err(invalid("design search", "the optimiser", e.to_string())),
         },
+    }
+}
+
+/// The objective one sensitivity step below and above the best design `bi`, per variable, from
+/// the evaluations of the plan (`neighbours`: the evaluation of each step, two per variable).
+fn sensitivities(
+    design: &Design,
+    evaluations: &[Evaluation],
+    bi: usize,
+    neighbours: &[Option<usize>],
+) -> Vec<Sensitivity> {
+    let bx = &evaluations[bi].x;
+    let mut sensitivity = Vec::new();
+    for (k, v) in design.spec.variables.iter().enumerate() {
+        let at = |j: usize| neighbours[2 * k + j].map(|i| &evaluations[i]);
+        let (lo, hi) = (at(0), at(1));
+        sensitivity.push(Sensitivity {
+            path: v.path.clone(),
+            step: v.sensitivity_step(),
+            value: bx[k],
+            at_bound: if bx[k] <= v.min {
+                Some("min")
+            } else if bx[k] >= v.max {
+                Some("max")
+            } else {
+                None
+            },
+            below: lo.map(|e| e.x[k]),
+            objective_below: lo.and_then(|e| e.objective),
+            feasible_below: lo.map(|e| e.feasible()),
+            above: hi.map(|e| e.x[k]),
+            objective_above: hi.and_then(|e| e.objective),
+            feasible_above: hi.map(|e| e.feasible()),
+        });
+    }
+    sensitivity
+}
+
+/// The evaluation that violates the constraints least (an infeasible search's answer).
+fn least_violating(evaluations: &[Evaluation]) -> Option<usize> {
+    evaluations
+        .iter()
+        .filter(|e| e.error.is_none())
+        .min_by(|a, b| {
+            a.violation
+                .total_cmp(&b.violation)
+                .then(a.index.cmp(&b.index))
+        })
+        .map(|e| e.index)
+}
+
+/// Run the design search: the optimiser within the budget, then the best design's confirmation,
+/// the base design, the sensitivity and the constraints' status.
+///
+/// `journal`: the evaluations of an earlier, interrupted run of the same search (read back with
+/// [`Design::journal_read`]); they are not run again. `on_batch` receives every new evaluation,
+/// batch by batch in order (the front end appends them to design.csv); returning `false` stops
+/// the search after that batch (an interrupt), with the answer from what was evaluated.
+/// `evaluator` runs the search's batches ([`Local`]: this machine); the base design and the
+/// confirmation run here on `jobs` workers (`None`: every core). The answer depends on neither.
+pub fn search(
+    design: &Design,
+    journal: Vec<Evaluation>,
+    evaluator: &dyn Evaluator,
+    jobs: Option<usize>,
+    on_batch: &mut (dyn FnMut(&[Evaluation]) -> bool + Send),
+) -> Result<DesignResult, CaseError> {
+    let n = design.spec.variables.len();
+    let mut by_x = HashMap::new();
+    for (k, e) in journal.iter().enumerate() {
+        if e.index != k || e.x.len() != n {
+            return Err(invalid(
+                "journal",
+                format!("row {k}"),
+                format!("evaluation {} out of order", e.index),
+            ));
+        }
+        by_x.insert(bits(&e.x), k);
+    }
+    let b = &design.spec.budget;
+    let problem = Problem {
+        design,
+        evaluator,
+        penalise_outside: b.method == Method::NelderMead,
+        book: Mutex::new(Book {
+            evaluations: journal,
+            by_x,
+            asked: 0,
+            run_now: 0,
+            batch: 0,
+            started: Instant::now(),
+            stop: None,
+            on_batch,
+        }),
     };
+    let stop = run_optimiser(&problem)?;
     let best = {
         let book = problem.book.lock().expect("book");
         book.evaluations
@@ -1144,42 +1200,12 @@ pub fn search(
         .iter()
         .map(|u| u.as_ref().map(|u| book.by_x[&bits(&design.x_of(u))]))
         .collect();
-    let mut sensitivity = Vec::new();
-    if let (Some(bi), false) = (best, interrupted) {
-        let bx = &evaluations[bi].x;
-        for (k, v) in design.spec.variables.iter().enumerate() {
-            let at = |j: usize| neighbours[2 * k + j].map(|i| &evaluations[i]);
-            let (lo, hi) = (at(0), at(1));
-            sensitivity.push(Sensitivity {
-                path: v.path.clone(),
-                step: v.sensitivity_step(),
-                value: bx[k],
-                at_bound: if bx[k] <= v.min {
-                    Some("min")
-                } else if bx[k] >= v.max {
-                    Some("max")
-                } else {
-                    None
-                },
-                below: lo.map(|e| e.x[k]),
-                objective_below: lo.and_then(|e| e.objective),
-                feasible_below: lo.map(|e| e.feasible()),
-                above: hi.map(|e| e.x[k]),
-                objective_above: hi.and_then(|e| e.objective),
-                feasible_above: hi.map(|e| e.feasible()),
-            });
-        }
-    }
+    let sensitivity = match (best, interrupted) {
+        (Some(bi), false) => sensitivities(design, &evaluations, bi, &neighbours),
+        _ => Vec::new(),
+    };
     let least_violating = if best.is_none() {
-        evaluations
-            .iter()
-            .filter(|e| e.error.is_none())
-            .min_by(|a, b| {
-                a.violation
-                    .total_cmp(&b.violation)
-                    .then(a.index.cmp(&b.index))
-            })
-            .map(|e| e.index)
+        least_violating(&evaluations)
     } else {
         None
     };

@@ -338,24 +338,34 @@ fn parse(text: &str, user: bool) -> Result<Vec<Criterion>, CaseError> {
     Ok(out)
 }
 
-fn criterion(i: usize, r: CriterionRaw, user: bool) -> Result<Criterion, CaseError> {
-    let bad = |field: &str, value: String, reason: &str| CaseError::Invalid {
-        field: format!("criterion[{i}].{field}"),
-        value,
-        reason: reason.into(),
-    };
-    let finite = |field: &str, v: f64| -> Result<f64, CaseError> {
+/// The fields of criterion `i` of a file, for the errors that name them.
+struct At(usize);
+
+impl At {
+    fn bad(&self, field: &str, value: String, reason: &str) -> CaseError {
+        CaseError::Invalid {
+            field: format!("criterion[{}].{field}", self.0),
+            value,
+            reason: reason.into(),
+        }
+    }
+
+    fn finite(&self, field: &str, v: f64) -> Result<f64, CaseError> {
         if v.is_finite() {
             Ok(v)
         } else {
-            Err(bad(field, v.to_string(), "not a finite number"))
+            Err(self.bad(field, v.to_string(), "not a finite number"))
         }
-    };
+    }
+}
+
+fn criterion(i: usize, r: CriterionRaw, user: bool) -> Result<Criterion, CaseError> {
+    let at = At(i);
     if r.id.trim().is_empty() {
-        return Err(bad("id", "\"\"".into(), "a criterion needs a name"));
+        return Err(at.bad("id", "\"\"".into(), "a criterion needs a name"));
     }
     let quantity = Quantity::parse(&r.quantity).ok_or_else(|| {
-        bad(
+        at.bad(
             "quantity",
             format!("\"{}\"", r.quantity),
             &format!(
@@ -364,183 +374,11 @@ fn criterion(i: usize, r: CriterionRaw, user: bool) -> Result<Criterion, CaseErr
             ),
         )
     })?;
-    let status = match r.status.as_str() {
-        "quoted" => Status::Quoted,
-        "limit-not-held" => Status::LimitNotHeld,
-        "not-public" => Status::NotPublic,
-        "user" => Status::User,
-        s => {
-            return Err(bad(
-                "status",
-                format!("\"{s}\""),
-                "one of quoted, limit-not-held, not-public, user",
-            ))
-        }
-    };
-    if user && status != Status::User {
-        return Err(bad(
-            "status",
-            format!("\"{}\"", r.status),
-            "a user's criterion has status \"user\" (only the embedded criteria say what pcsim quoted)",
-        ));
-    }
-    for (field, text) in [("clause", &r.clause), ("source", &r.source)] {
-        if text.trim().is_empty() {
-            return Err(bad(
-                field,
-                "\"\"".into(),
-                "every criterion names its clause and the source its limit was read in",
-            ));
-        }
-    }
-    let given = [
-        r.limit.is_some(),
-        r.formula_kmh.is_some(),
-        r.factor_of.is_some(),
-    ]
-    .iter()
-    .filter(|x| **x)
-    .count();
-    if given > 1 {
-        return Err(bad(
-            "limit",
-            "(several)".into(),
-            "give one of limit, formula_kmh and factor_of",
-        ));
-    }
-    let limit = if let Some(v) = r.limit {
-        Limit::Constant(finite("limit", v)?)
-    } else if let Some(p) = r.formula_kmh {
-        // Exactly three coefficients: a fourth is never dropped in silence.
-        let Ok(p) = <[f64; 3]>::try_from(p.as_slice()) else {
-            return Err(bad(
-                "formula_kmh",
-                format!("{p:?}"),
-                "give exactly three coefficients [a, b, c] of a + b·v + c·v² (v in km/h)",
-            ));
-        };
-        for (k, c) in p.iter().enumerate() {
-            finite(&format!("formula_kmh[{k}]"), *c)?;
-        }
-        Limit::SpeedPolynomialKmh(p)
-    } else if let Some(f) = r.factor_of {
-        let q = Quantity::parse(&f.quantity)
-            .filter(|q| !q.per_run())
-            .ok_or_else(|| {
-                bad(
-                    "factor_of.quantity",
-                    format!("\"{}\"", f.quantity),
-                    "not a pantograph's quantity pcsim assesses",
-                )
-            })?;
-        if quantity.per_run() {
-            return Err(bad(
-                "factor_of",
-                format!("{{ quantity = \"{}\" }}", f.quantity),
-                "a run's quantity (speed_ratio) cannot be a multiple of a pantograph's",
-            ));
-        }
-        Limit::FactorOf {
-            quantity: q,
-            factor: finite("factor_of.factor", f.factor)?,
-        }
-    } else {
-        Limit::None
-    };
-    let kind = match r.kind.as_str() {
-        "max" => Kind::Max,
-        "min" => Kind::Min,
-        "target" => Kind::Target {
-            tolerance_percent: match r.tolerance_percent {
-                Some(t) if !(t.is_finite() && t > 0.0) => {
-                    return Err(bad("tolerance_percent", t.to_string(), "must be above 0"))
-                }
-                t => t,
-            },
-        },
-        "report" => Kind::Report,
-        s => {
-            return Err(bad(
-                "kind",
-                format!("\"{s}\""),
-                "one of max, min, target, report",
-            ))
-        }
-    };
-    if r.tolerance_percent.is_some() && !matches!(kind, Kind::Target { .. }) {
-        return Err(bad(
-            "tolerance_percent",
-            format!("{}", r.tolerance_percent.unwrap_or_default()),
-            "only a target has a tolerance",
-        ));
-    }
-    match (kind, limit) {
-        (Kind::Report, Limit::None) => {}
-        (Kind::Report, _) => {
-            return Err(bad(
-                "kind",
-                "\"report\"".into(),
-                "a criterion with a limit is max, min or target",
-            ))
-        }
-        (_, Limit::None) => {
-            return Err(bad(
-                "limit",
-                "(none)".into(),
-                &format!(
-                    "a {} criterion needs limit, formula_kmh or factor_of",
-                    r.kind
-                ),
-            ))
-        }
-        _ => {}
-    }
-    // A limit is written only with a source that holds it; without one, no limit.
-    if matches!(status, Status::LimitNotHeld | Status::NotPublic) && limit != Limit::None {
-        return Err(bad(
-            "status",
-            format!("\"{}\"", r.status),
-            "a criterion whose limit was not read in a public text has no limit",
-        ));
-    }
-    if status == Status::Quoted && limit == Limit::None {
-        return Err(bad(
-            "status",
-            "\"quoted\"".into(),
-            "a quoted criterion has the limit it quotes",
-        ));
-    }
-    let mut systems = Vec::new();
-    for (k, s) in r.systems.iter().enumerate() {
-        systems.push(System::parse(s).ok_or_else(|| {
-            bad(
-                &format!("systems[{k}]"),
-                format!("\"{s}\""),
-                "one of ac, dc-3kv, dc-1.5kv",
-            )
-        })?);
-    }
-    if let Some([lo, hi]) = r.speed_kmh {
-        if !(lo.is_finite() && hi.is_finite() && lo >= 0.0 && hi > lo) {
-            return Err(bad(
-                "speed_kmh",
-                format!("[{lo}, {hi}]"),
-                "a range [low, high] of km/h with 0 <= low < high",
-            ));
-        }
-    }
-    if let Some(w) = r.head_width_mm {
-        if !(w.is_finite() && w > 0.0) {
-            return Err(bad("head_width_mm", w.to_string(), "must be above 0"));
-        }
-        if quantity != Quantity::LateralOffset {
-            return Err(bad(
-                "head_width_mm",
-                w.to_string(),
-                "only a lateral criterion (max_lateral_offset_mm) depends on the head",
-            ));
-        }
-    }
+    let status = criterion_status(&at, &r, user)?;
+    let limit = criterion_limit(&at, &r, quantity)?;
+    let kind = criterion_kind(&at, &r)?;
+    check_kind_limit_status(&at, &r, (kind, limit, status))?;
+    let systems = criterion_scope(&at, &r, quantity)?;
     Ok(Criterion {
         id: r.id,
         quantity,
@@ -554,6 +392,218 @@ fn criterion(i: usize, r: CriterionRaw, user: bool) -> Result<Criterion, CaseErr
         status,
         note: r.note,
     })
+}
+
+/// The criterion's status (a user's is `user`), and its clause and source, which every
+/// criterion names.
+fn criterion_status(at: &At, r: &CriterionRaw, user: bool) -> Result<Status, CaseError> {
+    let status = match r.status.as_str() {
+        "quoted" => Status::Quoted,
+        "limit-not-held" => Status::LimitNotHeld,
+        "not-public" => Status::NotPublic,
+        "user" => Status::User,
+        s => {
+            return Err(at.bad(
+                "status",
+                format!("\"{s}\""),
+                "one of quoted, limit-not-held, not-public, user",
+            ))
+        }
+    };
+    if user && status != Status::User {
+        return Err(at.bad(
+            "status",
+            format!("\"{}\"", r.status),
+            "a user's criterion has status \"user\" (only the embedded criteria say what pcsim quoted)",
+        ));
+    }
+    for (field, text) in [("clause", &r.clause), ("source", &r.source)] {
+        if text.trim().is_empty() {
+            return Err(at.bad(
+                field,
+                "\"\"".into(),
+                "every criterion names its clause and the source its limit was read in",
+            ));
+        }
+    }
+    Ok(status)
+}
+
+/// The criterion's limit: a constant, a polynomial in km/h (exactly three coefficients), a
+/// multiple of another quantity of the same pantograph, or none; at most one of them.
+fn criterion_limit(at: &At, r: &CriterionRaw, quantity: Quantity) -> Result<Limit, CaseError> {
+    let given = [
+        r.limit.is_some(),
+        r.formula_kmh.is_some(),
+        r.factor_of.is_some(),
+    ]
+    .iter()
+    .filter(|x| **x)
+    .count();
+    if given > 1 {
+        return Err(at.bad(
+            "limit",
+            "(several)".into(),
+            "give one of limit, formula_kmh and factor_of",
+        ));
+    }
+    Ok(if let Some(v) = r.limit {
+        Limit::Constant(at.finite("limit", v)?)
+    } else if let Some(p) = &r.formula_kmh {
+        // Exactly three coefficients: a fourth is never dropped in silence.
+        let Ok(p) = <[f64; 3]>::try_from(p.as_slice()) else {
+            return Err(at.bad(
+                "formula_kmh",
+                format!("{p:?}"),
+                "give exactly three coefficients [a, b, c] of a + b·v + c·v² (v in km/h)",
+            ));
+        };
+        for (k, c) in p.iter().enumerate() {
+            at.finite(&format!("formula_kmh[{k}]"), *c)?;
+        }
+        Limit::SpeedPolynomialKmh(p)
+    } else if let Some(f) = &r.factor_of {
+        let q = Quantity::parse(&f.quantity)
+            .filter(|q| !q.per_run())
+            .ok_or_else(|| {
+                at.bad(
+                    "factor_of.quantity",
+                    format!("\"{}\"", f.quantity),
+                    "not a pantograph's quantity pcsim assesses",
+                )
+            })?;
+        if quantity.per_run() {
+            return Err(at.bad(
+                "factor_of",
+                format!("{{ quantity = \"{}\" }}", f.quantity),
+                "a run's quantity (speed_ratio) cannot be a multiple of a pantograph's",
+            ));
+        }
+        Limit::FactorOf {
+            quantity: q,
+            factor: at.finite("factor_of.factor", f.factor)?,
+        }
+    } else {
+        Limit::None
+    })
+}
+
+/// The criterion's kind (a target with its tolerance, which only a target has).
+fn criterion_kind(at: &At, r: &CriterionRaw) -> Result<Kind, CaseError> {
+    let kind = match r.kind.as_str() {
+        "max" => Kind::Max,
+        "min" => Kind::Min,
+        "target" => Kind::Target {
+            tolerance_percent: match r.tolerance_percent {
+                Some(t) if !(t.is_finite() && t > 0.0) => {
+                    return Err(at.bad("tolerance_percent", t.to_string(), "must be above 0"))
+                }
+                t => t,
+            },
+        },
+        "report" => Kind::Report,
+        s => {
+            return Err(at.bad(
+                "kind",
+                format!("\"{s}\""),
+                "one of max, min, target, report",
+            ))
+        }
+    };
+    if r.tolerance_percent.is_some() && !matches!(kind, Kind::Target { .. }) {
+        return Err(at.bad(
+            "tolerance_percent",
+            format!("{}", r.tolerance_percent.unwrap_or_default()),
+            "only a target has a tolerance",
+        ));
+    }
+    Ok(kind)
+}
+
+/// A report has no limit and every other kind one; a limit is written only with a source that
+/// holds it, and a quoted criterion has the limit it quotes.
+fn check_kind_limit_status(
+    at: &At,
+    r: &CriterionRaw,
+    (kind, limit, status): (Kind, Limit, Status),
+) -> Result<(), CaseError> {
+    match (kind, limit) {
+        (Kind::Report, Limit::None) => {}
+        (Kind::Report, _) => {
+            return Err(at.bad(
+                "kind",
+                "\"report\"".into(),
+                "a criterion with a limit is max, min or target",
+            ))
+        }
+        (_, Limit::None) => {
+            return Err(at.bad(
+                "limit",
+                "(none)".into(),
+                &format!(
+                    "a {} criterion needs limit, formula_kmh or factor_of",
+                    r.kind
+                ),
+            ))
+        }
+        _ => {}
+    }
+    if matches!(status, Status::LimitNotHeld | Status::NotPublic) && limit != Limit::None {
+        return Err(at.bad(
+            "status",
+            format!("\"{}\"", r.status),
+            "a criterion whose limit was not read in a public text has no limit",
+        ));
+    }
+    if status == Status::Quoted && limit == Limit::None {
+        return Err(at.bad(
+            "status",
+            "\"quoted\"".into(),
+            "a quoted criterion has the limit it quotes",
+        ));
+    }
+    Ok(())
+}
+
+/// Where the criterion applies: its supply systems, its speed range and the head width of a
+/// lateral criterion.
+fn criterion_scope(
+    at: &At,
+    r: &CriterionRaw,
+    quantity: Quantity,
+) -> Result<Vec<System>, CaseError> {
+    let mut systems = Vec::new();
+    for (k, s) in r.systems.iter().enumerate() {
+        systems.push(System::parse(s).ok_or_else(|| {
+            at.bad(
+                &format!("systems[{k}]"),
+                format!("\"{s}\""),
+                "one of ac, dc-3kv, dc-1.5kv",
+            )
+        })?);
+    }
+    if let Some([lo, hi]) = r.speed_kmh {
+        if !(lo.is_finite() && hi.is_finite() && lo >= 0.0 && hi > lo) {
+            return Err(at.bad(
+                "speed_kmh",
+                format!("[{lo}, {hi}]"),
+                "a range [low, high] of km/h with 0 <= low < high",
+            ));
+        }
+    }
+    if let Some(w) = r.head_width_mm {
+        if !(w.is_finite() && w > 0.0) {
+            return Err(at.bad("head_width_mm", w.to_string(), "must be above 0"));
+        }
+        if quantity != Quantity::LateralOffset {
+            return Err(at.bad(
+                "head_width_mm",
+                w.to_string(),
+                "only a lateral criterion (max_lateral_offset_mm) depends on the head",
+            ));
+        }
+    }
+    Ok(systems)
 }
 
 #[cfg(test)]

@@ -516,6 +516,15 @@ impl DesignSpec {
             (None, None) => return Err(invalid("base", "", "give `preset` or `file`")),
             _ => {}
         }
+        self.check_variables()?;
+        self.check_speeds_and_objective()?;
+        self.check_constraints()?;
+        self.check_budget()
+    }
+
+    /// The variables: finite bounds in order (whole numbers for an integer), a step inside them,
+    /// no speed and no path twice.
+    fn check_variables(&self) -> Result<(), CaseError> {
         if self.variables.is_empty() {
             return Err(invalid(
                 "variable",
@@ -561,6 +570,11 @@ impl DesignSpec {
                 return Err(invalid(f("path"), &v.path, "the path is a variable twice"));
             }
         }
+        Ok(())
+    }
+
+    /// The speeds (positive, with weights ≥ 0) and the objective's terms, some weight other than 0.
+    fn check_speeds_and_objective(&self) -> Result<(), CaseError> {
         if self.speeds.is_empty() {
             return Err(invalid(
                 "speed",
@@ -600,6 +614,11 @@ impl DesignSpec {
                 "at least one speed and one objective term need a weight other than 0",
             ));
         }
+        Ok(())
+    }
+
+    /// Each constraint at the spec's speeds, with a range some value can meet.
+    fn check_constraints(&self) -> Result<(), CaseError> {
         for (k, c) in self.constraints.iter().enumerate() {
             for v in &c.speeds_kmh {
                 if !self.speeds.iter().any(|s| s.kmh == *v) {
@@ -620,6 +639,11 @@ impl DesignSpec {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// The budget: its evaluations, wall time, the first simplex and the swarm.
+    fn check_budget(&self) -> Result<(), CaseError> {
         let b = &self.budget;
         if b.evaluations == 0 || b.evaluations > MAX_EVALUATIONS {
             return Err(invalid(

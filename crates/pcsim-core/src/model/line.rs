@@ -178,68 +178,86 @@ pub struct TensionLengthStatics {
     pub support_force_n: Vec<f64>,
 }
 
-impl TensionLengthStatics {
-    /// Solve the static shape of the tension length `c`.
-    pub fn solve(c: &TensionLengthDesign) -> Self {
-        let sup = c.supports_m();
-        let ns = c.spans.len();
-        let hold = c.arm_holds_contact;
-        // Contact wire: design heights at its nodes.
-        let mut xs = Vec::new();
-        let mut hs = Vec::new();
-        let mut dropper_node = Vec::new();
-        let mut support_node = vec![None; ns + 1];
-        for (j, span) in c.spans.iter().enumerate() {
-            if j == 0 || hold {
-                support_node[j] = Some(xs.len());
-                xs.push(sup[j]);
-                hs.push(c.contact_height_m[j]);
-            }
-            let (ha, hb) = (c.contact_height_m[j], c.contact_height_m[j + 1]);
-            for (i, &d) in span.dropper_x_m.iter().enumerate() {
-                dropper_node.push((j, i, xs.len()));
-                xs.push(sup[j] + d);
-                hs.push(ha + (hb - ha) * d / span.length_m - span.presag_m[i]);
-            }
+/// The contact wire's design heights at its nodes (the supports it is held at, every dropper):
+/// its profile, each dropper's (span, index, node) and each support's node.
+#[allow(clippy::type_complexity)]
+fn contact_profile(
+    c: &TensionLengthDesign,
+    sup: &[f64],
+) -> (LineProfile, Vec<(usize, usize, usize)>, Vec<Option<usize>>) {
+    let ns = c.spans.len();
+    let hold = c.arm_holds_contact;
+    let mut xs = Vec::new();
+    let mut hs = Vec::new();
+    let mut dropper_node = Vec::new();
+    let mut support_node = vec![None; ns + 1];
+    for (j, span) in c.spans.iter().enumerate() {
+        if j == 0 || hold {
+            support_node[j] = Some(xs.len());
+            xs.push(sup[j]);
+            hs.push(c.contact_height_m[j]);
         }
-        support_node[ns] = Some(xs.len());
-        xs.push(sup[ns]);
-        hs.push(c.contact_height_m[ns]);
-        let contact = LineProfile {
-            xs,
-            hs,
-            w: c.contact_mass_per_m_kg * G,
-            t: c.contact_tension_n,
-        };
-        let fc: Vec<f64> = dropper_node
-            .iter()
-            .map(|&(_, _, n)| contact.node_force(n) + c.clamp_mass_contact_kg * G)
-            .collect();
-        let arm_force_n: Vec<f64> = (0..=ns)
-            .map(|j| match support_node[j] {
-                Some(n) if j > 0 && j < ns => contact.node_force(n),
-                _ => 0.0,
-            })
-            .collect();
+        let (ha, hb) = (c.contact_height_m[j], c.contact_height_m[j + 1]);
+        for (i, &d) in span.dropper_x_m.iter().enumerate() {
+            dropper_node.push((j, i, xs.len()));
+            xs.push(sup[j] + d);
+            hs.push(ha + (hb - ha) * d / span.length_m - span.presag_m[i]);
+        }
+    }
+    support_node[ns] = Some(xs.len());
+    xs.push(sup[ns]);
+    hs.push(c.contact_height_m[ns]);
+    let contact = LineProfile {
+        xs,
+        hs,
+        w: c.contact_mass_per_m_kg * G,
+        t: c.contact_tension_n,
+    };
+    (contact, dropper_node, support_node)
+}
 
-        // Stitch elements: the dropper hangs from the stitch wire of its nearer support.
-        let stitch: Vec<Option<(f64, f64)>> = dropper_node
-            .iter()
-            .map(|&(j, i, _)| {
-                let span = &c.spans[j];
-                c.stitch.filter(|_| span.on_stitch[i]).map(|st| {
-                    let d = span.dropper_x_m[i];
-                    let dist = d.min(span.length_m - d);
-                    (
-                        stitch_stiffness(st.tension_n, st.length_m, dist),
-                        st.clamp_mass_kg + 0.5 * st.mass_per_m_kg * st.length_m,
-                    )
-                })
+/// Stitch elements: each dropper that hangs from the stitch wire of its nearer support, the
+/// wire's stiffness there and its clamp's mass.
+fn stitches(
+    c: &TensionLengthDesign,
+    dropper_node: &[(usize, usize, usize)],
+) -> Vec<Option<(f64, f64)>> {
+    dropper_node
+        .iter()
+        .map(|&(j, i, _)| {
+            let span = &c.spans[j];
+            c.stitch.filter(|_| span.on_stitch[i]).map(|st| {
+                let d = span.dropper_x_m[i];
+                let dist = d.min(span.length_m - d);
+                (
+                    stitch_stiffness(st.tension_n, st.length_m, dist),
+                    st.clamp_mass_kg + 0.5 * st.mass_per_m_kg * st.length_m,
+                )
             })
-            .collect();
+        })
+        .collect()
+}
 
-        // Messenger: each span between its supports; iterate on the dropper lengths (their
-        // weight loads the messenger).
+/// How the contact wire hangs from the messenger: each dropper's messenger height, force at the
+/// messenger, length and stitch force.
+struct Hanging {
+    hm: Vec<f64>,
+    fm: Vec<f64>,
+    len: Vec<f64>,
+    st_force: Vec<f64>,
+}
+
+impl Hanging {
+    /// The messenger, each span between its supports, iterated on the dropper lengths (their
+    /// weight loads the messenger).
+    fn solve(
+        c: &TensionLengthDesign,
+        contact: &LineProfile,
+        dropper_node: &[(usize, usize, usize)],
+        fc: &[f64],
+        stitch: &[Option<(f64, f64)>],
+    ) -> Hanging {
+        let ns = c.spans.len();
         let wm = c.messenger_mass_per_m_kg * G;
         let tm = c.messenger_tension_n;
         let top: Vec<f64> = (0..=ns)
@@ -251,7 +269,7 @@ impl TensionLengthStatics {
             .map(|&(j, _, _)| c.encumbrance_m[j])
             .collect();
         let mut hm = vec![0.0; nd];
-        let mut fm = fc.clone();
+        let mut fm = fc.to_vec();
         let mut load = vec![0.0; nd];
         let mut st_force = vec![0.0; nd];
         for _ in 0..8 {
@@ -283,29 +301,74 @@ impl TensionLengthStatics {
                 len[k] = upper - contact.hs[dropper_node[k].2];
             }
         }
-        let mut mxs = Vec::with_capacity(nd + ns + 1);
-        let mut mhs = Vec::with_capacity(nd + ns + 1);
-        let mut msup = Vec::with_capacity(ns + 1);
-        let mut k = 0;
-        for (j, span) in c.spans.iter().enumerate() {
-            msup.push(mxs.len());
-            mxs.push(sup[j]);
-            mhs.push(top[j]);
-            for _ in &span.dropper_x_m {
-                mxs.push(contact.xs[dropper_node[k].2]);
-                mhs.push(hm[k]);
-                k += 1;
-            }
+        Hanging {
+            hm,
+            fm,
+            len,
+            st_force,
         }
+    }
+}
+
+/// The messenger's profile through its supports and the droppers' tops `hm`, and each
+/// support's node.
+fn messenger_profile(
+    c: &TensionLengthDesign,
+    sup: &[f64],
+    contact: &LineProfile,
+    dropper_node: &[(usize, usize, usize)],
+    hm: &[f64],
+) -> (LineProfile, Vec<usize>) {
+    let ns = c.spans.len();
+    let top: Vec<f64> = (0..=ns)
+        .map(|j| c.contact_height_m[j] + c.encumbrance_m[j])
+        .collect();
+    let nd = dropper_node.len();
+    let mut mxs = Vec::with_capacity(nd + ns + 1);
+    let mut mhs = Vec::with_capacity(nd + ns + 1);
+    let mut msup = Vec::with_capacity(ns + 1);
+    let mut k = 0;
+    for (j, span) in c.spans.iter().enumerate() {
         msup.push(mxs.len());
-        mxs.push(sup[ns]);
-        mhs.push(top[ns]);
-        let messenger = LineProfile {
-            xs: mxs,
-            hs: mhs,
-            w: wm,
-            t: tm,
-        };
+        mxs.push(sup[j]);
+        mhs.push(top[j]);
+        for _ in &span.dropper_x_m {
+            mxs.push(contact.xs[dropper_node[k].2]);
+            mhs.push(hm[k]);
+            k += 1;
+        }
+    }
+    msup.push(mxs.len());
+    mxs.push(sup[ns]);
+    mhs.push(top[ns]);
+    let messenger = LineProfile {
+        xs: mxs,
+        hs: mhs,
+        w: c.messenger_mass_per_m_kg * G,
+        t: c.messenger_tension_n,
+    };
+    (messenger, msup)
+}
+
+impl TensionLengthStatics {
+    /// Solve the static shape of the tension length `c`.
+    pub fn solve(c: &TensionLengthDesign) -> Self {
+        let sup = c.supports_m();
+        let ns = c.spans.len();
+        let (contact, dropper_node, support_node) = contact_profile(c, &sup);
+        let fc: Vec<f64> = dropper_node
+            .iter()
+            .map(|&(_, _, n)| contact.node_force(n) + c.clamp_mass_contact_kg * G)
+            .collect();
+        let arm_force_n: Vec<f64> = (0..=ns)
+            .map(|j| match support_node[j] {
+                Some(n) if j > 0 && j < ns => contact.node_force(n),
+                _ => 0.0,
+            })
+            .collect();
+        let stitch = stitches(c, &dropper_node);
+        let hang = Hanging::solve(c, &contact, &dropper_node, &fc, &stitch);
+        let (messenger, msup) = messenger_profile(c, &sup, &contact, &dropper_node, &hang.hm);
         let support_force_n = (0..=ns)
             .map(|j| {
                 if j > 0 && j < ns {
@@ -323,12 +386,12 @@ impl TensionLengthStatics {
                 span: j,
                 contact_height_m: contact.hs[n],
                 force_contact_n: fc[k],
-                force_messenger_n: fm[k],
-                length_m: len[k],
+                force_messenger_n: hang.fm[k],
+                length_m: hang.len[k],
                 stitch: stitch[k].map(|(kst, m)| StitchStatic {
                     stiffness_n_per_m: kst,
                     node_mass_kg: m,
-                    force_n: st_force[k],
+                    force_n: hang.st_force[k],
                 }),
             })
             .collect();

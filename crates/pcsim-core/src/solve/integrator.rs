@@ -179,32 +179,21 @@ impl Stage {
     }
 }
 
-impl Integrator {
-    /// The integrator with the coupled limit its Δt was checked against, on `threads` threads
-    /// ([`Integrator::new`], in `stability.rs` beside the check).
-    pub(crate) fn with_limit(mut self, limit: CoupledLimit, threads: usize) -> Self {
-        self.limit = Some(limit);
-        self.parts = self.partition(threads);
-        self
-    }
+/// The modal operators of a step: the diagonal stiffness, damping and `M + Δt/2 C` of every
+/// mode (Eqs. 9–14), the torsional modes' trapezoidal flow, and the runs of the layout advanced
+/// by each law.
+struct ModalOps {
+    k: Vec<f64>,
+    c: Vec<f64>,
+    d_eff: Vec<f64>,
+    flow: Vec<[f64; 4]>,
+    segments: Vec<(usize, usize, bool)>,
+}
 
-    /// The coupled stability limit this integrator's Δt was checked against (`None` for the
-    /// stability check's own probe).
-    pub fn stability(&self) -> Option<&CoupledLimit> {
-        self.limit.as_ref()
-    }
-
-    /// The Δt operators over a compiled model: the modal diagonal `M + Δt/2 C` (Eqs. 9–14), the
-    /// torsional modes' trapezoidal flow, the implicit point terms with their Δt weights, and the
-    /// pantographs' chains (Eq. 16) with their static equilibrium.
-    pub(crate) fn from_compiled(
-        cm: CompiledModel,
-        plan: &Plan,
-        dt: f64,
-    ) -> Result<Self, CaseError> {
+impl ModalOps {
+    fn new(cm: &CompiledModel, dt: f64) -> ModalOps {
         let model = &cm.model;
         let lay = &model.layout;
-        let isa = cm.isa;
         // Modal operators. Torsional blocks are advanced by their trapezoidal flow: their
         // stiffness and damping leave the explicit right-hand side.
         let mut k = vec![0.0; lay.len];
@@ -236,105 +225,171 @@ impl Integrator {
             }
             merge
         });
-        // Implicit point terms: a mass as it is, a damper as `Δt/2 c`.
-        let mut implicit = Vec::with_capacity(cm.implicit.len());
-        for grp in &cm.implicit {
-            let b = grp.blocks.start;
-            let weights: Vec<Vec<f64>> = grp
-                .weights
-                .iter()
-                .map(|ws| {
-                    ws.iter()
-                        .map(|w| match *w {
-                            Weight::Mass(m) => m,
-                            Weight::Damper(cd) => 0.5 * dt * cd,
-                        })
-                        .collect()
-                })
-                .collect();
-            let ds: Vec<&[f64]> = grp.blocks.clone().map(|k| &d_eff[lay.range(k)]).collect();
-            let imp = ImplicitPoints::new(
-                lay.basis(b),
-                model.span_m,
-                isa,
-                lay.blocks[b].offset,
-                &grp.xs,
-                &weights,
-                &ds,
-            )
-            .map_err(|err| {
-                invalid(
-                    &format!(
-                        "implicit point terms of {}",
-                        model.wires[lay.blocks[b].key.wire].name
-                    ),
-                    format!("row {}, pivot {:e}", err.row, err.pivot),
-                    "the capacitance matrix of the point masses and dampers is not positive definite (a mass or damper that is not positive?)".into(),
-                )
-            })?;
-            implicit.push(imp);
+        ModalOps {
+            k,
+            c,
+            d_eff,
+            flow,
+            segments,
         }
+    }
+}
 
-        // Pantographs.
-        let np = model.pantographs.len();
-        let mut chains = Vec::with_capacity(np);
-        let mut initial_py = Vec::new();
-        for (p, pan) in model.pantographs.iter().enumerate() {
-            match &pan.kind {
-                PantographKind::Lumped(l) => {
-                    let ops = l.operators(dt, plan.speed_kmh).ok_or_else(|| {
-                        refused(
-                            ModelQuantity::PantographMasses(p),
-                            format!("{:?}", l.masses_kg),
-                            "the pantograph's mass matrix M + Δt/2 C is singular".into(),
-                        )
-                    })?;
-                    let x = plan.start_m - pan.offset_m + plan.speed_m_s * 0.0;
-                    let (kn, h) = match cm.pan_point[p] {
-                        Some(m) if cm.pan_points[p].is_empty() => {
-                            (contact_stiffness(model, p), cm.start_height(m, x))
+/// The implicit point terms (Woodbury, `solve/implicit.rs`) with their Δt weights, over the
+/// modal diagonal `d_eff`.
+fn implicit_terms(
+    cm: &CompiledModel,
+    dt: f64,
+    d_eff: &[f64],
+) -> Result<Vec<ImplicitPoints>, CaseError> {
+    let model = &cm.model;
+    let lay = &model.layout;
+    let isa = cm.isa;
+    // Implicit point terms: a mass as it is, a damper as `Δt/2 c`.
+    let mut implicit = Vec::with_capacity(cm.implicit.len());
+    for grp in &cm.implicit {
+        let b = grp.blocks.start;
+        let weights: Vec<Vec<f64>> = grp
+            .weights
+            .iter()
+            .map(|ws| {
+                ws.iter()
+                    .map(|w| match *w {
+                        Weight::Mass(m) => m,
+                        Weight::Damper(cd) => 0.5 * dt * cd,
+                    })
+                    .collect()
+            })
+            .collect();
+        let ds: Vec<&[f64]> = grp.blocks.clone().map(|k| &d_eff[lay.range(k)]).collect();
+        let imp = ImplicitPoints::new(
+            lay.basis(b),
+            model.span_m,
+            isa,
+            lay.blocks[b].offset,
+            &grp.xs,
+            &weights,
+            &ds,
+        )
+        .map_err(|err| {
+            invalid(
+                &format!(
+                    "implicit point terms of {}",
+                    model.wires[lay.blocks[b].key.wire].name
+                ),
+                format!("row {}, pivot {:e}", err.row, err.pivot),
+                "the capacitance matrix of the point masses and dampers is not positive definite (a mass or damper that is not positive?)".into(),
+            )
+        })?;
+        implicit.push(imp);
+    }
+
+    Ok(implicit)
+}
+
+/// Each pantograph's chain operators (Eq. 16) at Δt, and the chains' static equilibrium against
+/// the static wire at the start.
+fn pantograph_chains(
+    cm: &CompiledModel,
+    plan: &Plan,
+    dt: f64,
+) -> Result<(Vec<Option<ChainOperators>>, Vec<f64>), CaseError> {
+    let model = &cm.model;
+    // Pantographs.
+    let np = model.pantographs.len();
+    let mut chains = Vec::with_capacity(np);
+    let mut initial_py = Vec::new();
+    for (p, pan) in model.pantographs.iter().enumerate() {
+        match &pan.kind {
+            PantographKind::Lumped(l) => {
+                let ops = l.operators(dt, plan.speed_kmh).ok_or_else(|| {
+                    refused(
+                        ModelQuantity::PantographMasses(p),
+                        format!("{:?}", l.masses_kg),
+                        "the pantograph's mass matrix M + Δt/2 C is singular".into(),
+                    )
+                })?;
+                let x = plan.start_m - pan.offset_m + plan.speed_m_s * 0.0;
+                let (kn, h) = match cm.pan_point[p] {
+                    Some(m) if cm.pan_points[p].is_empty() => {
+                        (contact_stiffness(model, p), cm.start_height(m, x))
+                    }
+                    // Several contact wires: the head rests on the lowest of those present
+                    // at the start, and on every other at that height (their penalty
+                    // springs in parallel).
+                    Some(_) => {
+                        let present: Vec<(usize, f64)> = cm.pan_points[p]
+                            .iter()
+                            .filter(|&&k| cm.moving[k].covers(x))
+                            .map(|&k| (k, cm.start_height(k, x)))
+                            .collect();
+                        let low = present
+                            .iter()
+                            .map(|&(_, h)| h)
+                            .fold(f64::INFINITY, f64::min);
+                        let kn: f64 = present
+                            .iter()
+                            .filter(|&&(_, h)| h <= low + 1e-9)
+                            .map(|&(k, _)| contact_stiffness_on(model, p, Some(cm.moving[k].wire)))
+                            .sum();
+                        if low.is_finite() {
+                            (kn, low)
+                        } else {
+                            (contact_stiffness(model, p), 0.0)
                         }
-                        // Several contact wires: the head rests on the lowest of those present
-                        // at the start, and on every other at that height (their penalty
-                        // springs in parallel).
-                        Some(_) => {
-                            let present: Vec<(usize, f64)> = cm.pan_points[p]
-                                .iter()
-                                .filter(|&&k| cm.moving[k].covers(x))
-                                .map(|&k| (k, cm.start_height(k, x)))
-                                .collect();
-                            let low = present
-                                .iter()
-                                .map(|&(_, h)| h)
-                                .fold(f64::INFINITY, f64::min);
-                            let kn: f64 = present
-                                .iter()
-                                .filter(|&&(_, h)| h <= low + 1e-9)
-                                .map(|&(k, _)| {
-                                    contact_stiffness_on(model, p, Some(cm.moving[k].wire))
-                                })
-                                .sum();
-                            if low.is_finite() {
-                                (kn, low)
-                            } else {
-                                (contact_stiffness(model, p), 0.0)
-                            }
-                        }
-                        None => (contact_stiffness(model, p), 0.0),
-                    };
-                    let y = ops.static_equilibrium(kn, h).ok_or_else(|| {
-                        refused(
-                            ModelQuantity::PantographStiffness(p, None),
-                            format!("{:?}", l.stiffness_n_per_m),
-                            "the pantograph has no static equilibrium (a spring of zero stiffness?)".into(),
-                        )
-                    })?;
-                    initial_py.extend(y);
-                    chains.push(Some(ops));
-                }
-                _ => chains.push(None),
+                    }
+                    None => (contact_stiffness(model, p), 0.0),
+                };
+                let y = ops.static_equilibrium(kn, h).ok_or_else(|| {
+                    refused(
+                        ModelQuantity::PantographStiffness(p, None),
+                        format!("{:?}", l.stiffness_n_per_m),
+                        "the pantograph has no static equilibrium (a spring of zero stiffness?)"
+                            .into(),
+                    )
+                })?;
+                initial_py.extend(y);
+                chains.push(Some(ops));
             }
+            _ => chains.push(None),
         }
+    }
+    Ok((chains, initial_py))
+}
+
+impl Integrator {
+    /// The integrator with the coupled limit its Δt was checked against, on `threads` threads
+    /// ([`Integrator::new`], in `stability.rs` beside the check).
+    pub(crate) fn with_limit(mut self, limit: CoupledLimit, threads: usize) -> Self {
+        self.limit = Some(limit);
+        self.parts = self.partition(threads);
+        self
+    }
+
+    /// The coupled stability limit this integrator's Δt was checked against (`None` for the
+    /// stability check's own probe).
+    pub fn stability(&self) -> Option<&CoupledLimit> {
+        self.limit.as_ref()
+    }
+
+    /// The Δt operators over a compiled model: the modal diagonal `M + Δt/2 C` (Eqs. 9–14), the
+    /// torsional modes' trapezoidal flow, the implicit point terms with their Δt weights, and the
+    /// pantographs' chains (Eq. 16) with their static equilibrium.
+    pub(crate) fn from_compiled(
+        cm: CompiledModel,
+        plan: &Plan,
+        dt: f64,
+    ) -> Result<Self, CaseError> {
+        let modal = ModalOps::new(&cm, dt);
+        let implicit = implicit_terms(&cm, dt, &modal.d_eff)?;
+        let (chains, initial_py) = pantograph_chains(&cm, plan, dt)?;
+        let ModalOps {
+            k,
+            c,
+            d_eff,
+            flow,
+            segments,
+        } = modal;
         let scratch = implicit
             .iter()
             .map(|i| i.sampler().scratch())

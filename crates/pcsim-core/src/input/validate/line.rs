@@ -198,48 +198,9 @@ pub(super) fn tension_length(
     t: &TensionLengthCase,
     w: &mut Vec<Warning>,
 ) -> Result<(), CaseError> {
-    let base = &case.catenary;
-    let c = t.catenary(base);
+    let c = t.catenary(&case.catenary);
     let f = |key: &str| format!("line.tension_lengths[{k}].{key}");
-    // The catenary's own checks on what this tension length overrides, named as its fields.
-    if OVERRIDES.iter().any(|key| t.overrides(key)) {
-        let mut alone = case.clone();
-        alone.line = None;
-        alone.catenary = c.clone();
-        let rename = |e: CaseError| match e {
-            CaseError::Invalid {
-                field,
-                value,
-                reason,
-            } => {
-                let key = OVERRIDES
-                    .iter()
-                    .find(|key| t.overrides(key) && field.starts_with(&format!("catenary.{key}")));
-                CaseError::Invalid {
-                    field: match key {
-                        Some(key) => field.replacen(&format!("catenary.{key}"), &f(key), 1),
-                        None => field,
-                    },
-                    value,
-                    reason,
-                }
-            }
-            other => other,
-        };
-        let mut scratch = Vec::new();
-        geometry_and_wires(&alone, &mut scratch).map_err(rename)?;
-        droppers(&alone, &mut scratch).map_err(rename)?;
-        supports_and_arms(&alone, &mut scratch).map_err(rename)?;
-        stitch_wire(&alone, &mut scratch).map_err(rename)?;
-        for Warning(text) in scratch {
-            if let Some(key) = OVERRIDES
-                .iter()
-                .find(|key| t.overrides(key) && text.contains(&format!("catenary.{key}")))
-            {
-                w.push(Warning(text.replace(&format!("catenary.{key}"), &f(key))));
-            }
-        }
-    }
+    overridden_sections(case, k, t, &c, w)?;
     let n = t.n_spans();
     if t.spans_m.is_empty() == t.span_runs.is_empty() {
         return Err(inv(
@@ -281,6 +242,100 @@ pub(super) fn tension_length(
             &format!("need one dropper layout per span ({n}), or none (the catenary's, scaled)"),
         ));
     }
+    dropper_layouts(k, t, &c, &lengths)?;
+    for (key, v) in [
+        ("contact_height_m", &t.contact_height_m),
+        ("encumbrance_m", &t.encumbrance_m),
+    ] {
+        if !v.is_empty() && v.len() != n + 1 {
+            return Err(inv(
+                &f(key),
+                format!("{} values", v.len()),
+                &format!("need one value per support ({}), or none", n + 1),
+            ));
+        }
+    }
+    for (j, &h) in t.contact_height_m.iter().enumerate() {
+        check_bound(
+            w,
+            &f(&format!("contact_height_m[{j}]")),
+            h,
+            &bounds::CONTACT_HEIGHT_CHANGE,
+        )?;
+    }
+    for (j, &e) in t.encumbrance_m.iter().enumerate() {
+        check_bound(
+            w,
+            &f(&format!("encumbrance_m[{j}]")),
+            e,
+            &bounds::ENCUMBRANCE,
+        )?;
+    }
+    stitch_layouts(k, t, &c, &lengths)?;
+    Ok(())
+}
+
+/// The catenary's own checks on what tension length `k` overrides (its wires, droppers,
+/// supports, arms), named as its fields; their warnings renamed too.
+fn overridden_sections(
+    case: &Case,
+    k: usize,
+    t: &TensionLengthCase,
+    c: &CatenaryCase,
+    w: &mut Vec<Warning>,
+) -> Result<(), CaseError> {
+    let f = |key: &str| format!("line.tension_lengths[{k}].{key}");
+    if OVERRIDES.iter().any(|key| t.overrides(key)) {
+        let mut alone = case.clone();
+        alone.line = None;
+        alone.catenary = c.clone();
+        let rename = |e: CaseError| match e {
+            CaseError::Invalid {
+                field,
+                value,
+                reason,
+            } => {
+                let key = OVERRIDES
+                    .iter()
+                    .find(|key| t.overrides(key) && field.starts_with(&format!("catenary.{key}")));
+                CaseError::Invalid {
+                    field: match key {
+                        Some(key) => field.replacen(&format!("catenary.{key}"), &f(key), 1),
+                        None => field,
+                    },
+                    value,
+                    reason,
+                }
+            }
+            other => other,
+        };
+        let mut scratch = Vec::new();
+        geometry_and_wires(&alone, &mut scratch).map_err(rename)?;
+        droppers(&alone, &mut scratch).map_err(rename)?;
+        supports_and_arms(&alone, &mut scratch).map_err(rename)?;
+        stitch_wire(&alone, &mut scratch).map_err(rename)?;
+        for Warning(text) in scratch {
+            if let Some(key) = OVERRIDES
+                .iter()
+                .find(|key| t.overrides(key) && text.contains(&format!("catenary.{key}")))
+            {
+                w.push(Warning(text.replace(&format!("catenary.{key}"), &f(key))));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Tension length `k`'s dropper layouts: one per span or none, at least one dropper each, as many
+/// as the reference layout where a stitch wire or a pre-sag table refers to it, increasing inside
+/// the span.
+fn dropper_layouts(
+    k: usize,
+    t: &TensionLengthCase,
+    c: &CatenaryCase,
+    lengths: &[f64],
+) -> Result<(), CaseError> {
+    let f = |key: &str| format!("line.tension_lengths[{k}].{key}");
     let n_ref = c.droppers.positions_m.len();
     for (j, d) in t.droppers_m.iter().enumerate() {
         let field = f(&format!("droppers_m[{j}]"));
@@ -310,34 +365,17 @@ pub(super) fn tension_length(
             prev = x;
         }
     }
-    for (key, v) in [
-        ("contact_height_m", &t.contact_height_m),
-        ("encumbrance_m", &t.encumbrance_m),
-    ] {
-        if !v.is_empty() && v.len() != n + 1 {
-            return Err(inv(
-                &f(key),
-                format!("{} values", v.len()),
-                &format!("need one value per support ({}), or none", n + 1),
-            ));
-        }
-    }
-    for (j, &h) in t.contact_height_m.iter().enumerate() {
-        check_bound(
-            w,
-            &f(&format!("contact_height_m[{j}]")),
-            h,
-            &bounds::CONTACT_HEIGHT_CHANGE,
-        )?;
-    }
-    for (j, &e) in t.encumbrance_m.iter().enumerate() {
-        check_bound(
-            w,
-            &f(&format!("encumbrance_m[{j}]")),
-            e,
-            &bounds::ENCUMBRANCE,
-        )?;
-    }
+    Ok(())
+}
+
+/// Every span of tension length `k` longer than the stitch wire, and its stitch droppers under it.
+fn stitch_layouts(
+    k: usize,
+    t: &TensionLengthCase,
+    c: &CatenaryCase,
+    lengths: &[f64],
+) -> Result<(), CaseError> {
+    let f = |key: &str| format!("line.tension_lengths[{k}].{key}");
     if let Some(st) = &c.stitch_wire {
         for (j, &len) in lengths.iter().enumerate() {
             if st.length_m >= len {

@@ -4,7 +4,6 @@ use super::*;
 
 /// The time step, the number of modes, and where the run starts, ends and is analysed.
 pub(super) fn run(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
-    let c = &case.catenary;
     let r = &case.run;
     check_bound(w, "run.dt_s", r.dt_s, &bounds::DT)?;
     if !(r.perturb_uplift_rel.is_finite() && (0.0..=1e-3).contains(&r.perturb_uplift_rel)) {
@@ -14,6 +13,43 @@ pub(super) fn run(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
             "must lie in [0, 1e-3]: a perturbation to put an error bar on threshold-sensitive statistics, not a change of the uplift",
         ));
     }
+    modes(case, w)?;
+    let l = case.length_m();
+    let max_off = case
+        .pantographs
+        .iter()
+        .map(|p| p.offset_m())
+        .fold(0.0, f64::max);
+    if r.start_m - max_off <= 0.0 || r.start_m >= l {
+        return Err(inv(
+            "run.start_m",
+            r.start_m,
+            &format!("every pantograph must start inside the model (0, {l}) m (rearmost offset {max_off} m)"),
+        ));
+    }
+    if r.end_m <= r.start_m - max_off {
+        return Err(inv(
+            "run.end_m",
+            r.end_m,
+            "must lie ahead of the rearmost pantograph's start",
+        ));
+    }
+    if r.end_m + max_off >= l {
+        return Err(inv(
+            "run.end_m",
+            r.end_m,
+            &format!("the leading pantograph would leave the model (length {l} m) before the rearmost reaches it"),
+        ));
+    }
+    analysis_section(case, max_off, w)?;
+    Ok(())
+}
+
+/// The modes per wire (`modes` or `modes_per_m`, one of them): at most 200 000, at least 2 per
+/// span; warned about below 0.3 per metre.
+fn modes(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let c = &case.catenary;
+    let r = &case.run;
     match (r.modes, r.modes_per_m) {
         (Some(_), Some(_)) => {
             return Err(inv(
@@ -70,32 +106,15 @@ pub(super) fn run(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
             n as f64 / l * 60.0
         )));
     }
-    let max_off = case
-        .pantographs
-        .iter()
-        .map(|p| p.offset_m())
-        .fold(0.0, f64::max);
-    if r.start_m - max_off <= 0.0 || r.start_m >= l {
-        return Err(inv(
-            "run.start_m",
-            r.start_m,
-            &format!("every pantograph must start inside the model (0, {l}) m (rearmost offset {max_off} m)"),
-        ));
-    }
-    if r.end_m <= r.start_m - max_off {
-        return Err(inv(
-            "run.end_m",
-            r.end_m,
-            "must lie ahead of the rearmost pantograph's start",
-        ));
-    }
-    if r.end_m + max_off >= l {
-        return Err(inv(
-            "run.end_m",
-            r.end_m,
-            &format!("the leading pantograph would leave the model (length {l} m) before the rearmost reaches it"),
-        ));
-    }
+    Ok(())
+}
+
+/// The analysis section: inside the model, crossed whole by every pantograph (`max_off` the
+/// rearmost's offset), and beginning once the leading one has settled (one span after its
+/// start) unless the start transient is allowed (then a warning).
+fn analysis_section(case: &Case, max_off: f64, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let r = &case.run;
+    let l = case.length_m();
     let [a, b] = r.analysis_m;
     if !(a >= 0.0 && b <= l && a < b) {
         return Err(inv(
