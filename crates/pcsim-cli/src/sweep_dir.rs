@@ -158,41 +158,7 @@ pub fn merge(k: &SweepKind, dirs: &[PathBuf], out: &Path, no_plot: bool) -> Resu
         .map(|d| read_shard(k, d))
         .collect::<Result<_>>()?;
     let first = &shards[0];
-    for s in &shards[1..] {
-        if s.shard.1 != first.shard.1 {
-            bail!(
-                "shard {}/{} ({}) cannot be merged with shard {}/{} ({}): they split the sweep differently",
-                s.shard.0,
-                s.shard.1,
-                s.dir.display(),
-                first.shard.0,
-                first.shard.1,
-                first.dir.display()
-            );
-        }
-        if s.fingerprint != first.fingerprint {
-            bail!(
-                "{} and {} are shards of different sweeps (another case, grid, seeds or option)",
-                first.dir.display(),
-                s.dir.display()
-            );
-        }
-    }
-    let n = first.shard.1;
-    let mut seen = vec![None; n];
-    for s in &shards {
-        if let Some(prev) = seen[s.shard.0].replace(&s.dir) {
-            bail!(
-                "shard {}/{n} is given twice ({} and {})",
-                s.shard.0,
-                prev.display(),
-                s.dir.display()
-            );
-        }
-    }
-    if let Some(k) = seen.iter().position(|s| s.is_none()) {
-        bail!("shard {k}/{n} of the sweep is missing");
-    }
+    let n = check_shards(&shards)?;
     let rows = merge_rows(shards.iter().flat_map(|s| s.rows.clone()).collect())?;
     if rows.len() != first.cases {
         bail!(
@@ -202,24 +168,7 @@ pub fn merge(k: &SweepKind, dirs: &[PathBuf], out: &Path, no_plot: bool) -> Resu
         );
     }
     // Never write into an input.
-    let canon = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
-    let out_abs = if out.exists() {
-        canon(out)
-    } else {
-        let parent = out.parent().filter(|p| !p.as_os_str().is_empty());
-        let parent = parent.map(canon).unwrap_or_else(|| canon(Path::new(".")));
-        parent.join(out.file_name().unwrap_or_default())
-    };
-    for s in &shards {
-        let d = canon(&s.dir);
-        if out_abs.starts_with(&d) || d.starts_with(&out_abs) {
-            bail!(
-                "--out {} would write into the shard {}: choose another directory",
-                out.display(),
-                s.dir.display()
-            );
-        }
-    }
+    refuse_writing_into_a_shard(&shards, out)?;
     let od = crate::output::OutDir::begin(out)?;
     let partial = od.path();
     std::fs::create_dir_all(partial.join("cases"))
@@ -276,6 +225,70 @@ pub fn merge(k: &SweepKind, dirs: &[PathBuf], out: &Path, no_plot: bool) -> Resu
         shown(out, k.csv)
     );
     Ok(0)
+}
+
+/// The shards of one sweep, each once and none missing, split the same way: their count.
+fn check_shards(shards: &[ShardDir]) -> Result<usize> {
+    let first = &shards[0];
+    for s in &shards[1..] {
+        if s.shard.1 != first.shard.1 {
+            bail!(
+                "shard {}/{} ({}) cannot be merged with shard {}/{} ({}): they split the sweep differently",
+                s.shard.0,
+                s.shard.1,
+                s.dir.display(),
+                first.shard.0,
+                first.shard.1,
+                first.dir.display()
+            );
+        }
+        if s.fingerprint != first.fingerprint {
+            bail!(
+                "{} and {} are shards of different sweeps (another case, grid, seeds or option)",
+                first.dir.display(),
+                s.dir.display()
+            );
+        }
+    }
+    let n = first.shard.1;
+    let mut seen = vec![None; n];
+    for s in shards {
+        if let Some(prev) = seen[s.shard.0].replace(&s.dir) {
+            bail!(
+                "shard {}/{n} is given twice ({} and {})",
+                s.shard.0,
+                prev.display(),
+                s.dir.display()
+            );
+        }
+    }
+    if let Some(k) = seen.iter().position(|s| s.is_none()) {
+        bail!("shard {k}/{n} of the sweep is missing");
+    }
+    Ok(n)
+}
+
+/// Refuse an output directory inside a shard, or holding one.
+fn refuse_writing_into_a_shard(shards: &[ShardDir], out: &Path) -> Result<()> {
+    let canon = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
+    let out_abs = if out.exists() {
+        canon(out)
+    } else {
+        let parent = out.parent().filter(|p| !p.as_os_str().is_empty());
+        let parent = parent.map(canon).unwrap_or_else(|| canon(Path::new(".")));
+        parent.join(out.file_name().unwrap_or_default())
+    };
+    for s in shards {
+        let d = canon(&s.dir);
+        if out_abs.starts_with(&d) || d.starts_with(&out_abs) {
+            bail!(
+                "--out {} would write into the shard {}: choose another directory",
+                out.display(),
+                s.dir.display()
+            );
+        }
+    }
+    Ok(())
 }
 
 /// Monte Carlo summary of a sweep with seeds: `montecarlo.csv` with, per grid point (the

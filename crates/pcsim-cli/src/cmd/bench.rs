@@ -176,6 +176,27 @@ fn percentiles(ns: &mut [u64]) -> [f64; 4] {
     ]
 }
 
+/// The machine's own noise: `steps` timings of a fixed workload as long as the median step
+/// (`med_ns`). Its tail is what the operating system and the host add to any step.
+fn noise_floor(med_ns: f64, steps: usize) {
+    let probe = 20_000u64;
+    let t0 = Instant::now();
+    std::hint::black_box(spin(probe));
+    let per_iter = (t0.elapsed().as_nanos() as f64 / probe as f64).max(0.01);
+    let iters = ((med_ns / per_iter).round() as u64).max(1);
+    let mut floor = vec![0u64; steps];
+    for slot in floor.iter_mut() {
+        let t0 = Instant::now();
+        std::hint::black_box(spin(iters));
+        *slot = t0.elapsed().as_nanos() as u64;
+    }
+    let f = percentiles(&mut floor);
+    println!(
+        "  noise floor: a fixed workload of {:.2} µs median, timed {steps} times, has p99.99 {:.2} µs and max {:.2} µs",
+        f[0], f[2], f[3]
+    );
+}
+
 /// Step-latency distribution of the real-time window catenary on one core, each step under the
 /// whole step contract (`RealtimeSession::step`: input checks, save, step, soundness), as a rig
 /// pays it.
@@ -284,25 +305,7 @@ fn bench_realtime(a: &BenchArgs, ctx: &Ctx) -> Result<i32> {
         show("moving step, median", 4);
         show("moving step, max", 5);
     }
-    // The machine's own noise: the same number of timings of a fixed workload as long as the
-    // median step. Its tail is what the operating system and the host add to any step.
-    let med_ns = col(0).0 * 1e3;
-    let probe = 20_000u64;
-    let t0 = Instant::now();
-    std::hint::black_box(spin(probe));
-    let per_iter = (t0.elapsed().as_nanos() as f64 / probe as f64).max(0.01);
-    let iters = ((med_ns / per_iter).round() as u64).max(1);
-    let mut floor = vec![0u64; steps];
-    for slot in floor.iter_mut() {
-        let t0 = Instant::now();
-        std::hint::black_box(spin(iters));
-        *slot = t0.elapsed().as_nanos() as u64;
-    }
-    let f = percentiles(&mut floor);
-    println!(
-        "  noise floor: a fixed workload of {:.2} µs median, timed {steps} times, has p99.99 {:.2} µs and max {:.2} µs",
-        f[0], f[2], f[3]
-    );
+    noise_floor(col(0).0 * 1e3, steps);
     let dt = case.run.dt_s;
     println!(
         "  real-time factor {:.0}x at the median ({} s simulated per run; last run {wall:.2} s wall)",

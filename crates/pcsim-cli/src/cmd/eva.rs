@@ -128,6 +128,59 @@ fn write_case_files(dir: &Path, job: &Job, o: &EvaOutput) -> Result<()> {
     Ok(())
 }
 
+/// What the grid's flags were read as, for an error in a grid point.
+fn grid_note(speed: &[String], tension: &[String]) -> String {
+    let mut o: Vec<Override> = Vec::new();
+    if !speed.is_empty() {
+        o.push(Override {
+            flag: format!("--speed {}", speed.join(",")),
+            reading: "km/h unless a unit is given".into(),
+            path: String::new(),
+            value: 0.0,
+        });
+    }
+    if !tension.is_empty() {
+        o.push(Override {
+            flag: format!("--tension {}", tension.join(",")),
+            reading: "kN unless a unit is given; write 9800N for newtons".into(),
+            path: String::new(),
+            value: 0.0,
+        });
+    }
+    format!("in the sweep (with {})", crate::common::override_note(&o))
+}
+
+/// The rows on the terminal.
+fn print_rows(s: &EvaSettings, done: &[&EvaOutput], rows: &[&EvaRow]) {
+    println!(
+        "EVA (Δd = {} m, tolerance {} J, fraction {}), snapshot at {} m; window energies in J",
+        s.step_m,
+        s.tolerance_j,
+        s.fraction,
+        done.first().map(|d| d.snapshot_at_m).unwrap_or(0.0)
+    );
+    println!(
+        "{:>6} {:>8} {:<22} {:>12} {:>12} {:>14} {:>12}",
+        "km/h", "kN", "damping", "EVA step [m]", "EVA 99% [m]", "converged [J]", "total [J]"
+    );
+    for r in rows {
+        let f = |v: Option<f64>| {
+            v.map(|x| format!("{x:.1}"))
+                .unwrap_or_else(|| "not reached".into())
+        };
+        println!(
+            "{:>6} {:>8} {:<22} {:>12} {:>12} {:>14} {:>12.3}",
+            r.speed_kmh,
+            r.tension_kn,
+            r.damping,
+            f(r.eva_step_m),
+            f(r.eva_fraction_m),
+            f(r.converged_energy_j),
+            r.total_energy_j
+        );
+    }
+}
+
 /// The eva sweep directory.
 pub const EVA: SweepKind = SweepKind {
     kind: "eva",
@@ -185,26 +238,10 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
     };
     spec.check()
         .map_err(|e| with_flags(e, &EvaSweepSpec::FLAGS))?;
-    let (jobs, mine) = spec.grid.jobs(&base).with_context(|| {
-        let mut o: Vec<Override> = Vec::new();
-        if !a.speed.is_empty() {
-            o.push(Override {
-                flag: format!("--speed {}", a.speed.join(",")),
-                reading: "km/h unless a unit is given".into(),
-                path: String::new(),
-                value: 0.0,
-            });
-        }
-        if !a.tension.is_empty() {
-            o.push(Override {
-                flag: format!("--tension {}", a.tension.join(",")),
-                reading: "kN unless a unit is given; write 9800N for newtons".into(),
-                path: String::new(),
-                value: 0.0,
-            });
-        }
-        format!("in the sweep (with {})", crate::common::override_note(&o))
-    })?;
+    let (jobs, mine) = spec
+        .grid
+        .jobs(&base)
+        .with_context(|| grid_note(&a.speed, &a.tension))?;
     let fingerprint = spec.fingerprint(&base);
     let od = crate::output::OutDir::begin(&a.out)?;
     let dir = od.path();
@@ -265,33 +302,7 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
         );
         return Ok(0);
     }
-    println!(
-        "EVA (Δd = {} m, tolerance {} J, fraction {}), snapshot at {} m; window energies in J",
-        a.step,
-        a.tol,
-        a.fraction,
-        done.first().map(|d| d.snapshot_at_m).unwrap_or(0.0)
-    );
-    println!(
-        "{:>6} {:>8} {:<22} {:>12} {:>12} {:>14} {:>12}",
-        "km/h", "kN", "damping", "EVA step [m]", "EVA 99% [m]", "converged [J]", "total [J]"
-    );
-    for r in &rows {
-        let f = |v: Option<f64>| {
-            v.map(|x| format!("{x:.1}"))
-                .unwrap_or_else(|| "not reached".into())
-        };
-        println!(
-            "{:>6} {:>8} {:<22} {:>12} {:>12} {:>14} {:>12.3}",
-            r.speed_kmh,
-            r.tension_kn,
-            r.damping,
-            f(r.eva_step_m),
-            f(r.eva_fraction_m),
-            f(r.converged_energy_j),
-            r.total_energy_j
-        );
-    }
+    print_rows(&spec.settings, &done, &rows);
     println!(
         "wrote {} and {}",
         shown(&a.out, "eva.csv"),

@@ -4,8 +4,9 @@
 //! interval of the mean) and histograms of σ and of the minimum force.
 
 use anyhow::Result;
+use pcsim_core::analysis::montecarlo::Realisation;
 use pcsim_core::analysis::montecarlo::{monte_carlo, stat_of, Spread, MC_STATS};
-use pcsim_core::analysis::report::{count_events, run_errors};
+use pcsim_core::analysis::report::{count_events, run_errors, EventCount, RunError};
 use pcsim_core::analysis::specs::MonteCarloSpec;
 use pcsim_core::Case;
 use std::fmt::Write as _;
@@ -73,9 +74,70 @@ pub fn run_seeds(
     // The error-level events of each realisation, counted per kind.
     let per_run: Vec<_> = real.iter().map(|r| run_errors(&r.output)).collect();
     let events = count_events(&per_run, allowed);
-    // One row per realisation.
+    let csv = realisation_rows(case, &real, &per_run, &names);
+    write_file(&out.join("montecarlo.csv"), csv)?;
+    let stats = spreads(&real, &names)?;
+    let summary = serde_json::json!({
+        "case_name": crate::common::case_name(case),
+        "speed_kmh": case.run.speed_kmh,
+        "realisations": n,
+        "seed_offsets": [0, n - 1],
+        "overrides": overrides.iter().map(|o| o.flag.clone()).collect::<Vec<_>>(),
+        "irregularity": real[0].output.irregularity,
+        "wind": real[0].output.wind,
+        "statistics": stats,
+        "errors": events,
+        "note": "spread over the realisations: mean, standard deviation (N-1), 95 % confidence interval of the mean (Student's t), min, max",
+    });
+    write_file(
+        &out.join("montecarlo.json"),
+        serde_json::to_string_pretty(&summary)? + "\n",
+    )?;
+    write_manifest(
+        out,
+        "montecarlo",
+        serde_json::json!({
+            "realisations": n,
+            "overrides": overrides.iter().map(|o| o.flag.clone()).collect::<Vec<_>>(),
+        }),
+    )?;
+    println!(
+        "{}: {n} realisations at {} km/h",
+        crate::common::case_name(case),
+        case.run.speed_kmh
+    );
+    print_spreads(&real, &names);
+    let files = if plot {
+        od.in_target(&crate::plot::redraw_kind(out, "montecarlo")?)
+    } else {
+        Vec::new()
+    };
+    od.commit()?;
+    println!(
+        "wrote {} and {}",
+        shown(target, "montecarlo.csv"),
+        shown(target, "montecarlo.json")
+    );
+    if plot {
+        crate::plot::report(&files);
+    }
+    if report {
+        let p = crate::cmd::report::write(target)?;
+        println!("report: {}", p.display());
+    }
+    refuse_events(&events, n)
+}
+
+/// `montecarlo.csv`: one row per realisation, its seeds, the irregularity's achieved RMS, its
+/// error-level events and every pantograph's statistics.
+fn realisation_rows(
+    case: &Case,
+    real: &[Realisation],
+    per_run: &[Vec<RunError>],
+    names: &[String],
+) -> String {
     let mut csv = String::from("realisation,seed_offset,seeds,irregularity_rms_m,errors");
-    for nm in &names {
+    for nm in names {
         for s in MC_STATS {
             let _ = write!(csv, ",{nm}_{s}");
         }
@@ -124,8 +186,14 @@ pub fn run_seeds(
         }
         csv.push('\n');
     }
-    write_file(&out.join("montecarlo.csv"), csv)?;
-    // The spread of each statistic.
+    csv
+}
+
+/// The spread of each statistic over the realisations, per pantograph.
+fn spreads(
+    real: &[Realisation],
+    names: &[String],
+) -> Result<serde_json::Map<String, serde_json::Value>> {
     let mut stats = serde_json::Map::new();
     for (p, nm) in names.iter().enumerate() {
         let mut m = serde_json::Map::new();
@@ -135,35 +203,11 @@ pub fn run_seeds(
         }
         stats.insert(nm.clone(), serde_json::Value::Object(m));
     }
-    let summary = serde_json::json!({
-        "case_name": crate::common::case_name(case),
-        "speed_kmh": case.run.speed_kmh,
-        "realisations": n,
-        "seed_offsets": [0, n - 1],
-        "overrides": overrides.iter().map(|o| o.flag.clone()).collect::<Vec<_>>(),
-        "irregularity": real[0].output.irregularity,
-        "wind": real[0].output.wind,
-        "statistics": stats,
-        "errors": events,
-        "note": "spread over the realisations: mean, standard deviation (N-1), 95 % confidence interval of the mean (Student's t), min, max",
-    });
-    write_file(
-        &out.join("montecarlo.json"),
-        serde_json::to_string_pretty(&summary)? + "\n",
-    )?;
-    write_manifest(
-        out,
-        "montecarlo",
-        serde_json::json!({
-            "realisations": n,
-            "overrides": overrides.iter().map(|o| o.flag.clone()).collect::<Vec<_>>(),
-        }),
-    )?;
-    println!(
-        "{}: {n} realisations at {} km/h",
-        crate::common::case_name(case),
-        case.run.speed_kmh
-    );
+    Ok(stats)
+}
+
+/// The spread of σ, the minimum and the loss of contact on the terminal.
+fn print_spreads(real: &[Realisation], names: &[String]) {
     for (p, nm) in names.iter().enumerate() {
         for s in ["std_n", "actual_min_n", "loss_of_contact_percent"] {
             let v: Vec<f64> = real.iter().map(|r| stat_of(&r.output, p, s)).collect();
@@ -181,27 +225,13 @@ pub fn run_seeds(
             }
         }
     }
-    let files = if plot {
-        od.in_target(&crate::plot::redraw_kind(out, "montecarlo")?)
-    } else {
-        Vec::new()
-    };
-    od.commit()?;
-    println!(
-        "wrote {} and {}",
-        shown(target, "montecarlo.csv"),
-        shown(target, "montecarlo.json")
-    );
-    if plot {
-        crate::plot::report(&files);
-    }
-    if report {
-        let p = crate::cmd::report::write(target)?;
-        println!("report: {}", p.display());
-    }
-    // Error-level events: refused (exit 2) unless their flag accepts them, as for one run.
+}
+
+/// The study's error-level events on standard error: an error (exit 2, the outputs written)
+/// unless its flag accepts it, as for one run.
+fn refuse_events(events: &[EventCount], n: usize) -> Result<i32> {
     let mut refused = None;
-    for e in &events {
+    for e in events {
         let line = format!(
             "{} of {n} realisations: {} (the first, realisation {}: {})",
             e.runs.len(),

@@ -129,30 +129,7 @@ pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
     }
     write_file(&dir.join("realtime.csv"), table)?;
     // Time histories (0–20 Hz) of the full model and each window.
-    let ff = lowpass_zero_phase(&full.pantographs[0].force_n, 1.0 / dt, CUTOFF_HZ);
-    let wf: Vec<Vec<f64>> = runs
-        .iter()
-        .map(|r| lowpass_zero_phase(&r.force_n, 1.0 / dt, CUTOFF_HZ))
-        .collect();
-    let mut ts = String::from("time_s,position_m,full_force_filtered_n");
-    for r in runs {
-        let _ = write!(ts, ",window_{}m_force_filtered_n", r.window_m);
-    }
-    ts.push('\n');
-    let n = ff
-        .len()
-        .min(wf.iter().map(|v| v.len()).min().unwrap_or(usize::MAX));
-    for k in 0..n {
-        let _ = write!(
-            ts,
-            "{:.6},{:.4},{:.4}",
-            full.time_s[k], full.pantographs[0].position_m[k], ff[k]
-        );
-        for w in &wf {
-            let _ = write!(ts, ",{:.4}", w[k]);
-        }
-        ts.push('\n');
-    }
+    let ts = filtered_histories(full, runs, dt);
     write_file(&dir.join("timeseries.csv"), ts)?;
     crate::output::write_manifest(
         dir,
@@ -179,4 +156,38 @@ pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
         crate::plot::report(&files);
     }
     Ok(0)
+}
+
+/// timeseries.csv of a real-time study: the time, the position and the 0–20 Hz force of the full
+/// model and of each window.
+fn filtered_histories(
+    full: &pcsim_core::analysis::record::RunOutput,
+    runs: &[pcsim_core::analysis::studies::WindowRun],
+    dt: f64,
+) -> String {
+    let ff = lowpass_zero_phase(&full.pantographs[0].force_n, 1.0 / dt, CUTOFF_HZ);
+    let wf: Vec<Vec<f64>> = runs
+        .iter()
+        .map(|r| lowpass_zero_phase(&r.force_n, 1.0 / dt, CUTOFF_HZ))
+        .collect();
+    let mut ts = String::from("time_s,position_m,full_force_filtered_n");
+    for r in runs {
+        let _ = write!(ts, ",window_{}m_force_filtered_n", r.window_m);
+    }
+    ts.push('\n');
+    let n = ff
+        .len()
+        .min(wf.iter().map(|v| v.len()).min().unwrap_or(usize::MAX));
+    for k in 0..n {
+        let _ = write!(
+            ts,
+            "{:.6},{:.4},{:.4}",
+            full.time_s[k], full.pantographs[0].position_m[k], ff[k]
+        );
+        for w in &wf {
+            let _ = write!(ts, ",{:.4}", w[k]);
+        }
+        ts.push('\n');
+    }
+    ts
 }

@@ -134,6 +134,26 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         .map(|a| a.iter().map(num).collect())
         .unwrap_or_default();
     errors_box(&mut h, &errors);
+    run_section(&mut h, &summary);
+    let pans = summary["pantographs"]
+        .as_array()
+        .cloned()
+        .unwrap_or_default();
+    statistics_section(&mut h, &pans);
+    overlaps_section(&mut h, &pans);
+    droppers_section(&mut h, dir, &summary);
+    assessment(&mut h, dir, &summary_text)?;
+    figures(&mut h, dir, &m.files)?;
+    let overrides: Vec<String> = summary["overrides"]
+        .as_array()
+        .map(|a| a.iter().map(num).collect())
+        .unwrap_or_default();
+    provenance(&mut h, dir, &overrides)?;
+    finish(dir, h)
+}
+
+/// The run's set-up and counters, and its warnings.
+fn run_section(h: &mut String, summary: &serde_json::Value) {
     // The run.
     let mut rows = Vec::new();
     for key in [
@@ -148,7 +168,7 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         rows.push(vec![key.to_string(), num(&summary[key])]);
     }
     h.push_str("<h2>The run</h2>\n");
-    table(&mut h, "Set-up and run", &["quantity", "value"], &rows);
+    table(h, "Set-up and run", &["quantity", "value"], &rows);
     let warnings: Vec<String> = summary["warnings"]
         .as_array()
         .map(|a| a.iter().map(num).collect())
@@ -162,14 +182,14 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         }
         h.push_str("</ul>\n");
     }
+}
+
+/// The EN 50318 statistics, one column per pantograph.
+fn statistics_section(h: &mut String, pans: &[serde_json::Value]) {
     // EN 50318 statistics, per pantograph.
     h.push_str("<h2>EN 50318 statistics (0–20 Hz contact force over the analysis section)</h2>\n");
-    let pans = summary["pantographs"]
-        .as_array()
-        .cloned()
-        .unwrap_or_default();
     let mut keys: Vec<String> = Vec::new();
-    for p in &pans {
+    for p in pans {
         if let Some(o) = p["stats"].as_object() {
             for k in o.keys() {
                 if !keys.contains(k) {
@@ -192,10 +212,14 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
                 .collect()
         })
         .collect();
-    table(&mut h, "Statistics per pantograph", &head, &rows);
+    table(h, "Statistics per pantograph", &head, &rows);
+}
+
+/// Each pantograph's passage through each overlap of a line.
+fn overlaps_section(h: &mut String, pans: &[serde_json::Value]) {
     // Overlaps.
     let mut orows = Vec::new();
-    for p in &pans {
+    for p in pans {
         for o in p["overlaps"].as_array().into_iter().flatten() {
             orows.push(vec![
                 p["name"].as_str().unwrap_or("").to_string(),
@@ -215,7 +239,7 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
     if !orows.is_empty() {
         h.push_str("<h2>Passages through the overlaps</h2>\n");
         table(
-            &mut h,
+            h,
             "Each pantograph in each overlap",
             &[
                 "pantograph",
@@ -230,6 +254,10 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
             &orows,
         );
     }
+}
+
+/// The ten worst droppers inside the analysis section (from droppers.csv, when written).
+fn droppers_section(h: &mut String, dir: &Path, summary: &serde_json::Value) {
     // Droppers: the worst inside the analysis section, as the terminal lists them (outside it the
     // pantographs start and stop: those droppers carry the run's transients, not a passage).
     if let Ok(text) = std::fs::read_to_string(dir.join("droppers.csv")) {
@@ -262,7 +290,7 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         rows.truncate(10);
         h.push_str("<h2>Droppers</h2>\n");
         table(
-            &mut h,
+            h,
             &format!(
                 "The ten worst droppers inside the analysis section {}–{} m (by damage, else by the largest tension range; every dropper in droppers.csv)",
                 num(&summary["analysis_section_m"][0]),
@@ -272,14 +300,6 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
             &rows,
         );
     }
-    assessment(&mut h, dir, &summary_text)?;
-    figures(&mut h, dir, &m.files)?;
-    let overrides: Vec<String> = summary["overrides"]
-        .as_array()
-        .map(|a| a.iter().map(num).collect())
-        .unwrap_or_default();
-    provenance(&mut h, dir, &overrides)?;
-    finish(dir, h)
 }
 
 /// The page's Content-Security-Policy: no script, no outside resource of any kind; only its own

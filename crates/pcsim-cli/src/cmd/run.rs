@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use crate::common::{apply, case_name, shown, Ctx, Override};
 use crate::output::{write_run, Summary};
+use pcsim_core::analysis::record::RunOutput;
 
 #[derive(Args)]
 pub struct RunArgs {
@@ -162,9 +163,29 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
         let p = crate::cmd::report::write(&a.out)?;
         println!("report: {}", p.display());
     }
+    print_run(&case, &out, &summary, wall);
+    println!(
+        "wrote {} and {}",
+        shown(&a.out, "summary.json"),
+        shown(&a.out, "timeseries.csv")
+    );
+    if let Some(d) = &out.droppers {
+        print_droppers(d, out.analysis_m, &a.out);
+        if let Some(note) = dropper_note {
+            println!("  {note}");
+        }
+    }
+    // Error-level events: each kind is refused (exit 2) unless its flag accepts it.
+    refuse_errors(&out, a.allowed())?;
+    Ok(0)
+}
+
+/// The run on the terminal: its speed and cost, each pantograph's statistics (and lateral
+/// motion), the irregularity and the wind.
+fn print_run(case: &pcsim_core::Case, out: &RunOutput, summary: &Summary, wall: f64) {
     println!(
         "{} at {} km/h: {} s simulated in {:.2} s wall ({:.1}x real time), {} modes/wire",
-        case_name(&case),
+        case_name(case),
         case.run.speed_kmh,
         summary.simulated_time_s,
         wall,
@@ -213,20 +234,15 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
             w.turbulence_intensity_target
         );
     }
-    println!(
-        "wrote {} and {}",
-        shown(&a.out, "summary.json"),
-        shown(&a.out, "timeseries.csv")
-    );
-    if let Some(d) = &out.droppers {
-        print_droppers(d, out.analysis_m, &a.out);
-        if let Some(note) = dropper_note {
-            println!("  {note}");
-        }
-    }
-    // Error-level events: each kind is refused (exit 2) unless its flag accepts it.
-    let allowed = a.allowed();
-    let errors = pcsim_core::analysis::report::run_errors(&out);
+}
+
+/// A run's error-level events: a warning for those accepted by flag, an error (exit 2, the
+/// outputs written) for the first that is not.
+fn refuse_errors(
+    out: &RunOutput,
+    allowed: pcsim_core::analysis::report::AllowedErrors,
+) -> Result<()> {
+    let errors = pcsim_core::analysis::report::run_errors(out);
     for e in errors.iter().filter(|e| allowed.allows(e.kind)) {
         eprintln!(
             "warning: {} (allowed by {})",
@@ -241,7 +257,7 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
             crate::common::allow_flag(e.kind)
         );
     }
-    Ok(0)
+    Ok(())
 }
 
 /// The droppers inside the analysis section that suffer most: by Miner's damage when the case

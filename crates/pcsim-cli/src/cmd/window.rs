@@ -188,26 +188,7 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
     pb.finish();
     let results = results?;
     for c in &results {
-        let st = stem(c.job.index, c.job.speed_kmh, c.job.tension_n / 1e3);
-        let mut errs = String::from("window_m,mean_err_pct,sigma_err_pct,max_err_pct\n");
-        for e in &c.search.evaluated {
-            let _ = writeln!(
-                errs,
-                "{},{:.6},{:.6},{:.6}",
-                e.window_m, e.mean_pct, e.sigma_pct, e.max_pct
-            );
-        }
-        write_file(&dir.join("cases").join(format!("{st}_errors.csv")), errs)?;
-        let cv = &c.curves;
-        let mut en = String::from("window_m,snapshot_j,max_j,mean_j\n");
-        for i in 0..cv.window_m.len() {
-            let _ = writeln!(
-                en,
-                "{},{:.9e},{:.9e},{:.9e}",
-                cv.window_m[i], cv.snapshot_j[i], cv.max_j[i], cv.mean_j[i]
-            );
-        }
-        write_file(&dir.join("cases").join(format!("{st}_energy.csv")), en)?;
+        write_case_files(dir, c)?;
     }
     let rows: Vec<&WindowRow> = results.iter().map(|c| &c.row).collect();
     let mut csv = String::from(HEADER);
@@ -230,36 +211,7 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
             "search_m": search,
         }),
     )?;
-    println!(
-        "accuracy-based window length (mean ±{}%, σ ±{}%, max ±{}% of the full model; {}–{} m, coarse {} m, resolution {} m)",
-        tol.mean_pct, tol.sigma_pct, tol.max_pct, search.min_m, search.max_m, search.coarse_m, search.resolution_m
-    );
-    println!(
-        "{:>6} {:>6} {:>5} {:>12} {:>14} {:>14} {:>14}",
-        "km/h", "kN", "seed", "length [m]", "EVA step [m]", "EVA 99% [m]", "EVA 99% max"
-    );
-    for r in &rows {
-        let show = |v: Option<f64>| v.map_or("—".to_string(), |x| format!("{x:.3}"));
-        println!(
-            "{:>6} {:>6} {:>5} {:>12} {:>14} {:>14} {:>14}",
-            r.speed_kmh,
-            r.tension_kn,
-            r.seed_offset,
-            show(r.length_m),
-            show(r.eva_step_m),
-            show(r.eva_fraction_m),
-            show(r.eva_fraction_max_m)
-        );
-    }
-    for r in &rows {
-        println!(
-            "  {} km/h, {} kN, seed {}: {}",
-            r.speed_kmh,
-            r.tension_kn,
-            r.seed_offset,
-            pcsim_core::analysis::window_length::claim(r.length_m, r.fine_checked_to_m, &search)
-        );
-    }
+    print_rows(&rows, &tol, &search);
     if shard == Shard::ALL {
         finish(dir)?;
         if let Ok(fit) = std::fs::read_to_string(dir.join("fit.csv")) {
@@ -290,6 +242,69 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
         println!("report: {}", crate::cmd::report::write(&a.out)?.display());
     }
     Ok(0)
+}
+
+/// A case's files: the errors of every window tried and its energy curves.
+fn write_case_files(dir: &Path, c: &pcsim_core::analysis::sweeps::WindowCase) -> Result<()> {
+    let st = stem(c.job.index, c.job.speed_kmh, c.job.tension_n / 1e3);
+    let mut errs = String::from("window_m,mean_err_pct,sigma_err_pct,max_err_pct\n");
+    for e in &c.search.evaluated {
+        let _ = writeln!(
+            errs,
+            "{},{:.6},{:.6},{:.6}",
+            e.window_m, e.mean_pct, e.sigma_pct, e.max_pct
+        );
+    }
+    write_file(&dir.join("cases").join(format!("{st}_errors.csv")), errs)?;
+    let cv = &c.curves;
+    let mut en = String::from("window_m,snapshot_j,max_j,mean_j\n");
+    for i in 0..cv.window_m.len() {
+        let _ = writeln!(
+            en,
+            "{},{:.9e},{:.9e},{:.9e}",
+            cv.window_m[i], cv.snapshot_j[i], cv.max_j[i], cv.mean_j[i]
+        );
+    }
+    write_file(&dir.join("cases").join(format!("{st}_energy.csv")), en)?;
+    Ok(())
+}
+
+/// The rows on the terminal, with each answer's claim (what was run above it).
+fn print_rows(
+    rows: &[&WindowRow],
+    tol: &Tolerances,
+    search: &pcsim_core::analysis::window_length::SearchSettings,
+) {
+    println!(
+        "accuracy-based window length (mean ±{}%, σ ±{}%, max ±{}% of the full model; {}–{} m, coarse {} m, resolution {} m)",
+        tol.mean_pct, tol.sigma_pct, tol.max_pct, search.min_m, search.max_m, search.coarse_m, search.resolution_m
+    );
+    println!(
+        "{:>6} {:>6} {:>5} {:>12} {:>14} {:>14} {:>14}",
+        "km/h", "kN", "seed", "length [m]", "EVA step [m]", "EVA 99% [m]", "EVA 99% max"
+    );
+    for r in rows {
+        let show = |v: Option<f64>| v.map_or("—".to_string(), |x| format!("{x:.3}"));
+        println!(
+            "{:>6} {:>6} {:>5} {:>12} {:>14} {:>14} {:>14}",
+            r.speed_kmh,
+            r.tension_kn,
+            r.seed_offset,
+            show(r.length_m),
+            show(r.eva_step_m),
+            show(r.eva_fraction_m),
+            show(r.eva_fraction_max_m)
+        );
+    }
+    for r in rows {
+        println!(
+            "  {} km/h, {} kN, seed {}: {}",
+            r.speed_kmh,
+            r.tension_kn,
+            r.seed_offset,
+            pcsim_core::analysis::window_length::claim(r.length_m, r.fine_checked_to_m, search)
+        );
+    }
 }
 
 /// Read a case's energy curves back, with the totals of its row.

@@ -126,9 +126,17 @@ pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
     let all = read_sweep(dir)?;
     let damping = all[0].damping.clone();
     let cs: Vec<&Case> = all.iter().filter(|c| c.damping == damping).collect();
+    let mut files = density_figures(dir, &cs, &damping)?;
+    files.extend(window_energy_figure(dir, &cs, &damping)?);
+    files.extend(length_figures(dir, &cs, &damping)?);
+    Ok(files)
+}
+
+/// Figs. 4–5: the energy density around the pantograph (±300 m at most), by speed at the first
+/// tension and by tension at the first speed, linear and logarithmic.
+fn density_figures(dir: &Path, cs: &[&Case], damping: &str) -> Result<Vec<PathBuf>> {
     let (t0, v0) = (cs[0].tension_kn, cs[0].speed_kmh);
     let mut files = Vec::new();
-    // Figs. 4–5: the neighbourhood of the pantograph, ±300 m at most.
     let density = |c: &Case| -> Vec<(f64, f64)> {
         c.xi_m
             .iter()
@@ -177,7 +185,11 @@ pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
             )?);
         }
     }
-    // Fig. 6: E(d_e), each case's EVA marked by both criteria.
+    Ok(files)
+}
+
+/// Fig. 6: E(d_e), each case's EVA marked by both criteria.
+fn window_energy_figure(dir: &Path, cs: &[&Case], damping: &str) -> Result<Vec<PathBuf>> {
     let shown: Vec<&&Case> = cs.iter().take(PALETTE.len()).collect();
     let mut lines: Vec<Line> = shown
         .iter()
@@ -210,7 +222,7 @@ pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
         frac_pts,
         plotters::style::RGBColor(120, 120, 120),
     ));
-    files.extend(figure(
+    figure(
         &dir.join("eva_window_energy"),
         &Figure {
             title: &format!("Window energy E(d_e) (Eq. 21), {damping}"),
@@ -221,8 +233,12 @@ pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
             vmarks: vec![],
             hmarks: vec![],
         },
-    )?);
-    // Fig. 7: EVA against speed and against tension, both criteria.
+    )
+}
+
+/// Fig. 7: the EVA length against speed and against tension, both criteria.
+fn length_figures(dir: &Path, cs: &[&Case], damping: &str) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
     let mut tensions: Vec<f64> = cs.iter().map(|c| c.tension_kn).collect();
     tensions.sort_by(f64::total_cmp);
     tensions.dedup();

@@ -177,25 +177,7 @@ fn figure_chart<DB: DrawingBackend>(
     root.fill(&WHITE).map_err(|e| anyhow!("{e:?}"))?;
     let ty = |y: f64| if f.log_y { y.log10() } else { y };
     let keep = |y: f64| y.is_finite() && (!f.log_y || y > 0.0) && y_max.is_none_or(|m| y <= m);
-    // What the axis leaves out, per series: (label, count, smallest, largest).
-    let outliers: Vec<(String, usize, f64, f64)> = match y_max {
-        Some(m) => f
-            .lines
-            .iter()
-            .filter_map(|l| {
-                let v: Vec<f64> = l.points.iter().map(|p| p.1).filter(|&y| y > m).collect();
-                (!v.is_empty()).then(|| {
-                    let (lo, hi) = v
-                        .iter()
-                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &y| {
-                            (a.min(y), b.max(y))
-                        });
-                    (l.label.clone(), v.len(), lo, hi)
-                })
-            })
-            .collect(),
-        None => Vec::new(),
-    };
+    let outliers = outliers_of(f, y_max);
     let lines: Vec<Vec<(f64, f64)>> = f
         .lines
         .iter()
@@ -260,6 +242,45 @@ fn figure_chart<DB: DrawingBackend>(
         .light_line_style(WHITE)
         .draw()
         .map_err(|e| anyhow!("{e:?}"))?;
+    draw_marks(&mut chart, f, (x, y), &keep, &ty)?;
+    draw_lines(&mut chart, f, lines)?;
+    legend(&mut chart)?;
+    note_outliers(&root, &outliers)?;
+    root.present().map_err(|e| anyhow!("{e:?}"))?;
+    Ok(())
+}
+
+/// What a linear axis topped at `y_max` leaves out, per series: (label, count, smallest,
+/// largest).
+fn outliers_of(f: &Figure, y_max: Option<f64>) -> Vec<(String, usize, f64, f64)> {
+    match y_max {
+        Some(m) => f
+            .lines
+            .iter()
+            .filter_map(|l| {
+                let v: Vec<f64> = l.points.iter().map(|p| p.1).filter(|&y| y > m).collect();
+                (!v.is_empty()).then(|| {
+                    let (lo, hi) = v
+                        .iter()
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &y| {
+                            (a.min(y), b.max(y))
+                        });
+                    (l.label.clone(), v.len(), lo, hi)
+                })
+            })
+            .collect(),
+        None => Vec::new(),
+    }
+}
+
+/// The vertical marks (the first eight in the legend) and the horizontal ones the axis holds.
+fn draw_marks<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Chart<'a, DB>,
+    f: &Figure,
+    (x, y): ((f64, f64), (f64, f64)),
+    keep: &dyn Fn(f64) -> bool,
+    ty: &dyn Fn(f64) -> f64,
+) -> Result<()> {
     for (k, (xm, label)) in f.vmarks.iter().enumerate() {
         let c = BLACK.mix(0.55);
         let series = chart
@@ -288,6 +309,16 @@ fn figure_chart<DB: DrawingBackend>(
             .label(label.clone())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
     }
+    Ok(())
+}
+
+/// Every series: a line (solid or dashed by its index, with its points marked when asked), or
+/// marks only (width 0: squares and triangles in turn).
+fn draw_lines<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Chart<'a, DB>,
+    f: &Figure,
+    lines: Vec<Vec<(f64, f64)>>,
+) -> Result<()> {
     for (i, (l, pts)) in f.lines.iter().zip(lines).enumerate() {
         let c = l.colour.unwrap_or(PALETTE[i % PALETTE.len()]);
         let w = l.width;
@@ -340,7 +371,14 @@ fn figure_chart<DB: DrawingBackend>(
                 .map_err(err)?;
         }
     }
-    legend(&mut chart)?;
+    Ok(())
+}
+
+/// A note on the figure naming the points above a topped axis.
+fn note_outliers<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    outliers: &[(String, usize, f64, f64)],
+) -> Result<()> {
     if !outliers.is_empty() {
         let note = outliers
             .iter()
@@ -356,7 +394,6 @@ fn figure_chart<DB: DrawingBackend>(
         ))
         .map_err(|e| anyhow!("{e:?}"))?;
     }
-    root.present().map_err(|e| anyhow!("{e:?}"))?;
     Ok(())
 }
 

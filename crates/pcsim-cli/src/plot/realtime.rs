@@ -60,7 +60,6 @@ pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
             dir.join("realtime.csv").display()
         );
     }
-    let col = |r: &Vec<Option<f64>>, i: usize| r.get(i).copied().flatten();
     let (th, ts) = parse_csv(&dir.join("timeseries.csv"))?;
     if ts.is_empty() {
         bail!(
@@ -68,6 +67,24 @@ pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
             dir.join("timeseries.csv").display()
         );
     }
+    let title = format!("{name}, {speed} km/h");
+    let mut files = force_figures(dir, &title, sec, (&th, &ts))?;
+    files.extend(accuracy_figures(dir, &title, &rows)?);
+    Ok(files)
+}
+
+/// A row of a numeric CSV as read (empty cells `None`).
+type Row = Vec<Option<f64>>;
+
+/// Each window's 0–20 Hz force over the full model's, on a 240 m excerpt from the middle of the
+/// analysis section `sec` (`th`, `ts`: timeseries.csv's header and rows).
+fn force_figures(
+    dir: &Path,
+    title: &str,
+    sec: [f64; 2],
+    (th, ts): (&[String], &[Row]),
+) -> Result<Vec<PathBuf>> {
+    let col = |r: &Row, i: usize| r.get(i).copied().flatten();
     let mut files = Vec::new();
     let pos: Vec<f64> = ts.iter().map(|r| col(r, 1).unwrap_or(f64::NAN)).collect();
     // A 240 m excerpt from the middle of the analysis section: long enough for four spans of
@@ -96,7 +113,7 @@ pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
             &dir.join(format!("realtime_force_{w}m")),
             &Figure {
                 title: &format!(
-                    "{name}, {speed} km/h: contact force (0–20 Hz), window {w} m over the full model, {lo:.0}–{hi:.0} m"
+                    "{title}: contact force (0–20 Hz), window {w} m over the full model, {lo:.0}–{hi:.0} m"
                 ),
                 x_label: "Position along the track [m]",
                 y_label: "Contact force [N]",
@@ -113,6 +130,14 @@ pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
             },
         )?);
     }
+    Ok(files)
+}
+
+/// The accuracy of the windows against the full model (realtime.csv's `rows`): the errors
+/// against the window length, and the mean and σ against it.
+fn accuracy_figures(dir: &Path, title: &str, rows: &[Row]) -> Result<Vec<PathBuf>> {
+    let col = |r: &Row, i: usize| r.get(i).copied().flatten();
+    let mut files = Vec::new();
     let mut sorted: Vec<&Vec<Option<f64>>> = rows.iter().collect();
     sorted.sort_by(|a, b| {
         col(a, 0)
@@ -132,7 +157,7 @@ pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
         &dir.join("realtime_error_vs_window"),
         &Figure {
             title: &format!(
-                "{name}, {speed} km/h: accuracy of the window against the full model (0–20 Hz force)"
+                "{title}: accuracy of the window against the full model (0–20 Hz force)"
             ),
             x_label: "Window length [m]",
             y_label: "|relative error| [%] (log scale)",
@@ -164,7 +189,7 @@ pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
             &dir.join(format!("realtime_{q}_vs_window")),
             &Figure {
                 title: &format!(
-                    "{name}, {speed} km/h: {} of the 0–20 Hz contact force against window length",
+                    "{title}: {} of the 0–20 Hz contact force against window length",
                     if q == "mean" { "mean" } else { "σ" }
                 ),
                 x_label: "Window length d_e [m]",

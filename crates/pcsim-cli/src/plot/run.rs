@@ -625,30 +625,7 @@ pub fn read_run(dir: &Path) -> Result<PlotData> {
         })
         .collect();
     let lat_idx: Vec<Option<usize>> = names.iter().map(|n| col(n, "lateral_m")).collect();
-    for (t, p) in traces.iter_mut().zip(
-        summary["pantographs"]
-            .as_array()
-            .map(|a| a.as_slice())
-            .unwrap_or(&[]),
-    ) {
-        let l = &p["lateral"];
-        if l.is_object() {
-            t.head_half_width_m = l["head_half_width_m"].as_f64();
-            t.working_half_width_m = l["working_half_width_m"].as_f64();
-            let h = &l["histogram"];
-            if let (Some(from), Some(bin), Some(counts)) = (
-                h["from_mm"].as_f64(),
-                h["bin_mm"].as_f64(),
-                h["counts"].as_array(),
-            ) {
-                t.histogram = Some((
-                    from,
-                    bin,
-                    counts.iter().filter_map(|c| c.as_f64()).collect(),
-                ));
-            }
-        }
-    }
+    heads_from_summary(&mut traces, &summary);
     let idx: Vec<[usize; 4]> = names
         .iter()
         .map(|n| {
@@ -706,42 +683,7 @@ pub fn read_run(dir: &Path) -> Result<PlotData> {
     }
     // Samples with a non-finite value are left out of the figures, and said so.
     for t in &mut traces {
-        let keep: Vec<bool> = (0..t.position_m.len())
-            .map(|k| {
-                [
-                    t.position_m[k],
-                    t.force_n[k],
-                    t.force_filtered_n[k],
-                    t.height_m[k],
-                ]
-                .iter()
-                .chain(t.lateral_m.get(k))
-                .all(|v| v.is_finite())
-            })
-            .collect();
-        let dropped = keep.iter().filter(|k| !**k).count();
-        if dropped > 0 {
-            eprintln!(
-                "warning: {}: pantograph {}: {dropped} samples with a non-finite value are left out of the figures",
-                tp.display(),
-                t.name
-            );
-            for v in [
-                &mut t.position_m,
-                &mut t.force_n,
-                &mut t.force_filtered_n,
-                &mut t.height_m,
-                &mut t.lateral_m,
-            ] {
-                if v.len() == keep.len() {
-                    let mut i = 0;
-                    v.retain(|_| {
-                        i += 1;
-                        keep[i - 1]
-                    });
-                }
-            }
-        }
+        drop_non_finite(t, &tp);
     }
     if traces.iter().any(|t| t.position_m.is_empty()) {
         bail!(
@@ -749,8 +691,81 @@ pub fn read_run(dir: &Path) -> Result<PlotData> {
             tp.display()
         );
     }
+    Ok(plot_data(&summary, traces))
+}
+
+/// Each pantograph's head and working range and wear histogram, from the run's summary.
+fn heads_from_summary(traces: &mut [Trace], summary: &serde_json::Value) {
+    for (t, p) in traces.iter_mut().zip(
+        summary["pantographs"]
+            .as_array()
+            .map(|a| a.as_slice())
+            .unwrap_or(&[]),
+    ) {
+        let l = &p["lateral"];
+        if l.is_object() {
+            t.head_half_width_m = l["head_half_width_m"].as_f64();
+            t.working_half_width_m = l["working_half_width_m"].as_f64();
+            let h = &l["histogram"];
+            if let (Some(from), Some(bin), Some(counts)) = (
+                h["from_mm"].as_f64(),
+                h["bin_mm"].as_f64(),
+                h["counts"].as_array(),
+            ) {
+                t.histogram = Some((
+                    from,
+                    bin,
+                    counts.iter().filter_map(|c| c.as_f64()).collect(),
+                ));
+            }
+        }
+    }
+}
+
+/// Leave out of trace `t` the samples with a non-finite value, and say so (`tp` the file).
+fn drop_non_finite(t: &mut Trace, tp: &Path) {
+    let keep: Vec<bool> = (0..t.position_m.len())
+        .map(|k| {
+            [
+                t.position_m[k],
+                t.force_n[k],
+                t.force_filtered_n[k],
+                t.height_m[k],
+            ]
+            .iter()
+            .chain(t.lateral_m.get(k))
+            .all(|v| v.is_finite())
+        })
+        .collect();
+    let dropped = keep.iter().filter(|k| !**k).count();
+    if dropped > 0 {
+        eprintln!(
+            "warning: {}: pantograph {}: {dropped} samples with a non-finite value are left out of the figures",
+            tp.display(),
+            t.name
+        );
+        for v in [
+            &mut t.position_m,
+            &mut t.force_n,
+            &mut t.force_filtered_n,
+            &mut t.height_m,
+            &mut t.lateral_m,
+        ] {
+            if v.len() == keep.len() {
+                let mut i = 0;
+                v.retain(|_| {
+                    i += 1;
+                    keep[i - 1]
+                });
+            }
+        }
+    }
+}
+
+/// The plot data of a run: its summary's description and the traces read.
+fn plot_data(summary: &serde_json::Value, traces: Vec<Trace>) -> PlotData {
     let a = &summary["analysis_section_m"];
-    Ok(PlotData {
+    PlotData {
         case_name: summary["case_name"].as_str().unwrap_or("run").to_string(),
         speed_kmh: summary["speed_kmh"].as_f64().unwrap_or(0.0),
         span_m: summary["span_m"].as_f64().filter(|s| *s > 0.0),
@@ -772,5 +787,5 @@ pub fn read_run(dir: &Path) -> Result<PlotData> {
             })
             .unwrap_or_default(),
         traces,
-    })
+    }
 }

@@ -157,48 +157,9 @@ pub fn compare(
     supports_m: &[f64],
 ) -> Result<Comparison, CaseError> {
     let n = sim_x.len();
-    if n < 2 || sim_f.len() != n {
-        return Err(inv(
-            "run",
-            format!("{n} samples"),
-            "the run has no force record to compare",
-        ));
-    }
-    if !(search_m.is_finite() && search_m >= 0.0) {
-        return Err(inv(
-            "--search",
-            search_m,
-            "the search range must be a finite length ≥ 0 m",
-        ));
-    }
+    check_inputs((sim_x, sim_f), meas, speed_m_s, search_m)?;
     let dxs = (sim_x[n - 1] - sim_x[0]) / (n - 1) as f64;
     let dxm = meas.spacing_m;
-    // The filter needs the 20 Hz band below the measurement's Nyquist frequency.
-    if speed_m_s / dxm < 2.0 * CUTOFF_HZ * 1.05 {
-        return Err(inv(
-            "measured spacing",
-            format!("{dxm} m"),
-            &format!(
-                "at {:.1} km/h a spacing of {dxm} m samples {:.1} Hz, too coarse for the 0–20 Hz filter: it needs less than {:.3} m",
-                speed_m_s * 3.6,
-                speed_m_s / dxm,
-                speed_m_s / (2.0 * CUTOFF_HZ * 1.05)
-            ),
-        ));
-    }
-    // Each shift tried costs a pass over the record: bound the work (in floating point: a wide
-    // search must not overflow an integer before it is refused).
-    let shifts = 2.0 * (search_m / dxm).round() + 1.0;
-    if shifts * meas.position_m.len() as f64 > MAX_SEARCH_WORK {
-        return Err(inv(
-            "--search",
-            format!("{search_m} m"),
-            &format!(
-                "± {search_m} m at the measurement's {dxm} m spacing is {shifts:e} shifts over {} samples, more than {MAX_SEARCH_WORK:e} comparisons: narrow the search",
-                meas.position_m.len()
-            ),
-        ));
-    }
     let k_max = (search_m / dxm).round() as i64;
     let [s20, s05, s520] = bands(sim_f, dxs, speed_m_s);
     let [m20, m05, m520] = bands(&meas.force_n, dxm, speed_m_s);
@@ -285,6 +246,59 @@ pub fn compare(
         measured_n,
         warnings,
     })
+}
+
+/// The comparison's inputs: a run's record, a finite search range, a measurement fine enough for
+/// the 0–20 Hz filter at the speed, and a search whose work is bounded ([`MAX_SEARCH_WORK`]).
+fn check_inputs(
+    (sim_x, sim_f): (&[f64], &[f64]),
+    meas: &MeasuredForce,
+    speed_m_s: f64,
+    search_m: f64,
+) -> Result<(), CaseError> {
+    let n = sim_x.len();
+    if n < 2 || sim_f.len() != n {
+        return Err(inv(
+            "run",
+            format!("{n} samples"),
+            "the run has no force record to compare",
+        ));
+    }
+    if !(search_m.is_finite() && search_m >= 0.0) {
+        return Err(inv(
+            "--search",
+            search_m,
+            "the search range must be a finite length ≥ 0 m",
+        ));
+    }
+    let dxm = meas.spacing_m;
+    // The filter needs the 20 Hz band below the measurement's Nyquist frequency.
+    if speed_m_s / dxm < 2.0 * CUTOFF_HZ * 1.05 {
+        return Err(inv(
+            "measured spacing",
+            format!("{dxm} m"),
+            &format!(
+                "at {:.1} km/h a spacing of {dxm} m samples {:.1} Hz, too coarse for the 0–20 Hz filter: it needs less than {:.3} m",
+                speed_m_s * 3.6,
+                speed_m_s / dxm,
+                speed_m_s / (2.0 * CUTOFF_HZ * 1.05)
+            ),
+        ));
+    }
+    // Each shift tried costs a pass over the record: bound the work (in floating point: a wide
+    // search must not overflow an integer before it is refused).
+    let shifts = 2.0 * (search_m / dxm).round() + 1.0;
+    if shifts * meas.position_m.len() as f64 > MAX_SEARCH_WORK {
+        return Err(inv(
+            "--search",
+            format!("{search_m} m"),
+            &format!(
+                "± {search_m} m at the measurement's {dxm} m spacing is {shifts:e} shifts over {} samples, more than {MAX_SEARCH_WORK:e} comparisons: narrow the search",
+                meas.position_m.len()
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The shift `k` (in the measurement's samples, within ± `k_max`) that maximises Pearson's

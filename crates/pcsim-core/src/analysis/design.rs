@@ -1012,7 +1012,7 @@ fn run_optimiser(problem: &Problem<'_>) -> Result<StopReason, CaseError> {
             let rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(b.seed);
             let solver =
                 ParticleSwarm::new((vec![0.0; n], vec![1.0; n]), p).with_rng_generator(rng);
-            Executor::new(View(&problem), solver)
+            Executor::new(View(problem), solver)
                 .configure(|s| s.max_iters(iters))
                 .run()
                 .map(|_| false)
@@ -1039,7 +1039,7 @@ fn run_optimiser(problem: &Problem<'_>) -> Result<StopReason, CaseError> {
                     let solver = NelderMead::new(simplex)
                         .with_sd_tolerance(1e-9)
                         .map_err(|e| invalid("budget.method", "nelder-mead", e.to_string()))?;
-                    Executor::new(View(&problem), solver)
+                    Executor::new(View(problem), solver)
                         .configure(|s| s.max_iters(u64::MAX))
                         .run()
                         .map(|r| {
