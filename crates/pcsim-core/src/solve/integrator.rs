@@ -543,7 +543,7 @@ impl Integrator {
 
     /// Advance `st` by one fixed step Δt (Eq. 18), in eight named stages, as MuJoCo's
     /// `mj_step`: drift, gather, fixed point forces, modal right-hand side, wind, moving points,
-    /// implicit solve and kick, pantographs ([`Stage::ALL`], run by [`Integrator::drive`]).
+    /// implicit solve and kick, pantographs ([`Stage::ALL`], run by the one driver, `drive`).
     /// Allocation-free; the work is the same every step.
     pub fn step(&self, st: &mut State, ws: &mut Workspace) {
         self.drive(&Serial, &Stage::ALL, st, ws);

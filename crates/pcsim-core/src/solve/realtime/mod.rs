@@ -501,7 +501,7 @@ impl RealtimeCatenary {
     }
 
     /// True when the state is finite and the last step's samples plausible (the wire within the
-    /// system height of its design height, [`CompiledModel::max_wire_deviation_m`]).
+    /// system height of its design height, [`crate::solve::CompiledModel::max_wire_deviation_m`]).
     pub fn state_is_sound(&self) -> bool {
         let h = self.frames[self.cur]
             .integ
