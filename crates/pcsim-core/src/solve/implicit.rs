@@ -61,21 +61,22 @@ impl ImplicitPoints {
     ) -> Result<Self, NotPositiveDefinite> {
         let np = xs.len();
         let n = basis.n_modes();
-        let mut rows = vec![vec![0.0; n]; np];
-        for (r, &x) in rows.iter_mut().zip(xs) {
-            basis.fill_sines(x, r);
+        // Φ transposed: row k holds mode k at every point.
+        let mut rows_t = vec![0.0; n * np];
+        let mut row = vec![0.0; n];
+        for (i, &x) in xs.iter().enumerate() {
+            basis.fill_sines(x, &mut row);
+            for (k, &v) in row.iter().enumerate() {
+                rows_t[k * np + i] = v;
+            }
         }
         let mut chol = Vec::with_capacity(weights.len());
         for (w, d) in weights.iter().zip(d) {
             let mut cap = vec![0.0; np * np];
+            kernels::capacitance(isa, &rows_t, np, &d[..n], &mut cap);
             for i in 0..np {
-                for j in 0..=i {
-                    let mut s = 0.0;
-                    for k in 0..n {
-                        s += rows[i][k] * rows[j][k] / d[k];
-                    }
-                    cap[i * np + j] = s;
-                    cap[j * np + i] = s;
+                for j in 0..i {
+                    cap[j * np + i] = cap[i * np + j];
                 }
                 cap[i * np + i] += 1.0 / w[i];
             }

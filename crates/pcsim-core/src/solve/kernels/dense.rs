@@ -76,6 +76,42 @@ lanes_kernel! {
 }
 
 /// # Safety
+/// None beyond the macro's: the body is safe code (`S` only picks the instruction set the
+/// compiler may vectorise it with).
+#[inline(always)]
+unsafe fn capacitance_body<S: Lanes, const F: bool>(
+    rows_t: &[f64],
+    np: usize,
+    d: &[f64],
+    cap: &mut [f64],
+) {
+    assert!(
+        rows_t.len() >= d.len() * np && cap.len() >= np * np,
+        "capacitance: slices too short"
+    );
+    cap[..np * np].fill(0.0);
+    for (r, &dk) in rows_t.chunks_exact(np).zip(d) {
+        for (i, &a) in r.iter().enumerate() {
+            let row = &mut cap[i * np..i * np + i + 1];
+            for (c, &b) in row.iter_mut().zip(&r[..=i]) {
+                *c += a * b / dk;
+            }
+        }
+    }
+}
+
+lanes_kernel! {
+    /// The lower triangle of `Φ D⁻¹ Φᵀ` (row `i`, columns `0..=i`; the rest of `cap` zero):
+    /// `cap[i·np + j] = Σ_k φ_ik φ_jk / d_k`, summed in `k` order from zero, with `rows_t` the
+    /// `n × np` transpose of `Φ` (row `k` holds mode `k` at every point). Each entry is the
+    /// same sequence of roundings as the sum taken entry by entry (a product, a quotient, an
+    /// addition per mode; never fused), so both paths give the same bytes; the x86-64-v3 path
+    /// lets the compiler update four entries at once. [`crate::solve::implicit`]'s capacitance
+    /// matrix.
+    pub fn capacitance(rows_t: &[f64], np: usize, d: &[f64], cap: &mut [f64]) = capacitance_body;
+}
+
+/// # Safety
 /// `S` must be usable on this CPU.
 #[inline(always)]
 unsafe fn all_finite_body<S: Lanes, const F: bool>(xs: &[f64]) -> bool {

@@ -115,6 +115,38 @@ fn the_rows_updates_are_a_row_at_a_times_bytes() {
     }
 }
 
+/// The capacitance matrix by rank-one updates is the entry-by-entry sum's bytes on both paths
+/// (the implicit terms' matrix as `ImplicitPoints::new` built it before), for point counts
+/// with and without a four-wide part and for no modes at all.
+#[test]
+fn the_capacitance_updates_are_the_entry_sums_bytes() {
+    for (np, n) in [(1, 5), (3, 0), (4, 17), (9, 40), (37, 143)] {
+        let rows_t = data(n * np, 51);
+        let d: Vec<f64> = data(n, 52).iter().map(|v| 1.5 + v).collect();
+        let mut want = vec![0.0; np * np];
+        for i in 0..np {
+            for j in 0..=i {
+                let mut s = 0.0;
+                for k in 0..n {
+                    s += rows_t[k * np + i] * rows_t[k * np + j] / d[k];
+                }
+                want[i * np + j] = s;
+            }
+        }
+        for isa in [Isa::Portable, Isa::best_available()] {
+            let mut cap = vec![f64::NAN; np * np];
+            capacitance(isa, &rows_t, np, &d, &mut cap);
+            for i in 0..np {
+                for j in 0..=i {
+                    let (a, b) = (cap[i * np + j], want[i * np + j]);
+                    assert_eq!(a.to_bits(), b.to_bits(), "{isa:?} np {np} n {n} ({i}, {j})");
+                }
+                assert!(cap[i * np + i + 1..(i + 1) * np].iter().all(|&v| v == 0.0));
+            }
+        }
+    }
+}
+
 /// A fold or unfold of two groups in one pass is two passes' bytes, on both paths, with
 /// and without a scale, for periods with and without 8- and 4-wide blocks of bins and mode
 /// counts with a partial last row.
