@@ -94,13 +94,8 @@ pub unsafe extern "C" fn pcsim_rt_new(
     err_len: usize,
 ) -> *mut PcsimRt {
     let r = catch_unwind(|| -> Result<*mut PcsimRt, String> {
-        if case_name.is_null() {
-            return Err("case_name: NULL pointer".into());
-        }
-        // SAFETY: non-NULL and NUL-terminated by the caller's contract; only read here.
-        let name = unsafe { CStr::from_ptr(case_name) }
-            .to_string_lossy()
-            .into_owned();
+        // SAFETY: NULL or NUL-terminated (the caller's contract).
+        let name = unsafe { caller_str(case_name, "case_name") }?;
         let case = if is_file != 0 {
             // The core's bounded read: `/dev/zero` is refused at the limit, not read forever.
             let read = std::fs::File::open(&name).and_then(|f| {
@@ -128,6 +123,18 @@ pub unsafe extern "C" fn pcsim_rt_new(
     // SAFETY: `err` holds `err_len` bytes or is NULL (the caller's contract).
     unsafe { put_message(err, err_len, &msg) };
     std::ptr::null_mut()
+}
+
+/// A string from the caller, copied (NULL is an error naming `what`).
+///
+/// # Safety
+/// `p` is NULL or a NUL-terminated string valid for the call.
+unsafe fn caller_str(p: *const c_char, what: &str) -> Result<String, String> {
+    if p.is_null() {
+        return Err(format!("{what}: NULL pointer"));
+    }
+    // SAFETY: non-NULL (checked) and NUL-terminated (this function's contract); only copied.
+    Ok(unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned())
 }
 
 /// Run `f` on a usable handle under `catch_unwind`.

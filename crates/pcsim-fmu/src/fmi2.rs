@@ -8,11 +8,11 @@
 
 #![allow(non_snake_case, clippy::not_unsafe_ptr_arg_deref)]
 
-use std::ffi::{c_char, c_int, c_uint, c_void, CStr};
+use std::ffi::{c_char, c_int, c_uint, c_void};
 use std::panic::catch_unwind;
 
 use crate::host::{
-    ok, register, slice, slice_mut, unregister, unsupported, with, Component, Logger,
+    host_str, ok, register, slice, slice_mut, unregister, unsupported, with, Component, Logger,
 };
 use crate::instance::{Instance, Phase, Status};
 
@@ -76,14 +76,16 @@ pub extern "C" fn fmi2Instantiate(
         if name.is_null() || guid.is_null() || fmu_type != 1 {
             return std::ptr::null_mut();
         }
-        // SAFETY: checked non-NULL above; the FMI standard has the host pass NUL-terminated strings valid for the call, and they are only read (copied) here.
-        let name = unsafe { CStr::from_ptr(name) }
-            .to_string_lossy()
-            .into_owned();
-        // SAFETY: checked non-NULL above; the FMI standard has the host pass NUL-terminated strings valid for the call, and they are only read (copied) here.
-        let guid = unsafe { CStr::from_ptr(guid) }
-            .to_string_lossy()
-            .into_owned();
+        // SAFETY: checked non-NULL above; the FMI standard has the host pass NUL-terminated
+        // strings valid for the call.
+        let Ok(name) = (unsafe { host_str(name) }) else {
+            return std::ptr::null_mut();
+        };
+        // SAFETY: checked non-NULL above; the FMI standard has the host pass NUL-terminated
+        // strings valid for the call.
+        let Ok(guid) = (unsafe { host_str(guid) }) else {
+            return std::ptr::null_mut();
+        };
         if guid != crate::GUID {
             return std::ptr::null_mut();
         }
@@ -231,9 +233,11 @@ typed_shell!(set fmi2SetBoolean, Fmi2Boolean, |k, vr, value| {
     }
     Ok(Status::Ok)
 });
-typed_shell!(set fmi2SetString, Fmi2String, |k, vr, value| ok(
-    k.set_strings(vr, value)
-));
+typed_shell!(set fmi2SetString, Fmi2String, |k, vr, value| {
+    // SAFETY: the host passes each value as a NUL-terminated string valid for the call (FMI
+    // 2.0 §2.1.7); NULL is refused by `host_str`.
+    ok(unsafe { k.set_strings(vr, value) })
+});
 typed_shell!(none fmi2GetInteger, fmi2SetInteger, c_int, "Integer");
 
 #[no_mangle]

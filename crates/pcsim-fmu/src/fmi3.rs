@@ -12,11 +12,12 @@
     clippy::too_many_arguments
 )]
 
-use std::ffi::{c_char, c_int, c_void, CStr};
+use std::ffi::{c_char, c_int, c_void};
 use std::panic::catch_unwind;
 
 use crate::host::{
-    ok, register, slice, slice_mut, unregister, unsupported, with, Component, Logger, Logger3,
+    host_str, ok, register, slice, slice_mut, unregister, unsupported, with, Component, Logger,
+    Logger3,
 };
 use crate::instance::{Instance, Res, Status};
 
@@ -86,12 +87,16 @@ pub extern "C" fn fmi3InstantiateCoSimulation(
         if name.is_null() || token.is_null() || event_mode_used {
             return std::ptr::null_mut();
         }
-        // SAFETY: checked non-NULL above; the FMI standard has the host pass NUL-terminated strings valid for the call, and they are only read (copied) here.
-        let name = unsafe { CStr::from_ptr(name) }
-            .to_string_lossy()
-            .into_owned();
-        // SAFETY: checked non-NULL above; the FMI standard has the host pass NUL-terminated strings valid for the call, and they are only read (copied) here.
-        let token = unsafe { CStr::from_ptr(token) }.to_string_lossy();
+        // SAFETY: checked non-NULL above; the FMI standard has the host pass NUL-terminated
+        // strings valid for the call.
+        let Ok(name) = (unsafe { host_str(name) }) else {
+            return std::ptr::null_mut();
+        };
+        // SAFETY: checked non-NULL above; the FMI standard has the host pass NUL-terminated
+        // strings valid for the call.
+        let Ok(token) = (unsafe { host_str(token) }) else {
+            return std::ptr::null_mut();
+        };
         if token != crate::GUID {
             return std::ptr::null_mut();
         }
@@ -270,7 +275,9 @@ pub extern "C" fn fmi3SetString(
         same_count(nvr, nvalues)?;
         // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
         let (vr, values) = unsafe { (slice(vr, nvr)?, slice(values, nvalues)?) };
-        ok(k.set_strings(vr, values))
+        // SAFETY: each value is a NUL-terminated string valid for the call (FMI 3.0); NULL is
+        // refused by `host_str`.
+        ok(unsafe { k.set_strings(vr, values) })
     })
 }
 

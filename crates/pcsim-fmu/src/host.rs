@@ -128,9 +128,13 @@ impl Component {
     }
 
     /// Set String variables from the host's C strings (both ABIs).
-    pub fn set_strings(&mut self, vr: &[u32], values: &[*const c_char]) -> Res {
+    ///
+    /// # Safety
+    /// Each value is NULL or a NUL-terminated string valid for the call.
+    pub unsafe fn set_strings(&mut self, vr: &[u32], values: &[*const c_char]) -> Res {
         for (v, x) in vr.iter().zip(values) {
-            self.inst.set_string(*v, &host_str(*x)?)?;
+            // SAFETY: NULL or NUL-terminated and valid (this function's contract).
+            self.inst.set_string(*v, &unsafe { host_str(*x) }?)?;
         }
         Ok(())
     }
@@ -353,12 +357,16 @@ pub(crate) fn unsupported(c: *mut c_void, what: &str) -> c_int {
     })
 }
 
-/// A string from the host (NULL is an error).
-pub(crate) fn host_str(p: *const c_char) -> Res<String> {
+/// A string from the host, copied (NULL is an error).
+///
+/// # Safety
+/// `p` is NULL or a NUL-terminated string valid for the call (the FMI standard has the host
+/// pass such strings).
+pub(crate) unsafe fn host_str(p: *const c_char) -> Res<String> {
     if p.is_null() {
         return Err((Status::Error, "NULL string".into()));
     }
-    // SAFETY: non-NULL (checked); the FMI standard has the host pass NUL-terminated strings
-    // valid for the call, and the string is only copied here.
+    // SAFETY: non-NULL (checked) and NUL-terminated, valid for the call (this function's
+    // contract); only copied here.
     Ok(unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned())
 }
