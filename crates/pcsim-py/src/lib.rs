@@ -463,13 +463,35 @@ fn window(
     })
 }
 
-/// A validation (`en50318-2002` or `seed-table1`): the report of `pcsim validate --json`, by the
-/// core's one validation run.
+/// A validation (`en50318-2002` or `seed-table1`), or a user's targets (`targets_toml`, named
+/// `targets_label`), optionally run on a user's case instead of the preset (`case`, named
+/// `case_label`): the report of `pcsim validate --json`, by the core's one validation run.
 #[pyfunction]
-#[pyo3(signature = (name, jobs=None))]
-fn validate(py: Python<'_>, name: &str, jobs: Option<usize>) -> PyResult<String> {
+#[pyo3(signature = (name, jobs=None, case=None, case_label=None, targets_toml=None, targets_label=None))]
+fn validate(
+    py: Python<'_>,
+    name: &str,
+    jobs: Option<usize>,
+    case: Option<&Case>,
+    case_label: Option<String>,
+    targets_toml: Option<String>,
+    targets_label: Option<String>,
+) -> PyResult<String> {
     guarded(|| {
-        let plan = ValidationPlan::new(name).map_err(err)?;
+        let plan = match &targets_toml {
+            Some(text) => ValidationPlan::from_targets(
+                text,
+                targets_label.as_deref().unwrap_or("targets"),
+            ),
+            None => ValidationPlan::new(name),
+        }
+        .map_err(err)?;
+        let plan = match case {
+            Some(c) => plan
+                .on_case(c.inner.clone(), case_label.as_deref().unwrap_or("case"))
+                .map_err(err)?,
+            None => plan,
+        };
         let report = py.detach(move || -> Result<String, String> {
             let b = Budget::default();
             let (_, report) =

@@ -198,6 +198,32 @@ def test_validate_reports_rows_with_units():
     assert len(rows) == 16 and all("unit" in r and "pass" in r for r in rows)
 
 
+def test_issue_41_5_validate_runs_a_case_and_targets_as_the_cli(tmp_path):
+    """A case file (or Case) instead of the preset, and a user's targets: the rows of `pcsim
+    validate CASE.toml --targets FILE --json`, and the preset as a file is the preset."""
+    text = subprocess.run([PCSIM, "presets", "show", "en50318-2002"], check=True,
+                          capture_output=True, text=True).stdout
+    heavier = text.replace("uplift_n = { value = 117.0", "uplift_n = { value = 150.0")
+    assert heavier != text
+    path = tmp_path / "heavier.toml"
+    path.write_text(heavier)
+    targets = ("[mine]\nsource = \"typed in\"\npreset = \"en50318-2018-like-simple\"\n\n"
+               "[mine.v250]\nspeed_kmh = 250\nmean = [140.0, 160.0]\n")
+    tpath = tmp_path / "targets.toml"
+    tpath.write_text(targets)
+    got = pcsim.validate(case=str(path), targets=str(tpath))
+    cli = json.loads(subprocess.run([PCSIM, "validate", str(path), "--targets", str(tpath),
+                                     "--json", "--quiet"], check=True, capture_output=True,
+                                    text=True).stdout)
+    assert got == cli and got["all_pass"]
+    assert pcsim.validate(case=pcsim.Case.from_file(str(path)), targets=targets) == cli
+    same = tmp_path / "same.toml"
+    same.write_text(text)
+    assert pcsim.validate(case=same) == pcsim.validate()
+    with pytest.raises(ValueError, match="seed-table1"):
+        pcsim.validate("seed-table1", targets=targets)
+
+
 def test_realtime_catenary_steps_like_the_hil_reference():
     case = pcsim.Case.preset("syt-7.0-9.8")
     rt = pcsim.RealtimeCatenary(case, window_m=215.0, coupling="hil")

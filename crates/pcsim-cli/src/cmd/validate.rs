@@ -3,7 +3,7 @@
 use anyhow::{Context, Result};
 use clap::Args;
 use pcsim_core::analysis::sweeps::validation_runs;
-use pcsim_core::analysis::validation::ValidationPlan;
+use pcsim_core::analysis::validation::{ValidationPlan, VALIDATIONS};
 use pcsim_core::CaseError;
 use std::path::PathBuf;
 
@@ -11,13 +11,16 @@ use crate::common::{run_with_progress, Ctx};
 
 #[derive(Args)]
 pub struct ValidateArgs {
-    /// Validation to run: en50318-2002 or seed-table1.
-    #[arg(default_value = "en50318-2002")]
-    name: String,
+    /// Validation to run (en50318-2002, the default, or seed-table1), or a case file (.toml) to
+    /// run against a validation's targets instead of its preset: the en50318-2002 ranges, or
+    /// those of --targets.
+    #[arg(value_name = "NAME|CASE")]
+    name: Option<String>,
     /// Ranges from your own targets file instead (the format of data/validation-targets.toml:
     /// one table naming its preset; `[]` where a range is not known, reported as missing; a
     /// template for the EN 50318:2018 structure: data/targets-en50318-2018-template.toml).
-    #[arg(long, value_name = "FILE", conflicts_with = "name")]
+    /// With a case file, the case runs instead of the file's preset.
+    #[arg(long, value_name = "FILE")]
     targets: Option<PathBuf>,
     /// Print JSON instead of a table.
     #[arg(long)]
@@ -28,16 +31,44 @@ pub struct ValidateArgs {
     strict: bool,
 }
 
-pub fn validate(a: ValidateArgs, ctx: &Ctx) -> Result<i32> {
-    let plan = match &a.targets {
-        Some(path) => {
+/// The default validation.
+const DEFAULT: &str = "en50318-2002";
+
+/// What the positional argument names: a validation pcsim knows, or a case file.
+fn case_path(name: &str) -> Option<PathBuf> {
+    let known = VALIDATIONS.iter().any(|v| v.name == name);
+    let path = PathBuf::from(name);
+    (!known && (name.ends_with(".toml") || path.is_file())).then_some(path)
+}
+
+/// The plan: a validation, a targets file, either on a user's case.
+fn plan_of(a: &ValidateArgs) -> Result<ValidationPlan> {
+    let case = a.name.as_deref().and_then(case_path);
+    let plan = match (&a.targets, a.name.as_deref(), case.is_some()) {
+        (Some(path), None, _) | (Some(path), Some(_), true) => {
             let text = crate::common::read_input(path)
                 .with_context(|| format!("cannot read {}", path.display()))?;
             ValidationPlan::from_targets(&text, &path.display().to_string())
                 .with_context(|| format!("in {}", path.display()))?
         }
-        None => ValidationPlan::new(&a.name)?,
+        (Some(_), Some(name), false) => anyhow::bail!(
+            "give a validation name ({name}) or --targets, not both (a case file may go with --targets)"
+        ),
+        (None, Some(name), false) => ValidationPlan::new(name)
+            .context("the argument is a validation's name or a case file (.toml)")?,
+        (None, _, _) => ValidationPlan::new(DEFAULT)?,
     };
+    Ok(match case {
+        Some(path) => {
+            let case = crate::common::load_case(Some(&path), None)?;
+            plan.on_case(case, &path.display().to_string())?
+        }
+        None => plan,
+    })
+}
+
+pub fn validate(a: ValidateArgs, ctx: &Ctx) -> Result<i32> {
+    let plan = plan_of(&a)?;
     // Each run is single-threaded and deterministic; the runs go side by side.
     let (runs, report) = validation_runs(&plan, Some(plan.cases.len().max(1)), &|case| {
         let label = format!("{} km/h", case.run.speed_kmh);
@@ -49,8 +80,8 @@ pub fn validate(a: ValidateArgs, ctx: &Ctx) -> Result<i32> {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
         println!(
-            "{}, preset `{}` (ranges from {})",
-            plan.title, plan.preset, plan.ranges_from
+            "{}, on {} (ranges from {})",
+            plan.title, plan.runs_on, plan.ranges_from
         );
         for (c, &k) in report.cases.iter().zip(&plan.run_of_target) {
             let (out, wall) = &runs[k];

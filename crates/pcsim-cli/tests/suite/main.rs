@@ -5,6 +5,7 @@ mod byte_golden;
 mod cli;
 mod common;
 mod design;
+mod everywhere;
 mod fuzz_run;
 mod hardening;
 mod loud;

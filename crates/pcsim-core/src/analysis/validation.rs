@@ -171,8 +171,9 @@ pub const VALIDATIONS: &[Validation] = &[
 pub struct ValidationPlan {
     /// Title printed above the table.
     pub title: String,
-    /// The preset it runs.
-    pub preset: String,
+    /// What it runs, as printed: the preset's name (`preset \`…\``) or the user's case
+    /// ([`ValidationPlan::on_case`]).
+    pub runs_on: String,
     /// Where the ranges come from, as printed.
     pub ranges_from: String,
     /// Its targets, one per speed (and pantograph).
@@ -214,7 +215,8 @@ impl ValidationPlan {
         let targets = target_cases(validation.table)?;
         Self::of(
             validation.title.into(),
-            validation.preset.into(),
+            presets::load(validation.preset)?.0,
+            format!("preset `{}`", validation.preset),
             "data/validation-targets.toml".into(),
             targets,
         )
@@ -229,16 +231,37 @@ impl ValidationPlan {
         } else {
             format!("Targets `{}` ({})", f.table, f.source)
         };
-        Self::of(title, f.preset, path.into(), f.cases)
+        let base = presets::load(&f.preset)?.0;
+        Self::of(
+            title,
+            base,
+            format!("preset `{}`", f.preset),
+            path.into(),
+            f.cases,
+        )
+    }
+
+    /// The same targets run on a user's case instead of the preset they name (`pcsim validate
+    /// CASE.toml [--targets FILE]`): the case at each target's speed, everything else as the
+    /// case gives it. `label` names the case in the report (its path). The ranges stay those
+    /// of the targets: the caller says what they were written for.
+    pub fn on_case(self, base: Case, label: &str) -> Result<Self, CaseError> {
+        Self::of(
+            self.title,
+            base,
+            format!("case `{label}`"),
+            self.ranges_from,
+            self.targets,
+        )
     }
 
     fn of(
         title: String,
-        preset: String,
+        base: Case,
+        runs_on: String,
         ranges_from: String,
         mut targets: Vec<TargetCase>,
     ) -> Result<Self, CaseError> {
-        let base = presets::load(&preset)?.0;
         targets.sort_by(|a, b| {
             a.speed_kmh
                 .total_cmp(&b.speed_kmh)
@@ -266,7 +289,7 @@ impl ValidationPlan {
             .collect();
         Ok(Self {
             title,
-            preset,
+            runs_on,
             ranges_from,
             targets,
             cases,
@@ -287,7 +310,7 @@ impl ValidationPlan {
                     .ok_or_else(|| CaseError::Invalid {
                         field: "pantographs".into(),
                         value: name.clone(),
-                        reason: format!("preset `{}` has no pantograph of that name", self.preset),
+                        reason: format!("{} has no pantograph of that name", self.runs_on),
                     })?,
                 None => &out.pantographs[0],
             };

@@ -15,6 +15,7 @@ parallel. Units are SI as the names say (``speed_kmh`` in km/h where the name sa
 from __future__ import annotations
 
 import json
+import os
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -186,10 +187,34 @@ def window(
     )
 
 
-def validate(name: str = "en50318-2002", jobs: Optional[int] = None) -> Dict[str, Any]:
+def validate(
+    name: str = "en50318-2002",
+    jobs: Optional[int] = None,
+    case: Optional[Any] = None,
+    targets: Optional[Any] = None,
+) -> Dict[str, Any]:
     """A validation (``en50318-2002`` or ``seed-table1``): the report of ``pcsim validate
-    --json`` (value against range per row, with its unit)."""
-    return json.loads(_pcsim.validate(name, jobs))
+    --json`` (value against range per row, with its unit). ``targets`` (a file's path or its
+    TOML text) gives a user's ranges instead of ``name``'s, as ``--targets``; ``case`` (a
+    :class:`Case`, or a case file's path) runs instead of the preset the targets name, as
+    ``pcsim validate CASE.toml``."""
+    case_label = None
+    if case is not None and not isinstance(case, Case):
+        case_label = os.fspath(case)
+        case = Case.from_file(case_label)
+    elif case is not None:
+        case_label = "Case"
+    targets_text, targets_label = None, None
+    if targets is not None:
+        if name != "en50318-2002":
+            raise ValueError(
+                "validate: give a validation name ({!r}) or targets, not both".format(name)
+            )
+        targets_text, path = _text_or_path(targets, "targets")
+        targets_label = path or "targets"
+    return json.loads(
+        _pcsim.validate(name, jobs, case, case_label, targets_text, targets_label)
+    )
 
 
 def _text_or_path(value: Any, what: str) -> Tuple[str, Optional[str]]:
