@@ -479,10 +479,9 @@ fn validate(
 ) -> PyResult<String> {
     guarded(|| {
         let plan = match &targets_toml {
-            Some(text) => ValidationPlan::from_targets(
-                text,
-                targets_label.as_deref().unwrap_or("targets"),
-            ),
+            Some(text) => {
+                ValidationPlan::from_targets(text, targets_label.as_deref().unwrap_or("targets"))
+            }
             None => ValidationPlan::new(name),
         }
         .map_err(err)?;
