@@ -117,6 +117,57 @@ with tempfile.TemporaryDirectory() as d:
     check("irregularity_file: the wire height carries the 10 mm profile",
           0.0095 < float(np.max(np.abs(diff))) < 0.0105, f"(largest difference {np.max(np.abs(diff)) * 1e3:.2f} mm)")
 
+# 3d. A case file (issue 41, item 5): `pcsim fmu build --case` bundles it (resources/case.toml,
+# the `case` parameter's start value) and the FMU runs it as `pcsim hil CASE.toml` does; the
+# preset's own text bundled gives the default FMU's heights exactly; a case file named by the
+# `case` parameter (not bundled) runs the same; a case the window cannot run is refused at build.
+with tempfile.TemporaryDirectory() as d:
+    text = subprocess.run([pcsim, "presets", "show", "syt-7.0-9.8"], check=True, capture_output=True,
+                          text=True).stdout
+    stiff = text.replace('tension_n = { value = 9800.0', 'tension_n = { value = 15800.0')
+    same_p, stiff_p = os.path.join(d, "same.toml"), os.path.join(d, "stiff.toml")
+    open(same_p, "w").write(text)
+    open(stiff_p, "w").write(stiff)
+    built = {}
+    for tag, path in [("same", same_p), ("stiff", stiff_p)]:
+        out_dir = os.path.join(d, tag)
+        subprocess.run([pcsim, "fmu", "build", "--out", out_dir, "--case", path, "--fmi-version", "2"], check=True,
+                       stdout=subprocess.DEVNULL)
+        built[tag] = os.path.join(out_dir, "pcsim_fmu.fmu")
+    check("fmu build --case: fmpy validate", not validate_fmu(built["stiff"]), "; ".join(validate_fmu(built["stiff"])))
+    with zipfile.ZipFile(built["stiff"]) as z:
+        check("fmu build --case: resources/case.toml is the file", z.read("resources/case.toml").decode() == stiff)
+    short = signals[signals["time"] <= 1.0]
+    run = lambda f, **kw: simulate_fmu(f, stop_time=1.0, step_size=dt, output_interval=dt, input=short,
+                                       output=["wire_height"], **kw)["wire_height"]
+    base, same, stiff_h = run(fmu), run(built["same"]), run(built["stiff"])
+    by_param = run(fmu, start_values={"case": stiff_p})
+    check("fmu build --case: the preset's text gives the preset's heights exactly", np.array_equal(base, same))
+    inp, out = os.path.join(d, "in.csv"), os.path.join(d, "ref.csv")
+    with open(inp, "w") as f:
+        f.write("time_s,contact_force_n,position_from_start_m\n")
+        for k in range(len(short) - 1):
+            f.write(f"{float(short['time'][k])!r},{float(short['contact_force'][k])!r},"
+                    f"{float(short['position_from_start'][k])!r}\n")
+    subprocess.run([pcsim, "hil", stiff_p, "--window", "215", "--input", inp, "--out", out], check=True,
+                   stdout=subprocess.DEVNULL)
+    ref = np.loadtxt(out, delimiter=",", skiprows=1, usecols=(1,))
+    m = min(len(ref), len(stiff_h) - 1)
+    err = float(np.max(np.abs(stiff_h[1:m + 1] - ref[:m])))
+    moved = float(np.max(np.abs(stiff_h - base)))
+    check("fmu build --case: the bundled case runs as `pcsim hil CASE.toml`", err < 1e-9 and moved > 1e-4,
+          f"(max error {err:.1e} m; {moved * 1e3:.2f} mm from the preset's)")
+    check("case parameter = a case file's path: the same heights as the bundled one", np.array_equal(by_param, stiff_h))
+    windy = subprocess.run([pcsim, "presets", "show", "stitched-2018-like-3d-crosswind"], check=True,
+                           capture_output=True, text=True).stdout
+    windy_p = os.path.join(d, "windy.toml")
+    open(windy_p, "w").write(windy)
+    r = subprocess.run([pcsim, "fmu", "build", "--out", os.path.join(d, "windy"), "--case", windy_p],
+                       capture_output=True, text=True)
+    check("fmu build --case refuses a case the window cannot run, naming it",
+          r.returncode == 2 and "--case" in r.stderr and "crosswind" in r.stderr
+          and not os.path.exists(os.path.join(d, "windy")), r.stderr[-300:])
+
 # 4. Misuse suite: each probe in its own process, on the library inside the FMU.
 with tempfile.TemporaryDirectory() as d:
     with zipfile.ZipFile(fmu) as z:

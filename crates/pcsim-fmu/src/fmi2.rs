@@ -67,7 +67,7 @@ pub extern "C" fn fmi2Instantiate(
     name: Fmi2String,
     fmu_type: c_int,
     guid: Fmi2String,
-    _resources: Fmi2String,
+    resources: Fmi2String,
     functions: *const CallbackFunctions,
     _visible: Fmi2Boolean,
     _logging_on: Fmi2Boolean,
@@ -104,7 +104,12 @@ pub extern "C" fn fmi2Instantiate(
             Some(l) => Logger::V2(l),
             None => Logger::None,
         };
-        register(Component::new(Instance::new(&name), &name, logger, env))
+        // SAFETY: NULL or a NUL-terminated string valid for the call (FMI 2.0 §2.1.5).
+        let resources = unsafe { host_str(resources) }
+            .ok()
+            .and_then(|r| crate::instance::resource_dir(&r));
+        let inst = Instance::new(&name).with_resources(resources);
+        register(Component::new(inst, &name, logger, env))
     });
     r.unwrap_or(std::ptr::null_mut())
 }

@@ -72,7 +72,7 @@ pub extern "C" fn fmi3InstantiateModelExchange(
 pub extern "C" fn fmi3InstantiateCoSimulation(
     name: Fmi3String,
     token: Fmi3String,
-    _resources: Fmi3String,
+    resources: Fmi3String,
     _visible: bool,
     _logging_on: bool,
     event_mode_used: bool,
@@ -104,8 +104,13 @@ pub extern "C" fn fmi3InstantiateCoSimulation(
             Some(l) => Logger::V3(l),
             None => Logger::None,
         };
+        // SAFETY: NULL or a NUL-terminated string valid for the call (FMI 3.0: the resource
+        // folder's path, or NULL).
+        let resources = unsafe { host_str(resources) }
+            .ok()
+            .and_then(|r| crate::instance::resource_dir(&r));
         register(Component::new(
-            Instance::new(&name),
+            Instance::new(&name).with_resources(resources),
             &name,
             logger,
             env as usize,

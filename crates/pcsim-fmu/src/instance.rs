@@ -1,6 +1,9 @@
 //! The FMU instance, independent of the FMI version: phases, the standard's rules for setting and
 //! getting values, and the `do_step` contract.
 
+use std::path::{Path, PathBuf};
+
+use pcsim_core::input::case::Case;
 use pcsim_core::presets;
 use pcsim_core::session::{Coupling, RealtimeOutput, RealtimeSession, SessionState};
 
@@ -30,6 +33,11 @@ pub enum Phase {
 /// A result with the reason for the host's log.
 pub type Res<T = ()> = Result<T, (Status, String)>;
 
+/// Whether the `case` parameter names a case file rather than a preset.
+fn is_case_file(v: &str) -> bool {
+    Path::new(v).extension().is_some_and(|e| e == "toml")
+}
+
 fn err<T>(msg: impl Into<String>) -> Res<T> {
     Err((Status::Error, msg.into()))
 }
@@ -54,6 +62,44 @@ pub struct Instance {
     start_time: f64,
     /// Track position of the case's start, m (`position_from_start` is from it).
     x_start: f64,
+    /// The FMU's unpacked `resources/` folder, where the host gave it.
+    resources: Option<PathBuf>,
+}
+
+/// The folder of a resource location as the host gives it: FMI 2.0's URI (`file:///…`,
+/// `file://localhost/…`, `file:/…`, percent-encoded) or FMI 3.0's path. `None` for anything
+/// else, or a folder that does not exist.
+pub fn resource_dir(location: &str) -> Option<PathBuf> {
+    let path = match location.strip_prefix("file:") {
+        Some(rest) => {
+            let rest = rest
+                .strip_prefix("//localhost")
+                .or_else(|| rest.strip_prefix("//"))
+                .unwrap_or(rest);
+            percent_decode(rest)?
+        }
+        None => location.to_string(),
+    };
+    let dir = PathBuf::from(path);
+    dir.is_dir().then_some(dir)
+}
+
+/// `%XX` escapes decoded (a malformed escape or a result that is not UTF-8: `None`).
+fn percent_decode(s: &str) -> Option<String> {
+    let b = s.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        if b[i] == b'%' {
+            let hex = std::str::from_utf8(b.get(i + 1..i + 3)?).ok()?;
+            out.push(u8::from_str_radix(hex, 16).ok()?);
+            i += 3;
+        } else {
+            out.push(b[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).ok()
 }
 
 impl Instance {
@@ -71,7 +117,43 @@ impl Instance {
             rt: None,
             start_time: 0.0,
             x_start: 0.0,
+            resources: None,
         }
+    }
+
+    /// The instance of an FMU unpacked at `resources` (the host's resource folder): with a
+    /// bundled case ([`vars::BUNDLED_CASE`]) there, that case is the `case` parameter's value,
+    /// as the model description's start value says.
+    pub fn with_resources(mut self, resources: Option<PathBuf>) -> Self {
+        if let Some(dir) = &resources {
+            if dir.join(vars::BUNDLED_CASE).is_file() {
+                self.case = vars::BUNDLED_CASE.to_string();
+            }
+        }
+        self.resources = resources;
+        self
+    }
+
+    /// The case the `case` parameter names: a preset, or a case file (in the resources first).
+    fn load_case(&self) -> Res<Case> {
+        if !is_case_file(&self.case) {
+            return presets::load(&self.case)
+                .map(|(c, _)| c)
+                .map_err(|e| (Status::Error, format!("parameter `case`: {e}")));
+        }
+        let path = match &self.resources {
+            Some(dir) if dir.join(&self.case).is_file() => dir.join(&self.case),
+            _ => PathBuf::from(&self.case),
+        };
+        let text = std::fs::File::open(&path).and_then(|f| {
+            pcsim_core::input::read_text_limited(f, pcsim_core::input::MAX_INPUT_BYTES)
+        });
+        pcsim_core::input::case_from_file(&path.display().to_string(), text).map_err(|e| {
+            (
+                Status::Error,
+                format!("parameter `case` = {:?}: {e}", self.case),
+            )
+        })
     }
 
     fn session(&self) -> Res<&RealtimeSession> {
@@ -214,8 +296,7 @@ impl Instance {
         if self.phase != Phase::Initialization {
             return err("fmi2ExitInitializationMode is allowed only in initialization mode");
         }
-        let (mut case, _) = presets::load(&self.case)
-            .map_err(|e| (Status::Error, format!("parameter `case`: {e}")))?;
+        let mut case = self.load_case()?;
         case.run.dt_s = self.step_s;
         if !self.irregularity_file.is_empty() {
             let text = std::fs::File::open(&self.irregularity_file)
@@ -273,7 +354,8 @@ impl Instance {
     pub fn reset(&mut self) -> Res {
         self.usable()?;
         let name = std::mem::take(&mut self.name);
-        *self = Instance::new(&name);
+        let resources = self.resources.take();
+        *self = Instance::new(&name).with_resources(resources);
         Ok(())
     }
 
@@ -370,7 +452,14 @@ impl Instance {
             self.irregularity_file = v.to_string();
             return Ok(());
         }
-        presets::find(v).map_err(|e| (Status::Error, format!("`case` = {v:?}: {e}")))?;
+        if !is_case_file(v) {
+            presets::find(v).map_err(|e| {
+                (
+                    Status::Error,
+                    format!("`case` = {v:?}: {e} (or give a case file, .toml)"),
+                )
+            })?;
+        }
         self.case = v.to_string();
         Ok(())
     }
@@ -435,5 +524,42 @@ impl Instance {
                 ),
             )),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The host's resource location, as FMI 2.0's URI (with and without a host, percent
+    /// escapes) or FMI 3.0's path; anything else, or a missing folder, is no folder.
+    #[test]
+    fn resource_locations_of_both_standards_name_the_folder() {
+        let d = std::env::temp_dir().join(format!("pcsim fmu res {}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        let p = d.display().to_string();
+        let esc = p.replace(' ', "%20");
+        for loc in [
+            format!("file://{esc}"),
+            format!("file://localhost{esc}"),
+            format!("file:{esc}"),
+            format!("{p}/"),
+        ] {
+            assert_eq!(resource_dir(&loc).as_deref(), Some(d.as_path()), "{loc}");
+        }
+        assert_eq!(resource_dir("file:///no/such/folder"), None);
+        assert_eq!(resource_dir("file:///bad%zz"), None);
+        // A bundled case becomes the `case` parameter's value; without one, the default.
+        assert_eq!(
+            Instance::new("a").with_resources(Some(d.clone())).case,
+            vars::DEFAULT_CASE
+        );
+        std::fs::write(d.join(vars::BUNDLED_CASE), "not read yet").unwrap();
+        let i = Instance::new("a").with_resources(Some(d.clone()));
+        assert_eq!(i.case, vars::BUNDLED_CASE);
+        // Read at initialisation: a bad bundled case is an error naming the parameter.
+        let e = i.load_case().unwrap_err();
+        assert!(e.1.contains("parameter `case`"), "{}", e.1);
+        let _ = std::fs::remove_dir_all(&d);
     }
 }

@@ -47,6 +47,9 @@ pub const VR_IRREGULARITY_FILE: u32 = 11;
 
 /// Default start values.
 pub const DEFAULT_CASE: &str = "syt-7.0-9.8";
+/// The name of the case file `pcsim fmu build --case` puts in the FMU's `resources/` folder, and
+/// then the `case` parameter's start value.
+pub const BUNDLED_CASE: &str = "case.toml";
 pub const DEFAULT_WINDOW_M: f64 = 215.0;
 pub const DEFAULT_STEP_S: f64 = 0.001;
 /// Largest number of internal steps one `fmi2DoStep` may take.
@@ -142,7 +145,7 @@ pub const VARS: &[Var] = &[
         causality: Causality::Parameter,
         unit: None,
         start: Some(DEFAULT_CASE),
-        description: "pcsim preset name (see `pcsim presets`)",
+        description: "pcsim preset name (see `pcsim presets`), or a case file (.toml): looked up in the FMU's resources first (`pcsim fmu build --case` bundles one as case.toml, then the start value), then as a path",
     },
     Var {
         name: "irregularity_file",
@@ -169,6 +172,21 @@ fn esc(s: &str) -> String {
 
 /// `modelDescription.xml`, generated from [`VARS`].
 pub fn model_description() -> String {
+    model_description_for(DEFAULT_CASE)
+}
+
+/// A variable's start value, with `case` as the `case` parameter's.
+fn start_of<'a>(v: &'a Var, case: &'a str) -> Option<&'a str> {
+    if v.vr == VR_CASE && v.kind == Kind::String {
+        Some(case)
+    } else {
+        v.start
+    }
+}
+
+/// [`model_description`] with `case` as the `case` parameter's start value (an FMU built with
+/// a bundled case: [`BUNDLED_CASE`]).
+pub fn model_description_for(case: &str) -> String {
     let mut x = String::new();
     let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
     let _ = writeln!(
@@ -219,7 +237,7 @@ pub fn model_description() -> String {
         if let Some(u) = v.unit {
             let _ = write!(x, r#" unit="{u}""#);
         }
-        if let Some(s) = v.start {
+        if let Some(s) = start_of(v, case) {
             let _ = write!(x, r#" start="{}""#, esc(s));
         }
         x.push_str("/></ScalarVariable>\n");
@@ -243,6 +261,11 @@ pub fn model_description() -> String {
 
 /// The FMI 3.0 `modelDescription.xml`, generated from the same [`VARS`].
 pub fn model_description_v3() -> String {
+    model_description_v3_for(DEFAULT_CASE)
+}
+
+/// [`model_description_v3`] with `case` as the `case` parameter's start value.
+pub fn model_description_v3_for(case: &str) -> String {
     let mut x = String::new();
     let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
     let _ = writeln!(
@@ -295,7 +318,7 @@ pub fn model_description_v3() -> String {
         if let Some(u) = v.unit {
             let _ = write!(x, r#" unit="{u}""#);
         }
-        match (v.kind, v.start) {
+        match (v.kind, start_of(v, case)) {
             (Kind::String, Some(s)) => {
                 let _ = writeln!(x, r#"><Start value="{}"/></String>"#, esc(s));
             }

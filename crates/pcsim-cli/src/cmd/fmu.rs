@@ -25,6 +25,11 @@ enum FmuSub {
         /// Which FMI version: 2, 3 or both.
         #[arg(long, default_value = "both")]
         fmi_version: String,
+        /// A case file to bundle (resources/case.toml, the `case` parameter's start value):
+        /// the FMU runs it instead of the default preset. Checked here: it must load and
+        /// build a real-time window of the default length.
+        #[arg(long, value_name = "CASE.toml")]
+        case: Option<PathBuf>,
     },
     /// Print the generated modelDescription.xml.
     Xml {
@@ -32,6 +37,25 @@ enum FmuSub {
         #[arg(long, default_value = "2")]
         fmi_version: String,
     },
+}
+
+/// A case file's text for the FMU's resources, once it has loaded and built a real-time window
+/// of the FMU's default length (as the FMU will at initialisation).
+fn bundle_case(path: &PathBuf) -> Result<String> {
+    let (case, text) = crate::common::load_case_with_text(Some(path), None)?;
+    pcsim_core::session::RealtimeSession::new(
+        &case,
+        pcsim_fmu::vars::DEFAULT_WINDOW_M,
+        pcsim_core::session::Coupling::Hil,
+    )
+    .with_context(|| {
+        format!(
+            "--case {}: the FMU's real-time window ({} m) cannot run it",
+            path.display(),
+            pcsim_fmu::vars::DEFAULT_WINDOW_M
+        )
+    })?;
+    Ok(text)
 }
 
 /// CRC-32 (IEEE) for the zip container.
@@ -180,7 +204,9 @@ pub fn fmu(a: FmuArgs) -> Result<i32> {
             out,
             lib,
             fmi_version,
+            case,
         } => {
+            let bundled = case.as_ref().map(bundle_case).transpose()?;
             let versions: &[u8] = match fmi_version.as_str() {
                 "2" => &[2],
                 "3" => &[3],
@@ -197,29 +223,47 @@ pub fn fmu(a: FmuArgs) -> Result<i32> {
             std::fs::create_dir_all(&out)
                 .with_context(|| format!("cannot create {}", out.display()))?;
             let id = pcsim_fmu::MODEL_IDENTIFIER;
+            let start = match bundled {
+                Some(_) => pcsim_fmu::vars::BUNDLED_CASE,
+                None => pcsim_fmu::vars::DEFAULT_CASE,
+            };
             for &v in versions {
                 let (xml, platform, file, label) = match v {
                     2 => (
-                        pcsim_fmu::vars::model_description(),
+                        pcsim_fmu::vars::model_description_for(start),
                         "linux64",
                         format!("{id}.fmu"),
                         "FMI 2.0 co-simulation, linux64",
                     ),
                     _ => (
-                        pcsim_fmu::vars::model_description_v3(),
+                        pcsim_fmu::vars::model_description_v3_for(start),
                         "x86_64-linux",
                         format!("{id}_fmi3.fmu"),
                         "FMI 3.0 co-simulation, x86_64-linux",
                     ),
                 };
-                let zip = zip_stored(&[
+                let binary = format!("binaries/{platform}/{id}.so");
+                let resource = format!("resources/{}", pcsim_fmu::vars::BUNDLED_CASE);
+                let mut entries = vec![
                     ("modelDescription.xml", xml.into_bytes()),
-                    (&format!("binaries/{platform}/{id}.so"), so.clone()),
-                ]);
+                    (binary.as_str(), so.clone()),
+                ];
+                if let Some(text) = &bundled {
+                    entries.push((resource.as_str(), text.clone().into_bytes()));
+                }
+                let zip = zip_stored(&entries);
                 let path = out.join(file);
                 std::fs::write(&path, zip)
                     .with_context(|| format!("cannot write {}", path.display()))?;
-                println!("wrote {} ({label}, from {})", path.display(), lib.display());
+                let with = case
+                    .as_ref()
+                    .map(|c| format!(", case {}", c.display()))
+                    .unwrap_or_default();
+                println!(
+                    "wrote {} ({label}, from {}{with})",
+                    path.display(),
+                    lib.display()
+                );
             }
             Ok(0)
         }

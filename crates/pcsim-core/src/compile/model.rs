@@ -5,8 +5,8 @@
 
 use crate::error::{CaseError, Warning};
 use crate::input::case::{
-    Case, CatenaryCase, Dof, IrregularityCase, PantographCase, Spectrum, TensionLengthCase,
-    WindProfile, WireCase,
+    Case, CatenaryCase, Dof, IceCase, IrregularityCase, PantographCase, Spectrum,
+    TensionLengthCase, WindProfile, WireCase,
 };
 use crate::model::basis::SineBasis;
 use crate::model::dof::Direction;
@@ -449,13 +449,17 @@ struct Iced {
 
 impl Iced {
     fn of(case: &Case) -> Iced {
-        let mut c = case.catenary.clone();
+        Iced::on(&case.catenary, case.catenary.ice.as_ref())
+    }
+
+    /// Catenary `c` (the case's, or a line's tension length with its own wires) under `ice`.
+    fn on(c: &CatenaryCase, ice: Option<&IceCase>) -> Iced {
+        let mut c = c.clone();
         let diam = |w: &WireCase| w.section.as_ref().map_or(0.0, |s| s.diameter_m);
         let mut diameters = [diam(&c.messenger), diam(&c.contact_wire)];
         let mut polar_kg_m = [0.0; 2];
         let mut mass_kg_m = [0.0; 2];
-        if let Some(ice) = &c.ice {
-            let ice = ice.clone();
+        if let Some(ice) = ice {
             for (i, t) in [(MESSENGER, ice.messenger_m), (CONTACT, ice.contact_wire_m)] {
                 let (m, j) = ice_mass(ice.density_kg_m3, diameters[i], t);
                 mass_kg_m[i] = m;
@@ -502,8 +506,15 @@ fn build_wires(
     let one = placed.tls.len() == 1;
     let mut wires: Vec<Wire> = Vec::with_capacity(2 * placed.tls.len());
     for (k, tl) in placed.tls.iter().enumerate() {
-        // The first tension length of a `[catenary]` carries the ice (its masses in `c`).
-        let ck = if case.line.is_none() { c } else { &tl.catenary };
+        // A `[catenary]` carries the ice in `iced`; each tension length of a `[line]` carries
+        // it on its own wires (their own diameters, where the tension length overrides them).
+        let tl_iced;
+        let (ck, ice_k) = if case.line.is_none() {
+            (c, iced)
+        } else {
+            tl_iced = Iced::on(&tl.catenary, case.catenary.ice.as_ref());
+            (&tl_iced.catenary, &tl_iced)
+        };
         let periodic = matches!(placed.shape, StaticShape::Catenary(_)).then_some(c.span_m);
         let (rho_c, rho_m) = smeared_masses(ck, tl, periodic);
         let basis = if case.line.is_none() || one {
@@ -558,14 +569,14 @@ fn build_wires(
                     role,
                     tl.start_m,
                     basis.clone(),
-                    section(rho, wc, iced.polar_kg_m[i]),
+                    section(rho, wc, ice_k.polar_kg_m[i]),
                     c.damping.clone(),
                     &wire_dirs,
                 )
                 .with_added_damping(Direction::Lateral, aero(w, Direction::Lateral))
                 .with_added_damping(Direction::Vertical, aero(w, Direction::Vertical))
                 .with_added_damping(Direction::Torsional, aero(w, Direction::Torsional))
-                .with_static_load(Direction::Vertical, -iced.mass_kg_m[i] * G),
+                .with_static_load(Direction::Vertical, -ice_k.mass_kg_m[i] * G),
             );
         }
     }

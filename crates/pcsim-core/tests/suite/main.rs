@@ -18,6 +18,7 @@ mod isa;
 mod lateral;
 mod layers;
 mod line;
+mod line_physics;
 mod mutations;
 mod realtime;
 mod realtime_alloc;

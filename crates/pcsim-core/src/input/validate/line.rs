@@ -31,7 +31,6 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
             case.run.dofs.iter().any(|d| *d != Dof::Vertical),
         ),
         ("catenary.lateral", c.lateral.is_some()),
-        ("catenary.ice", c.ice.is_some()),
         ("wind", case.wind.is_some()),
         ("irregularity", !case.irregularity.is_empty()),
     ] {
@@ -39,8 +38,26 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
             return Err(inv(
                 field,
                 "given",
-                "a [line] is vertical only in this version, without ice, wind or irregularity: use [catenary] for those",
+                "a [line] is vertical only in this version (with ice), without wind or irregularity: use [catenary] for those",
             ));
+        }
+    }
+    // Ice sits on each tension length's own wires: a wire a tension length overrides needs its
+    // section (the ice's mass and inertia follow from the diameter).
+    if c.ice.is_some() {
+        for (k, t) in line.tension_lengths.iter().enumerate() {
+            for (name, w) in [
+                ("messenger", &t.messenger),
+                ("contact_wire", &t.contact_wire),
+            ] {
+                if w.as_ref().is_some_and(|w| w.section.is_none()) {
+                    return Err(inv(
+                        &format!("line.tension_lengths[{k}].{name}.section"),
+                        "missing",
+                        "catenary.ice needs the section (diameter_m) of every wire a tension length overrides",
+                    ));
+                }
+            }
         }
     }
     for (k, t) in line.tension_lengths.iter().enumerate() {

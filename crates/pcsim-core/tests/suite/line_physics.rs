@@ -1,0 +1,167 @@
+//! Issue 41: every physics on every line. A `[line]` of one tension length that spells out a
+//! `[catenary]` runs as it does with the same physics (ice so far: the exact check "a line of one
+//! tension length with ice equals the catenary with the same physics to 1e-9"); each tension
+//! length carries the ice on its own wires; what a line still refuses names its field.
+
+use crate::common;
+
+use pcsim_core::compile::model::ice_mass;
+use pcsim_core::compile::Setup;
+use pcsim_core::input::case::{Case, LineCase, SpanRun, TensionLengthCase, G};
+use pcsim_core::input::lateral::IceCase;
+use pcsim_core::{presets, run_case, CaseError};
+
+/// The wires' sections of the 3D preset (ice needs a diameter).
+fn with_sections(mut case: Case) -> Case {
+    let d = presets::load("stitched-2018-like-3d").unwrap().0.catenary;
+    case.catenary.messenger.section = d.messenger.section;
+    case.catenary.contact_wire.section = d.contact_wire.section;
+    case
+}
+
+fn ice(t_m: f64) -> IceCase {
+    IceCase {
+        density_kg_m3: 900.0,
+        contact_wire_m: t_m,
+        messenger_m: t_m,
+    }
+}
+
+/// The `[line]` of one tension length that spells out the case's `[catenary]`.
+fn as_line(mut case: Case) -> Case {
+    let c = &case.catenary;
+    let t = TensionLengthCase {
+        spans_m: Vec::new(),
+        span_runs: vec![SpanRun {
+            count: c.spans,
+            length_m: c.span_m,
+        }],
+        droppers_m: Vec::new(),
+        contact_height_m: Vec::new(),
+        encumbrance_m: Vec::new(),
+        contact_wire: None,
+        messenger: None,
+        droppers: None,
+        messenger_support: None,
+        steady_arm: None,
+    };
+    case.line = Some(LineCase {
+        tension_lengths: vec![t],
+        overlaps: Vec::new(),
+    });
+    case
+}
+
+/// With 5 mm of ice, the line of one tension length gives the catenary's statistics to 1e-9
+/// (they differ in rounding only, as without ice: `line::a_line_of_equal_spans_runs_as_its_catenary`),
+/// and the ice is there: the static start sags and the mean force moves from the ice-free run's.
+#[test]
+fn issue_41_a_line_of_one_tension_length_with_ice_runs_as_its_catenary() {
+    let mut case = with_sections(common::short_en50318(12, 250.0));
+    let bare = run_case(&as_line(case.clone()), &mut |_| true)
+        .unwrap()
+        .pantographs[0]
+        .stats
+        .unwrap();
+    case.catenary.ice = Some(ice(0.005));
+    let a = run_case(&case, &mut |_| true).unwrap().pantographs[0]
+        .stats
+        .unwrap();
+    let b = run_case(&as_line(case.clone()), &mut |_| true)
+        .unwrap()
+        .pantographs[0]
+        .stats
+        .unwrap();
+    for (name, x, y) in [
+        ("mean", a.mean_n, b.mean_n),
+        ("std", a.std_n, b.std_n),
+        ("actual max", a.actual_max_n, b.actual_max_n),
+        ("actual min", a.actual_min_n, b.actual_min_n),
+        (
+            "uplift",
+            a.max_uplift_at_support_mm,
+            b.max_uplift_at_support_mm,
+        ),
+    ] {
+        assert!(
+            (x - y).abs() <= 1e-9 * x.abs().max(1.0),
+            "{name}: catenary {x} vs line {y}"
+        );
+    }
+    assert!(
+        (b.std_n - bare.std_n).abs() > 1e-3,
+        "the ice changes the line's dynamics: σ {} N with, {} N without",
+        b.std_n,
+        bare.std_n
+    );
+}
+
+/// On a line of three tension lengths whose middle one has a thicker contact wire, each contact
+/// wire carries the weight of the ice on its own diameter (the annulus, closed form), and the
+/// messengers theirs.
+#[test]
+fn issue_41_each_tension_length_carries_the_ice_on_its_own_wires() {
+    let (mut case, _) = presets::load("en50318-2018-like-simple").unwrap();
+    case = with_sections(case);
+    let t = 0.004;
+    case.catenary.ice = Some(ice(t));
+    let mut thick = case.catenary.contact_wire.clone();
+    if let Some(s) = thick.section.as_mut() {
+        s.diameter_m *= 1.5;
+    }
+    let d_thick = thick.section.as_ref().unwrap().diameter_m;
+    case.line.as_mut().unwrap().tension_lengths[1].contact_wire = Some(thick);
+    let setup = Setup::from_case(&case).unwrap();
+    let d = |w: &pcsim_core::input::case::WireCase| w.section.as_ref().unwrap().diameter_m;
+    let (d_c, d_m) = (d(&case.catenary.contact_wire), d(&case.catenary.messenger));
+    let wires = &setup.model.wires;
+    assert_eq!(wires.len(), 6);
+    for (k, want_c) in [(0, d_c), (1, d_thick), (2, d_c)] {
+        let load = |w: usize| wires[w].static_load_per_m[0];
+        let (mc, mm) = (ice_mass(900.0, want_c, t).0, ice_mass(900.0, d_m, t).0);
+        assert!(
+            (load(2 * k + 1) + mc * G).abs() < 1e-12 * mc * G,
+            "tension length {k}'s contact wire: {} N/m, want {}",
+            load(2 * k + 1),
+            -mc * G
+        );
+        assert!((load(2 * k) + mm * G).abs() < 1e-12 * mm * G);
+    }
+    // The thicker wire carries more ice, by less than its diameter's ratio (the annulus).
+    let ratio = wires[3].static_load_per_m[0] / wires[1].static_load_per_m[0];
+    assert!(ratio > 1.0 && ratio < 1.5, "{ratio}");
+}
+
+/// An overridden wire without a section cannot carry ice: refused, naming its field; the physics
+/// a line does not carry yet are refused naming theirs.
+#[test]
+fn issue_41_what_a_line_refuses_names_its_field() {
+    let (mut case, _) = presets::load("en50318-2018-like-simple").unwrap();
+    case = with_sections(case);
+    case.catenary.ice = Some(ice(0.004));
+    let mut bare = case.catenary.contact_wire.clone();
+    bare.section = None;
+    case.line.as_mut().unwrap().tension_lengths[2].contact_wire = Some(bare);
+    match case.validate() {
+        Err(CaseError::Invalid { field, .. }) => {
+            assert_eq!(field, "line.tension_lengths[2].contact_wire.section")
+        }
+        other => panic!("{other:?}"),
+    }
+    let (mut case, _) = presets::load("en50318-2018-like-simple").unwrap();
+    case.irregularity = presets::load("syt-7.0-9.8").unwrap().0.irregularity;
+    case.irregularity.push(
+        pcsim_core::input::case::IrregularityCase::from_csv(
+            "position_m,deviation_m\n0,0\n10,0.001\n",
+            "test",
+        )
+        .unwrap(),
+    );
+    match case.validate() {
+        Err(CaseError::Invalid { field, reason, .. }) => {
+            assert_eq!(field, "irregularity");
+            assert!(reason.contains("[line]"), "{reason}");
+        }
+        other => panic!("{other:?}"),
+    }
+}
