@@ -1,13 +1,17 @@
 //! Issue 41: every physics on every line. A `[line]` of one tension length that spells out a
-//! `[catenary]` runs as it does with the same physics (ice so far: the exact check "a line of one
-//! tension length with ice equals the catenary with the same physics to 1e-9"); each tension
-//! length carries the ice on its own wires; what a line still refuses names its field.
+//! `[catenary]` runs as it does with the same physics (ice and irregularity so far: the exact
+//! check "a line of one tension length with ice equals the catenary with the same physics to
+//! 1e-9"); each tension length carries the ice on its own wires; the irregularity is a profile
+//! along the track on every contact wire; what a line still refuses names its field.
 
 use crate::common;
 
 use pcsim_core::compile::model::ice_mass;
 use pcsim_core::compile::Setup;
-use pcsim_core::input::case::{Case, LineCase, SpanRun, TensionLengthCase, G};
+use pcsim_core::input::case::{
+    Case, IrregularityCase, LineCase, SpanRun, TensionLengthCase, G,
+};
+use pcsim_core::model::dof::Direction;
 use pcsim_core::input::lateral::IceCase;
 use pcsim_core::{presets, run_case, CaseError};
 
@@ -149,19 +153,106 @@ fn issue_41_what_a_line_refuses_names_its_field() {
         other => panic!("{other:?}"),
     }
     let (mut case, _) = presets::load("en50318-2018-like-simple").unwrap();
-    case.irregularity = presets::load("syt-7.0-9.8").unwrap().0.irregularity;
-    case.irregularity.push(
-        pcsim_core::input::case::IrregularityCase::from_csv(
-            "position_m,deviation_m\n0,0\n10,0.001\n",
-            "test",
-        )
-        .unwrap(),
-    );
+    case.irregularity = vec![IrregularityCase::Droppers {
+        rms_m: 0.002,
+        seed: 1,
+    }];
     match case.validate() {
         Err(CaseError::Invalid { field, reason, .. }) => {
-            assert_eq!(field, "irregularity");
+            assert_eq!(field, "irregularity[0].kind");
+            assert!(reason.contains("every span"), "{reason}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let (mut case, _) = presets::load("en50318-2018-like-simple").unwrap();
+    case.wind = presets::load("stitched-2018-like-3d-crosswind").unwrap().0.wind;
+    match case.validate() {
+        Err(CaseError::Invalid { field, reason, .. }) => {
+            assert_eq!(field, "wind");
             assert!(reason.contains("[line]"), "{reason}");
         }
         other => panic!("{other:?}"),
     }
 }
+
+fn psd(rms_m: f64, seed: u64) -> IrregularityCase {
+    IrregularityCase::Psd {
+        rms_m,
+        min_wavelength_m: 2.0,
+        max_wavelength_m: 60.0,
+        exponent: 2.0,
+        table: None,
+        seed,
+    }
+}
+
+/// With a random profile (2 mm, 2–60 m) and a measured table, the line of one tension length
+/// gives the catenary's statistics to 1e-9, and the profile is felt (σ moves from the smooth
+/// line's).
+#[test]
+fn issue_41_a_line_of_one_tension_length_with_irregularity_runs_as_its_catenary() {
+    let mut case = common::short_en50318(12, 250.0);
+    let smooth = run_case(&as_line(case.clone()), &mut |_| true).unwrap().pantographs[0]
+        .stats
+        .unwrap();
+    case.irregularity = vec![
+        psd(0.002, 11),
+        IrregularityCase::Table {
+            position_m: vec![0.0, 200.0, 400.0, 720.0],
+            deviation_m: vec![0.0, 0.004, -0.003, 0.0],
+            source_file: "test".into(),
+        },
+    ];
+    let a = run_case(&case, &mut |_| true).unwrap().pantographs[0]
+        .stats
+        .unwrap();
+    let b = run_case(&as_line(case.clone()), &mut |_| true)
+        .unwrap()
+        .pantographs[0]
+        .stats
+        .unwrap();
+    for (name, x, y) in [
+        ("mean", a.mean_n, b.mean_n),
+        ("std", a.std_n, b.std_n),
+        ("actual max", a.actual_max_n, b.actual_max_n),
+        ("actual min", a.actual_min_n, b.actual_min_n),
+    ] {
+        assert!(
+            (x - y).abs() <= 1e-9 * x.abs().max(1.0),
+            "{name}: catenary {x} vs line {y}"
+        );
+    }
+    assert!((b.std_n - smooth.std_n).abs() > 0.1, "{} vs {}", b.std_n, smooth.std_n);
+}
+
+/// On a line of three tension lengths, every contact wire's static height carries the profile
+/// at its track position (both wires of an overlap included), and the messengers none.
+#[test]
+fn issue_41_the_profile_lies_on_every_contact_wire_of_a_line() {
+    let (mut case, _) = presets::load("en50318-2018-like-simple").unwrap();
+    let bare = Setup::from_case(&case).unwrap();
+    let l = case.length_m();
+    let r = |x: f64| 0.005 * (x / l * 7.0).sin();
+    let xs: Vec<f64> = (0..=400).map(|k| k as f64 * l / 400.0).collect();
+    case.irregularity = vec![IrregularityCase::Table {
+        position_m: xs.clone(),
+        deviation_m: xs.iter().map(|&x| r(x)).collect(),
+        source_file: "test".into(),
+    }];
+    let rough = Setup::from_case(&case).unwrap();
+    let m = &rough.model;
+    let mut checked = 0;
+    for (w, wire) in m.wires.iter().enumerate() {
+        let (a, b) = (wire.origin_m, wire.origin_m + wire.basis.length_m());
+        for &x in xs.iter().filter(|&&x| x > a + 1.0 && x < b - 1.0) {
+            let d = m.static_height(w, Direction::Vertical, x, 0.0)
+                - bare.model.static_height(w, Direction::Vertical, x, 0.0);
+            let want = if w % 2 == 1 { r(x) } else { 0.0 };
+            // The table is linear between its 400 points: within 1e-6 m of the sine.
+            assert!((d - want).abs() < 1e-6, "wire {w} at {x} m: {d} vs {want}");
+            checked += 1;
+        }
+    }
+    assert!(checked > 400, "{checked}");
+}
+

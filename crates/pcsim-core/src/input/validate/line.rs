@@ -32,13 +32,22 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
         ),
         ("catenary.lateral", c.lateral.is_some()),
         ("wind", case.wind.is_some()),
-        ("irregularity", !case.irregularity.is_empty()),
     ] {
         if given {
             return Err(inv(
                 field,
                 "given",
-                "a [line] is vertical only in this version (with ice), without wind or irregularity: use [catenary] for those",
+                "a [line] is vertical only in this version (with ice and irregularity), without wind: use [catenary] for those",
+            ));
+        }
+    }
+    // A profile along the track applies on a line; the dropper pattern repeats per span.
+    for (i, ir) in case.irregularity.iter().enumerate() {
+        if matches!(ir, IrregularityCase::Droppers { .. }) {
+            return Err(inv(
+                &format!("irregularity[{i}].kind"),
+                "droppers",
+                "the dropper-height pattern repeats in every span of a [catenary]; a [line]'s spans and dropper layouts differ: give a measured table or a psd profile along the track",
             ));
         }
     }
