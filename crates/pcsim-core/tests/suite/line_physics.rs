@@ -8,11 +8,9 @@ use crate::common;
 
 use pcsim_core::compile::model::ice_mass;
 use pcsim_core::compile::Setup;
-use pcsim_core::input::case::{
-    Case, IrregularityCase, LineCase, SpanRun, TensionLengthCase, G,
-};
-use pcsim_core::model::dof::Direction;
+use pcsim_core::input::case::{Case, IrregularityCase, LineCase, SpanRun, TensionLengthCase, G};
 use pcsim_core::input::lateral::IceCase;
+use pcsim_core::model::dof::Direction;
 use pcsim_core::{presets, run_case, CaseError};
 
 /// The wires' sections of the 3D preset (ice needs a diameter).
@@ -165,7 +163,10 @@ fn issue_41_what_a_line_refuses_names_its_field() {
         other => panic!("{other:?}"),
     }
     let (mut case, _) = presets::load("en50318-2018-like-simple").unwrap();
-    case.wind = presets::load("stitched-2018-like-3d-crosswind").unwrap().0.wind;
+    case.wind = presets::load("stitched-2018-like-3d-crosswind")
+        .unwrap()
+        .0
+        .wind;
     match case.validate() {
         Err(CaseError::Invalid { field, reason, .. }) => {
             assert_eq!(field, "wind");
@@ -192,7 +193,9 @@ fn psd(rms_m: f64, seed: u64) -> IrregularityCase {
 #[test]
 fn issue_41_a_line_of_one_tension_length_with_irregularity_runs_as_its_catenary() {
     let mut case = common::short_en50318(12, 250.0);
-    let smooth = run_case(&as_line(case.clone()), &mut |_| true).unwrap().pantographs[0]
+    let smooth = run_case(&as_line(case.clone()), &mut |_| true)
+        .unwrap()
+        .pantographs[0]
         .stats
         .unwrap();
     case.irregularity = vec![
@@ -222,7 +225,12 @@ fn issue_41_a_line_of_one_tension_length_with_irregularity_runs_as_its_catenary(
             "{name}: catenary {x} vs line {y}"
         );
     }
-    assert!((b.std_n - smooth.std_n).abs() > 0.1, "{} vs {}", b.std_n, smooth.std_n);
+    assert!(
+        (b.std_n - smooth.std_n).abs() > 0.1,
+        "{} vs {}",
+        b.std_n,
+        smooth.std_n
+    );
 }
 
 /// On a line of three tension lengths, every contact wire's static height carries the profile
@@ -255,4 +263,3 @@ fn issue_41_the_profile_lies_on_every_contact_wire_of_a_line() {
     }
     assert!(checked > 400, "{checked}");
 }
-
