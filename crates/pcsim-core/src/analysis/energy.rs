@@ -27,10 +27,15 @@ use crate::model::wire::Coefficients;
 use crate::model::{Model, PantographKind};
 use crate::solve::{CompiledModel, State, Workspace};
 
-/// Evaluator of the energy density on a uniform grid over the whole model.
+/// Evaluator of the energy density on a uniform grid over one basis group: the whole model
+/// ([`DensityGrid::new`]), or one tension length of a line ([`DensityGrid::per_group`]).
 pub struct DensityGrid {
     m: usize,
     dx: f64,
+    /// Model coordinate of the grid's x = 0, m.
+    origin_m: f64,
+    /// The blocks (wires and directions) whose density it sums, in state order.
+    blocks: Vec<usize>,
     basis: SineBasis,
     kappa: Vec<f64>,
     fft: Arc<dyn Fft<f64>>,
@@ -69,23 +74,51 @@ impl DensityGrid {
             return Err(CaseError::Invalid {
                 field: "model".into(),
                 value: format!("{} basis groups", lay.groups.len()),
-                reason: "the energy density grid needs every wire over the whole model (a [line] of several tension lengths has its own wires per tension length: its EVA is not computed in this version)".into(),
+                reason: "one density grid needs every wire over the whole model (a [line] of several tension lengths has its own wires per tension length: take a grid per tension length, DensityGrid::per_group)".into(),
             });
         }
+        Ok(Self::of_group(model, 0, points_per_mode))
+    }
+
+    /// One grid per basis group (a line's tension lengths, each over its own wires' extent from
+    /// its origin): the density of the whole model is their sum where they overlap, and each
+    /// wire's energy is taken on its own basis.
+    pub fn per_group(model: &Model, points_per_mode: usize) -> Result<Vec<Self>, CaseError> {
+        if model.layout.groups.is_empty() {
+            return Err(CaseError::Invalid {
+                field: "model".into(),
+                value: "no wire".into(),
+                reason: "the energy density needs at least one wire".into(),
+            });
+        }
+        Ok((0..model.layout.groups.len())
+            .map(|g| Self::of_group(model, g, points_per_mode))
+            .collect())
+    }
+
+    fn of_group(model: &Model, group: usize, points_per_mode: usize) -> Self {
+        let g = &model.layout.groups[group];
         let n = g.basis.n_modes();
         let m = (points_per_mode.max(2)) * n;
         let fft = FftPlanner::new().plan_fft_inverse(2 * m);
         let scratch = vec![Complex::new(0.0, 0.0); fft.get_inplace_scratch_len()];
-        Ok(Self {
+        Self {
             m,
             dx: g.basis.length_m() / m as f64,
+            origin_m: g.origin_m,
+            blocks: g.blocks.clone(),
             kappa: (0..n).map(|i| g.basis.wavenumber(i)).collect(),
             basis: g.basis.clone(),
             fft,
             buf: vec![Complex::new(0.0, 0.0); 2 * m],
             scratch,
             tmp: [vec![0.0; m + 1], vec![0.0; m + 1], vec![0.0; m + 1]],
-        })
+        }
+    }
+
+    /// Model coordinate of the grid's first point, m.
+    pub fn origin_m(&self) -> f64 {
+        self.origin_m
     }
 
     /// Grid spacing, m.
@@ -131,8 +164,9 @@ impl DensityGrid {
         }
     }
 
-    /// Energy density at the grid points `x_j = j·dx`, J/m, every wire and direction (Eq. 20,
-    /// consistent form), of the deviation from the design's static shape.
+    /// Energy density at the grid points `x_j = origin + j·dx`, J/m, every wire and direction of
+    /// the grid's group (Eq. 20, consistent form), of the deviation from the design's static
+    /// shape.
     pub fn density(&mut self, model: &Model, st: &State, out: &mut [f64]) {
         self.density_about(model, st, None, out);
     }
@@ -149,7 +183,8 @@ impl DensityGrid {
         out: &mut [f64],
     ) {
         out.fill(0.0);
-        for b in 0..model.layout.blocks.len() {
+        for bi in 0..self.blocks.len() {
+            let b = self.blocks[bi];
             let key = model.layout.blocks[b].key;
             let c = model.wires[key.wire].coefficients(key.dir);
             let r = model.layout.range(b);

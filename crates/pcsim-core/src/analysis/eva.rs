@@ -109,6 +109,17 @@ pub fn window_energy(density: &[f64], dx: f64, xp: f64, d: &[f64]) -> Vec<f64> {
         .collect()
 }
 
+/// Grid values `density` at `x_j = j·dx` at `x`, linear between points; zero outside the grid.
+fn linear_at(density: &[f64], dx: f64, x: f64) -> f64 {
+    let n = density.len();
+    if n < 2 || x < 0.0 || x > (n - 1) as f64 * dx {
+        return 0.0;
+    }
+    let j = ((x / dx).floor() as usize).min(n - 2);
+    let t = x / dx - j as f64;
+    density[j] + t * (density[j + 1] - density[j])
+}
+
 /// The paper's criterion (§2.4): the first `d_i` at which `E(d_{i+1}) − E(d_i) < tol`.
 pub fn eva_by_step(d: &[f64], e: &[f64], tol_j: f64) -> Option<f64> {
     (0..e.len().saturating_sub(1))
@@ -189,14 +200,16 @@ struct EnergySampler<'a> {
     s: &'a EvaSettings,
     /// What the energy is measured about.
     datum: Datum,
-    grid: DensityGrid,
+    /// One density grid per basis group (a line's tension lengths), with its densities.
+    grids: Vec<DensityGrid>,
+    dens: Vec<Vec<f64>>,
+    /// Spacing of the relative positions `x − x_p` (the finest grid's).
     dx: f64,
     half: isize,
     d: Vec<f64>,
     snap_x: f64,
     every: usize,
     analysis: [f64; 2],
-    dens: Vec<f64>,
     step: usize,
     prev_x: f64,
     snapshot: Option<EnergyView>,
@@ -210,19 +223,50 @@ struct EnergySampler<'a> {
 }
 
 impl EnergySampler<'_> {
-    /// The density at the relative positions x − x_p.
+    /// The density at the relative positions x − x_p: on one grid, its points nearest to them;
+    /// on a line, the sum of every tension length's density there (linear between its points).
     fn relative(&self, xp: f64) -> Vec<f64> {
-        let jp = (xp / self.dx).round() as isize;
+        if let [dens] = &self.dens[..] {
+            let jp = (xp / self.dx).round() as isize;
+            return (-self.half..=self.half)
+                .map(|i| {
+                    let k = jp + i;
+                    if k < 0 {
+                        0.0
+                    } else {
+                        dens.get(k as usize).copied().unwrap_or(0.0)
+                    }
+                })
+                .collect();
+        }
         (-self.half..=self.half)
             .map(|i| {
-                let k = jp + i;
-                if k < 0 {
-                    0.0
-                } else {
-                    self.dens.get(k as usize).copied().unwrap_or(0.0)
-                }
+                let x = xp + i as f64 * self.dx;
+                self.grids
+                    .iter()
+                    .zip(&self.dens)
+                    .map(|(g, d)| linear_at(d, g.dx(), x - g.origin_m()))
+                    .sum()
             })
             .collect()
+    }
+
+    /// The whole model's energy, J: every grid's integral.
+    fn total(&self) -> f64 {
+        (self.grids.iter().zip(&self.dens)).fold(0.0, |t, (g, d)| t + integrate(d, g.dx()))
+    }
+
+    /// The window energies about `xp` (Eq. 21): every grid's part of each window, each wire on
+    /// its own extent.
+    fn windows(&self, xp: f64) -> Vec<f64> {
+        let mut w = vec![0.0; self.d.len()];
+        for (g, d) in self.grids.iter().zip(&self.dens) {
+            let part = window_energy(d, g.dx(), xp - g.origin_m(), &self.d);
+            for (a, b) in w.iter_mut().zip(part) {
+                *a += b;
+            }
+        }
+        w
     }
 }
 
@@ -249,10 +293,11 @@ impl Observer for EnergySampler<'_> {
                 Datum::Static(s0) => Some(&**s0),
                 Datum::Twin(t) => Some(&t.1),
             };
-            self.grid
-                .density_about(cm.model(), st, reference, &mut self.dens);
-            let total = integrate(&self.dens, self.dx);
-            let w = window_energy(&self.dens, self.dx, xp, &self.d);
+            for (g, d) in self.grids.iter_mut().zip(&mut self.dens) {
+                g.density_about(cm.model(), st, reference, d);
+            }
+            let total = self.total();
+            let w = self.windows(xp);
             if snap_now {
                 self.snapshot = Some(EnergyView::new(
                     self.relative(xp),
@@ -314,8 +359,8 @@ impl<'a> EnergySampler<'a> {
             s.points_per_mode,
             20.0 * (s.points_per_mode.max(2) * setup.model.n_modes()) as f64,
         )?;
-        let grid = DensityGrid::new(&setup.model, s.points_per_mode)?;
-        let dx = grid.dx();
+        let grids = DensityGrid::per_group(&setup.model, s.points_per_mode)?;
+        let dx = grids.iter().map(|g| g.dx()).fold(f64::INFINITY, f64::min);
         let half = (0.5 * max_window / dx).round() as isize;
         let n_xi = (2 * half + 1) as usize;
         let nd = (max_window / s.step_m).floor() as usize;
@@ -323,8 +368,8 @@ impl<'a> EnergySampler<'a> {
         Ok(EnergySampler {
             s,
             datum: Datum::of(setup, integ, st)?,
-            dens: vec![0.0; grid.n_points()],
-            grid,
+            dens: grids.iter().map(|g| vec![0.0; g.n_points()]).collect(),
+            grids,
             dx,
             half,
             snap_x: s.snapshot_at_m.unwrap_or(0.5 * l),

@@ -263,3 +263,106 @@ fn issue_41_the_profile_lies_on_every_contact_wire_of_a_line() {
     }
     assert!(checked > 400, "{checked}");
 }
+
+/// On a line of three tension lengths and two overlaps, every wire's energy density is taken on
+/// its own basis (a grid per tension length): their integrals add up to the wires' modal energy
+/// `½Σ(m v² + k q²)` to rounding, for a seeded random state of every mode.
+#[test]
+fn issue_41_the_energy_of_a_line_is_every_wires_on_its_own_basis() {
+    use pcsim_core::analysis::energy::{integrate, modal_energy, DensityGrid};
+    let (case, _) = presets::load("en50318-2018-like-simple").unwrap();
+    let setup = Setup::from_case(&case).unwrap();
+    let model = &setup.model;
+    let integ = setup.integrator().unwrap();
+    let mut st = integ.initial_state(setup.plan.start_m);
+    let mut r: u64 = 0x2545_F491_4F6C_DD1D;
+    let mut next = || {
+        r ^= r << 13;
+        r ^= r >> 7;
+        r ^= r << 17;
+        (r >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    for (u, v) in st.modal.u.iter_mut().zip(st.modal.v.iter_mut()) {
+        *u = 1e-4 * next();
+        *v = 1e-2 * next();
+    }
+    let mut grids = DensityGrid::per_group(model, 4).unwrap();
+    assert_eq!(grids.len(), 3, "a grid per tension length");
+    let total: f64 = grids
+        .iter_mut()
+        .map(|g| {
+            let mut d = vec![0.0; g.n_points()];
+            g.density(model, &st, &mut d);
+            integrate(&d, g.dx())
+        })
+        .sum();
+    let exact = modal_energy(model, &st);
+    assert!(
+        (total - exact).abs() < 1e-10 * exact,
+        "{total} J on the grids, {exact} J modal"
+    );
+    assert!(
+        DensityGrid::new(model, 4).is_err(),
+        "one grid cannot span a line"
+    );
+}
+
+/// The EVA of a line of one tension length is the catenary's (the same outputs: one grid over
+/// the same wires); on a line of three tension lengths the EVA is computed through the overlaps,
+/// and its whole-model window holds the whole model's energy.
+#[test]
+fn issue_41_the_eva_of_a_line() {
+    use pcsim_core::analysis::eva::{run_eva, EvaSettings};
+    let case = common::short_en50318(12, 250.0);
+    let s = EvaSettings::default();
+    let a = run_eva(&Setup::from_case(&case).unwrap(), &s, &mut |_| true).unwrap();
+    let b = run_eva(&Setup::from_case(&as_line(case)).unwrap(), &s, &mut |_| {
+        true
+    })
+    .unwrap();
+    // The two runs differ in rounding only (`a_line_of_one_tension_length_with_ice…`): every
+    // energy to 1e-9, the lengths the same.
+    let near = |x: f64, y: f64| (x - y).abs() <= 1e-9 * x.abs().max(1e-9);
+    for (name, va, vb) in [
+        ("snapshot", &a.snapshot, &b.snapshot),
+        ("max", &a.max, &b.max),
+        ("mean", &a.mean, &b.mean),
+    ] {
+        assert!(
+            near(va.total_j, vb.total_j),
+            "{name}: total {} vs {}",
+            va.total_j,
+            vb.total_j
+        );
+        assert_eq!(va.window_j.len(), vb.window_j.len());
+        let worst = (va.window_j.iter().zip(&vb.window_j))
+            .map(|(x, y)| (x - y).abs() / x.abs().max(1e-9))
+            .fold(0.0, f64::max);
+        assert!(
+            worst <= 1e-9,
+            "{name}: window energies differ by {worst:e} relative"
+        );
+        assert_eq!(va.eva_step_m, vb.eva_step_m, "{name}");
+    }
+    assert_eq!(a.xi_m, b.xi_m);
+
+    let (mut line, _) = presets::load("en50318-2018-like-simple").unwrap();
+    line.pantographs.truncate(1);
+    let setup = Setup::from_case(&line).unwrap();
+    let l = setup.model.length_m();
+    let s = EvaSettings {
+        max_window_m: Some(2.0 * l),
+        ..EvaSettings::default()
+    };
+    let e = run_eva(&setup, &s, &mut |_| true).unwrap();
+    let snap = &e.snapshot;
+    assert!(snap.eva_step_m.is_some() && snap.total_j > 0.0);
+    let last = *snap.window_j.last().unwrap();
+    assert!(
+        (last - snap.total_j).abs() < 1e-9 * snap.total_j,
+        "a window over the whole line holds {last} J of {} J",
+        snap.total_j
+    );
+    // The window energies grow with the window (a density is never negative).
+    assert!(snap.window_j.windows(2).all(|w| w[1] >= w[0] - 1e-12));
+}
