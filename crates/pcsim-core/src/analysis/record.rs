@@ -88,6 +88,9 @@ pub struct RunOutput {
     /// Every dropper's tension through the run, its cycles and damage, when asked for
     /// ([`simulate_with`]).
     pub droppers: Option<DropperRun>,
+    /// A curved track's radius, the head's offset, the chord's bow and the registrations'
+    /// static (pull-off) forces.
+    pub curve: Option<crate::model::lateral::CurveReport>,
 }
 
 /// What `max_uplift_at_support_mm` is measured from: the static position of the wires before
@@ -270,8 +273,12 @@ impl Recorder {
                 let lateral = if self.lateral[p].is_empty() {
                     None
                 } else {
+                    // On the head: from its centre, which a canted curve moves off the
+                    // track's centre line.
+                    let offset = m.lateral.as_ref().map_or(0.0, |l| l.head_offset_m);
+                    let on_head: Vec<f64> = self.lateral[p].iter().map(|z| z - offset).collect();
                     lateral_stats(
-                        &self.lateral[p],
+                        &on_head,
                         &self.pos[p],
                         self.analysis_m,
                         pan.head_half_width_m,
@@ -335,6 +342,16 @@ impl Recorder {
                 .map(|(_, c)| c)
                 .collect(),
             droppers: None,
+            curve: m.lateral.as_ref().and_then(|l| {
+                let tension = |role| {
+                    m.wire_index(role)
+                        .map_or(0.0, |w| m.wires[w].section.tension_n)
+                };
+                l.curve_report(
+                    tension(crate::model::WireRole::Contact),
+                    tension(crate::model::WireRole::Messenger),
+                )
+            }),
         }
     }
 }

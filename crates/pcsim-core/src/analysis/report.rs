@@ -105,6 +105,10 @@ pub struct RunSummary {
     /// The contact-wire irregularity's sources (kind, seed, RMS target and achieved).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub irregularity: Vec<IrregularityReport>,
+    /// A curved track: radius, the head's offset on a canted curve, the chord's largest bow and
+    /// the registrations' static (pull-off) forces.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub curve: Option<crate::model::lateral::CurveReport>,
     /// The coupled stability limit the time step was checked against: the highest frequency
     /// of the explicit system, the largest accepted Δt and the element that sets it.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -341,6 +345,7 @@ impl RunSummary {
                 .collect(),
             wind: out.wind.clone(),
             irregularity: out.irregularity.clone(),
+            curve: out.curve.clone(),
             stability: out.stability.clone(),
         }
     }
@@ -384,9 +389,11 @@ pub fn timeseries_columns(out: &RunOutput) -> Vec<Column> {
         if !p.lateral_m.is_empty() {
             cols.push(col(format!("{tag}_lateral_m"), p.lateral_m.clone(), 6));
             if let Some(h) = p.head_half_width_m {
+                // From the head's centre, which a canted curve moves off the track's.
+                let off = out.curve.as_ref().map_or(0.0, |c| c.head_offset_m);
                 cols.push(col(
                     format!("{tag}_head_margin_m"),
-                    p.lateral_m.iter().map(|z| h - z.abs()).collect(),
+                    p.lateral_m.iter().map(|z| h - (z - off).abs()).collect(),
                     6,
                 ));
             }

@@ -127,8 +127,8 @@ pub struct LateralStats {
 /// A histogram of the contact point's lateral position.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LateralHistogram {
-    /// Left edge of the first bin, mm (from the track's centre line, positive to the same side
-    /// as positive stagger).
+    /// Left edge of the first bin, mm (from the head's centre: the track's centre line, moved
+    /// toward a canted curve's centre; positive to the same side as positive stagger).
     pub from_mm: f64,
     /// Bin width, mm.
     pub bin_mm: f64,

@@ -772,6 +772,8 @@ fn build_registrations(
             0.0
         },
         probes_m: probes,
+        curvature_per_m: lc.track_radius_m.map_or(0.0, |r| 1.0 / r),
+        head_offset_m: lc.head_offset_m(),
     };
     (registrations, Some(geometry))
 }

@@ -138,6 +138,14 @@ pub const COEFF: Bound = b(
 );
 /// A contact wire's stagger at a support, m.
 pub const STAGGER: Bound = b((-2.0, 2.0), (-0.45, 0.45), "m", "±0.2–0.4 m");
+/// A track curve's radius (its magnitude), m. Hard: the chord's bow is taken to second order in
+/// the span over the radius, so a span may be at most a fifth of the radius (checked beside);
+/// 20 m is below any railway's. Soft: main lines rarely go below 300 m (guess: EN 13803's
+/// ranges for the speeds this tool is for are far above it).
+pub const TRACK_RADIUS: Bound = b((20.0, 1.0e7), (300.0, 1.0e5), "m", "300 m and more");
+/// A track's cant, m over 1.5 m. Hard: 0.25 m (guess: beyond any line's); soft 0.18 m (guess:
+/// about the largest cant of European main lines, EN 13803).
+pub const CANT: Bound = b((0.0, 0.25), (0.0, 0.18), "m", "0–0.16 m");
 /// A lateral registration or support stiffness, N/m.
 pub const LAT_STIFF: Bound = b((0.0, 1.0e11), (0.0, 1.0e8), "N/m", "1e4–1e6 N/m");
 /// A torsional stiffness of a clamp or registration, N·m/rad.

@@ -130,11 +130,42 @@ pub struct LateralCase {
     /// whatever the rotation (issue 20).
     #[serde(default)]
     pub contact_point_eccentricity_m: f64,
-    /// Height of the contact wire above the rail (for the wind profile), m.
+    /// Height of the contact wire above the rail (for the wind profile, and the pantograph's
+    /// shift on a canted track), m.
     pub contact_wire_height_m: f64,
+    /// Radius of the track's horizontal curve, m, signed: positive when the curve's centre lies
+    /// on the side of positive stagger. The wires run straight between their registrations, so
+    /// that relative to the curved track they bow toward the centre by `x(s − x)/(2R)` in a span
+    /// `s`, and each registration holds the tension's change of direction (the pull-off force).
+    /// Not given: straight track.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub track_radius_m: Option<f64>,
+    /// Cant (superelevation) of a curved track, m of height between rails 1.5 m apart (standard
+    /// gauge's rail centres), the outer rail raised: the vehicle leans toward the curve's centre
+    /// and its pantograph head moves that way by `contact_wire_height_m · cant_m / 1.5`. Stagger
+    /// stays measured from the track's centre line.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub cant_m: f64,
 }
 
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
+}
+
+/// Distance between the rails' centres of standard gauge (1 435 mm between the running edges,
+/// about 1 500 mm between the rail heads' centres), m: the base of the cant.
+pub const CANT_BASE_M: f64 = 1.5;
+
 impl LateralCase {
+    /// How far the pantograph's head stands from the track's centre line toward the curve's
+    /// centre on a canted track, m (0 on straight or uncanted track).
+    pub fn head_offset_m(&self) -> f64 {
+        match self.track_radius_m {
+            Some(r) => r.signum() * self.contact_wire_height_m * self.cant_m / CANT_BASE_M,
+            None => 0.0,
+        }
+    }
+
     /// Stagger at support `i`, m.
     pub fn stagger_at(&self, i: usize) -> f64 {
         match (&self.stagger_list_m, self.stagger_m) {

@@ -47,6 +47,11 @@ pub const PRESETS: &[Preset] = &[
         toml: include_str!("../../../../presets/stitched-2018-like-3d-crosswind.toml"),
     },
     Preset {
+        name: "stitched-2018-like-3d-curve",
+        summary: "stitched-2018-like-3d on a 4000 m curve with 150 mm cant: the wires' bow, the pull-off forces, the head moved by the cant (issue 41; the curve's data guesses from public design rules)",
+        toml: include_str!("../../../../presets/stitched-2018-like-3d-curve.toml"),
+    },
+    Preset {
         name: "line-structure-2002",
         summary: "a [line]: en50318-2002's catenary over 15 spans of 40-60 m, the contact wire 0.2 m lower under a structure (issue 21)",
         toml: include_str!("../../../../presets/line-structure-2002.toml"),

@@ -18,12 +18,17 @@
 //!   system gets). The mode found is then split into the strain energy of each part, and the
 //!   largest share names the element that limits Δt.
 //!
-//! [`check_stability`] runs both and issues the [`StableStep`] proof that the integrator is built
+//! Between the two, a cheap lower bound of the coupled frequency ([`top_mode_bound`]): each
+//! wire's highest mode alone, as the Rayleigh quotient's trial vector. A step that fails it is
+//! refused at once; the power iteration, which converges from below and may stop short where the
+//! top of the spectrum is dense, never reports less than it.
+//!
+//! [`check_stability`] runs them and issues the [`StableStep`] proof that the integrator is built
 //! on. A Δt is accepted when `ω Δt ≤ 2 · MARGIN`.
 
 use crate::error::{CaseError, ModelQuantity};
 use crate::model::dof::Direction;
-use crate::model::elements::{Attach, Io};
+use crate::model::elements::{Attach, Io, Weight};
 use crate::model::pantograph::PantographKind;
 use crate::model::Model;
 use crate::solve::compiled::{contact_stiffness, refused, CompiledModel};
@@ -78,6 +83,7 @@ impl Integrator {
 /// limit with its margin and the element that sets it.
 pub fn check_stability(cm: &CompiledModel, plan: &Plan, dt: f64) -> Result<StableStep, CaseError> {
     check_local(cm.model(), dt)?;
+    check_top_modes(cm, dt)?;
     let lim = coupled_limit(cm, plan)?;
     if dt > lim.dt_max_s {
         let f = lim.omega_rad_s / (2.0 * std::f64::consts::PI);
@@ -156,6 +162,61 @@ pub fn check_local(model: &Model, dt: f64) -> Result<(), CaseError> {
     Ok(())
 }
 
+/// A lower bound of the coupled system's highest `ω²`, from the model alone, before the power
+/// iteration: each explicit block's highest mode alone as the trial vector of the Rayleigh
+/// quotient `xᵀKx / xᵀMx` — its modal stiffness (the point springs only add to it) over its
+/// modal mass plus every point mass on its wire (a sine's square is at most 1). The largest, with
+/// its block.
+pub fn top_mode_bound(cm: &CompiledModel) -> Option<(f64, usize)> {
+    let m = cm.model();
+    let mut point_mass_kg = vec![0.0; m.wires.len()];
+    for e in &m.elements {
+        for i in 0..e.len() {
+            if let Some((a, Weight::Mass(mass))) = e.implicit(i) {
+                if let Attach::Wire { wire, .. } = e.attachment(i, a) {
+                    point_mass_kg[wire] += mass;
+                }
+            }
+        }
+    }
+    (0..m.layout.blocks.len())
+        .filter(|&b| m.layout.blocks[b].key.dir != Direction::Torsional)
+        .filter_map(|b| {
+            let s = m.series(b);
+            let top = s.mass.len().checked_sub(1)?;
+            let w = m.layout.blocks[b].key.wire;
+            Some((s.stiffness[top] / (s.mass[top] + point_mass_kg[w]), b))
+        })
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+}
+
+/// A time step that already fails against [`top_mode_bound`] is refused at once, naming the wire
+/// (the power iteration would find a frequency at least as high, after many applications of a
+/// model that may be large: a case with far too many modes is refused in milliseconds).
+fn check_top_modes(cm: &CompiledModel, dt: f64) -> Result<(), CaseError> {
+    let Some((w2, b)) = top_mode_bound(cm) else {
+        return Ok(());
+    };
+    let omega = w2.sqrt();
+    if omega * dt <= 2.0 * MARGIN {
+        return Ok(());
+    }
+    let m = cm.model();
+    let key = m.layout.blocks[b].key;
+    Err(refused(
+        ModelQuantity::TimeStep,
+        dt,
+        format!(
+            "too large for the coupled system: its fastest mode is at least at {:.0} Hz (ω ≥ {omega:.0} rad/s), set by the {} wire's own {} stiffness (its highest mode alone, with every point mass on the wire; more modes per span raise it). pcsim accepts ω·Δt ≤ {:.1} (docs/validation.md), so Δt must be below {:.3e} s at least (the coupled check then gives the exact limit)",
+            omega / (2.0 * std::f64::consts::PI),
+            m.wires[key.wire].name,
+            key.dir.name(),
+            2.0 * MARGIN,
+            2.0 * MARGIN / omega
+        ),
+    ))
+}
+
 /// The coupled system's highest frequency by power iteration on `M⁻¹K` about the static state
 /// (see the module's notes), and the part of the model that sets it. Deterministic: the start
 /// vector comes from a fixed sequence.
@@ -208,6 +269,22 @@ pub fn coupled_limit(cm: &CompiledModel, plan: &Plan) -> Result<CoupledLimit, Ca
         if it + 1 >= MIN_ITERATIONS && (history[it] - history[it - w]).abs() <= TOLERANCE * lambda {
             break;
         }
+    }
+    // The power iteration converges from below: where it stopped short of a wire's highest mode
+    // alone (a dense top of the spectrum), that mode's bound is the better estimate.
+    if let Some((w2, b)) = top_mode_bound(cm).filter(|&(w2, _)| w2 > lambda) {
+        let key = cm.model().layout.blocks[b].key;
+        return Ok(CoupledLimit {
+            omega_rad_s: w2.sqrt(),
+            dt_max_s: 2.0 * MARGIN / w2.sqrt(),
+            limiting: format!(
+                "the {} wire's own {} stiffness (its highest mode alone: the power iteration stopped below it after {} iterations)",
+                cm.model().wires[key.wire].name,
+                key.dir.name(),
+                history.len()
+            ),
+            iterations: history.len(),
+        });
     }
     let omega = lambda.sqrt();
     let limiting = if omega > 0.0 {

@@ -7,6 +7,7 @@ mod cases;
 mod common;
 mod compare;
 mod convergence;
+mod curves;
 mod design;
 mod dynamics;
 mod en50318_2002;

@@ -160,8 +160,19 @@ pub(super) fn lateral_geometry(case: &Case, w: &mut Vec<Warning>) -> Result<(), 
                     "catenary.lateral is given but run.dofs has no \"lateral\": stagger and lateral registration are ignored".into(),
                 ));
             }
+            curve(case, l, w)?;
+            // The stagger's usual range is about the pantograph's centre line: on a canted
+            // curve that is the track's, moved toward the curve's centre.
+            let off = l.head_offset_m();
+            let stagger = |w: &mut Vec<Warning>, field: &str, s: f64| {
+                if off == 0.0 {
+                    check_bound(w, field, s, &bounds::STAGGER)
+                } else {
+                    check_bound(w, &format!("{field} (from the head's centre, {off:.3} m off the track's on the canted curve)"), s - off, &bounds::STAGGER)
+                }
+            };
             match (&l.stagger_m, &l.stagger_list_m) {
-                (Some(s), None) => check_bound(w, "catenary.lateral.stagger_m", *s, &bounds::STAGGER)?,
+                (Some(s), None) => stagger(w, "catenary.lateral.stagger_m", *s)?,
                 (None, Some(list)) => {
                     if list.is_empty() {
                         return Err(inv(
@@ -171,12 +182,7 @@ pub(super) fn lateral_geometry(case: &Case, w: &mut Vec<Warning>) -> Result<(), 
                         ));
                     }
                     for (i, s) in list.iter().enumerate() {
-                        check_bound(
-                            w,
-                            &format!("catenary.lateral.stagger_list_m[{i}]"),
-                            *s,
-                            &bounds::STAGGER,
-                        )?;
+                        stagger(w, &format!("catenary.lateral.stagger_list_m[{i}]"), *s)?;
                     }
                 }
                 (None, None) => {}
@@ -236,6 +242,45 @@ pub(super) fn lateral_geometry(case: &Case, w: &mut Vec<Warning>) -> Result<(), 
             ))
         }
         None => {}
+    }
+    Ok(())
+}
+
+/// A curved track: its radius against the span (the chord's bow is second order in `s/R`), its
+/// cant only with a radius.
+fn curve(case: &Case, l: &LateralCase, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let (c, f) = (&case.catenary, |k: &str| format!("catenary.lateral.{k}"));
+    if let Some(r) = l.track_radius_m {
+        if case.wind.is_some() {
+            return Err(inv(
+                "wind",
+                "given",
+                "a crosswind on a curved track is not modelled: the wind's angle to the track turns along the curve, and pcsim takes the wind normal to the track everywhere (remove [wind] or catenary.lateral.track_radius_m)",
+            ));
+        }
+        if !r.is_finite() {
+            return Err(inv(&f("track_radius_m"), num(r), "must be a finite number"));
+        }
+        check_bound(w, &f("track_radius_m"), r.abs(), &bounds::TRACK_RADIUS)?;
+        if c.span_m > 0.2 * r.abs() {
+            return Err(inv(
+                &f("track_radius_m"),
+                num(r),
+                &format!(
+                    "a span of {} m on a radius of {} m: the chord's bow is taken to second order in span/radius, valid up to a span of a fifth of the radius",
+                    c.span_m,
+                    r.abs()
+                ),
+            ));
+        }
+    }
+    check_bound(w, &f("cant_m"), l.cant_m, &bounds::CANT)?;
+    if l.cant_m != 0.0 && l.track_radius_m.is_none() {
+        return Err(inv(
+            &f("cant_m"),
+            num(l.cant_m),
+            "a cant needs a curve: give catenary.lateral.track_radius_m (a straight track has no cant)",
+        ));
     }
     Ok(())
 }
