@@ -104,6 +104,8 @@ fn run_writes_summary_and_timeseries() {
 fn missing_file_is_a_clear_error() {
     let out = pcsim()
         .args(["run", "/no/such/case.toml", "--quiet"])
+        .arg("--out")
+        .arg(crate::common::own_out())
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
@@ -796,6 +798,8 @@ fn window_shards_merge_to_the_unsharded_result() {
     // Tolerances are flags with their unit.
     let r = pcsim()
         .args(["window", "--preset", "syt-7.0-9.8", "--sigma-tol=0%"])
+        .arg("--out")
+        .arg(crate::common::own_out())
         .output()
         .unwrap();
     assert!(!r.status.success());

@@ -49,6 +49,8 @@ fn issue_10_1_tiny_speed_is_refused_with_the_step_estimate() {
             "1e-6",
             "--quiet",
         ])
+        .arg("--out")
+        .arg(crate::common::own_out())
         .output()
         .unwrap();
     refused(
@@ -69,7 +71,14 @@ fn issue_10_1_tiny_dt_in_a_case_file_is_refused() {
             "dt_s = { value = 1e-12",
         ),
     );
-    let o = pcsim().arg("run").arg(&p).arg("--quiet").output().unwrap();
+    let o = pcsim()
+        .arg("run")
+        .arg(&p)
+        .arg("--quiet")
+        .arg("--out")
+        .arg(crate::common::own_out())
+        .output()
+        .unwrap();
     refused(&o, &["run.dt_s", "steps"]);
 }
 
@@ -188,7 +197,12 @@ fn issue_10_2_huge_models_are_refused_before_they_are_built() {
     let o = run_within(
         {
             let mut c = pcsim();
-            c.arg("run").arg(&p).arg("--quiet");
+            // Its own output directory: another test's run in the crate's `out` holds its lock.
+            c.arg("run")
+                .arg(&p)
+                .arg("--quiet")
+                .arg("--out")
+                .arg(d.join("o"));
             c
         },
         Duration::from_secs(20),
@@ -208,7 +222,12 @@ fn issue_10_2_huge_models_are_refused_before_they_are_built() {
     let o = run_within(
         {
             let mut c = pcsim();
-            c.arg("run").arg(&p).arg("--quiet");
+            // Its own output directory: another test's run in the crate's `out` holds its lock.
+            c.arg("run")
+                .arg(&p)
+                .arg("--quiet")
+                .arg("--out")
+                .arg(d.join("o"));
             c
         },
         Duration::from_secs(20),
@@ -262,7 +281,13 @@ fn issue_10_4_plot_of_an_empty_timeseries_is_an_error_not_a_hang() {
 fn issue_10_5_a_toml_error_always_says_what_is_wrong() {
     let d = scratch("toml");
     let p = write(&d, "t.toml", "[run]\nspeed_kmh =");
-    let o = pcsim().arg("run").arg(&p).output().unwrap();
+    let o = pcsim()
+        .arg("run")
+        .arg(&p)
+        .arg("--out")
+        .arg(crate::common::own_out())
+        .output()
+        .unwrap();
     refused(&o, &["line 2", "missing", "speed_kmh ="]);
     // Item 17: the file is named once.
     assert_eq!(stderr(&o).matches("t.toml").count(), 1, "{}", stderr(&o));
@@ -517,6 +542,8 @@ fn issue_10_16_flags_of_the_other_bench_mode_and_zero_jobs_are_refused() {
     refused(
         &pcsim()
             .args(["eva", "--preset", "syt-7.0-9.8", "--jobs", "0"])
+            .arg("--out")
+            .arg(crate::common::own_out())
             .output()
             .unwrap(),
         &["--jobs 0"],
@@ -568,6 +595,8 @@ fn issue_10_12_a_tension_override_carries_its_unit_and_errors_name_it() {
             .arg("run")
             .arg(&case)
             .args(["--speed", "250kg", "--quiet"])
+            .arg("--out")
+            .arg(crate::common::own_out())
             .output()
             .unwrap(),
         &["--speed", "unknown unit"],

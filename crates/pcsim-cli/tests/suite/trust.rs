@@ -762,7 +762,14 @@ fn issue_19_8_errors_name_the_field_and_print_numbers_shortly() {
     let bad = toml::to_string(&v).unwrap();
     let p = d.join("bad-pantograph.toml");
     std::fs::write(&p, bad).unwrap();
-    let o = pcsim().arg("run").arg(&p).arg("--quiet").output().unwrap();
+    let o = pcsim()
+        .arg("run")
+        .arg(&p)
+        .arg("--quiet")
+        .arg("--out")
+        .arg(crate::common::own_out())
+        .output()
+        .unwrap();
     refused(&o, &["pantographs[0].masses_kg"]);
     assert_eq!(
         stderr(&o).matches("expected a sequence").count(),
@@ -775,7 +782,14 @@ fn issue_19_8_errors_name_the_field_and_print_numbers_shortly() {
     c.run.speed_kmh = 1e-300;
     let p = d.join("tiny.toml");
     std::fs::write(&p, c.to_toml_string()).unwrap();
-    let o = pcsim().arg("run").arg(&p).arg("--quiet").output().unwrap();
+    let o = pcsim()
+        .arg("run")
+        .arg(&p)
+        .arg("--quiet")
+        .arg("--out")
+        .arg(crate::common::own_out())
+        .output()
+        .unwrap();
     refused(&o, &["1e-300"]);
     assert!(stderr(&o).len() < 600, "{}", stderr(&o));
     // 20 mm of ice hangs on the ice-free design (issue 20, item 6): the droppers keep their

@@ -223,3 +223,29 @@ fn issue_41_curves_refuse_what_they_cannot_model_by_name() {
         .wind;
     assert_eq!(field(&windy), "wind");
 }
+
+/// On a canted curve the stagger's usual range is about the head's centre: the curve preset's
+/// staggers (0.53 ± 0.2 m from the track's centre line) give no warning; the straight track's
+/// ±0.3 m there lies up to 0.83 m from the head's centre and is warned about, naming the field.
+#[test]
+fn issue_41_on_a_canted_curve_the_stagger_is_judged_from_the_heads_centre() {
+    let (preset, _) = pcsim_core::presets::load("stitched-2018-like-3d-curve").unwrap();
+    let stagger_warnings = |c: &Case| {
+        c.validate()
+            .unwrap()
+            .into_iter()
+            .filter(|w| w.0.contains("stagger"))
+            .count()
+    };
+    assert_eq!(stagger_warnings(&preset), 0);
+    let mut c = preset.clone();
+    let l = c.catenary.lateral.as_mut().unwrap();
+    l.stagger_list_m = None;
+    l.stagger_m = Some(0.3);
+    let w = c.validate().unwrap();
+    assert!(
+        w.iter()
+            .any(|w| w.0.contains("catenary.lateral.stagger_m") && w.0.contains("head's centre")),
+        "{w:?}"
+    );
+}

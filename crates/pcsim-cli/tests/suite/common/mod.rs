@@ -11,6 +11,19 @@ pub fn pcsim() -> Command {
     Command::new(env!("CARGO_BIN_EXE_pcsim"))
 }
 
+/// A fresh output directory under the temporary directory, for a command that would otherwise
+/// write to (and lock) the crate directory's default `out`: a test that expects a refusal never
+/// meets another test's run holding it.
+pub fn own_out() -> PathBuf {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static N: AtomicUsize = AtomicUsize::new(0);
+    std::env::temp_dir().join(format!(
+        "pcsim-own-out-{}-{}",
+        std::process::id(),
+        N.fetch_add(1, Ordering::Relaxed)
+    ))
+}
+
 /// A fresh scratch directory for test file `tag`'s test `name`.
 pub fn scratch(tag: &str, name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("pcsim-{tag}-{}-{name}", std::process::id()));

@@ -164,15 +164,33 @@ pub(super) fn lateral_geometry(case: &Case, w: &mut Vec<Warning>) -> Result<(), 
             // The stagger's usual range is about the pantograph's centre line: on a canted
             // curve that is the track's, moved toward the curve's centre.
             let off = l.head_offset_m();
+            // The value as given against the hard bound; on a canted curve the usual range
+            // (a warning only) from the head's centre.
             let stagger = |w: &mut Vec<Warning>, field: &str, s: f64| {
                 if off == 0.0 {
-                    check_bound(w, field, s, &bounds::STAGGER)
-                } else {
-                    check_bound(w, &format!("{field} (from the head's centre, {off:.3} m off the track's on the canted curve)"), s - off, &bounds::STAGGER)
+                    return check_bound(w, field, s, &bounds::STAGGER);
                 }
+                check_bound(&mut Vec::new(), field, s, &bounds::STAGGER)?;
+                let usual = bounds::Bound {
+                    hard: (f64::NEG_INFINITY, f64::INFINITY),
+                    ..bounds::STAGGER
+                };
+                check_bound(
+                    w,
+                    &format!("{field} (from the head's centre, {off:.3} m off the track's on the canted curve)"),
+                    s - off,
+                    &usual,
+                )
             };
             match (&l.stagger_m, &l.stagger_list_m) {
-                (Some(s), None) => stagger(w, "catenary.lateral.stagger_m", *s)?,
+                (Some(s), None) => {
+                    // Alternating: on a canted curve +s and −s lie at different distances from
+                    // the head's centre.
+                    stagger(w, "catenary.lateral.stagger_m", *s)?;
+                    if off != 0.0 {
+                        stagger(w, "catenary.lateral.stagger_m", -*s)?;
+                    }
+                }
                 (None, Some(list)) => {
                     if list.is_empty() {
                         return Err(inv(
