@@ -25,50 +25,7 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
             "more than 64 tension lengths (about 90 km) is not a line this tool runs in one model",
         ));
     }
-    for (field, given) in [
-        (
-            "run.dofs",
-            case.run.dofs.iter().any(|d| *d != Dof::Vertical),
-        ),
-        ("catenary.lateral", c.lateral.is_some()),
-        ("wind", case.wind.is_some()),
-    ] {
-        if given {
-            return Err(inv(
-                field,
-                "given",
-                "a [line] is vertical only in this version (with ice and irregularity), without wind: use [catenary] for those",
-            ));
-        }
-    }
-    // A profile along the track applies on a line; the dropper pattern repeats per span.
-    for (i, ir) in case.irregularity.iter().enumerate() {
-        if matches!(ir, IrregularityCase::Droppers { .. }) {
-            return Err(inv(
-                &format!("irregularity[{i}].kind"),
-                "droppers",
-                "the dropper-height pattern repeats in every span of a [catenary]; a [line]'s spans and dropper layouts differ: give a measured table or a psd profile along the track",
-            ));
-        }
-    }
-    // Ice sits on each tension length's own wires: a wire a tension length overrides needs its
-    // section (the ice's mass and inertia follow from the diameter).
-    if c.ice.is_some() {
-        for (k, t) in line.tension_lengths.iter().enumerate() {
-            for (name, w) in [
-                ("messenger", &t.messenger),
-                ("contact_wire", &t.contact_wire),
-            ] {
-                if w.as_ref().is_some_and(|w| w.section.is_none()) {
-                    return Err(inv(
-                        &format!("line.tension_lengths[{k}].{name}.section"),
-                        "missing",
-                        "catenary.ice needs the section (diameter_m) of every wire a tension length overrides",
-                    ));
-                }
-            }
-        }
-    }
+    line_physics(case, line)?;
     for (k, t) in line.tension_lengths.iter().enumerate() {
         tension_length(case, k, t, w)?;
     }
@@ -149,6 +106,58 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
         ));
     }
     working_gradients(line, w)
+}
+
+/// What a line carries beyond the vertical model: ice on every tension length's own wires (each
+/// overriding wire with its section), a profile of irregularity along the track; lateral motion
+/// and wind are refused, naming their field.
+fn line_physics(case: &Case, line: &LineCase) -> Result<(), CaseError> {
+    let c = &case.catenary;
+    for (field, given) in [
+        (
+            "run.dofs",
+            case.run.dofs.iter().any(|d| *d != Dof::Vertical),
+        ),
+        ("catenary.lateral", c.lateral.is_some()),
+        ("wind", case.wind.is_some()),
+    ] {
+        if given {
+            return Err(inv(
+                field,
+                "given",
+                "a [line] is vertical only in this version (with ice and irregularity), without wind: use [catenary] for those",
+            ));
+        }
+    }
+    // A profile along the track applies on a line; the dropper pattern repeats per span.
+    for (i, ir) in case.irregularity.iter().enumerate() {
+        if matches!(ir, IrregularityCase::Droppers { .. }) {
+            return Err(inv(
+                &format!("irregularity[{i}].kind"),
+                "droppers",
+                "the dropper-height pattern repeats in every span of a [catenary]; a [line]'s spans and dropper layouts differ: give a measured table or a psd profile along the track",
+            ));
+        }
+    }
+    // Ice sits on each tension length's own wires: a wire a tension length overrides needs its
+    // section (the ice's mass and inertia follow from the diameter).
+    if c.ice.is_some() {
+        for (k, t) in line.tension_lengths.iter().enumerate() {
+            for (name, w) in [
+                ("messenger", &t.messenger),
+                ("contact_wire", &t.contact_wire),
+            ] {
+                if w.as_ref().is_some_and(|w| w.section.is_none()) {
+                    return Err(inv(
+                        &format!("line.tension_lengths[{k}].{name}.section"),
+                        "missing",
+                        "catenary.ice needs the section (diameter_m) of every wire a tension length overrides",
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The working contact wire's design gradient between consecutive supports of a line: the
