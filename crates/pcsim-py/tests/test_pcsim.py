@@ -119,6 +119,9 @@ def test_ctrl_c_interrupts_a_run_with_keyboard_interrupt():
     script = (
         "import os, signal, threading, time, pcsim\n"
         "case = pcsim.Case.preset('stitched-2018-like').with_overrides({'run.speed_kmh': 40.0})\n"
+        # Python's own Ctrl-C handler, as in a terminal: a test runner started in the background
+        # (`cmd &` in a script) hands its children SIGINT ignored, and Python then installs none.
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
         "threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT)).start()\n"
         "t0 = time.perf_counter()\n"
         "try:\n"
