@@ -275,8 +275,15 @@ impl Recorder {
                 } else {
                     // On the head: from its centre, which a canted curve moves off the
                     // track's centre line.
-                    let offset = m.lateral.as_ref().map_or(0.0, |l| l.head_offset_m);
-                    let on_head: Vec<f64> = self.lateral[p].iter().map(|z| z - offset).collect();
+                    let origin = m.track_origin_m;
+                    let on_head: Vec<f64> = (self.lateral[p].iter().zip(&self.pos[p]))
+                        .map(|(z, &x)| {
+                            z - m
+                                .lateral
+                                .as_ref()
+                                .map_or(0.0, |l| l.head_offset_at(x + origin))
+                        })
+                        .collect();
                     lateral_stats(
                         &on_head,
                         &self.pos[p],
@@ -343,13 +350,18 @@ impl Recorder {
                 .collect(),
             droppers: None,
             curve: m.lateral.as_ref().and_then(|l| {
-                let tension = |role| {
-                    m.wire_index(role)
-                        .map_or(0.0, |w| m.wires[w].section.tension_n)
+                // Each wire's polyline with its own tension, by role.
+                let of = |role| -> Vec<(usize, f64)> {
+                    (m.wires.iter().enumerate())
+                        .filter(|(_, w)| w.role == role)
+                        .filter_map(|(i, w)| {
+                            Some((l.wire_line.get(i).copied()??, w.section.tension_n))
+                        })
+                        .collect()
                 };
                 l.curve_report(
-                    tension(crate::model::WireRole::Contact),
-                    tension(crate::model::WireRole::Messenger),
+                    &of(crate::model::WireRole::Contact),
+                    &of(crate::model::WireRole::Messenger),
                 )
             }),
         }

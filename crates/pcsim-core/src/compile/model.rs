@@ -18,7 +18,7 @@ use crate::model::elements::stitch::{Stitch, Stitches};
 use crate::model::elements::support::{Support, Supports};
 use crate::model::elements::{Attach, PointElement};
 use crate::model::irregularity::{IrregularityProfile, IrregularitySource};
-use crate::model::lateral::LateralGeometry;
+use crate::model::lateral::{LateralGeometry, StaggerLine};
 use crate::model::line::{
     LineStatics, SpanLayout, StitchWire, TensionLengthDesign, TensionLengthStatics,
 };
@@ -388,7 +388,7 @@ pub fn model_from_validated(
     let wires = build_wires(case, &iced, &placed, wind.as_ref(), &dirs);
     warnings.extend(wind_warnings(wind.as_ref(), &wires, &dirs));
     let points = build_point_elements(&placed, &iced.catenary, &dirs);
-    let (registrations, geometry) = build_registrations(&iced.catenary, &placed.tls[0], &dirs);
+    let (registrations, geometry) = build_registrations(case, &iced.catenary, &placed, &dirs);
     let (pans, contacts) = build_pantographs(case, &placed, &iced.catenary, &dirs);
     // The registration of every element kind, in the order their forces are evaluated.
     let mut elements: Vec<Box<dyn PointElement>> = vec![
@@ -706,12 +706,14 @@ fn build_point_elements(placed: &Placed, c: &CatenaryCase, dirs: &Dirs) -> Point
     p
 }
 
-/// Lateral registration at the inner supports of the first tension length (the model's ends are
-/// pinned by the sine series): the contact wire's steady arm, eccentric by e_s, and the
-/// messenger's support; and the lateral geometry (stagger, probes). None without lateral motion.
+/// Lateral registration at the inner supports of every tension length (each wire's ends are
+/// pinned by its sine series): the contact wire's steady arm, eccentric by e_s, and the
+/// messenger's support; and the lateral geometry (each tension length's stagger, the curve per
+/// span, the probes). None without lateral motion.
 fn build_registrations(
+    case: &Case,
     c: &CatenaryCase,
-    first: &PlacedTl,
+    placed: &Placed,
     dirs: &Dirs,
 ) -> (Vec<Registration>, Option<LateralGeometry>) {
     let torsional = dirs.torsional;
@@ -724,58 +726,109 @@ fn build_registrations(
     } else {
         0.0
     };
-    for (k, &x) in first.interior_supports_m.iter().enumerate() {
-        let k_phi = lc.steady_arm_torsional_stiffness_nm_per_rad;
-        registrations.push(Registration {
-            at: on_dir(CONTACT, Direction::Lateral, x, true),
-            twist: on_dir(
-                CONTACT,
-                Direction::Torsional,
-                x,
-                torsional && (e_s != 0.0 || k_phi != 0.0),
-            ),
-            torsional_stiffness_nm_per_rad: if torsional { k_phi } else { 0.0 },
-            eccentricity_m: e_s,
-            stiffness_n_per_m: lc.steady_arm_stiffness_n_per_m,
-            mass_kg: lc.steady_arm_mass_kg,
-            vertical_force_n: if c.steady_arm.static_support {
-                first.arm_force_n[k]
-            } else {
-                0.0
-            },
-        });
-        registrations.push(Registration {
-            at: on_dir(MESSENGER, Direction::Lateral, x, true),
-            twist: Attach::Ground,
-            eccentricity_m: 0.0,
-            stiffness_n_per_m: lc.messenger_support_stiffness_n_per_m,
-            mass_kg: 0.0,
-            vertical_force_n: 0.0,
-            torsional_stiffness_nm_per_rad: 0.0,
-        });
+    let k_phi = lc.steady_arm_torsional_stiffness_nm_per_rad;
+    for (k, tl) in placed.tls.iter().enumerate() {
+        let (mw, cw) = (2 * k + MESSENGER, 2 * k + CONTACT);
+        for (i, &x) in tl.interior_supports_m.iter().enumerate() {
+            registrations.push(Registration {
+                at: on_dir(cw, Direction::Lateral, x, true),
+                twist: on_dir(
+                    cw,
+                    Direction::Torsional,
+                    x,
+                    torsional && (e_s != 0.0 || k_phi != 0.0),
+                ),
+                torsional_stiffness_nm_per_rad: if torsional { k_phi } else { 0.0 },
+                eccentricity_m: e_s,
+                stiffness_n_per_m: lc.steady_arm_stiffness_n_per_m,
+                mass_kg: lc.steady_arm_mass_kg,
+                vertical_force_n: if tl.catenary.steady_arm.static_support {
+                    tl.arm_force_n[i]
+                } else {
+                    0.0
+                },
+            });
+            registrations.push(Registration {
+                at: on_dir(mw, Direction::Lateral, x, true),
+                twist: Attach::Ground,
+                eccentricity_m: 0.0,
+                stiffness_n_per_m: lc.messenger_support_stiffness_n_per_m,
+                mass_kg: 0.0,
+                vertical_force_n: 0.0,
+                torsional_stiffness_nm_per_rad: 0.0,
+            });
+        }
     }
-    let mut probes: Vec<f64> = Vec::new();
-    for s in 0..c.spans {
-        let x0 = s as f64 * c.span_m;
-        probes.extend(c.droppers.positions_m.iter().map(|d| x0 + d));
-        probes.push(x0 + 0.5 * c.span_m);
+    (
+        registrations,
+        Some(lateral_geometry(case, lc, placed, torsional)),
+    )
+}
+
+/// The lateral geometry of a case: the supports, each tension length's stagger polyline (its
+/// two wires share it), the curve and the head's offset per span, and the blow-out probes
+/// (each contact wire's droppers and mid-spans).
+fn lateral_geometry(
+    case: &Case,
+    lc: &crate::input::lateral::LateralCase,
+    placed: &Placed,
+    torsional: bool,
+) -> LateralGeometry {
+    use crate::input::lateral::head_offset_m;
+    let default = (lc.track_radius_m, lc.cant_m);
+    let (staggers, curves, uniform) = match &case.line {
+        None => {
+            let c = &case.catenary;
+            (
+                vec![(0..=c.spans).map(|i| lc.stagger_at(i)).collect::<Vec<_>>()],
+                vec![default; c.spans],
+                Some(c.span_m),
+            )
+        }
+        Some(line) => (
+            line.staggers_m(&|i| lc.stagger_at(i)),
+            line.span_curves(default),
+            None,
+        ),
+    };
+    let mut probes: Vec<(usize, f64)> = Vec::new();
+    for (k, tl) in placed.tls.iter().enumerate() {
+        let cw = 2 * k + CONTACT;
+        let mut xs: Vec<f64> = tl.hangers.iter().map(|h| h.x_m).collect();
+        let sup = &tl.supports_m;
+        xs.extend(sup.windows(2).map(|w| match uniform {
+            Some(span) => w[0] + 0.5 * span,
+            None => w[0] + 0.5 * (w[1] - w[0]),
+        }));
+        xs.sort_by(f64::total_cmp);
+        xs.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+        probes.extend(xs.into_iter().map(|x| (cw, x)));
     }
-    probes.sort_by(f64::total_cmp);
-    probes.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
-    let geometry = LateralGeometry {
-        first_support_m: 0.0,
-        span_m: c.span_m,
-        stagger_m: (0..=c.spans).map(|i| lc.stagger_at(i)).collect(),
+    LateralGeometry {
+        supports_m: placed.supports_m.clone(),
+        uniform_span_m: uniform,
+        lines: (placed.tls.iter().zip(staggers))
+            .map(|(tl, stagger_m)| StaggerLine {
+                first_support: tl.first_support,
+                stagger_m,
+            })
+            .collect(),
+        wire_line: (0..2 * placed.tls.len()).map(|w| Some(w / 2)).collect(),
+        curvature_per_m: curves
+            .iter()
+            .map(|(r, _)| r.map_or(0.0, |r| 1.0 / r))
+            .collect(),
+        head_offset_m: curves
+            .iter()
+            .map(|&(r, cant)| head_offset_m(r, cant, lc.contact_wire_height_m))
+            .collect(),
         contact_point_eccentricity_m: if torsional {
             lc.contact_point_eccentricity_m
         } else {
             0.0
         },
         probes_m: probes,
-        curvature_per_m: lc.track_radius_m.map_or(0.0, |r| 1.0 / r),
-        head_offset_m: lc.head_offset_m(),
-    };
-    (registrations, Some(geometry))
+    }
 }
 
 /// The pantographs and their contacts with every contact wire (the contact point below the axis
@@ -831,6 +884,10 @@ struct PlacedTl {
     hangers: Vec<Hanger>,
     /// The interior supports (where the messenger supports and steady arms are), m.
     interior_supports_m: Vec<f64>,
+    /// Every support of it, ends included, m.
+    supports_m: Vec<f64>,
+    /// The index of its first support among the line's.
+    first_support: usize,
     /// The steady arm's static force at each interior support, N.
     arm_force_n: Vec<f64>,
 }
@@ -914,6 +971,8 @@ fn place(case: &Case) -> Result<Placed, CaseError> {
                     })
                     .collect(),
                 interior_supports_m: st.supports_m[1..ns].to_vec(),
+                supports_m: st.supports_m.clone(),
+                first_support: line.first_support(k),
                 arm_force_n: st.arm_force_n[1..ns].to_vec(),
                 catenary: ck,
             });
@@ -956,6 +1015,8 @@ fn place(case: &Case) -> Result<Placed, CaseError> {
             length_m: case.length_m(),
             hangers,
             interior_supports_m: (1..c.spans).map(|s| s as f64 * c.span_m).collect(),
+            supports_m: (0..=c.spans).map(|s| s as f64 * c.span_m).collect(),
+            first_support: 0,
             arm_force_n: vec![stat.arm_force_n; c.spans.saturating_sub(1)],
         }],
         supports_m: (0..=c.spans).map(|s| s as f64 * c.span_m).collect(),

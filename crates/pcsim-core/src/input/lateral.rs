@@ -156,14 +156,22 @@ fn is_zero(v: &f64) -> bool {
 /// about 1 500 mm between the rail heads' centres), m: the base of the cant.
 pub const CANT_BASE_M: f64 = 1.5;
 
+/// How far the pantograph's head stands from the track's centre line toward the curve's centre
+/// on a track of radius `radius_m` (signed; `None`: straight) canted by `cant_m`, for a contact
+/// wire `contact_wire_height_m` above the rails, m: `sign(R) h cant / 1.5` (0 on straight or
+/// uncanted track).
+pub fn head_offset_m(radius_m: Option<f64>, cant_m: f64, contact_wire_height_m: f64) -> f64 {
+    match radius_m {
+        Some(r) => r.signum() * contact_wire_height_m * cant_m / CANT_BASE_M,
+        None => 0.0,
+    }
+}
+
 impl LateralCase {
     /// How far the pantograph's head stands from the track's centre line toward the curve's
     /// centre on a canted track, m (0 on straight or uncanted track).
     pub fn head_offset_m(&self) -> f64 {
-        match self.track_radius_m {
-            Some(r) => r.signum() * self.contact_wire_height_m * self.cant_m / CANT_BASE_M,
-            None => 0.0,
-        }
+        head_offset_m(self.track_radius_m, self.cant_m, self.contact_wire_height_m)
     }
 
     /// Stagger at support `i`, m.

@@ -61,6 +61,13 @@ pub struct SpanRun {
     pub count: usize,
     /// Their length, m.
     pub length_m: f64,
+    /// The track's radius along the run, m, signed as `catenary.lateral.track_radius_m` (issue
+    /// 41: a curve per run of spans); by default `catenary.lateral`'s (straight without it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub track_radius_m: Option<f64>,
+    /// The cant along the run, m (with `track_radius_m`); by default `catenary.lateral.cant_m`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cant_m: Option<f64>,
 }
 
 /// One tension length.
@@ -85,6 +92,11 @@ pub struct TensionLengthCase {
     /// default `catenary.encumbrance_m`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub encumbrance_m: Vec<f64>,
+    /// The contact wire's stagger at each support, m (one per support; with lateral motion). By
+    /// default `catenary.lateral`'s pattern, counted along the line's supports, and through an
+    /// overlap the two wires side by side ([`LineCase::staggers_m`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stagger_m: Vec<f64>,
     /// This tension length's contact wire, where it differs from `catenary.contact_wire`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contact_wire: Option<WireCase>,
@@ -154,6 +166,19 @@ impl TensionLengthCase {
         s
     }
 
+    /// Each span's curve, `(radius, cant)`: a run's own, else `default` (`catenary.lateral`'s).
+    pub fn span_curves(&self, default: (Option<f64>, f64)) -> Vec<(Option<f64>, f64)> {
+        let mut c = vec![default; self.spans_m.len()];
+        for r in &self.span_runs {
+            let own = match r.track_radius_m {
+                Some(radius) => (Some(radius), r.cant_m.unwrap_or(default.1)),
+                None => (default.0, r.cant_m.unwrap_or(default.1)),
+            };
+            c.extend(std::iter::repeat_n(own, r.count));
+        }
+        c
+    }
+
     /// The number of spans (runs counted without expanding them).
     pub fn n_spans(&self) -> usize {
         self.span_runs
@@ -211,6 +236,75 @@ impl LineCase {
             x0 += lengths[..lengths.len() - shared].iter().sum::<f64>();
         }
         starts
+    }
+
+    /// The index of tension length `k`'s first support among the line's supports
+    /// ([`LineCase::supports_m`]).
+    pub fn first_support(&self, k: usize) -> usize {
+        (0..k).fold(0, |a, j| {
+            let n = self.tension_lengths[j].n_spans();
+            a + n - self.overlaps.get(j).map_or(0, |o| o.spans).min(n)
+        })
+    }
+
+    /// Each span of the line's curve `(radius, cant)`: the tension length's that first covers
+    /// it (an overlap's spans are checked to agree, `input::validate`).
+    pub fn span_curves(&self, default: (Option<f64>, f64)) -> Vec<(Option<f64>, f64)> {
+        let mut out: Vec<(Option<f64>, f64)> = Vec::new();
+        for (k, t) in self.tension_lengths.iter().enumerate() {
+            let first = self.first_support(k);
+            for (j, c) in t.span_curves(default).into_iter().enumerate() {
+                if first + j >= out.len() {
+                    out.push(c);
+                }
+            }
+        }
+        out
+    }
+
+    /// The contact wire's stagger at each support of each tension length, m: the tension
+    /// length's own `stagger_m`, or the pattern `pattern(i)` at the line's support `i`; through
+    /// an overlap of `n` spans the two wires lie about the pattern `±σ_j e/2` apart (`e` the
+    /// overlap's `separation_m`), `σ_j` running from −1 at the overlap's first shared support to
+    /// +1 at its last (the wire that leaves on `+`, the one that arrives on `−`): side by side
+    /// at the ends, crossing in plan midway, where the heights cross too. The default layout is
+    /// a guess: the public design rules (EN 50119 §5.2.5 asks only for the changeover's
+    /// clearances) leave the overlap's plan to each system.
+    pub fn staggers_m(&self, pattern: &dyn Fn(usize) -> f64) -> Vec<Vec<f64>> {
+        let ntl = self.tension_lengths.len();
+        (0..ntl)
+            .map(|k| {
+                let t = &self.tension_lengths[k];
+                let n = t.n_spans();
+                if !t.stagger_m.is_empty() {
+                    return t.stagger_m.clone();
+                }
+                let first = self.first_support(k);
+                (0..=n)
+                    .map(|j| {
+                        let mut y = pattern(first + j);
+                        // Leaving into overlap k (its first shared support at local n − o).
+                        if let Some(o) = self.overlaps.get(k).filter(|o| o.spans > 0) {
+                            if j + o.spans >= n {
+                                let sigma = -1.0 + 2.0 * (j + o.spans - n) as f64 / o.spans as f64;
+                                y += sigma * 0.5 * o.separation_m;
+                            }
+                        }
+                        // Arriving from overlap k − 1 (shared supports local 0 … o).
+                        if let Some(o) = (k.checked_sub(1))
+                            .and_then(|i| self.overlaps.get(i))
+                            .filter(|o| o.spans > 0)
+                        {
+                            if j <= o.spans {
+                                let sigma = -1.0 + 2.0 * j as f64 / o.spans as f64;
+                                y -= sigma * 0.5 * o.separation_m;
+                            }
+                        }
+                        y
+                    })
+                    .collect()
+            })
+            .collect()
     }
 
     /// Track positions of the supports of tension length `k`, m.

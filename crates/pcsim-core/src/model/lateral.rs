@@ -1,83 +1,189 @@
-//! The static lateral shape (issue 12): stagger. The contact wire is registered at each support
-//! at its stagger and runs straight between registration points (a tensioned wire with no
-//! lateral load); the messenger follows the same stagger, as on most high-speed lines, so that
-//! the droppers hang vertically in still air and carry no static lateral force. The kinks at the
-//! supports are carried by the steady arms and the messenger supports, whose static forces are
-//! not part of the deviation. A steady wind adds its static deflection to this shape; that part is
-//! solved with the dynamic model's own operators (`solve::Integrator::initial_state`), so that the
-//! run starts in equilibrium.
+//! The static lateral shape (issue 12; lines and curves, issue 41): stagger. Each contact wire
+//! is registered at each of its supports at its stagger and runs straight between registration
+//! points (a tensioned wire with no lateral load); its messenger follows the same stagger, as on
+//! most high-speed lines, so that the droppers hang vertically in still air and carry no static
+//! lateral force. The kinks at the supports are carried by the steady arms and the messenger
+//! supports, whose static forces are not part of the deviation. On a line each tension length's
+//! wires have their own stagger at their own supports; in an overlap the two contact wires run
+//! side by side and cross in plan. A steady wind adds its static deflection to this shape; that
+//! part is solved with the dynamic model's own operators (`solve::Integrator::initial_state`), so
+//! that the run starts in equilibrium.
 
-/// The stagger polyline and the lateral constants the run's outputs need.
+/// One stagger polyline: a wire's static lateral position at a run of consecutive supports.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StaggerLine {
+    /// Index of the polyline's first support in [`LateralGeometry::supports_m`].
+    pub first_support: usize,
+    /// Stagger at supports `first_support`, `first_support + 1`, … (the ends held beyond), m.
+    pub stagger_m: Vec<f64>,
+}
+
+/// Where a track position lies among the supports.
+enum At {
+    Before,
+    Span(usize, f64),
+    After,
+}
+
+/// The stagger polylines of the model's wires and the lateral constants the run's outputs need.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LateralGeometry {
-    /// Track position of support 0, m.
-    pub first_support_m: f64,
-    /// Span length, m.
-    pub span_m: f64,
-    /// Stagger at supports 0, 1, 2, … (the last repeats beyond), m.
-    pub stagger_m: Vec<f64>,
+    /// Track positions of the supports, increasing, m.
+    pub supports_m: Vec<f64>,
+    /// The span when every span is as long (a `[catenary]`): the uniform path of
+    /// [`LateralGeometry::stagger_at`].
+    pub uniform_span_m: Option<f64>,
+    /// The stagger polylines (a `[catenary]` has one, shared by its two wires; a line one per
+    /// tension length).
+    pub lines: Vec<StaggerLine>,
+    /// Per wire of the model: the index of its polyline in `lines` (`None`: no static stagger).
+    pub wire_line: Vec<Option<usize>>,
+    /// Per span (between supports `i` and `i + 1`): the track's curvature, 1/m, positive toward
+    /// positive stagger (0: straight).
+    pub curvature_per_m: Vec<f64>,
+    /// Per span: the pantograph head's centre from the track's centre line (a canted curve), m.
+    pub head_offset_m: Vec<f64>,
     /// Depth of the contact point below the contact wire's axis, m: the contact point's lateral
     /// position is `z − e_c φ`.
     pub contact_point_eccentricity_m: f64,
-    /// Positions (model coordinates: a window's own) where the contact wire's lateral deviation
-    /// is monitored for the blow-out: droppers and mid-spans.
-    pub probes_m: Vec<f64>,
-    /// Curvature of the track, 1/m, positive toward positive stagger (0: straight).
-    pub curvature_per_m: f64,
-    /// The pantograph head's centre from the track's centre line on a canted curve, m.
-    pub head_offset_m: f64,
+    /// `(wire, position)` (model coordinates: a window's own) where a contact wire's lateral
+    /// deviation is monitored for the blow-out: droppers and mid-spans.
+    pub probes_m: Vec<(usize, f64)>,
 }
 
 impl LateralGeometry {
-    /// Static lateral position of the wires at track position `x` from the track's centre line,
-    /// m: the straight line between the staggers of the neighbouring supports, and in a curve of
-    /// curvature `κ` that chord's bow toward the centre, `κ (x − x_i)(x_{i+1} − x) / 2` (the
-    /// chord against the arc, to second order in the span over the radius).
-    pub fn stagger_at(&self, x: f64) -> f64 {
-        let n = self.stagger_m.len();
+    /// Where track position `x` lies among the supports: before the first, in span `i` at
+    /// fraction `t ∈ (0, 1)`, or beyond the last.
+    fn span_of(&self, x: f64) -> At {
+        let s = &self.supports_m;
+        let n = s.len();
+        if n < 2 {
+            return At::Before;
+        }
+        if let Some(span) = self.uniform_span_m {
+            let r = (x - s[0]) / span;
+            if r <= 0.0 {
+                return At::Before;
+            }
+            let i = r.floor() as usize;
+            if i + 1 >= n {
+                return At::After;
+            }
+            return At::Span(i, r - i as f64);
+        }
+        if x <= s[0] {
+            return At::Before;
+        }
+        let i = s.partition_point(|&p| p <= x);
+        if i >= n {
+            return At::After;
+        }
+        let i = i - 1;
+        At::Span(i, (x - s[i]) / (s[i + 1] - s[i]))
+    }
+
+    /// Length of span `i`, m.
+    fn span_len(&self, i: usize) -> f64 {
+        self.uniform_span_m
+            .unwrap_or_else(|| self.supports_m[i + 1] - self.supports_m[i])
+    }
+
+    /// Static lateral position of wire `wire` at track position `x` from the track's centre
+    /// line, m: the straight line between the staggers of the neighbouring supports, and in a
+    /// curve of curvature `κ` that chord's bow toward the centre, `κ (x − x_i)(x_{i+1} − x) / 2`
+    /// (the chord against the arc, to second order in the span over the radius). Beyond the
+    /// wire's end supports its end staggers hold.
+    pub fn stagger_at(&self, wire: usize, x: f64) -> f64 {
+        let Some(line) = self.wire_line.get(wire).copied().flatten() else {
+            return 0.0;
+        };
+        let l = &self.lines[line];
+        let n = l.stagger_m.len();
         if n == 0 {
             return 0.0;
         }
-        let s = (x - self.first_support_m) / self.span_m;
-        if s <= 0.0 {
-            return self.stagger_m[0];
-        }
-        let i = s.floor() as usize;
-        if i + 1 >= n {
-            return self.stagger_m[n - 1];
-        }
-        let t = s - i as f64;
-        let chord = self.stagger_m[i] + t * (self.stagger_m[i + 1] - self.stagger_m[i]);
-        if self.curvature_per_m == 0.0 {
+        let last = l.first_support + n - 1;
+        let (i, t) = match self.span_of(x) {
+            At::Span(span, t) if span >= l.first_support && span < last => (span, t),
+            At::Span(span, _) if span >= last => return l.stagger_m[n - 1],
+            At::After => return l.stagger_m[n - 1],
+            _ => return l.stagger_m[0],
+        };
+        let span = i;
+        let i = i - l.first_support;
+        let chord = l.stagger_m[i] + t * (l.stagger_m[i + 1] - l.stagger_m[i]);
+        let kappa = self.curvature_per_m.get(span).copied().unwrap_or(0.0);
+        if kappa == 0.0 {
             return chord;
         }
-        let bow = 0.5 * self.curvature_per_m * (t * self.span_m) * ((1.0 - t) * self.span_m);
+        let s = self.span_len(span);
+        let bow = 0.5 * kappa * (t * s) * ((1.0 - t) * s);
         chord + bow
     }
 
-    /// The static lateral force each interior registration applies to a wire of tension
-    /// `tension_n` (positive toward positive stagger), N: the tension's change of direction
-    /// there, `T [(y_{i+1} − 2y_i + y_{i−1})/s + κ s]` (the kink of the stagger, and in a curve
-    /// the pull-off `T s / R`). Registrations 1 … n−2 (the interior supports), in order.
-    pub fn registration_forces_n(&self, tension_n: f64) -> Vec<f64> {
-        let (y, s) = (&self.stagger_m, self.span_m);
+    /// The pantograph head's centre from the track's centre line at track position `x`, m.
+    pub fn head_offset_at(&self, x: f64) -> f64 {
+        match self.head_offset_m.len() {
+            0 => 0.0,
+            1 => self.head_offset_m[0],
+            n => match self.span_of(x) {
+                At::Before => self.head_offset_m[0],
+                At::Span(i, _) => self.head_offset_m[i.min(n - 1)],
+                At::After => self.head_offset_m[n - 1],
+            },
+        }
+    }
+
+    /// Whether the track curves anywhere.
+    pub fn curved(&self) -> bool {
+        self.curvature_per_m.iter().any(|&k| k != 0.0)
+    }
+
+    /// The static lateral force each interior registration of polyline `line` applies to a
+    /// wire of tension `tension_n` (positive toward positive stagger), N: the tension's change
+    /// of direction there, `T [(y_{i+1} − y_i)/s_i − (y_i − y_{i−1})/s_{i−1} + (κ_{i−1} s_{i−1}
+    /// + κ_i s_i)/2]` (the kink of the stagger, and in a curve the pull-off, `T s / R` on equal
+    /// spans). The polyline's interior supports, in order.
+    pub fn registration_forces_n(&self, line: usize, tension_n: f64) -> Vec<f64> {
+        let l = &self.lines[line];
+        let y = &l.stagger_m;
         (1..y.len().saturating_sub(1))
             .map(|i| {
-                tension_n * ((y[i + 1] - 2.0 * y[i] + y[i - 1]) / s + self.curvature_per_m * s)
+                let g = l.first_support + i;
+                let (s0, s1) = (self.span_len(g - 1), self.span_len(g));
+                let k0 = self.curvature_per_m.get(g - 1).copied().unwrap_or(0.0);
+                let k1 = self.curvature_per_m.get(g).copied().unwrap_or(0.0);
+                if self.uniform_span_m.is_some() && k0 == k1 {
+                    // Equal spans on one curve: the same sum in the uniform form.
+                    return tension_n * ((y[i + 1] - 2.0 * y[i] + y[i - 1]) / s1 + k1 * s1);
+                }
+                tension_n
+                    * ((y[i + 1] - y[i]) / s1 - (y[i] - y[i - 1]) / s0 + 0.5 * (k0 * s0 + k1 * s1))
             })
             .collect()
     }
 
-    /// The same geometry for a window starting at track position `origin_m`: the stagger stays in
-    /// track coordinates, the probes inside `(origin, origin + length)` move to the window's.
-    pub fn window(&self, origin_m: f64, length_m: f64) -> Self {
+    /// The same geometry for a window starting at track position `origin_m`, whose wire `j` is
+    /// the full model's wire `i` where `wire_map[i] == Some(j)`: the stagger stays in track
+    /// coordinates, the probes inside `(origin, origin + length)` move to the window's.
+    pub fn window(&self, origin_m: f64, length_m: f64, wire_map: &[Option<usize>]) -> Self {
+        let mut wire_line = Vec::new();
+        for (i, w) in wire_map.iter().enumerate() {
+            if let Some(j) = *w {
+                if wire_line.len() <= j {
+                    wire_line.resize(j + 1, None);
+                }
+                wire_line[j] = self.wire_line.get(i).copied().flatten();
+            }
+        }
         Self {
             probes_m: self
                 .probes_m
                 .iter()
-                .filter(|&&x| x > origin_m + 1e-9 && x < origin_m + length_m - 1e-9)
-                .map(|x| x - origin_m)
+                .filter(|&&(_, x)| x > origin_m + 1e-9 && x < origin_m + length_m - 1e-9)
+                .filter_map(|&(w, x)| Some((wire_map.get(w).copied().flatten()?, x - origin_m)))
                 .collect(),
+            wire_line,
             ..self.clone()
         }
     }
@@ -89,43 +195,66 @@ impl LateralGeometry {
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct CurveReport {
     /// Radius, m, signed as the case gives it (positive: the centre on the side of positive
-    /// stagger).
+    /// stagger); on a line of several curves, the tightest.
     pub track_radius_m: f64,
-    /// The pantograph head's centre from the track's centre line (a canted curve), m.
+    /// The pantograph head's centre from the track's centre line (a canted curve), m; on a line,
+    /// the largest in magnitude.
     pub head_offset_m: f64,
     /// The chord's largest bow toward the curve's centre within a span, `s²/(8R)`, mm.
     pub max_bow_mm: f64,
-    /// The contact wire's registrations: smallest and largest static lateral force, N
+    /// The contact wires' registrations: smallest and largest static lateral force, N
     /// (positive toward positive stagger).
     pub contact_wire_registration_n: [f64; 2],
-    /// The messenger's supports: smallest and largest static lateral force, N.
+    /// The messengers' supports: smallest and largest static lateral force, N.
     pub messenger_support_n: [f64; 2],
 }
 
 impl LateralGeometry {
-    /// The curve's report for wires of tension `contact_n` and `messenger_n` (none on straight
-    /// track).
-    pub fn curve_report(&self, contact_n: f64, messenger_n: f64) -> Option<CurveReport> {
-        if self.curvature_per_m == 0.0 {
+    /// The curve's report for the model's contact wires and messengers, each `(polyline,
+    /// tension)` (none on straight track).
+    pub fn curve_report(
+        &self,
+        contact: &[(usize, f64)],
+        messenger: &[(usize, f64)],
+    ) -> Option<CurveReport> {
+        if !self.curved() {
             return None;
         }
-        let r = 1.0 / self.curvature_per_m;
-        let range = |t: f64| {
-            let f = self.registration_forces_n(t);
-            let lo = f.iter().copied().fold(f64::INFINITY, f64::min);
-            let hi = f.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-            if f.is_empty() {
-                [0.0, 0.0]
+        let tightest = (self.curvature_per_m.iter().copied()).fold(0.0f64, |a, k| {
+            if k.abs() > a.abs() {
+                k
             } else {
-                [lo, hi]
+                a
             }
+        });
+        let bow = (0..self.curvature_per_m.len())
+            .map(|i| self.span_len(i).powi(2) * self.curvature_per_m[i].abs() / 8.0)
+            .fold(0.0, f64::max);
+        let head = (self.head_offset_m.iter().copied()).fold(0.0f64, |a, h| {
+            if h.abs() > a.abs() {
+                h
+            } else {
+                a
+            }
+        });
+        let range = |wires: &[(usize, f64)]| {
+            let f: Vec<f64> = (wires.iter())
+                .flat_map(|&(l, t)| self.registration_forces_n(l, t))
+                .collect();
+            if f.is_empty() {
+                return [0.0, 0.0];
+            }
+            [
+                f.iter().copied().fold(f64::INFINITY, f64::min),
+                f.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            ]
         };
         Some(CurveReport {
-            track_radius_m: r,
-            head_offset_m: self.head_offset_m,
-            max_bow_mm: self.span_m * self.span_m / (8.0 * r.abs()) * 1e3,
-            contact_wire_registration_n: range(contact_n),
-            messenger_support_n: range(messenger_n),
+            track_radius_m: 1.0 / tightest,
+            head_offset_m: head,
+            max_bow_mm: bow * 1e3,
+            contact_wire_registration_n: range(contact),
+            messenger_support_n: range(messenger),
         })
     }
 }

@@ -225,7 +225,10 @@ impl Model {
                     _ => h,
                 }
             }
-            Direction::Lateral => self.lateral.as_ref().map_or(0.0, |l| l.stagger_at(xt)),
+            Direction::Lateral => self
+                .lateral
+                .as_ref()
+                .map_or(0.0, |l| l.stagger_at(wire, xt)),
             Direction::Torsional => 0.0,
         }
     }

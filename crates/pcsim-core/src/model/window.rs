@@ -90,7 +90,7 @@ impl Model {
         // Stagger and irregularity stay in track coordinates (`Model::static_height` adds the
         // state's origin); the lateral probes move to the window's coordinates.
         m.track_origin_m = self.track_origin_m + origin_m;
-        m.lateral = self.lateral.as_ref().map(|l| l.window(origin_m, length_m));
+        m.lateral = (self.lateral.as_ref()).map(|l| l.window(origin_m, length_m, &w.wire_map));
         m.wind = self.wind.as_ref().map(|w| w.window(origin_m, length_m));
         m.irregularity = self.irregularity.clone();
         if external {

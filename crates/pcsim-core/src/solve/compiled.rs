@@ -820,19 +820,17 @@ impl Points {
             }
         }
         let monitors_at: Vec<Attach> = model.elements.iter().flat_map(|e| e.monitors()).collect();
-        // Blow-out probes: the contact wire's lateral deviation at droppers and mid-spans.
-        let contact_wire = model.wire_index(WireRole::Contact);
-        let probe_at: Vec<Attach> = match (&model.lateral, contact_wire) {
-            (Some(lg), Some(cw)) if lay.find(cw, Direction::Lateral).is_some() => lg
-                .probes_m
-                .iter()
-                .map(|&x_m| Attach::Wire {
-                    wire: cw,
+        // Blow-out probes: each contact wire's lateral deviation at droppers and mid-spans.
+        let probe_at: Vec<Attach> = match &model.lateral {
+            Some(lg) => (lg.probes_m.iter())
+                .filter(|&&(wire, _)| lay.find(wire, Direction::Lateral).is_some())
+                .map(|&(wire, x_m)| Attach::Wire {
+                    wire,
                     dir: Direction::Lateral,
                     x_m,
                 })
                 .collect(),
-            _ => Vec::new(),
+            None => Vec::new(),
         };
         for m in monitors_at.iter().chain(&probe_at) {
             if let Attach::Wire { wire, dir, x_m } = *m {

@@ -49,11 +49,11 @@ fn issue_41_the_static_lateral_profile_in_a_curve_is_the_polygon_between_registr
         let setup = Setup::from_case(&case).unwrap();
         let m = &setup.model;
         let geo = m.lateral.as_ref().unwrap();
-        let s = geo.span_m;
+        let s = geo.uniform_span_m.unwrap();
         let mut worst: f64 = 0.0;
         for role in [WireRole::Contact, WireRole::Messenger] {
             let w = m.wire_index(role).unwrap();
-            for i in 0..geo.stagger_m.len() - 1 {
+            for i in 0..geo.lines[0].stagger_m.len() - 1 {
                 // Arc length along the curve; offsets positive toward positive stagger, which is
                 // toward the centre when r > 0.
                 let sign = r.signum();
@@ -62,7 +62,10 @@ fn issue_41_the_static_lateral_profile_in_a_curve_is_the_polygon_between_registr
                     let (t, n) = track(ra, x);
                     [t[0] + sign * y * n[0], t[1] + sign * y * n[1]]
                 };
-                let (p, q) = (reg(xa, geo.stagger_m[i]), reg(xb, geo.stagger_m[i + 1]));
+                let (p, q) = (
+                    reg(xa, geo.lines[0].stagger_m[i]),
+                    reg(xb, geo.lines[0].stagger_m[i + 1]),
+                );
                 for k in 1..s as usize {
                     let x = xa + k as f64;
                     let exact = sign * chord_offset(ra, x, p, q);
@@ -80,7 +83,7 @@ fn issue_41_the_static_lateral_profile_in_a_curve_is_the_polygon_between_registr
             0.5 * s,
             0.0,
         );
-        let chord = 0.5 * (geo.stagger_m[0] + geo.stagger_m[1]);
+        let chord = 0.5 * (geo.lines[0].stagger_m[0] + geo.lines[0].stagger_m[1]);
         assert!(
             (mid - chord - bow).abs() < 1e-12,
             "radius {r}: bow {} against {bow}",
@@ -98,15 +101,15 @@ fn issue_41_the_pull_off_balances_the_tensions_change_of_direction() {
         let setup = Setup::from_case(&curved(Some(r), 0.0)).unwrap();
         let m = &setup.model;
         let geo = m.lateral.as_ref().unwrap();
-        let s = geo.span_m;
+        let s = geo.uniform_span_m.unwrap();
         for role in [WireRole::Contact, WireRole::Messenger] {
             let t = m.wires[m.wire_index(role).unwrap()].section.tension_n;
-            let model = geo.registration_forces_n(t);
+            let model = geo.registration_forces_n(0, t);
             let reg = |i: usize| {
                 let (p, n) = track(r, i as f64 * s);
                 [
-                    p[0] + geo.stagger_m[i] * n[0],
-                    p[1] + geo.stagger_m[i] * n[1],
+                    p[0] + geo.lines[0].stagger_m[i] * n[0],
+                    p[1] + geo.lines[0].stagger_m[i] * n[1],
                 ]
             };
             let unit = |a: [f64; 2], b: [f64; 2]| {

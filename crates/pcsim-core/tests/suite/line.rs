@@ -20,6 +20,7 @@ fn tension_length(spans_m: Vec<f64>, heights: Vec<f64>) -> TensionLengthCase {
         droppers_m: Vec::new(),
         contact_height_m: heights,
         encumbrance_m: Vec::new(),
+        stagger_m: Vec::new(),
         contact_wire: None,
         messenger: None,
         droppers: None,
@@ -301,6 +302,8 @@ fn a_line_of_equal_spans_runs_as_its_catenary() {
             span_runs: vec![SpanRun {
                 count: c.spans,
                 length_m: c.span_m,
+                track_radius_m: None,
+                cant_m: None,
             }],
             ..tension_length(Vec::new(), Vec::new())
         },
@@ -409,6 +412,8 @@ fn line_errors_name_their_field() {
                 span_runs: vec![SpanRun {
                     count: 2,
                     length_m: 50.0,
+                    track_radius_m: None,
+                    cant_m: None,
                 }],
                 ..ok.clone()
             },
@@ -481,6 +486,8 @@ fn two_coincident_half_wires_give_the_force_of_one() {
     let runs = vec![SpanRun {
         count: c.spans,
         length_m: c.span_m,
+        track_radius_m: None,
+        cant_m: None,
     }];
     let whole = with_line(
         case.clone(),
@@ -919,6 +926,8 @@ fn the_window_on_a_line_of_equal_spans_runs_as_on_its_catenary() {
             span_runs: vec![SpanRun {
                 count: c.spans,
                 length_m: c.span_m,
+                track_radius_m: None,
+                cant_m: None,
             }],
             ..tension_length(Vec::new(), Vec::new())
         },

@@ -37,10 +37,13 @@ fn as_line(mut case: Case) -> Case {
         span_runs: vec![SpanRun {
             count: c.spans,
             length_m: c.span_m,
+            track_radius_m: None,
+            cant_m: None,
         }],
         droppers_m: Vec::new(),
         contact_height_m: Vec::new(),
         encumbrance_m: Vec::new(),
+        stagger_m: Vec::new(),
         contact_wire: None,
         messenger: None,
         droppers: None,

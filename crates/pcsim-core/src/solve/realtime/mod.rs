@@ -459,12 +459,11 @@ impl RealtimeCatenary {
 impl RealtimeCatenary {
     /// Static lateral position (stagger) of the contact wire at a track position, m.
     pub fn static_lateral_at(&self, x_m: f64) -> f64 {
-        self.frames[self.cur]
-            .integ
-            .model()
-            .lateral
-            .as_ref()
-            .map_or(0.0, |l| l.stagger_at(x_m))
+        let m = self.frames[self.cur].integ.model();
+        match (&m.lateral, m.wire_index(WireRole::Contact)) {
+            (Some(l), Some(w)) => l.stagger_at(w, x_m),
+            _ => 0.0,
+        }
     }
 
     /// Static contact-wire height at track position `x_m` (irregularity included), m.
