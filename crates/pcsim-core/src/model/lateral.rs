@@ -141,9 +141,10 @@ impl LateralGeometry {
 
     /// The static lateral force each interior registration of polyline `line` applies to a
     /// wire of tension `tension_n` (positive toward positive stagger), N: the tension's change
-    /// of direction there, `T [(y_{i+1} − y_i)/s_i − (y_i − y_{i−1})/s_{i−1} + (κ_{i−1} s_{i−1}
-    /// + κ_i s_i)/2]` (the kink of the stagger, and in a curve the pull-off, `T s / R` on equal
-    /// spans). The polyline's interior supports, in order.
+    /// of direction there,
+    /// `T [(y_{i+1} − y_i)/s_i − (y_i − y_{i−1})/s_{i−1} + (κ_{i−1} s_{i−1} + κ_i s_i)/2]`
+    /// (the kink of the stagger, and in a curve the pull-off, `T s / R` on equal spans). The
+    /// polyline's interior supports, in order.
     pub fn registration_forces_n(&self, line: usize, tension_n: f64) -> Vec<f64> {
         let l = &self.lines[line];
         let y = &l.stagger_m;

@@ -78,6 +78,7 @@ impl MovingPoint {
 /// pantograph's vertical moving point.
 #[derive(Debug, Clone)]
 pub(crate) struct LateralProbe {
+    pub(crate) pantograph: usize,
     pub(crate) moving: usize,
     pub(crate) wire: usize,
     pub(crate) lat_off: usize,
@@ -248,8 +249,9 @@ pub struct CompiledModel {
     /// The true modal stiffness and damping of every coordinate (by the layout).
     pub(crate) k_true: Vec<f64>,
     pub(crate) c_true: Vec<f64>,
-    /// Per pantograph: the contact wire's lateral (and torsional) coordinates under it.
-    pub(crate) pan_lateral: Vec<Option<LateralProbe>>,
+    /// The contact wires' lateral (and torsional) coordinates under the pantographs: one probe
+    /// per vertical contact whose wire moves laterally (a line's every contact wire), in order.
+    pub(crate) pan_lateral: Vec<LateralProbe>,
     /// Blow-out probes: displacement slots of the contact wire's lateral deviation, positions.
     pub(crate) probes: Vec<usize>,
     pub(crate) probe_x: Vec<f64>,
@@ -294,7 +296,7 @@ impl CompiledModel {
                 pts.clear();
             }
         }
-        let pan_lateral = lateral_probes(&model, &el.moving, &pan_point);
+        let pan_lateral = lateral_probes(&model, &el.moving);
         let wire_slots = |at: &[Attach]| -> (Vec<usize>, Vec<f64>) {
             at.iter()
                 .filter_map(|m| match *m {
@@ -424,7 +426,8 @@ impl CompiledModel {
             prhs: vec![0.0; self.max_pdof],
             loads: vec![0.0; 2 * np],
             external: vec![ExternalInput::default(); np],
-            off_head: vec![false; np],
+            off_head: vec![false; self.n_u],
+            moving_lateral: vec![(0.0, None); self.moving.len()],
             absent: vec![false; self.n_u],
             sample_point: self.pan_point.iter().map(|p| p.unwrap_or(0)).collect(),
             samples: vec![ContactSample::default(); np],
@@ -1069,28 +1072,20 @@ fn resolve_elements(
     })
 }
 
-/// Step 4: per pantograph, the contact wire's lateral (and torsional) coordinates under it, read
-/// with the sine row of its vertical moving point.
-fn lateral_probes(
-    model: &Model,
-    moving: &[MovingPoint],
-    pan_point: &[Option<usize>],
-) -> Vec<Option<LateralProbe>> {
+/// Step 4: the contact wires' lateral (and torsional) coordinates under the pantographs, one
+/// probe per vertical moving point whose wire moves laterally, read with its sine row.
+fn lateral_probes(model: &Model, moving: &[MovingPoint]) -> Vec<LateralProbe> {
     let lay = &model.layout;
     let contact_ecc = model
         .lateral
         .as_ref()
         .map_or(0.0, |l| l.contact_point_eccentricity_m);
-    pan_point
-        .iter()
-        .map(|pm| {
-            let mi = (*pm)?;
-            let mp = &moving[mi];
-            if mp.dir != Direction::Vertical {
-                return None;
-            }
+    (moving.iter().enumerate())
+        .filter(|(_, mp)| mp.dir == Direction::Vertical)
+        .filter_map(|(mi, mp)| {
             let lb = lay.find(mp.wire, Direction::Lateral)?;
             Some(LateralProbe {
+                pantograph: mp.pantograph,
                 moving: mi,
                 wire: mp.wire,
                 lat_off: lay.blocks[lb].offset,

@@ -899,34 +899,45 @@ impl Integrator {
             };
             ws.samples[mp.pantograph].position_m = x;
         }
-        // The contact point's lateral position, before the contact forces: beyond the head
+        // The contact points' lateral positions, before the contact forces: beyond the head
         // there is no contact (the wire has left the pantograph).
-        for (p, lp) in self.cm.pan_lateral.iter().enumerate() {
-            if let Some(lp) = lp {
-                let mp = &self.cm.moving[lp.moving];
-                let row = &ws.rows[mp.row_off..mp.row_off + mp.n];
-                let x = ws.samples[p].position_m;
-                let mut z = m.static_height(lp.wire, Direction::Lateral, x, st.track_origin_m);
-                if ws.absent[self.cm.moving_u0 + lp.moving] {
-                    // Beyond the wire's ends: no row, no deviation (and no contact).
+        for lp in &self.cm.pan_lateral {
+            let p = lp.pantograph;
+            let slot = self.cm.moving_u0 + lp.moving;
+            let mp = &self.cm.moving[lp.moving];
+            let x = ws.samples[p].position_m;
+            let mut z = m.static_height(lp.wire, Direction::Lateral, x, st.track_origin_m);
+            let single = self.cm.pan_points[p].is_empty();
+            if ws.absent[slot] {
+                // Beyond the wire's ends: no row, no deviation (and no contact).
+                ws.moving_lateral[lp.moving] = (z, None);
+                ws.off_head[slot] = false;
+                if single {
                     ws.samples[p].lateral_m = z;
-                    ws.off_head[p] = false;
-                    continue;
                 }
-                z += kernels::dot(isa, &st.modal.u[lp.lat_off..lp.lat_off + lp.n], row);
-                if let Some(t) = lp.tors_off {
-                    let phi = kernels::dot(isa, &st.modal.u[t..t + lp.n], row);
-                    z -= lp.eccentricity_m * phi;
+                continue;
+            }
+            let row = &ws.rows[mp.row_off..mp.row_off + mp.n];
+            z += kernels::dot(isa, &st.modal.u[lp.lat_off..lp.lat_off + lp.n], row);
+            let mut twist = None;
+            if let Some(t) = lp.tors_off {
+                let phi = kernels::dot(isa, &st.modal.u[t..t + lp.n], row);
+                z -= lp.eccentricity_m * phi;
+                twist = Some(phi);
+            }
+            ws.moving_lateral[lp.moving] = (z, twist);
+            if single {
+                ws.samples[p].lateral_m = z;
+                if let Some(phi) = twist {
                     ws.samples[p].twist_rad = phi;
                 }
-                ws.samples[p].lateral_m = z;
-                // On the head: from its centre, which a canted curve moves off the track's.
-                let on_head = z
-                    - (m.lateral.as_ref()).map_or(0.0, |l| l.head_offset_at(x + st.track_origin_m));
-                ws.off_head[p] = m.pantographs[p]
-                    .head_half_width_m
-                    .is_some_and(|hw| on_head.abs() > hw);
             }
+            // On the head: from its centre, which a canted curve moves off the track's.
+            let on_head = z
+                - (m.lateral.as_ref()).map_or(0.0, |l| l.head_offset_at(x + st.track_origin_m));
+            ws.off_head[slot] = m.pantographs[p]
+                .head_half_width_m
+                .is_some_and(|hw| on_head.abs() > hw);
         }
         for (p, pan) in m.pantographs.iter().enumerate() {
             ws.u[self.cm.head_u0 + p] = match pan.kind {
@@ -991,6 +1002,14 @@ impl Integrator {
                     }
                     ws.sample_point[p] = best;
                     ws.samples[p].wire_height_m = ws.u[u0 + best];
+                    // Its lateral position (and rotation) where the wire moves laterally.
+                    if self.cm.pan_lateral.iter().any(|lp| lp.moving == best) {
+                        let (z, twist) = ws.moving_lateral[best];
+                        ws.samples[p].lateral_m = z;
+                        if let Some(phi) = twist {
+                            ws.samples[p].twist_rad = phi;
+                        }
+                    }
                 }
                 ws.samples[p].wire_velocity_m_s = 0.0;
             }

@@ -116,8 +116,12 @@ pub struct Workspace {
     pub(crate) loads: Vec<f64>,
     /// The input of each external pantograph (hardware in the loop).
     pub(crate) external: Vec<ExternalInput>,
-    /// Per pantograph: the contact point lies beyond the head this step (no contact).
+    /// By displacement slot: a moving point whose contact point lies beyond its pantograph's
+    /// head this step (no contact with that wire).
     pub(crate) off_head: Vec<bool>,
+    /// By moving point: its contact point's lateral position this step, m, and the wire's
+    /// rotation there where torsion is modelled, rad.
+    pub(crate) moving_lateral: Vec<(f64, Option<f64>)>,
     /// By displacement slot: a moving point beyond its wire's ends this step (no contact).
     pub(crate) absent: Vec<bool>,
     /// Per pantograph: the moving point its sample reads this step (the lowest wire present).

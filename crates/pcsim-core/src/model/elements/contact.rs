@@ -156,7 +156,7 @@ impl PointElement for Contacts {
             let lift = 0.5 * c.eccentricity_m * phi * phi;
             let f = match c.law {
                 // Contact exists only on the head: beyond it the wire has left the pantograph.
-                _ if io.off_head[c.pantograph] || io.absent[w] => 0.0,
+                _ if io.off_head[w] || io.absent[w] => 0.0,
                 ContactLaw::Penalty { stiffness_n_per_m } => {
                     penalty_force(stiffness_n_per_m, io.u[h] - io.u[w] - lift)
                 }
@@ -175,7 +175,7 @@ impl PointElement for Contacts {
         for (c, s) in self.0.iter().zip(slots.chunks_exact(3)) {
             let (w, h, t) = (s[0].u as usize, s[1].u as usize, s[2].u as usize);
             if let (ContactLaw::Penalty { stiffness_n_per_m }, false) =
-                (c.law, io.off_head[c.pantograph] || io.absent[w])
+                (c.law, io.off_head[w] || io.absent[w])
             {
                 let lift = 0.5 * c.eccentricity_m * io.u[t] * io.u[t];
                 e += penalty_energy(stiffness_n_per_m, io.u[h] - io.u[w] - lift);
@@ -238,7 +238,7 @@ mod tests {
             v: &[0.0; 4],
             f: &mut f,
             loads: &[0.0],
-            off_head: &[false],
+            off_head: &[false; 4],
             absent: &[false; 4],
             slack: 0,
         };

@@ -81,8 +81,8 @@ pub struct Io<'a> {
     pub f: &'a mut [f64],
     /// Prescribed loads per pantograph (moving forces, hardware-in-the-loop input), N.
     pub loads: &'a [f64],
-    /// Per pantograph: its contact point lies beyond its head (the wire has left the head), so
-    /// there is no contact (issue 20).
+    /// By displacement slot: a moving point whose contact point lies beyond its pantograph's
+    /// head (the wire has left the head), so there is no contact with that wire (issue 20).
     pub off_head: &'a [bool],
     /// By displacement slot: a moving point that lies beyond its wire's ends (a pantograph
     /// outside a tension length), so there is no wire to touch there (issue 21).
