@@ -933,8 +933,8 @@ impl Integrator {
                 }
             }
             // On the head: from its centre, which a canted curve moves off the track's.
-            let on_head = z
-                - (m.lateral.as_ref()).map_or(0.0, |l| l.head_offset_at(x + st.track_origin_m));
+            let on_head =
+                z - (m.lateral.as_ref()).map_or(0.0, |l| l.head_offset_at(x + st.track_origin_m));
             ws.off_head[slot] = m.pantographs[p]
                 .head_half_width_m
                 .is_some_and(|hw| on_head.abs() > hw);

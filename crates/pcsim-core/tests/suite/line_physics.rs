@@ -177,6 +177,31 @@ fn issue_41_what_a_line_refuses_names_its_field() {
         }
         other => panic!("{other:?}"),
     }
+    // A stagger or a curve spelled out on a line is read by the lateral model only: refused,
+    // never silently ignored by the vertical run.
+    let (mut case, _) = presets::load("en50318-2018-like-simple").unwrap();
+    let tl = &mut case.line.as_mut().unwrap().tension_lengths[1];
+    tl.stagger_m = vec![0.2; tl.spans_m.len().max(1) + 1];
+    match case.validate() {
+        Err(CaseError::Invalid { field, reason, .. }) => {
+            assert_eq!(field, "line.tension_lengths[1].stagger_m");
+            assert!(reason.contains("lateral"), "{reason}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let (mut case, _) = presets::load("en50318-2018-like-simple").unwrap();
+    let tl = &mut case.line.as_mut().unwrap().tension_lengths[0];
+    assert!(
+        !tl.span_runs.is_empty(),
+        "the preset lays its spans as runs"
+    );
+    tl.span_runs[0].track_radius_m = Some(4000.0);
+    match case.validate() {
+        Err(CaseError::Invalid { field, .. }) => {
+            assert_eq!(field, "line.tension_lengths[0].span_runs[0].track_radius_m")
+        }
+        other => panic!("{other:?}"),
+    }
 }
 
 fn psd(rms_m: f64, seed: u64) -> IrregularityCase {

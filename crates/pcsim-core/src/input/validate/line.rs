@@ -129,6 +129,31 @@ fn line_physics(case: &Case, line: &LineCase) -> Result<(), CaseError> {
             ));
         }
     }
+    // The lateral layout a line may spell out is read only by the lateral model: refused
+    // while that model is, so that no given stagger or curve is silently ignored.
+    for (k, tl) in line.tension_lengths.iter().enumerate() {
+        if !tl.stagger_m.is_empty() {
+            return Err(inv(
+                &format!("line.tension_lengths[{k}].stagger_m"),
+                "given",
+                "a [line]'s stagger is read by the lateral model, which a [line] does not run in this version: use [catenary] with catenary.lateral",
+            ));
+        }
+        for (i, run) in tl.span_runs.iter().enumerate() {
+            for (name, given) in [
+                ("track_radius_m", run.track_radius_m.is_some()),
+                ("cant_m", run.cant_m.is_some()),
+            ] {
+                if given {
+                    return Err(inv(
+                        &format!("line.tension_lengths[{k}].span_runs[{i}].{name}"),
+                        "given",
+                        "a curve on a [line] is read by the lateral model, which a [line] does not run in this version: use [catenary] with catenary.lateral.track_radius_m",
+                    ));
+                }
+            }
+        }
+    }
     // A profile along the track applies on a line; the dropper pattern repeats per span.
     for (i, ir) in case.irregularity.iter().enumerate() {
         if matches!(ir, IrregularityCase::Droppers { .. }) {
