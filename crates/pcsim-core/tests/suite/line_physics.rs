@@ -101,6 +101,69 @@ fn issue_41_a_line_of_one_tension_length_with_ice_runs_as_its_catenary() {
     );
 }
 
+/// In lateral and torsional motion, the line of one tension length (the pattern's stagger laid
+/// along its supports) gives the catenary's statistics to 1e-9, the lateral ones included.
+#[test]
+fn issue_41_a_line_of_one_tension_length_in_3d_runs_as_its_catenary() {
+    let d = presets::load("stitched-2018-like-3d").unwrap().0;
+    let mut case = with_sections(common::short_en50318(12, 250.0));
+    case.catenary.lateral = d.catenary.lateral.clone();
+    case.run.dofs = d.run.dofs.clone();
+    let a = run_case(&case, &mut |_| true).unwrap();
+    let b = run_case(&as_line(case.clone()), &mut |_| true).unwrap();
+    let (sa, sb) = (
+        a.pantographs[0].stats.unwrap(),
+        b.pantographs[0].stats.unwrap(),
+    );
+    for (name, x, y) in [
+        ("mean", sa.mean_n, sb.mean_n),
+        ("std", sa.std_n, sb.std_n),
+        ("actual max", sa.actual_max_n, sb.actual_max_n),
+        ("actual min", sa.actual_min_n, sb.actual_min_n),
+    ] {
+        assert!(
+            (x - y).abs() <= 1e-9 * x.abs().max(1.0),
+            "{name}: catenary {x} vs line {y}"
+        );
+    }
+    let (la, lb) = (
+        a.pantographs[0]
+            .lateral
+            .as_ref()
+            .expect("the catenary's lateral statistics"),
+        b.pantographs[0]
+            .lateral
+            .as_ref()
+            .expect("the line's lateral statistics"),
+    );
+    assert!(
+        la.max_lateral_offset_mm > 100.0,
+        "the stagger is felt: {la:?}"
+    );
+    for (name, x, y) in [
+        (
+            "max offset",
+            la.max_lateral_offset_mm,
+            lb.max_lateral_offset_mm,
+        ),
+        (
+            "head margin",
+            la.min_head_margin_mm.unwrap_or(0.0),
+            lb.min_head_margin_mm.unwrap_or(0.0),
+        ),
+    ] {
+        assert!(
+            (x - y).abs() <= 1e-9 * x.abs().max(1.0),
+            "lateral {name}: catenary {x} vs line {y}"
+        );
+    }
+    assert_eq!(la.samples_off_head, lb.samples_off_head);
+    assert_eq!(
+        la.samples_outside_working_range,
+        lb.samples_outside_working_range
+    );
+}
+
 /// On a line of three tension lengths whose middle one has a thicker contact wire, each contact
 /// wire carries the weight of the ice on its own diameter (the annulus, closed form), and the
 /// messengers theirs.

@@ -108,35 +108,27 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
     working_gradients(line, w)
 }
 
-/// What a line carries beyond the vertical model: ice on every tension length's own wires (each
-/// overriding wire with its section), a profile of irregularity along the track; lateral motion
-/// and wind are refused, naming their field.
+/// What a line carries beyond the vertical model: lateral and torsional motion (the pattern's
+/// stagger laid along the line's supports), ice on every tension length's own wires (each
+/// overriding wire with its section), a profile of irregularity along the track. Wind, a stagger
+/// per tension length and curves are refused, naming their field.
 fn line_physics(case: &Case, line: &LineCase) -> Result<(), CaseError> {
     let c = &case.catenary;
-    for (field, given) in [
-        (
-            "run.dofs",
-            case.run.dofs.iter().any(|d| *d != Dof::Vertical),
-        ),
-        ("catenary.lateral", c.lateral.is_some()),
-        ("wind", case.wind.is_some()),
-    ] {
-        if given {
-            return Err(inv(
-                field,
-                "given",
-                "a [line] is vertical only in this version (with ice and irregularity), without wind: use [catenary] for those",
-            ));
-        }
+    if case.wind.is_some() {
+        return Err(inv(
+            "wind",
+            "given",
+            "a [line] runs without wind in this version (the crosswind's static sag is solved per span of a [catenary] only): use [catenary] for wind",
+        ));
     }
-    // The lateral layout a line may spell out is read only by the lateral model: refused
-    // while that model is, so that no given stagger or curve is silently ignored.
+    // A line lays the pattern's stagger along its supports. A stagger spelled out per tension
+    // length, and curves, are not validated on a line yet: refused by name, never ignored.
     for (k, tl) in line.tension_lengths.iter().enumerate() {
         if !tl.stagger_m.is_empty() {
             return Err(inv(
                 &format!("line.tension_lengths[{k}].stagger_m"),
                 "given",
-                "a [line]'s stagger is read by the lateral model, which a [line] does not run in this version: use [catenary] with catenary.lateral",
+                "a [line] lays catenary.lateral's stagger pattern along its supports in this version; a stagger per tension length is not validated yet: omit it, or use [catenary]",
             ));
         }
         for (i, run) in tl.span_runs.iter().enumerate() {
@@ -148,7 +140,7 @@ fn line_physics(case: &Case, line: &LineCase) -> Result<(), CaseError> {
                     return Err(inv(
                         &format!("line.tension_lengths[{k}].span_runs[{i}].{name}"),
                         "given",
-                        "a curve on a [line] is read by the lateral model, which a [line] does not run in this version: use [catenary] with catenary.lateral.track_radius_m",
+                        "a curve on a [line] is not validated in this version: use [catenary] with catenary.lateral.track_radius_m",
                     ));
                 }
             }
