@@ -67,6 +67,11 @@ pub const PRESETS: &[Preset] = &[
         toml: include_str!("../../../../presets/en50318-2018-like-stitched.toml"),
     },
     Preset {
+        name: "en50318-2018-like-stitched-3d",
+        summary: "en50318-2018-like-stitched in 3D: lateral and torsional motion, ±0.3 m stagger along the line, the overlaps' wires side by side and crossing in plan, 1600 mm heads (issue 41)",
+        toml: include_str!("../../../../presets/en50318-2018-like-stitched-3d.toml"),
+    },
+    Preset {
         name: "line-10km-2002",
         summary: "a 10.4 km line for scale: 10 tension lengths of 20 x 60 m, 3-span overlaps, en50318-2002's catenary and pantograph (issue 21)",
         toml: include_str!("../../../../presets/line-10km-2002.toml"),

@@ -2,7 +2,9 @@
 //! `[catenary]` runs as it does with the same physics (ice and irregularity so far: the exact
 //! check "a line of one tension length with ice equals the catenary with the same physics to
 //! 1e-9"); each tension length carries the ice on its own wires; the irregularity is a profile
-//! along the track on every contact wire; what a line still refuses names its field.
+//! along the track on every contact wire; lateral and torsional motion run on a line (the
+//! pattern's stagger along its supports, an overlap's two wires side by side and crossing in
+//! plan); what a line still refuses names its field.
 
 use crate::common;
 
@@ -456,4 +458,96 @@ fn issue_41_the_eva_of_a_line() {
     );
     // The window energies grow with the window (a density is never negative).
     assert!(snap.window_j.windows(2).all(|w| w[1] >= w[0] - 1e-12));
+}
+
+/// The stagger of `en50318-2018-like-stitched-3d` through its first overlap, written out by hand
+/// from the layout the preset states: ±0.3 m alternating along the line's supports (+ at the
+/// first), the two contact wires of the 3-span overlap 0.2 m apart about it at the overlap's
+/// ends, the leaving wire on the + side at the last shared support. Between supports the design
+/// line is straight; the two wires cross in plan mid-way through the middle span, where the
+/// pattern itself passes through 0.
+#[test]
+fn issue_41_the_overlaps_contact_wires_lie_side_by_side_and_cross_in_plan() {
+    let (case, _) = presets::load("en50318-2018-like-stitched-3d").unwrap();
+    let setup = Setup::from_case(&case).unwrap();
+    let m = &setup.model;
+    let contact: Vec<usize> = (0..m.wires.len())
+        .filter(|&w| m.wires[w].role == pcsim_core::model::WireRole::Contact)
+        .collect();
+    assert_eq!(contact.len(), 3, "one contact wire per tension length");
+    let (leaving, arriving) = (contact[0], contact[1]);
+    let pattern = |i: usize| if i % 2 == 0 { 0.3 } else { -0.3 };
+    // The first overlap shares the line's supports 10 … 13 (tension lengths of 13 spans of 60 m).
+    let x = |i: usize| 60.0 * i as f64;
+    let lat = |w: usize, xt: f64| m.static_height(w, Direction::Lateral, xt, 0.0);
+    for (j, sigma) in [(10, -1.0), (11, -1.0 / 3.0), (12, 1.0 / 3.0), (13, 1.0)] {
+        let (yl, ya) = (lat(leaving, x(j)), lat(arriving, x(j)));
+        assert!(
+            (yl - (pattern(j) + 0.1 * sigma)).abs() < 1e-12,
+            "leaving wire at support {j}: {yl}"
+        );
+        assert!(
+            (ya - (pattern(j) - 0.1 * sigma)).abs() < 1e-12,
+            "arriving wire at support {j}: {ya}"
+        );
+    }
+    // Side by side at the ends, 0.2 m apart; crossing mid-way through the middle span.
+    assert!((lat(leaving, x(10)) - lat(arriving, x(10)) + 0.2).abs() < 1e-12);
+    assert!((lat(leaving, x(13)) - lat(arriving, x(13)) - 0.2).abs() < 1e-12);
+    let mid = 0.5 * (x(11) + x(12));
+    assert!(lat(leaving, mid).abs() < 1e-12 && lat(arriving, mid).abs() < 1e-12);
+    // Away from the overlap each wire follows the pattern.
+    assert!((lat(leaving, x(5)) - pattern(5)).abs() < 1e-12);
+    assert!((lat(arriving, x(18)) - pattern(18)).abs() < 1e-12);
+}
+
+/// The real-time window in 3D on a line of one tension length of equal spans (its own model at
+/// each position, moved by the general basis projection of every wire and direction) steps as
+/// the catenary's window does (one basis moved by a shift): the contact force and the contact
+/// point's lateral position at every step within 1e-9 until the line's window reaches its
+/// anchor (the catenary's shape repeats past the model's end, the line's does not).
+#[test]
+fn issue_41_the_real_time_window_in_3d_on_a_line_steps_as_on_its_catenary() {
+    use pcsim_core::compile::realtime_window;
+    use pcsim_core::solve::realtime::Coupling;
+    let d = presets::load("stitched-2018-like-3d").unwrap().0;
+    let mut case = with_sections(common::short_en50318(12, 250.0));
+    case.catenary.lateral = d.catenary.lateral.clone();
+    case.run.dofs = d.run.dofs.clone();
+    let line = as_line(case.clone());
+    let mut a = realtime_window(&case, 240.0, Coupling::Sil).unwrap();
+    let mut b = realtime_window(&line, 240.0, Coupling::Sil).unwrap();
+    assert!(b.is_line() && !a.is_line());
+    let n = (a.full_run().0 / a.dt_s()).ceil() as usize;
+    let (mut compared, mut widest) = (0, 0.0f64);
+    for _ in 0..n {
+        let (oa, ob) = (a.step(), b.step());
+        assert!(a.fault().is_none() && b.fault().is_none());
+        assert_eq!(oa.position_m, ob.position_m);
+        if oa.position_m < 655.0 {
+            assert!(
+                (oa.contact_force_n - ob.contact_force_n).abs() < 1e-9 * 300.0,
+                "at {} m: force {} vs {} N",
+                oa.position_m,
+                oa.contact_force_n,
+                ob.contact_force_n
+            );
+            assert!(
+                (oa.lateral_m - ob.lateral_m).abs() < 1e-9,
+                "at {} m: lateral {} vs {} m",
+                oa.position_m,
+                oa.lateral_m,
+                ob.lateral_m
+            );
+            widest = widest.max(ob.lateral_m.abs());
+            compared += 1;
+        }
+    }
+    // The stagger is felt: the contact point sweeps across the head (±0.3 m at the supports).
+    assert!(widest > 0.25, "largest lateral position {widest} m");
+    assert!(
+        compared > n / 2 && b.moves() >= 4,
+        "{compared} steps, {} moves",
+        b.moves()
+    );
 }
