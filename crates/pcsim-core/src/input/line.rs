@@ -179,6 +179,19 @@ impl TensionLengthCase {
         c
     }
 
+    /// The run of spans (index in `span_runs`) that span `j` belongs to; `None` for a span
+    /// listed in `spans_m` (they come first) or beyond the last.
+    pub fn run_of_span(&self, j: usize) -> Option<usize> {
+        let mut first = self.spans_m.len();
+        for (i, r) in self.span_runs.iter().enumerate() {
+            if j >= first && j < first + r.count {
+                return Some(i);
+            }
+            first += r.count;
+        }
+        None
+    }
+
     /// The number of spans (runs counted without expanding them).
     pub fn n_spans(&self) -> usize {
         self.span_runs

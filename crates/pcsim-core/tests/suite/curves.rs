@@ -252,3 +252,249 @@ fn issue_41_on_a_canted_curve_the_stagger_is_judged_from_the_heads_centre() {
         "{w:?}"
     );
 }
+
+/// The `[line]` of one tension length that spells out `case`'s `[catenary]` as runs of spans
+/// `runs` (count, length, radius, cant).
+fn line_of(mut case: Case, runs: &[(usize, f64, Option<f64>, Option<f64>)]) -> Case {
+    use pcsim_core::input::case::{LineCase, SpanRun, TensionLengthCase};
+    let t = TensionLengthCase {
+        spans_m: Vec::new(),
+        span_runs: runs
+            .iter()
+            .map(|&(count, length_m, track_radius_m, cant_m)| SpanRun {
+                count,
+                length_m,
+                track_radius_m,
+                cant_m,
+            })
+            .collect(),
+        droppers_m: Vec::new(),
+        contact_height_m: Vec::new(),
+        encumbrance_m: Vec::new(),
+        stagger_m: Vec::new(),
+        contact_wire: None,
+        messenger: None,
+        droppers: None,
+        messenger_support: None,
+        steady_arm: None,
+    };
+    case.catenary.spans = t.n_spans();
+    case.line = Some(LineCase {
+        tension_lengths: vec![t],
+        overlaps: Vec::new(),
+    });
+    case
+}
+
+/// `en50318-2002` (a simple catenary) over 10 spans in 3D with `stitched-2018-like-3d`'s
+/// sections and lateral data, on a curve. A simple catenary: its periodic static shape is the
+/// line's in every span; a stitched `[catenary]`'s periodic shape differs from a line's in the
+/// first and last span, where the line's contact wire ends at its anchored support instead of
+/// hanging from a stitch on either side (0.8 mm in the messenger's mid-span height).
+fn curved_simple(radius_m: Option<f64>, cant_m: f64) -> Case {
+    let d = curved(radius_m, cant_m);
+    let mut c = common::short_en50318(10, 250.0);
+    c.catenary.messenger.section = d.catenary.messenger.section.clone();
+    c.catenary.contact_wire.section = d.catenary.contact_wire.section.clone();
+    c.catenary.lateral = d.catenary.lateral.clone();
+    c.run.dofs = d.run.dofs.clone();
+    c
+}
+
+/// A curve on a line of one tension length, given per run of spans or by `catenary.lateral`,
+/// runs as the curved `[catenary]` (the issue's exact check, a curve included): the vertical
+/// statistics within 1e-9 relative; the contact point's lateral trace, the largest offset on the
+/// head and the head margin within 1e-9 m; the counts equal.
+#[test]
+fn issue_41_a_curve_on_a_line_of_one_tension_length_runs_as_on_its_catenary() {
+    let (r, cant) = (1000.0, 0.06);
+    let cat = curved_simple(Some(r), cant);
+    let a = run_case(&cat, &mut |_| true).unwrap();
+    let straight = curved_simple(None, 0.0);
+    let per_run = line_of(straight.clone(), &[(10, 60.0, Some(r), Some(cant))]);
+    let by_default = line_of(cat.clone(), &[(10, 60.0, None, None)]);
+    for (which, line) in [("per run", per_run), ("by default", by_default)] {
+        let b = run_case(&line, &mut |_| true).unwrap();
+
+        let (sa, sb) = (
+            a.pantographs[0].stats.unwrap(),
+            b.pantographs[0].stats.unwrap(),
+        );
+        for (name, x, y) in [
+            ("mean", sa.mean_n, sb.mean_n),
+            ("std", sa.std_n, sb.std_n),
+            ("max", sa.actual_max_n, sb.actual_max_n),
+            ("min", sa.actual_min_n, sb.actual_min_n),
+        ] {
+            assert!(
+                (x - y).abs() <= 1e-9 * x.abs(),
+                "{which}, {name}: {x} vs {y}"
+            );
+        }
+        let (la, lb) = (
+            a.pantographs[0].lateral.as_ref().unwrap(),
+            b.pantographs[0].lateral.as_ref().unwrap(),
+        );
+        assert!(
+            (la.max_lateral_offset_mm - lb.max_lateral_offset_mm).abs() < 1e-9,
+            "{la:?} vs {lb:?}"
+        );
+        match (la.min_head_margin_mm, lb.min_head_margin_mm) {
+            (Some(x), Some(y)) => assert!((x - y).abs() < 1e-9, "head margin {x} vs {y} mm"),
+            (x, y) => assert_eq!(x, y),
+        }
+        assert_eq!(la.samples_off_head, lb.samples_off_head);
+        let worst = (a.pantographs[0].lateral_m.iter())
+            .zip(&b.pantographs[0].lateral_m)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-9, "{which}: lateral trace {worst} m apart");
+        assert!(b.curve.is_some());
+    }
+}
+
+/// On unequal spans (a line: 45, 60, 50, 60, 40, 55 m …) in a 1 000 m curve, every interior
+/// registration's static lateral force is the tension's change of direction from the
+/// Cartesian chords, `T (u₊ − u₋)·n`, within 0.1 % of the largest: the closed form
+/// `T [(y₊ − y)/s₊ − (y − y₋)/s₋ + (κ₋ s₋ + κ₊ s₊)/2]` on unequal spans.
+#[test]
+fn issue_41_the_pull_off_on_unequal_spans_balances_the_tensions_change_of_direction() {
+    let r = 1000.0;
+    let spans = [45.0, 60.0, 50.0, 60.0, 40.0, 55.0, 60.0, 45.0, 60.0, 50.0];
+    let runs: Vec<(usize, f64, Option<f64>, Option<f64>)> =
+        spans.iter().map(|&s| (1, s, Some(r), None)).collect();
+    let mut case = line_of(curved(None, 0.0), &runs);
+    case.run.end_m = 465.0;
+    case.run.analysis_m = [120.0, 420.0];
+    let setup = Setup::from_case(&case).unwrap();
+    let m = &setup.model;
+    let geo = m.lateral.as_ref().unwrap();
+    assert!(geo.uniform_span_m.is_none());
+    let x: Vec<f64> = std::iter::once(0.0)
+        .chain(spans.iter().scan(0.0, |a, s| {
+            *a += s;
+            Some(*a)
+        }))
+        .collect();
+    let y = &geo.lines[0].stagger_m;
+    assert_eq!(y.len(), x.len());
+    let reg = |i: usize| {
+        let (p, n) = track(r, x[i]);
+        [p[0] + y[i] * n[0], p[1] + y[i] * n[1]]
+    };
+    let unit = |a: [f64; 2], b: [f64; 2]| {
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let l = d[0].hypot(d[1]);
+        [d[0] / l, d[1] / l]
+    };
+    for role in [WireRole::Contact, WireRole::Messenger] {
+        let t = m.wires[m.wire_index(role).unwrap()].section.tension_n;
+        let model = geo.registration_forces_n(0, t);
+        assert_eq!(model.len(), spans.len() - 1);
+        let scale = model.iter().map(|f| f.abs()).fold(0.0, f64::max);
+        for (k, f) in model.iter().enumerate() {
+            let i = k + 1;
+            let (u0, u1) = (unit(reg(i - 1), reg(i)), unit(reg(i), reg(i + 1)));
+            let n = track(r, x[i]).1;
+            let exact = t * ((u1[0] - u0[0]) * n[0] + (u1[1] - u0[1]) * n[1]);
+            assert!(
+                (f - exact).abs() < 1e-3 * scale,
+                "{role:?}, registration {i}: {f} N against {exact} N"
+            );
+        }
+    }
+    // And the static lateral profile is the polygon between those registrations within 1 mm.
+    let w = m.wire_index(WireRole::Contact).unwrap();
+    let mut worst: f64 = 0.0;
+    for i in 0..spans.len() {
+        for k in 1..spans[i] as usize {
+            let xt = x[i] + k as f64;
+            let exact = chord_offset(r, xt, reg(i), reg(i + 1));
+            worst = worst.max((m.static_height(w, Direction::Lateral, xt, 0.0) - exact).abs());
+        }
+    }
+    assert!(worst < 1e-3, "{worst} m from the polygon");
+}
+
+/// What a line's lateral layout cannot be is refused, naming its field: a span longer than a
+/// fifth of its run's radius (or of catenary.lateral's), a cant without a curve, a stagger per
+/// tension length of the wrong length, a curve or a stagger without the lateral model, and an
+/// overlap's shared spans on two different curves.
+#[test]
+fn issue_41_a_lines_curves_and_staggers_refuse_by_name() {
+    let field = |c: &Case| match c.validate() {
+        Err(CaseError::Invalid { field, .. }) => field,
+        other => panic!("{other:?}"),
+    };
+    let straight = curved(None, 0.0);
+    let l = line_of(
+        straight.clone(),
+        &[(4, 60.0, None, None), (6, 60.0, Some(250.0), None)],
+    );
+    assert_eq!(
+        field(&l),
+        "line.tension_lengths[0].span_runs[1].track_radius_m"
+    );
+    let l = line_of(
+        curved(Some(1000.0), 0.0),
+        &[(4, 60.0, None, None), (6, 250.0, None, None)],
+    );
+    assert_eq!(field(&l), "catenary.lateral.track_radius_m");
+    let l = line_of(straight.clone(), &[(10, 60.0, None, Some(0.05))]);
+    assert_eq!(field(&l), "line.tension_lengths[0].span_runs[0].cant_m");
+    let l = line_of(straight.clone(), &[(10, 60.0, Some(f64::NAN), None)]);
+    assert_eq!(
+        field(&l),
+        "line.tension_lengths[0].span_runs[0].track_radius_m"
+    );
+    let mut l = line_of(straight.clone(), &[(10, 60.0, None, None)]);
+    l.line.as_mut().unwrap().tension_lengths[0].stagger_m = vec![0.2; 10];
+    assert_eq!(field(&l), "line.tension_lengths[0].stagger_m");
+    l.line.as_mut().unwrap().tension_lengths[0].stagger_m = vec![0.2; 11];
+    l.line.as_mut().unwrap().tension_lengths[0].stagger_m[3] = 5.0;
+    assert_eq!(field(&l), "line.tension_lengths[0].stagger_m[3]");
+    let mut vertical = line_of(straight.clone(), &[(10, 60.0, Some(1000.0), None)]);
+    vertical.run.dofs = vec![pcsim_core::input::case::Dof::Vertical];
+    assert_eq!(
+        field(&vertical),
+        "line.tension_lengths[0].span_runs[0].track_radius_m"
+    );
+    // Two tension lengths whose 3-span overlap the second puts on a curve the first does not.
+    let (mut two, _) = pcsim_core::presets::load("en50318-2018-like-stitched-3d").unwrap();
+    two.line.as_mut().unwrap().tension_lengths[1].span_runs[0].track_radius_m = Some(2000.0);
+    assert_eq!(field(&two), "line.tension_lengths[1].span_runs");
+}
+
+/// A stagger given per tension length is laid as given (each support of that tension length,
+/// both its wires), the other tension lengths keep the pattern.
+#[test]
+fn issue_41_a_stagger_per_tension_length_is_laid_as_given() {
+    let (mut case, _) = pcsim_core::presets::load("en50318-2018-like-stitched-3d").unwrap();
+    let given: Vec<f64> = (0..14)
+        .map(|j| if j % 2 == 0 { -0.25 } else { 0.25 })
+        .collect();
+    case.line.as_mut().unwrap().tension_lengths[0].stagger_m = given.clone();
+    let (base, _) = pcsim_core::presets::load("en50318-2018-like-stitched-3d").unwrap();
+    let (m, m0) = (
+        Setup::from_case(&case).unwrap().model,
+        Setup::from_case(&base).unwrap().model,
+    );
+    let wires = |m: &pcsim_core::model::Model, role| -> Vec<usize> {
+        (0..m.wires.len())
+            .filter(|&w| m.wires[w].role == role)
+            .collect()
+    };
+    for role in [WireRole::Contact, WireRole::Messenger] {
+        let (w, w0) = (wires(&m, role), wires(&m0, role));
+        for (j, &y) in given.iter().enumerate() {
+            let x = 60.0 * j as f64;
+            assert!((m.static_height(w[0], Direction::Lateral, x, 0.0) - y).abs() < 1e-12);
+        }
+        for x in [800.0, 1000.0, 1500.0, 1800.0] {
+            assert_eq!(
+                m.static_height(w[2], Direction::Lateral, x, 0.0),
+                m0.static_height(w0[2], Direction::Lateral, x, 0.0)
+            );
+        }
+    }
+}

@@ -26,6 +26,7 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
         ));
     }
     line_physics(case, line)?;
+    line_lateral(case, line, w)?;
     for (k, t) in line.tension_lengths.iter().enumerate() {
         tension_length(case, k, t, w)?;
     }
@@ -108,10 +109,9 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
     working_gradients(line, w)
 }
 
-/// What a line carries beyond the vertical model: lateral and torsional motion (the pattern's
-/// stagger laid along the line's supports), ice on every tension length's own wires (each
-/// overriding wire with its section), a profile of irregularity along the track. Wind, a stagger
-/// per tension length and curves are refused, naming their field.
+/// What a line carries beyond the vertical model: lateral and torsional motion (checked in
+/// [`line_lateral`]), ice on every tension length's own wires (each overriding wire with its
+/// section), a profile of irregularity along the track. Wind is refused, naming its field.
 fn line_physics(case: &Case, line: &LineCase) -> Result<(), CaseError> {
     let c = &case.catenary;
     if case.wind.is_some() {
@@ -120,31 +120,6 @@ fn line_physics(case: &Case, line: &LineCase) -> Result<(), CaseError> {
             "given",
             "a [line] runs without wind in this version (the crosswind's static sag is solved per span of a [catenary] only): use [catenary] for wind",
         ));
-    }
-    // A line lays the pattern's stagger along its supports. A stagger spelled out per tension
-    // length, and curves, are not validated on a line yet: refused by name, never ignored.
-    for (k, tl) in line.tension_lengths.iter().enumerate() {
-        if !tl.stagger_m.is_empty() {
-            return Err(inv(
-                &format!("line.tension_lengths[{k}].stagger_m"),
-                "given",
-                "a [line] lays catenary.lateral's stagger pattern along its supports in this version; a stagger per tension length is not validated yet: omit it, or use [catenary]",
-            ));
-        }
-        for (i, run) in tl.span_runs.iter().enumerate() {
-            for (name, given) in [
-                ("track_radius_m", run.track_radius_m.is_some()),
-                ("cant_m", run.cant_m.is_some()),
-            ] {
-                if given {
-                    return Err(inv(
-                        &format!("line.tension_lengths[{k}].span_runs[{i}].{name}"),
-                        "given",
-                        "a curve on a [line] is not validated in this version: use [catenary] with catenary.lateral.track_radius_m",
-                    ));
-                }
-            }
-        }
     }
     // A profile along the track applies on a line; the dropper pattern repeats per span.
     for (i, ir) in case.irregularity.iter().enumerate() {
@@ -451,6 +426,117 @@ fn stitch_layouts(
                         ));
                     }
                 }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A line's lateral layout: each tension length's own stagger (one value per support, within
+/// the stagger's bounds, its usual range judged from the head's centre on a canted curve), each
+/// run of spans' curve (a finite radius within its bounds and at least five spans long, a cant
+/// only with a radius), the default curve of `catenary.lateral` against every span it covers,
+/// and an overlap's shared spans on one curve in both tension lengths. What only the lateral
+/// model reads is refused without it, so that nothing given is silently ignored.
+fn line_lateral(case: &Case, line: &LineCase, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let lat = case
+        .catenary
+        .lateral
+        .as_ref()
+        .filter(|_| case.run.dofs.contains(&Dof::Lateral));
+    let default = lat.map_or((None, 0.0), |l| (l.track_radius_m, l.cant_m));
+    let needs = "is read by the lateral model: give [catenary.lateral] and \"lateral\" in run.dofs";
+    let mut curves: Vec<Vec<(Option<f64>, f64)>> = Vec::new();
+    for (k, tl) in line.tension_lengths.iter().enumerate() {
+        let tf = |name: &str| format!("line.tension_lengths[{k}].{name}");
+        for (i, run) in tl.span_runs.iter().enumerate() {
+            let f = |name: &str| tf(&format!("span_runs[{i}].{name}"));
+            if let Some(r) = run.track_radius_m {
+                if lat.is_none() {
+                    return Err(inv(&f("track_radius_m"), num(r), needs));
+                }
+                if !r.is_finite() {
+                    return Err(inv(&f("track_radius_m"), num(r), "must be a finite number"));
+                }
+                check_bound(w, &f("track_radius_m"), r.abs(), &bounds::TRACK_RADIUS)?;
+            }
+            if let Some(cant) = run.cant_m {
+                if lat.is_none() {
+                    return Err(inv(&f("cant_m"), num(cant), needs));
+                }
+                check_bound(w, &f("cant_m"), cant, &bounds::CANT)?;
+                if cant != 0.0 && run.track_radius_m.or(default.0).is_none() {
+                    return Err(inv(
+                        &f("cant_m"),
+                        num(cant),
+                        "a cant needs a curve: give this run's track_radius_m or catenary.lateral.track_radius_m (a straight track has no cant)",
+                    ));
+                }
+            }
+        }
+        // Every span against the radius it lies on (the run's own, or catenary.lateral's).
+        let c = tl.span_curves(default);
+        for (j, (s, (r, _))) in tl.span_lengths_m().iter().zip(&c).enumerate() {
+            if let Some(r) = *r {
+                if *s > 0.2 * r.abs() {
+                    let own = tl
+                        .run_of_span(j)
+                        .filter(|&i| tl.span_runs[i].track_radius_m.is_some());
+                    let field = own.map_or("catenary.lateral.track_radius_m".to_string(), |i| {
+                        tf(&format!("span_runs[{i}].track_radius_m"))
+                    });
+                    return Err(inv(
+                        &field,
+                        num(r),
+                        &format!(
+                            "span {j} of tension length {k} is {s} m long on a radius of {} m: the chord's bow is taken to second order in span/radius, valid up to a span of a fifth of the radius",
+                            r.abs()
+                        ),
+                    ));
+                }
+            }
+        }
+        if !tl.stagger_m.is_empty() {
+            let Some(l) = lat else {
+                return Err(inv(&tf("stagger_m"), "given", needs));
+            };
+            let n = tl.n_spans() + 1;
+            if tl.stagger_m.len() != n {
+                return Err(inv(
+                    &tf("stagger_m"),
+                    format!("{} values", tl.stagger_m.len()),
+                    &format!("give one stagger per support of the tension length: {n} values"),
+                ));
+            }
+            for (j, &y) in tl.stagger_m.iter().enumerate() {
+                let field = tf(&format!("stagger_m[{j}]"));
+                check_bound(&mut Vec::new(), &field, y, &bounds::STAGGER)?;
+                // The usual range from the head's centre: a canted curve's span beside it.
+                let (r, cant) = c[j.min(c.len().saturating_sub(1))];
+                let off = crate::input::lateral::head_offset_m(r, cant, l.contact_wire_height_m);
+                let usual = bounds::Bound {
+                    hard: (f64::NEG_INFINITY, f64::INFINITY),
+                    ..bounds::STAGGER
+                };
+                check_bound(w, &field, y - off, &usual)?;
+            }
+        }
+        curves.push(c);
+    }
+    // An overlap's shared spans lie on one track: one curve in both tension lengths.
+    for (k, o) in line.overlaps.iter().enumerate() {
+        let (a, b) = (&curves[k], &curves[k + 1]);
+        for j in 0..o.spans.min(a.len()).min(b.len()) {
+            let (ca, cb) = (a[a.len() - o.spans + j], b[j]);
+            if ca != cb {
+                return Err(inv(
+                    &format!("line.tension_lengths[{}].span_runs", k + 1),
+                    format!("radius {:?} m, cant {} m", cb.0, cb.1),
+                    &format!(
+                        "span {j} of overlap {k} is shared with tension length {k}, which puts it on radius {:?} m, cant {} m: an overlap's spans lie on one track",
+                        ca.0, ca.1
+                    ),
+                ));
             }
         }
     }
