@@ -20,6 +20,7 @@ mod lateral;
 mod layers;
 mod line;
 mod line_physics;
+mod matrix;
 mod mutations;
 mod realtime;
 mod realtime_alloc;

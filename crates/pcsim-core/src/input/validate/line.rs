@@ -118,7 +118,7 @@ fn line_physics(case: &Case, line: &LineCase) -> Result<(), CaseError> {
         return Err(inv(
             "wind",
             "given",
-            "a [line] runs without wind in this version (the crosswind's static sag is solved per span of a [catenary] only): use [catenary] for wind",
+            "a [line] runs without wind in this version: the crosswind's load and its turbulent field are built for one messenger and one contact wire on one modal basis, and a line's tension lengths each have their own wires on their own bases: use [catenary] for wind",
         ));
     }
     // A profile along the track applies on a line; the dropper pattern repeats per span.
