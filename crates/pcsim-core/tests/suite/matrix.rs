@@ -23,7 +23,7 @@ use pcsim_core::input::criteria::{self, System};
 use pcsim_core::input::lateral::IceCase;
 use pcsim_core::session::RealtimeSession;
 use pcsim_core::solve::realtime::Coupling;
-use pcsim_core::{presets, run_case, CaseError, SimError, Setup};
+use pcsim_core::{presets, run_case, CaseError, Setup, SimError};
 
 /// The window of the real-time cells, m (shorter than every tiny case).
 const WINDOW_M: f64 = 180.0;
@@ -139,7 +139,9 @@ type Capability = (&'static str, fn(&Case, &str) -> Result<(), SimError>);
 
 fn run(case: &Case, what: &str) -> Result<(), SimError> {
     let out = run_case(case, &mut |_| true)?;
-    let s = out.pantographs[0].stats.expect("the analysis section is crossed");
+    let s = out.pantographs[0]
+        .stats
+        .expect("the analysis section is crossed");
     plausible(what, s.mean_n, s.std_n);
     Ok(())
 }
@@ -148,7 +150,11 @@ fn eva(case: &Case, what: &str) -> Result<(), SimError> {
     let setup = Setup::from_case(case)?;
     let e = run_eva(&setup, &EvaSettings::default(), &mut |_| true)?;
     for v in [&e.snapshot, &e.max, &e.mean] {
-        assert!(v.total_j.is_finite() && v.total_j >= 0.0, "{what}: {}", v.total_j);
+        assert!(
+            v.total_j.is_finite() && v.total_j >= 0.0,
+            "{what}: {}",
+            v.total_j
+        );
     }
     assert!(e.snapshot.total_j > 0.0, "{what}: no vibration energy");
     Ok(())
