@@ -219,16 +219,6 @@ pub fn realtime_window_with(
             reason: "the real-time window does not carry a crosswind (its turbulence is generated for the full model's run); remove [wind] for the window".into(),
         });
     }
-    if let Some(ice) = &case.catenary.ice {
-        return Err(CaseError::Invalid {
-            field: "catenary.ice".into(),
-            value: format!(
-                "{} m on the contact wire, {} m on the messenger",
-                ice.contact_wire_m, ice.messenger_m
-            ),
-            reason: "the real-time window does not carry the ice's sag (the wire entering the moving window would start at its ice-free height); remove [catenary.ice] for the window".into(),
-        });
-    }
     let case = &window_case(case);
     let full = Setup::from_case_with(case, budget)?;
     let static_force_n = match case.pantographs.first() {

@@ -551,3 +551,67 @@ fn issue_41_the_real_time_window_in_3d_on_a_line_steps_as_on_its_catenary() {
         b.moves()
     );
 }
+
+/// Under ice the real-time window carries the deviation from its loaded static start across
+/// every move (`q' = P (q − s) + s`, the entering wire at its iced shape): with no force on the
+/// wire it stays at rest through every move, on a catenary (one model shifted) and on a line (a
+/// model per position, each its own static start), where carrying the state itself would set
+/// the wire swinging at the first move.
+#[test]
+fn issue_41_an_iced_window_at_rest_stays_at_rest_across_its_moves() {
+    use pcsim_core::compile::realtime_window;
+    use pcsim_core::solve::realtime::Coupling;
+    let cat = with_sections(common::short_en50318(12, 250.0));
+    let mut line = with_sections(common::overlap_line());
+    line.catenary.ice = Some(ice(0.005));
+    let mut cat = cat;
+    cat.catenary.ice = Some(ice(0.005));
+    for (name, case) in [("catenary", cat), ("line", line)] {
+        let mut rt = realtime_window(&case, 180.0, Coupling::Hil).unwrap();
+        let (x0, v, dt) = (case.run.start_m, case.speed_m_s(), rt.dt_s());
+        let n = ((case.run.end_m - x0 - 1.0) / (v * dt)) as usize;
+        let (mut fastest, mut sag) = (0.0f64, 0.0f64);
+        for k in 0..n {
+            rt.set_input(0.0, x0 + v * dt * (k + 1) as f64);
+            let o = rt.step();
+            assert!(rt.fault().is_none(), "{name}");
+            fastest = fastest.max(o.wire_velocity_m_s.abs());
+            sag = sag.max(rt.static_height_at(o.position_m) - o.wire_height_m);
+        }
+        assert!(rt.moves() >= 3, "{name}: {} moves", rt.moves());
+        assert!(fastest < 1e-9, "{name}: the wire moves at {fastest} m/s");
+        // The ice is there: the wire hangs below its design height.
+        assert!(sag > 0.01, "{name}: {sag} m below the design");
+    }
+}
+
+/// The window's accuracy under ice is the ice-free window's: SIL, 240 m, on `en50318-2002` over
+/// 20 spans at 250 km/h with 5 mm of ice, the 0–20 Hz contact force's mean and σ against the
+/// full iced model within the window's goals (mean < 1 %, σ < 3 %), as without ice.
+#[test]
+fn issue_41_the_window_under_ice_is_as_accurate_as_without() {
+    use pcsim_core::analysis::studies::run_window_sil;
+    let bare = with_sections(common::short_en50318(20, 250.0));
+    let mut iced = bare.clone();
+    iced.catenary.ice = Some(ice(0.005));
+    let err = |case: &Case| {
+        let full = run_case(case, &mut |_| true).unwrap().pantographs[0]
+            .stats
+            .unwrap();
+        let w = run_window_sil(case, 240.0).unwrap().stats.unwrap();
+        (
+            100.0 * (w.mean_n - full.mean_n) / full.mean_n,
+            100.0 * (w.std_n - full.std_n) / full.std_n,
+            full.mean_n,
+        )
+    };
+    let (b, i) = (err(&bare), err(&iced));
+    eprintln!("ice-free: Δmean {:+.3} % Δσ {:+.3} %; iced: Δmean {:+.3} % Δσ {:+.3} % (Fm {:.1} vs {:.1} N)", b.0, b.1, i.0, i.1, b.2, i.2);
+    assert!(
+        (i.2 - b.2).abs() > 0.5,
+        "the ice changes the force: {} vs {} N",
+        i.2,
+        b.2
+    );
+    assert!(i.0.abs() < 1.0 && i.1.abs() < 3.0, "iced window: {i:?}");
+}

@@ -278,37 +278,6 @@ fn a_steady_wind_moment_leaves_the_twist_at_its_static_value() {
     );
 }
 
-/// The real-time window does not carry the ice's sag (the wire entering the moving window would
-/// start at its ice-free height): an iced case is refused for it, naming the field, not run with
-/// a wire that jumps at every move.
-#[test]
-fn the_real_time_window_refuses_ice_naming_it() {
-    let mut case = with_sections(presets::load("en50318-2002").unwrap().0);
-    case.catenary.ice = Some(IceCase {
-        density_kg_m3: 900.0,
-        contact_wire_m: 0.01,
-        messenger_m: 0.01,
-    });
-    let err = pcsim_core::compile::realtime_window(
-        &case,
-        200.0,
-        pcsim_core::solve::realtime::Coupling::Hil,
-    )
-    .unwrap_err()
-    .to_string();
-    assert!(
-        err.contains("catenary.ice") && err.contains("0.01 m"),
-        "{err}"
-    );
-    case.catenary.ice = None;
-    assert!(pcsim_core::compile::realtime_window(
-        &case,
-        200.0,
-        pcsim_core::solve::realtime::Coupling::Hil
-    )
-    .is_ok());
-}
-
 /// Below the mode density at which the ice's sag is within 1 % of its closed form (2 per metre),
 /// an iced case is warned about, naming the study; at 2 per metre it is not.
 #[test]

@@ -26,7 +26,6 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
         ));
     }
     line_physics(case, line)?;
-    line_lateral(case, line, w)?;
     for (k, t) in line.tension_lengths.iter().enumerate() {
         tension_length(case, k, t, w)?;
     }
@@ -95,6 +94,8 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
             }
         }
     }
+    // After the tension lengths and their overlaps: it reads each overlap's shared spans.
+    line_lateral(case, line, w)?;
     if c.spans != line.n_spans() {
         return Err(inv(
             "catenary.spans",

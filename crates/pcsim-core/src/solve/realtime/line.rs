@@ -109,6 +109,8 @@ pub const MAX_LINE_POSITIONS: usize = 2000;
 /// block of the next position's model takes the same wire's block (same direction) projected
 /// onto its basis ([`basis_projection`]), or starts at rest when the wire enters; nodes are
 /// carried over by position; the pantograph's state, the time and the positions are kept.
+/// Under steady loads (ice) each position has its own static start `s`: the deviation from it
+/// is carried, `q' = P (q − s_from) + s_to`, and an entering wire or node starts at `s_to`.
 #[derive(Debug, Clone)]
 pub(super) struct Transfer {
     /// Per block of the next model: its offset and modes, and the source block's offset and
@@ -118,6 +120,9 @@ pub(super) struct Transfer {
     pub(super) node_from: Vec<Option<usize>>,
     /// How far the window moves, m.
     pub(super) shift_m: f64,
+    /// The static starts of both positions (modal, nodes; empty without steady loads).
+    pub(super) static_from: (Vec<f64>, Vec<f64>),
+    pub(super) static_to: (Vec<f64>, Vec<f64>),
 }
 
 /// The full model's wire of window wire `i`.
@@ -179,45 +184,67 @@ impl Transfer {
                     .position(|nf| nf.dir == nt.dir && (nf.x_m + from.origin_m - x).abs() < 1e-6)
             })
             .collect();
+        let static_of = |f: &Frame| {
+            f.integ
+                .compiled()
+                .static_start()
+                .map_or((Vec::new(), Vec::new()), |s| {
+                    (s.modal.clone(), s.nodes.clone())
+                })
+        };
         Transfer {
             blocks,
             node_from,
             shift_m: to.origin_m - from.origin_m,
+            static_from: static_of(from),
+            static_to: static_of(to),
         }
     }
 
     /// Carry `from` over into `to` (`h = Δt/2`): the modal coordinates and the half-kicked
     /// velocities `v + h a` are projected (`kernels::project2_rect`), the accelerations start at
-    /// zero (as `State::project_group`). `buf` holds at least three times the most modes of a
+    /// zero (as `State::project_group`). `buf` holds at least four times the most modes of a
     /// block. Allocation-free; the work is fixed (`Σ n_to · n_from`).
     pub(super) fn apply(&self, from: &State, to: &mut State, h: f64, isa: Isa, buf: &mut [f64]) {
         to.modal.a.fill(0.0);
+        let (sf, st) = (&self.static_from, &self.static_to);
         for (ot, nt, src) in &self.blocks {
             let (ot, nt) = (*ot, *nt);
             let Some((of, nf, p)) = src else {
-                to.modal.u[ot..ot + nt].fill(0.0);
+                match st.0.is_empty() {
+                    true => to.modal.u[ot..ot + nt].fill(0.0),
+                    false => to.modal.u[ot..ot + nt].copy_from_slice(&st.0[ot..ot + nt]),
+                }
                 to.modal.v[ot..ot + nt].fill(0.0);
                 continue;
             };
             let (of, nf) = (*of, *nf);
-            let (half, out) = buf.split_at_mut(nf);
+            let (half, rest) = buf.split_at_mut(nf);
+            let (dev, out) = rest.split_at_mut(nf);
             half.copy_from_slice(&from.modal.v[of..of + nf]);
             crate::solve::kernels::kick(isa, half, &from.modal.a[of..of + nf], h);
+            dev.copy_from_slice(&from.modal.u[of..of + nf]);
+            if !sf.0.is_empty() {
+                for (d, s) in dev.iter_mut().zip(&sf.0[of..of + nf]) {
+                    *d -= s;
+                }
+            }
             let out = &mut out[..2 * nt];
-            crate::solve::kernels::project2_rect(
-                isa,
-                p,
-                (nt, nf),
-                &from.modal.u[of..of + nf],
-                half,
-                out,
-            );
+            crate::solve::kernels::project2_rect(isa, p, (nt, nf), dev, half, out);
             to.modal.u[ot..ot + nt].copy_from_slice(&out[..nt]);
+            if !st.0.is_empty() {
+                for (u, s) in to.modal.u[ot..ot + nt].iter_mut().zip(&st.0[ot..ot + nt]) {
+                    *u += s;
+                }
+            }
             to.modal.v[ot..ot + nt].copy_from_slice(&out[nt..]);
         }
         let (nf, nt) = (&from.nodes, &mut to.nodes);
+        let s_at = |s: &Vec<f64>, i: usize| s.get(i).copied().unwrap_or(0.0);
         for (i, f) in self.node_from.iter().enumerate() {
-            nt.u[i] = f.map_or(0.0, |j| nf.u[j]);
+            nt.u[i] = f.map_or(s_at(&st.1, i), |j| {
+                nf.u[j] - s_at(&sf.1, j) + s_at(&st.1, i)
+            });
             nt.v[i] = f.map_or(0.0, |j| nf.v[j]);
             nt.a[i] = f.map_or(0.0, |j| nf.a[j]);
         }
@@ -239,7 +266,7 @@ pub(super) struct LineMoves {
     pub(super) trigger_m: Vec<f64>,
     /// Half the time step, s.
     pub(super) h: f64,
-    /// Scratch of the projections (three times the most modes of a block).
+    /// Scratch of the projections (four times the most modes of a block).
     pub(super) buf: Vec<f64>,
 }
 
@@ -264,7 +291,7 @@ impl LineMoves {
             transfers,
             trigger_m,
             h,
-            buf: vec![0.0; 3 * most],
+            buf: vec![0.0; 4 * most],
         }
     }
 }

@@ -222,7 +222,8 @@ impl RealtimeCatenary {
                 n,
                 shift_m,
                 trigger_m,
-            );
+            )
+            .with_static_start(frame.integ.compiled().static_start());
             (vec![frame], mover, None)
         };
         Ok(Self {

@@ -22,6 +22,10 @@ pub struct WindowMover {
     pub(super) moves: u64,
     /// The window's time step, s (the carried-over state is taken at the half step).
     pub(super) dt_s: f64,
+    /// The window's static start under its steady loads (ice), modal coordinates and node
+    /// displacements; empty without steady loads (the design shape is the equilibrium).
+    pub(super) static_modal: Vec<f64>,
+    pub(super) static_nodes: Vec<f64>,
 }
 
 impl WindowMover {
@@ -57,7 +61,21 @@ impl WindowMover {
             nbuf: vec![0.0; xs.len()],
             moves: 0,
             dt_s,
+            static_modal: Vec::new(),
+            static_nodes: Vec::new(),
         }
+    }
+
+    /// The mover of a window whose static start under its steady loads (ice) is `s`: a move
+    /// carries the deviation from it, `q' = P (q − s) + s` (the window's model is the same at
+    /// every position, so is `s`), and the wire that enters the window starts at its loaded
+    /// static shape, not at the design's.
+    pub fn with_static_start(mut self, s: Option<&crate::solve::compiled::StaticStart>) -> Self {
+        if let Some(s) = s {
+            self.static_modal = s.modal.clone();
+            self.static_nodes = s.nodes.clone();
+        }
+        self
     }
 
     /// Move the window forward by the fixed shift and carry the state over (`h = Δt/2`).
@@ -68,11 +86,27 @@ impl WindowMover {
         h: f64,
         isa: crate::solve::kernels::Isa,
     ) {
+        let loaded = !self.static_modal.is_empty();
+        if loaded {
+            for (u, s) in st.modal.u.iter_mut().zip(&self.static_modal) {
+                *u -= s;
+            }
+        }
         for g in 0..model.layout.groups.len() {
             st.project_group(model, g, &self.proj, h, isa, &mut self.buf);
         }
+        if loaded {
+            for (u, s) in st.modal.u.iter_mut().zip(&self.static_modal) {
+                *u += s;
+            }
+        }
         let nd = &mut st.nodes;
-        for v in [&mut nd.u, &mut nd.v, &mut nd.a] {
+        let s_at = |i: usize| self.static_nodes.get(i).copied().unwrap_or(0.0);
+        for (i, from) in self.node_from.iter().enumerate() {
+            self.nbuf[i] = from.map_or(s_at(i), |j| nd.u[j] - s_at(j) + s_at(i));
+        }
+        nd.u.copy_from_slice(&self.nbuf);
+        for v in [&mut nd.v, &mut nd.a] {
             for (i, from) in self.node_from.iter().enumerate() {
                 self.nbuf[i] = from.map_or(0.0, |j| v[j]);
             }
