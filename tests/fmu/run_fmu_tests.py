@@ -168,6 +168,38 @@ with tempfile.TemporaryDirectory() as d:
           r.returncode == 2 and "--case" in r.stderr and "crosswind" in r.stderr
           and not os.path.exists(os.path.join(d, "windy")), r.stderr[-300:])
 
+# 3e. The pantograph the window follows (issue 41, item 4): a case file whose [run] names
+# window_pantograph = "trailing" (the 2018 line, two pantographs 200 m apart), bundled, runs as
+# `pcsim hil --preset ... --pantograph trailing`, and not as the leading pantograph's window.
+with tempfile.TemporaryDirectory() as d:
+    text = subprocess.run([pcsim, "presets", "show", "en50318-2018-like-simple"], check=True,
+                          capture_output=True, text=True).stdout
+    trailing_p = os.path.join(d, "trailing.toml")
+    open(trailing_p, "w").write(text.replace("[run]\n", '[run]\nwindow_pantograph = "trailing"\n', 1))
+    out_dir = os.path.join(d, "trailing")
+    subprocess.run([pcsim, "fmu", "build", "--out", out_dir, "--case", trailing_p, "--fmi-version", "2"],
+                   check=True, stdout=subprocess.DEVNULL)
+    short = signals[signals["time"] <= 1.0]
+    h = simulate_fmu(os.path.join(out_dir, "pcsim_fmu.fmu"), stop_time=1.0, step_size=dt, output_interval=dt,
+                     input=short, output=["wire_height"])["wire_height"]
+    inp = os.path.join(d, "in.csv")
+    with open(inp, "w") as f:
+        f.write("time_s,contact_force_n,position_from_start_m\n")
+        for k in range(len(short) - 1):
+            f.write(f"{float(short['time'][k])!r},{float(short['contact_force'][k])!r},"
+                    f"{float(short['position_from_start'][k])!r}\n")
+    refs = {}
+    for tag, extra in [("trailing", ["--pantograph", "trailing"]), ("leading", [])]:
+        out = os.path.join(d, tag + ".csv")
+        subprocess.run([pcsim, "hil", "--preset", "en50318-2018-like-simple", "--window", "215", "--input", inp,
+                        "--out", out] + extra, check=True, stdout=subprocess.DEVNULL)
+        refs[tag] = np.loadtxt(out, delimiter=",", skiprows=1, usecols=(1,))
+    m = min(len(refs["trailing"]), len(h) - 1)
+    err = float(np.max(np.abs(h[1:m + 1] - refs["trailing"][:m])))
+    other = float(np.max(np.abs(h[1:m + 1] - refs["leading"][:m])))
+    check("window_pantograph = \"trailing\" in the bundled case: the FMU runs as `pcsim hil --pantograph trailing`",
+          err < 1e-9 and other > 1e-4, f"(max error {err:.1e} m; {other * 1e3:.2f} mm from the leading one's)")
+
 # 4. Misuse suite: each probe in its own process, on the library inside the FMU.
 with tempfile.TemporaryDirectory() as d:
     with zipfile.ZipFile(fmu) as z:

@@ -144,6 +144,15 @@ impl Override {
     }
 }
 
+/// `--pantograph`: the pantograph a real-time window follows, as the case's
+/// `run.window_pantograph` (the core resolves it and refuses one the case does not have).
+pub fn window_pantograph(mut case: Case, flag: Option<&str>) -> Case {
+    if let Some(p) = flag {
+        case.run.window_pantograph = Some(p.to_string());
+    }
+    case
+}
+
 /// A length flag (window lengths), m unless a unit is given.
 pub fn length(flag: &str, text: &str) -> Result<f64> {
     Ok(parse_quantity(text, Dimension::Length, 1.0)

@@ -18,7 +18,7 @@ fn main() {
         .next()
         .unwrap_or_else(|| "en50318-2018-like-simple".into());
     let window_m: f64 = args.next().map_or(240.0, |s| s.parse().expect("window, m"));
-    let case = pcsim_core::compile::window_case(&presets::load(&preset).unwrap().0);
+    let case = pcsim_core::compile::window_case(&presets::load(&preset).unwrap().0).unwrap();
     let t0 = Instant::now();
     let mut rt = pcsim_core::compile::realtime_window(&case, window_m, Coupling::Hil).unwrap();
     let build_s = t0.elapsed().as_secs_f64();

@@ -17,7 +17,7 @@ fn main() {
     let mut args = std::env::args().skip(1);
     let which = args.next().unwrap_or_else(|| "session".into());
     let n: usize = args.next().map_or(20_000, |s| s.parse().expect("steps"));
-    let case = pcsim_core::compile::window_case(&presets::load("syt-7.0-9.8").unwrap().0);
+    let case = pcsim_core::compile::window_case(&presets::load("syt-7.0-9.8").unwrap().0).unwrap();
     let v = case.run.speed_kmh / 3.6;
     let force = |k: usize| 85.0 + 20.0 * (k as f64 * 0.008).sin();
     let mut last = 0.0;

@@ -121,7 +121,7 @@ impl RealtimeSession {
         coupling: Coupling,
         budget: &crate::compile::Budget,
     ) -> Result<Self, CaseError> {
-        let case = crate::compile::window_case(case);
+        let case = crate::compile::window_case(case)?;
         let cat = crate::compile::realtime_window_with(&case, window_m, coupling, budget)?;
         let fingerprint = fnv1a64(
             format!(

@@ -409,9 +409,10 @@ fn eva(
 
 /// The accuracy-based window length over speeds (km/h) × tensions (N): the rows of
 /// `window.csv` as JSON text, by the core's one sweep (the CLI's `pcsim window`). The case's
-/// leading pantograph is used; tolerances in %, lengths in m.
+/// window follows `pantograph` (the case's `run.window_pantograph`, by default the leading one);
+/// tolerances in %, lengths in m.
 #[pyfunction]
-#[pyo3(signature = (case, speeds_kmh, tensions_n, mean_tol_pct=1.0, sigma_tol_pct=3.0, max_tol_pct=5.0, min_window_m=None, max_window_m=400.0, coarse_m=20.0, resolution_m=1.0, jobs=None, seeds=None, shard=None, max_steps=None, max_memory_gb=None, full_scan=true))]
+#[pyo3(signature = (case, speeds_kmh, tensions_n, mean_tol_pct=1.0, sigma_tol_pct=3.0, max_tol_pct=5.0, min_window_m=None, max_window_m=400.0, coarse_m=20.0, resolution_m=1.0, jobs=None, seeds=None, shard=None, max_steps=None, max_memory_gb=None, full_scan=true, pantograph=None))]
 #[allow(clippy::too_many_arguments)]
 fn window(
     py: Python<'_>,
@@ -431,9 +432,10 @@ fn window(
     max_steps: Option<u64>,
     max_memory_gb: Option<f64>,
     full_scan: bool,
+    pantograph: Option<String>,
 ) -> PyResult<String> {
     guarded(|| {
-        let base = case.inner.clone();
+        let base = with_window_pantograph(&case.inner, pantograph);
         let rows = py.detach(move || -> Result<Vec<WindowRow>, String> {
             let spec = WindowSweepSpec {
                 grid: grid_spec(&base, speeds_kmh, tensions_n, seeds, shard)?,
@@ -682,10 +684,22 @@ fn presets_list() -> Vec<String> {
         .collect()
 }
 
+/// `case` with the pantograph a real-time window follows set (`run.window_pantograph`), where a
+/// keyword gives one; the core resolves it and refuses one the case does not have.
+fn with_window_pantograph(case: &pcsim_core::Case, pantograph: Option<String>) -> pcsim_core::Case {
+    let mut c = case.clone();
+    if pantograph.is_some() {
+        c.run.window_pantograph = pantograph;
+    }
+    c
+}
+
 /// The moving-window catenary for hardware in the loop (`coupling="hil"`: the measured contact
 /// force and position are inputs) or software in the loop (`"sil"`: pcsim's pantograph). It
 /// translates the core's real-time session, which owns the step contract (README, "The real-time
-/// step contract"); the window carries the case's leading pantograph.
+/// step contract"); the window carries the pantograph it follows (`pantograph`: "leading",
+/// "trailing", a name or an index; by default the case's `run.window_pantograph`, else the
+/// leading one).
 #[pyclass(module = "pcsim._pcsim")]
 struct RealtimeCatenary {
     inner: RealtimeSession,
@@ -694,8 +708,13 @@ struct RealtimeCatenary {
 #[pymethods]
 impl RealtimeCatenary {
     #[new]
-    #[pyo3(signature = (case, window_m=215.0, coupling="hil"))]
-    fn new(case: &Case, window_m: f64, coupling: &str) -> PyResult<Self> {
+    #[pyo3(signature = (case, window_m=215.0, coupling="hil", pantograph=None))]
+    fn new(
+        case: &Case,
+        window_m: f64,
+        coupling: &str,
+        pantograph: Option<String>,
+    ) -> PyResult<Self> {
         guarded(|| {
             let coupling = match coupling {
                 "hil" => Coupling::Hil,
@@ -703,7 +722,12 @@ impl RealtimeCatenary {
                 other => return Err(err(format!("coupling `{other}`: use \"hil\" or \"sil\""))),
             };
             Ok(Self {
-                inner: RealtimeSession::new(&case.inner, window_m, coupling).map_err(err)?,
+                inner: RealtimeSession::new(
+                    &with_window_pantograph(&case.inner, pantograph),
+                    window_m,
+                    coupling,
+                )
+                .map_err(err)?,
             })
         })
     }

@@ -243,6 +243,27 @@ def test_realtime_catenary_steps_like_the_hil_reference():
         rt.step(90.0, float("nan"))
 
 
+def test_issue_41_4_the_window_follows_the_trailing_pantograph():
+    """The window follows the pantograph the rig represents: ``pantograph="trailing"`` (as the
+    case's ``run.window_pantograph`` and the CLI's ``--pantograph``) starts at the trailing
+    pantograph's own position and steps as the case whose field names it; an unknown one is
+    refused naming the field."""
+    case = pcsim.Case.preset("en50318-2018-like-simple")
+    lead = pcsim.RealtimeCatenary(case, window_m=215.0, coupling="hil")
+    trail = pcsim.RealtimeCatenary(case, window_m=215.0, coupling="hil", pantograph="trailing")
+    named = pcsim.RealtimeCatenary(case.with_overrides({"run.window_pantograph": "trailing"}),
+                                   window_m=215.0, coupling="hil")
+    assert trail.start_position_m == lead.start_position_m - 200.0
+    x0, dx = trail.start_position_m, case.get("run.speed_kmh") / 3.6 * trail.dt_s
+    for k in range(1000):
+        x = x0 + (k + 1) * dx
+        assert trail.step(150.0, x) == named.step(150.0, x)
+    with pytest.raises(ValueError, match="run.window_pantograph"):
+        pcsim.RealtimeCatenary(case, window_m=215.0, coupling="hil", pantograph="middle")
+    with pytest.raises(ValueError, match="run.window_pantograph"):
+        pcsim.window(case, [275.0], [20000.0], pantograph="middle")
+
+
 def test_realtime_golden_script_gives_the_core_sessions_statuses_and_outputs():
     """Issue 18: the scripted input (data/golden/realtime) through Python's RealtimeCatenary
     gives the statuses and, bit for bit, the outputs of the core's session."""

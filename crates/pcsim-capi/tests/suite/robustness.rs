@@ -306,3 +306,51 @@ fn issue_39_4_the_readme_warm_start_pattern_restores_on_a_line() {
     assert_eq!(restore(used - 1), PCSIM_ERR_STATE);
     unsafe { pcsim_rt_free(h) };
 }
+
+/// Issue 41, item 4: the C API's window follows the pantograph the case file names
+/// (`run.window_pantograph`): on the 2018 line with two pantographs 200 m apart, the trailing
+/// pantograph's window starts 200 m behind the leading one's, and steps as the session of that
+/// pantograph in the core (the same heights).
+#[test]
+fn issue_41_4_a_case_file_picks_the_trailing_pantograph() {
+    let (mut case, _) = pcsim_core::presets::load("en50318-2018-like-simple").unwrap();
+    let offset = case.pantographs[1].offset_m();
+    let dir = std::env::temp_dir().join(format!("pcsim-capi-trailing-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let open = |case: &pcsim_core::Case, name: &str| {
+        let p = dir.join(name);
+        std::fs::write(&p, case.to_toml_string()).unwrap();
+        let path = CString::new(p.to_str().unwrap()).unwrap();
+        let mut err = [0i8; 256];
+        let h = unsafe { pcsim_rt_new(path.as_ptr(), 1, 215.0, err.as_mut_ptr(), err.len()) };
+        assert!(!h.is_null());
+        h
+    };
+    let lead = open(&case, "lead.toml");
+    case.run.window_pantograph = Some("trailing".into());
+    let trail = open(&case, "trailing.toml");
+    let (x_lead, x_trail) = unsafe {
+        (
+            pcsim_rt_start_position(lead),
+            pcsim_rt_start_position(trail),
+        )
+    };
+    assert_eq!(x_trail, x_lead - offset);
+    let mut core =
+        pcsim_core::session::RealtimeSession::new(&case, 215.0, pcsim_core::session::Coupling::Hil)
+            .unwrap();
+    let dt = unsafe { pcsim_rt_dt(trail) };
+    for k in 0..2000 {
+        let x = x_trail + (k + 1) as f64 * dt * case.speed_m_s();
+        let (mut y, mut v) = (0.0, 0.0);
+        let s = unsafe { pcsim_rt_step(trail, 150.0, x, &mut y, &mut v, std::ptr::null_mut()) };
+        assert_eq!(s, PCSIM_OK);
+        let o = core.step(150.0, x).unwrap();
+        assert_eq!((y, v), (o.wire_height_m, o.wire_velocity_m_s), "step {k}");
+    }
+    unsafe {
+        pcsim_rt_free(lead);
+        pcsim_rt_free(trail);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

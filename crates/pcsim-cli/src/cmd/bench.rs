@@ -204,7 +204,7 @@ fn bench_realtime(a: &BenchArgs, ctx: &Ctx) -> Result<i32> {
     use pcsim_core::compile::budget::check_len;
     use pcsim_core::solve::realtime::Coupling;
     let preset = a.preset.clone().unwrap_or_else(|| "syt-7.0-9.8".into());
-    let case = pcsim_core::compile::window_case(&presets::load(&preset)?.0);
+    let case = pcsim_core::compile::window_case(&presets::load(&preset)?.0)?;
     let mut overrides = Vec::new();
     if let Some(v) = &a.speed {
         overrides.push(Override::speed(v)?);

@@ -31,6 +31,10 @@ pub struct HilArgs {
     /// their shortest round-trip form: they read back bit for bit), and its status (`ok`, or the code of the reason it was refused or rolled back).
     #[arg(long)]
     out: PathBuf,
+    /// The pantograph the window follows (the rig's): leading, trailing, a name or an index
+    /// (sets the case's run.window_pantograph; default: the case's, else the leading one).
+    #[arg(long, value_name = "NAME")]
+    pantograph: Option<String>,
     /// Fastest plausible pantograph, km/h: a position that moves faster between two rows is
     /// refused.
     #[arg(long, default_value_t = DEFAULT_MAX_SPEED_KMH)]
@@ -85,6 +89,7 @@ fn read_input(p: &Path) -> Result<Vec<[f64; 3]>> {
 
 pub fn hil(a: HilArgs, ctx: &Ctx) -> Result<i32> {
     let case = crate::common::load_case(a.case.as_ref(), a.preset.as_deref())?;
+    let case = crate::common::window_pantograph(case, a.pantograph.as_deref());
     if !(a.max_speed_kmh.is_finite() && a.max_speed_kmh > 0.0) {
         bail!(
             "--max-speed-kmh {}: must be a finite speed > 0",

@@ -27,6 +27,10 @@ pub struct RealtimeArgs {
     /// Train speed (default: the case's): km/h, or with a unit (250km/h, 69m/s).
     #[arg(long, value_name = "KM/H")]
     speed: Option<String>,
+    /// The pantograph the window follows (the rig's): leading, trailing, a name or an index
+    /// (sets the case's run.window_pantograph; default: the case's, else the leading one).
+    #[arg(long, value_name = "NAME")]
+    pantograph: Option<String>,
     /// Output directory.
     #[arg(long, default_value = "out/realtime")]
     out: PathBuf,
@@ -53,7 +57,8 @@ pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
     if let Some(v) = &a.speed {
         overrides.push(Override::speed(v)?);
     }
-    let case = pcsim_core::compile::window_case(&apply(&base, &overrides)?);
+    let case = crate::common::window_pantograph(apply(&base, &overrides)?, a.pantograph.as_deref());
+    let case = pcsim_core::compile::window_case(&case)?;
     let windows: Vec<f64> = a
         .window
         .iter()

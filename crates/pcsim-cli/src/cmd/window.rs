@@ -26,6 +26,10 @@ pub struct WindowArgs {
     /// Embedded preset name.
     #[arg(long)]
     preset: Option<String>,
+    /// The pantograph the window follows (the rig's): leading, trailing, a name or an index
+    /// (sets the case's run.window_pantograph; default: the case's, else the leading one).
+    #[arg(long, value_name = "NAME")]
+    pantograph: Option<String>,
     /// Speeds, comma-separated: km/h, or with a unit. Default: the case's speed.
     #[arg(long, value_delimiter = ',', value_name = "KM/H")]
     speed: Vec<String>,
@@ -135,7 +139,7 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
     }
     let (base, case_text) =
         crate::common::load_case_with_text(a.case.as_ref(), a.preset.as_deref())?;
-    let base = apply(&base, &[])?;
+    let base = crate::common::window_pantograph(apply(&base, &[])?, a.pantograph.as_deref());
     let (speeds, tensions, shard) =
         crate::common::sweep_flags(&a.speed, &a.tension, a.jobs, a.shard.as_deref())?;
     // The flags become the core's spec, which holds the defaults, the checks and the fingerprint.
@@ -171,7 +175,7 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
     let search = spec.search(&base);
     let tol = spec.tolerances;
     let (jobs, mine) = spec.jobs(&base).context("in the window sweep")?;
-    let fingerprint = spec.fingerprint(&base);
+    let fingerprint = spec.fingerprint(&base)?;
     let od = crate::output::OutDir::begin(&a.out)?;
     let dir = od.path();
     // The case as given (every value with its source), for the report.

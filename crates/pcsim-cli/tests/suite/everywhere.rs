@@ -124,3 +124,82 @@ fn issue_41_5_validate_runs_a_case_file_against_a_targets_file() {
         .unwrap();
     refused(&o, &["missing.toml"]);
 }
+
+/// Issue 41, item 4: `--pantograph` picks the pantograph the window follows, as the case's
+/// `run.window_pantograph` does: on the three-tension-length 2018 line, `pcsim hil --pantograph
+/// trailing` writes the same bytes as the case file with `window_pantograph = "trailing"`, other
+/// bytes than the leading pantograph's window (it starts 200 m further back); `pcsim realtime`
+/// takes it too; a pantograph the case does not have is refused, naming the field and the names.
+#[test]
+fn issue_41_4_the_window_follows_the_pantograph_named_by_flag_or_case() {
+    let d = scratch("everywhere", "trailing");
+    let text = preset_text("en50318-2018-like-simple");
+    let trailing = write(
+        &d,
+        "trailing.toml",
+        &text.replacen("[run]\n", "[run]\nwindow_pantograph = \"trailing\"\n", 1),
+    );
+    let mut input = String::from("time_s,contact_force_n,position_from_start_m\n");
+    for k in 0..2000 {
+        let t = k as f64 * 1e-3;
+        input.push_str(&format!("{t:?},150.0,{:?}\n", (t + 1e-3) * 275.0 / 3.6));
+    }
+    let inp = write(&d, "in.csv", &input);
+    let hil = |args: &[&str], out: &str| {
+        let o = pcsim()
+            .arg("hil")
+            .args(args)
+            .arg("--input")
+            .arg(&inp)
+            .arg("--out")
+            .arg(d.join(out))
+            .output()
+            .unwrap();
+        ok(&o);
+        std::fs::read(d.join(out)).unwrap()
+    };
+    let by_flag = hil(
+        &[
+            "--preset",
+            "en50318-2018-like-simple",
+            "--pantograph",
+            "trailing",
+        ],
+        "flag.csv",
+    );
+    let by_case = hil(&[trailing.to_str().unwrap()], "case.csv");
+    let leading = hil(&["--preset", "en50318-2018-like-simple"], "lead.csv");
+    assert_eq!(by_flag, by_case);
+    assert_ne!(by_flag, leading);
+    let o = pcsim()
+        .args([
+            "hil",
+            "--preset",
+            "en50318-2018-like-simple",
+            "--pantograph",
+            "middle",
+        ])
+        .arg("--input")
+        .arg(&inp)
+        .arg("--out")
+        .arg(d.join("x.csv"))
+        .output()
+        .unwrap();
+    refused(
+        &o,
+        &["run.window_pantograph", "middle", "leading, trailing"],
+    );
+    let o = pcsim()
+        .args([
+            "realtime",
+            "--preset",
+            "en50318-2018-like-simple",
+            "--pantograph",
+            "nobody",
+        ])
+        .args(["--window", "240", "--no-plot", "--out"])
+        .arg(d.join("rt"))
+        .output()
+        .unwrap();
+    refused(&o, &["run.window_pantograph", "nobody"]);
+}

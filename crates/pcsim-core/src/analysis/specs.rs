@@ -223,8 +223,8 @@ impl WindowSweepSpec {
         ("resolution_m", "--resolution"),
     ];
 
-    /// The one-pantograph case the windows are measured on.
-    pub fn single(base: &Case) -> Case {
+    /// The one-pantograph case the windows are measured on (the pantograph the window follows).
+    pub fn single(base: &Case) -> Result<Case, CaseError> {
         crate::compile::window_case(base)
     }
 
@@ -242,12 +242,14 @@ impl WindowSweepSpec {
     /// Check the tolerances and the search against `base`, naming the field.
     pub fn check(&self, base: &Case) -> Result<(), CaseError> {
         self.tolerances.check()?;
+        Self::single(base)?;
         self.search(base).check_for(base.length_m())
     }
 
-    /// The sweep's fingerprint over `base` (what `window merge` checks).
-    pub fn fingerprint(&self, base: &Case) -> String {
-        let single = Self::single(base);
+    /// The sweep's fingerprint over `base` (what `window merge` checks), after [`Self::check`]
+    /// (which refuses a window pantograph the case does not have).
+    pub fn fingerprint(&self, base: &Case) -> Result<String, CaseError> {
+        let single = Self::single(base)?;
         let grid = self.grid.grid(&single);
         let mut desc = single.to_toml_string();
         let _ = write!(
@@ -261,12 +263,12 @@ impl WindowSweepSpec {
             self.grid.shard.count,
             env!("CARGO_PKG_VERSION")
         );
-        fnv1a64_hex(desc.as_bytes())
+        Ok(fnv1a64_hex(desc.as_bytes()))
     }
 
     /// Every job and this shard's, over the one-pantograph case of `base`.
     pub fn jobs(&self, base: &Case) -> Result<(Vec<Job>, Vec<Job>), CaseError> {
-        self.grid.jobs(&Self::single(base))
+        self.grid.jobs(&Self::single(base)?)
     }
 
     /// Run this shard's jobs `mine` ([`WindowSweepSpec::jobs`]) over `base`.

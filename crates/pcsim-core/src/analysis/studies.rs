@@ -162,7 +162,7 @@ pub fn window_study(
     jobs: Option<usize>,
     progress: &mut dyn FnMut(f64) -> bool,
 ) -> Result<WindowStudy, SimError> {
-    let single = crate::compile::window_case(case);
+    let single = crate::compile::window_case(case)?;
     crate::compile::require_contact(&single, "the real-time window study")?;
     let full = simulate(&Setup::from_case(&single)?, progress)?;
     let windows = parallel_map(windows_m, jobs, |&w| run_window_sil(&single, w))

@@ -191,7 +191,7 @@ pub fn window_sweep(
         // The window carries one pantograph; its energies are the one-pantograph run's, taken
         // in the same run as the full model's statistics (the same steps, so the outputs of
         // two runs, one recording and one sampling the energy).
-        let case = crate::compile::window_case(&job.case);
+        let case = crate::compile::window_case(&job.case).map_err(|e| in_case(job.index, "", e))?;
         crate::compile::require_contact(&case, "the window-length search")
             .map_err(|e| in_case(job.index, "", e))?;
         let setup = Setup::from_case_with(&case, budget).map_err(|e| in_case(job.index, "", e))?;

@@ -186,16 +186,54 @@ pub fn require_contact(case: &Case, study: &str) -> Result<(), CaseError> {
     })
 }
 
-/// The case of a real-time window, and of the full-model run it is compared with: `case` with its
-/// leading pantograph only. The window carries one pantograph (the rig's); this is the one place
-/// that says so, and [`realtime_window`] applies it.
-pub fn window_case(case: &Case) -> Case {
+/// The case of a real-time window, and of the full-model run it is compared with: `case` with the
+/// pantograph the window follows only (`run.window_pantograph`: the leading one by default, the
+/// trailing one, a name or an index; its offset kept, so the window's input is that
+/// pantograph's own track position). The window carries one pantograph (the rig's): another
+/// pantograph's waves reach it only through a catenary the window does not hold, so the window
+/// and its reference both leave the others out. This is the one place that says so, and
+/// [`realtime_window`] applies it. An unknown selection is refused, naming the pantographs.
+pub fn window_case(case: &Case) -> Result<Case, CaseError> {
+    let p = window_pantograph(case)?;
     let mut single = case.clone();
-    single.pantographs.truncate(1);
-    single
+    let keep = single.pantographs.swap_remove(p);
+    single.pantographs = vec![keep];
+    single.run.window_pantograph = None;
+    Ok(single)
 }
 
-/// The real-time window of `case` (its leading pantograph only, [`window_case`]), `window_m`
+/// The index of the pantograph a real-time window follows (`run.window_pantograph`).
+pub fn window_pantograph(case: &Case) -> Result<usize, CaseError> {
+    let n = case.pantographs.len();
+    let Some(sel) = case.run.window_pantograph.as_deref() else {
+        return Ok(0);
+    };
+    let names: Vec<String> = (0..n).map(|i| pantograph_name(case, i)).collect();
+    let found = match sel {
+        "leading" if n > 0 => Some(0),
+        "trailing" if n > 0 => Some(n - 1),
+        _ => names
+            .iter()
+            .position(|x| x == sel)
+            .or_else(|| sel.parse::<usize>().ok().filter(|&i| i < n)),
+    };
+    found.ok_or_else(|| CaseError::Invalid {
+        field: "run.window_pantograph".into(),
+        value: sel.to_string(),
+        reason: format!(
+            "the real-time window follows one of the case's pantographs: \"leading\", \"trailing\", a name ({}) or an index below {n}",
+            names.join(", ")
+        ),
+    })
+}
+
+/// Pantograph `i`'s name as the outputs give it (its own, or "leading" for the first and
+/// "pantograph-k" for the others).
+pub fn pantograph_name(case: &Case, i: usize) -> String {
+    model::default_name(case.pantographs[i].name(), i)
+}
+
+/// The real-time window of `case` (the pantograph it follows only, [`window_case`]), `window_m`
 /// long, coupled as `coupling`: the full model is compiled once, and the window is cut from it.
 pub fn realtime_window(
     case: &Case,
@@ -216,10 +254,10 @@ pub fn realtime_window_with(
         return Err(CaseError::Invalid {
             field: "wind".into(),
             value: "given".into(),
-            reason: "the real-time window does not carry a crosswind (its turbulence is generated for the full model's run); remove [wind] for the window".into(),
+            reason: "the real-time window does not carry a crosswind: the turbulent field is generated before a run, along the whole line, for the run's known duration, and a window session runs as long and as fast as the rig drives it, past any field made in advance (a field generated ahead of the window while it runs is not built); remove [wind] for the window".into(),
         });
     }
-    let case = &window_case(case);
+    let case = &window_case(case)?;
     let full = Setup::from_case_with(case, budget)?;
     let static_force_n = match case.pantographs.first() {
         Some(crate::input::case::PantographCase::Lumped { uplift_n, .. }) => *uplift_n,
@@ -296,48 +334,44 @@ mod wind_tests {
             assert_eq!(cm.isa, isa);
             let mut wl = setup.model.wind.clone().unwrap();
             let w = cm.wind.as_ref().unwrap();
+            assert_eq!(w.parts.len(), 1, "a catenary's wires share one basis");
             let mut ws = integ.workspace();
-            let kn = w.k * w.n;
             let check = |wl: &crate::model::wind::WindLoad, ws: &mut crate::solve::Workspace| {
                 let (mut quadratic, mut per_step) = (0, 0);
-                for step in 0..200 {
-                    let t = 0.137 + step as f64 * 1e-3;
-                    let (interval, tau) = wl.field.interval(t);
-                    // The step's own scatter.
-                    let mut direct = w.mean.clone();
-                    for slot in 0..w.k {
-                        let p0 = wl.mean_pressure(slot);
-                        for g in 0..w.ng {
-                            ws.wind_p[slot * w.ng + g] =
-                                (wl.pressure(slot, wl.field.at(g, t)) - p0) * wl.grid_m;
+                for part in &w.parts {
+                    let kn = part.k * part.n;
+                    let mut p = vec![0.0; part.k * part.ng];
+                    let mut c = vec![0.0; 3 * kn];
+                    for step in 0..200 {
+                        let t = 0.137 + step as f64 * 1e-3;
+                        let (interval, tau) = wl.field.interval(t);
+                        // The step's own scatter.
+                        let mut direct = vec![0.0; kn];
+                        part.step_forces(wl, t, &mut p, &mut direct, &mut ws.scr);
+                        if part.interval_forces(wl, interval, &mut p, &mut c, &mut ws.scr) {
+                            quadratic += 1;
+                            let (c0, rest) = c.split_at(kn);
+                            let (c1, c2) = rest.split_at(kn);
+                            let mut q = vec![0.0; kn];
+                            kernels::quadratic(isa, &mut q, c0, c1, c2, tau);
+                            let scale = direct.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                            let err = q
+                                .iter()
+                                .zip(&direct)
+                                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+                            assert!(err <= 1e-12 * scale, "t {t}: {err} of {scale}");
+                        } else {
+                            per_step += 1;
+                            // A sign change inside the interval: at one of its grid points the
+                            // normal wind has both signs at the interval's ends.
+                            let changes = part.slots.iter().any(|&slot| {
+                                part.grid.iter().any(|&g| {
+                                    let (u0, u1) = wl.field.ends(g, interval);
+                                    wl.pressure_quadratic(slot, u0, u1).is_none()
+                                })
+                            });
+                            assert!(changes, "t {t}");
                         }
-                    }
-                    w.sampler
-                        .scatter_add(&ws.wind_p, w.k, &mut direct, &mut ws.scr);
-                    if w.interval_forces(wl, interval, &mut ws.wind_p, &mut ws.wind_c, &mut ws.scr)
-                    {
-                        quadratic += 1;
-                        let (c0, rest) = ws.wind_c.split_at(kn);
-                        let (c1, c2) = rest.split_at(kn);
-                        let mut q = vec![0.0; kn];
-                        kernels::quadratic(isa, &mut q, c0, c1, c2, tau);
-                        let scale = direct.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-                        let err = q
-                            .iter()
-                            .zip(&direct)
-                            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-                        assert!(err <= 1e-12 * scale, "t {t}: {err} of {scale}");
-                    } else {
-                        per_step += 1;
-                        // A sign change inside the interval: at one of its grid points the
-                        // normal wind has both signs at the interval's ends.
-                        let changes = (0..w.k).any(|slot| {
-                            (0..w.ng).any(|g| {
-                                let (u0, u1) = wl.field.ends(g, interval);
-                                wl.pressure_quadratic(slot, u0, u1).is_none()
-                            })
-                        });
-                        assert!(changes, "t {t}");
                     }
                 }
                 (quadratic, per_step)

@@ -153,47 +153,60 @@ fn run_duration_s(case: &Case) -> f64 {
     (case.run.end_m - (case.run.start_m - max_off)) / case.speed_m_s().max(1e-9)
 }
 
-/// The crosswind of a case on the model's wires (messenger, contact wire): the mean wind at
-/// each wire's height, the aerodynamic coefficients, the linearised aerodynamic damping and the
-/// generated turbulence on a grid along the line.
-fn wind_load(case: &Case, diam: [f64; 2], length_m: f64) -> Option<WindLoad> {
+/// The crosswind of a case on the model's wires (each tension length's messenger and contact
+/// wire: wire `2k + i`, on its own diameters and coefficients where a tension length overrides
+/// its wires): the mean wind at each wire's height, the aerodynamic coefficients, the
+/// linearised aerodynamic damping and the generated turbulence on one grid along the whole line
+/// (an overlap's two tension lengths feel the same field).
+fn wind_load(case: &Case, iced: &Iced, placed: &Placed) -> Option<WindLoad> {
     let wd = case.wind.as_ref()?;
     let c = &case.catenary;
     let lat = c.lateral.as_ref()?;
+    let length_m = case.length_m();
     let profile = match wd.profile {
         WindProfile::Log { roughness_m } => Profile::Log { roughness_m },
         WindProfile::Power { exponent } => Profile::Power { exponent },
     };
     let normal = wd.yaw_deg.to_radians().sin().abs();
     let rho = wd.air_density_kg_m3;
-    let heights = [
-        lat.contact_wire_height_m + c.encumbrance_m,
-        lat.contact_wire_height_m,
-    ];
     let mut wires = Vec::new();
-    for (wire, w) in [(MESSENGER, &c.messenger), (CONTACT, &c.contact_wire)] {
-        let aero = w.section.as_ref().and_then(|s| s.aero.as_ref())?;
-        let d = diam[wire];
-        let (cd, cl, cm) = aero.at(0.0);
-        let (_, dcl, dcm) = aero.slopes_at_zero();
-        let u = normal
-            * mean_at_height(
-                wd.mean_speed_m_s,
-                wd.reference_height_m,
-                heights[wire],
-                &profile,
-            );
-        wires.push(WireWind {
-            wire,
-            height_m: heights[wire],
-            mean_normal_m_s: u,
-            lateral_m: d * cd,
-            vertical_m: d * cl,
-            torsional_m2: d * d * cm,
-            damping_lateral: rho * d * cd * u,
-            damping_vertical: 0.5 * rho * d * u * (dcl + cd),
-            damping_torsional: torsional_aero_damping(rho, d, u, dcm),
-        });
+    for (k, tl) in placed.tls.iter().enumerate() {
+        // A `[catenary]`'s wires are `iced`'s; a line's tension length carries its own.
+        let tl_iced;
+        let (ck, diam) = if case.line.is_none() {
+            (c, iced.diameters)
+        } else {
+            tl_iced = Iced::on(&tl.catenary, c.ice.as_ref());
+            (&tl.catenary, tl_iced.diameters)
+        };
+        let heights = [
+            lat.contact_wire_height_m + ck.encumbrance_m,
+            lat.contact_wire_height_m,
+        ];
+        for (i, w) in [(MESSENGER, &ck.messenger), (CONTACT, &ck.contact_wire)] {
+            let aero = w.section.as_ref().and_then(|s| s.aero.as_ref())?;
+            let d = diam[i];
+            let (cd, cl, cm) = aero.at(0.0);
+            let (_, dcl, dcm) = aero.slopes_at_zero();
+            let u = normal
+                * mean_at_height(
+                    wd.mean_speed_m_s,
+                    wd.reference_height_m,
+                    heights[i],
+                    &profile,
+                );
+            wires.push(WireWind {
+                wire: 2 * k + i,
+                height_m: heights[i],
+                mean_normal_m_s: u,
+                lateral_m: d * cd,
+                vertical_m: d * cl,
+                torsional_m2: d * d * cm,
+                damping_lateral: rho * d * cd * u,
+                damping_vertical: 0.5 * rho * d * u * (dcl + cd),
+                damping_torsional: torsional_aero_damping(rho, d, u, dcm),
+            });
+        }
     }
     let sigma = wd.turbulence_intensity * wd.mean_speed_m_s;
     let u_c = mean_at_height(
@@ -252,7 +265,7 @@ fn wind_load(case: &Case, diam: [f64; 2], length_m: f64) -> Option<WindLoad> {
     })
 }
 
-fn default_name(name: &str, i: usize) -> String {
+pub(crate) fn default_name(name: &str, i: usize) -> String {
     if !name.is_empty() {
         name.to_string()
     } else if i == 0 {
@@ -384,7 +397,7 @@ pub fn model_from_validated(
     // the ice's weight is a steady load on that geometry (it lowers the wires, solved in the
     // start state, `solve::equilibrium`).
     let placed = place(case)?;
-    let wind = wind_load(case, iced.diameters, case.length_m());
+    let wind = wind_load(case, &iced, &placed);
     let wires = build_wires(case, &iced, &placed, wind.as_ref(), &dirs);
     warnings.extend(wind_warnings(wind.as_ref(), &wires, &dirs));
     let points = build_point_elements(&placed, &iced.catenary, &dirs);

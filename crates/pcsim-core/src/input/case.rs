@@ -342,6 +342,12 @@ pub struct RunCase {
     /// The seed of the perturbation (see `perturb_uplift_rel`).
     #[serde(default, skip_serializing_if = "is_zero_u64")]
     pub perturb_seed: u64,
+    /// The pantograph the real-time window follows (the rig's): `"leading"` (the default),
+    /// `"trailing"` (the last), a pantograph's name or its index. The window, the window
+    /// studies and the full run they are compared with carry that pantograph alone
+    /// (`compile::window_case`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub window_pantograph: Option<String>,
 }
 
 fn is_zero(x: &f64) -> bool {

@@ -87,27 +87,54 @@ pub(crate) struct LateralProbe {
     pub(crate) eccentricity_m: f64,
 }
 
-/// The crosswind's per-step work: a scatter of the grid's pressures onto every loaded wire, and
-/// the loaded blocks with their coefficients.
+/// The crosswind's per-step work: one part per basis group that carries loaded wires (a
+/// catenary's messenger and contact wire share one basis; a line's tension lengths each have
+/// their own), each a scatter of the grid's pressures onto its wires, and the loaded blocks
+/// with their coefficients.
 #[derive(Debug, Clone)]
 pub(crate) struct WindStep {
+    pub(crate) parts: Vec<WindPart>,
+}
+
+/// The crosswind on one basis group: the grid points inside its wires' extent and its loaded
+/// wires.
+#[derive(Debug, Clone)]
+pub(crate) struct WindPart {
     pub(crate) sampler: PointSampler,
-    /// Loaded wires (one block of `n` modes each in `wind_q`), grid points.
+    /// The loaded wires' slots in `WindLoad::wires` (one block of `n` modes each in `wind_q`).
+    pub(crate) slots: Vec<usize>,
+    /// The grid points inside the group's basis: indices into the wind field.
+    pub(crate) grid: Vec<usize>,
+    /// Loaded wires, modes, grid points.
     pub(crate) k: usize,
     pub(crate) n: usize,
     pub(crate) ng: usize,
-    /// (wire slot in `wind_q`, block offset in the state, coefficient `d C`).
+    /// (local wire slot in this part's `wind_q`, block offset in the state, coefficient `d C`).
     pub(crate) blocks: Vec<(usize, usize, f64)>,
     /// The mean load's generalised "pressure" of every loaded wire, `P̄ ∫ sin(κ_k x) dx`.
     pub(crate) mean: Vec<f64>,
+    /// Where this part's pressures (`k·ng`), forces (`k·n`) and interval forces (`3·k·n`)
+    /// start in the workspace's `wind_p`, `wind_q` and `wind_c`.
+    pub(crate) p_off: usize,
+    pub(crate) q_off: usize,
+    pub(crate) c_off: usize,
 }
 
 impl WindStep {
+    /// The workspace's sizes of `wind_p`, `wind_q`, `wind_c`.
+    pub(crate) fn sizes(&self) -> (usize, usize, usize) {
+        self.parts.iter().fold((0, 0, 0), |(p, q, c), w| {
+            (p + w.k * w.ng, q + w.k * w.n, c + 3 * w.k * w.n)
+        })
+    }
+}
+
+impl WindPart {
     /// The generalised forces of the crosswind over field interval `interval` as a quadratic in
-    /// the interval's fraction, into `c = [A0 | A1 | A2]` (the mean in `A0`): the grid's
-    /// pressure coefficients ([`WindLoad::pressure_quadratic`], the fluctuation about the mean
-    /// in `A0`) scattered once each. `false` (and `c` not filled) when the normal wind changes
-    /// sign at a grid point inside the interval.
+    /// the interval's fraction, into `c = [A0 | A1 | A2]` (the mean in `A0`; this part's
+    /// slices): the grid's pressure coefficients ([`WindLoad::pressure_quadratic`], the
+    /// fluctuation about the mean in `A0`) scattered once each. `false` (and `c` not filled)
+    /// when the normal wind changes sign at a grid point inside the interval.
     pub(crate) fn interval_forces(
         &self,
         wl: &WindLoad,
@@ -118,15 +145,15 @@ impl WindStep {
     ) -> bool {
         let kn = self.k * self.n;
         for order in 0..3 {
-            for slot in 0..self.k {
+            for (s, &slot) in self.slots.iter().enumerate() {
                 let p0 = wl.mean_pressure(slot);
-                for g in 0..self.ng {
+                for (gi, &g) in self.grid.iter().enumerate() {
                     let (u0, u1) = wl.field.ends(g, interval);
                     let Some(q) = wl.pressure_quadratic(slot, u0, u1) else {
                         return false;
                     };
                     let v = if order == 0 { q[0] - p0 } else { q[order] };
-                    p[slot * self.ng + g] = v * wl.grid_m;
+                    p[s * self.ng + gi] = v * wl.grid_m;
                 }
             }
             let out = &mut c[order * kn..(order + 1) * kn];
@@ -138,6 +165,40 @@ impl WindStep {
             self.sampler.scatter_add(p, self.k, out, scr);
         }
         true
+    }
+
+    /// The generalised forces at time `t` by one scatter of the step's own pressures (the law
+    /// at the field's value at `t`), the mean included, into `q` (this part's slices).
+    pub(crate) fn step_forces(
+        &self,
+        wl: &WindLoad,
+        t: f64,
+        p: &mut [f64],
+        q: &mut [f64],
+        scr: &mut SamplerScratch,
+    ) {
+        for (s, &slot) in self.slots.iter().enumerate() {
+            let p0 = wl.mean_pressure(slot);
+            for (gi, &g) in self.grid.iter().enumerate() {
+                p[s * self.ng + gi] = (wl.pressure(slot, wl.field.at(g, t)) - p0) * wl.grid_m;
+            }
+        }
+        q.copy_from_slice(&self.mean);
+        self.sampler.scatter_add(p, self.k, q, scr);
+    }
+
+    /// Add each loaded block's share `coef · q_wire` of the forces `q` (this part's) to the
+    /// modal vector `a`.
+    #[inline]
+    pub(crate) fn add_to(&self, isa: Isa, q: &[f64], a: &mut [f64]) {
+        for &(slot, off, coef) in &self.blocks {
+            kernels::axpy(
+                isa,
+                coef,
+                &q[slot * self.n..(slot + 1) * self.n],
+                &mut a[off..off + self.n],
+            );
+        }
     }
 }
 
@@ -337,7 +398,11 @@ impl CompiledModel {
             .iter()
             .map(|g| g.sampler.scratch())
             .chain(sl.vels.iter().map(|v| v.sampler.scratch()))
-            .chain(wind.iter().map(|w| w.sampler.scratch()))
+            .chain(
+                wind.iter()
+                    .flat_map(|w| &w.parts)
+                    .map(|p| p.sampler.scratch()),
+            )
             .fold(
                 PointSampler::new(&SineBasis::new(1.0, 1), &[], None, isa).scratch(),
                 |a, b| a.max(b),
@@ -415,6 +480,7 @@ impl CompiledModel {
     /// allocate nothing).
     pub(crate) fn workspace_with(&self, scr: SamplerScratch, imp: ImplicitScratch) -> Workspace {
         let np = self.model.pantographs.len();
+        let wind_sizes = self.wind.as_ref().map_or((0, 0, 0), |w| w.sizes());
         Workspace {
             u: vec![0.0; self.n_u],
             vel: vec![0.0; self.n_v],
@@ -435,11 +501,11 @@ impl CompiledModel {
             eu: vec![0.0; self.n_u],
             ev: vec![0.0; self.n_u],
             ef: vec![0.0; self.n_u],
-            wind_p: vec![0.0; self.wind.as_ref().map_or(0, |w| w.k * w.ng)],
-            wind_q: vec![0.0; self.wind.as_ref().map_or(0, |w| w.k * w.n)],
+            wind_p: vec![0.0; wind_sizes.0],
+            wind_q: vec![0.0; wind_sizes.1],
             wind_interval: None,
-            wind_quadratic: false,
-            wind_c: vec![0.0; self.wind.as_ref().map_or(0, |w| 3 * w.k * w.n)],
+            wind_quadratic: vec![false; self.wind.as_ref().map_or(0, |w| w.parts.len())],
+            wind_c: vec![0.0; wind_sizes.2],
         }
     }
 
@@ -452,7 +518,11 @@ impl CompiledModel {
     /// Whether any steady load acts (the mean crosswind, the ice's weight): then the design
     /// shape is not the equilibrium and the start state is solved.
     pub(crate) fn has_steady_loads(&self) -> bool {
-        !self.steady_loads.is_empty() || self.wind.as_ref().is_some_and(|w| !w.blocks.is_empty())
+        !self.steady_loads.is_empty()
+            || self
+                .wind
+                .as_ref()
+                .is_some_and(|w| w.parts.iter().any(|p| !p.blocks.is_empty()))
     }
 
     /// The static residual at the modal coordinates and node displacements `x` (modal vector,
@@ -474,15 +544,8 @@ impl CompiledModel {
         }
         self.scatter_points(ws, rq);
         self.add_steady_loads(rq);
-        if let Some(w) = &self.wind {
-            for &(slot, off, coef) in &w.blocks {
-                kernels::axpy(
-                    self.isa,
-                    coef,
-                    &w.mean[slot * w.n..(slot + 1) * w.n],
-                    &mut rq[off..off + w.n],
-                );
-            }
+        for part in self.wind.iter().flat_map(|w| &w.parts) {
+            part.add_to(self.isa, &part.mean, rq);
         }
         rn.copy_from_slice(&ws.f[self.node_u0..self.node_u0 + rn.len()]);
     }
@@ -551,14 +614,13 @@ impl CompiledModel {
         let Some(w) = &self.wind else {
             return 0.0;
         };
-        w.blocks
+        w.parts
             .iter()
-            .map(|&(slot, off, coef)| {
-                coef * kernels::dot(
-                    self.isa,
-                    &ws.wind_q[slot * w.n..(slot + 1) * w.n],
-                    &st.modal.v[off..off + w.n],
-                )
+            .flat_map(|p| {
+                p.blocks.iter().map(move |&(slot, off, coef)| {
+                    let q = &ws.wind_q[p.q_off + slot * p.n..p.q_off + (slot + 1) * p.n];
+                    coef * kernels::dot(self.isa, q, &st.modal.v[off..off + p.n])
+                })
             })
             .sum()
     }
@@ -1176,61 +1238,85 @@ fn implicit_groups(model: &Model) -> Result<Vec<ImplicitGroup>, CaseError> {
     Ok(implicit)
 }
 
-/// Step 7: the crosswind's scatter — one scatter of the grid's pressures onto every loaded wire
-/// (they share one sine basis), then each loaded block takes its coefficient's share; the mean
-/// load projected exactly, once.
+/// Step 7: the crosswind's scatter — per basis group that carries loaded wires, one scatter of
+/// the grid's pressures inside the group's extent onto its wires, then each loaded block takes
+/// its coefficient's share; the mean load projected exactly, once (each wire covers its whole
+/// basis, so the uniform mean's projection is `P̄ (1 − cos κ L)/κ`). A catenary's wires share
+/// one group, so it has one part; a line has one per tension length, whose grid points are
+/// those over its wires (an overlap's points load both tension lengths' wires).
 fn wind_step(model: &Model, isa: Isa) -> Result<Option<WindStep>, CaseError> {
     let Some(wl) = &model.wind else {
         return Ok(None);
     };
     let lay = &model.layout;
-    let first = wl
-        .wires
-        .first()
-        .ok_or_else(|| invalid("wind", "no wire", "the wind loads no wire".into()))?;
-    let b0 = block_of(model, first.wire, Direction::Vertical)?;
-    let g0 = lay.blocks[b0].group;
-    let basis = lay.basis(b0).clone();
-    let origin = lay.groups[g0].origin_m;
-    let mut blocks = Vec::new();
+    if wl.wires.is_empty() {
+        return Err(invalid("wind", "no wire", "the wind loads no wire".into()));
+    }
+    // The loaded wires by basis group, in the order of their first loaded wire.
+    let mut groups: Vec<(usize, Vec<usize>)> = Vec::new();
     for (slot, ww) in wl.wires.iter().enumerate() {
-        let bv = block_of(model, ww.wire, Direction::Vertical)?;
-        if lay.blocks[bv].group != g0 {
-            return Err(invalid(
-                "wind",
-                &model.wires[ww.wire].name,
-                "every wire under wind must share one sine basis".into(),
-            ));
+        let g = lay.blocks[block_of(model, ww.wire, Direction::Vertical)?].group;
+        match groups.iter_mut().find(|(h, _)| *h == g) {
+            Some((_, slots)) => slots.push(slot),
+            None => groups.push((g, vec![slot])),
         }
-        for (dir, coef) in [
-            (Direction::Vertical, ww.vertical_m),
-            (Direction::Lateral, ww.lateral_m),
-            (Direction::Torsional, ww.torsional_m2),
-        ] {
-            if let (Some(b), true) = (lay.find(ww.wire, dir), coef != 0.0) {
-                blocks.push((slot, lay.blocks[b].offset, coef));
+    }
+    let (mut p_off, mut q_off, mut c_off) = (0, 0, 0);
+    let mut parts = Vec::with_capacity(groups.len());
+    for (g, slots) in groups {
+        let b0 = block_of(model, wl.wires[slots[0]].wire, Direction::Vertical)?;
+        let basis = lay.basis(b0).clone();
+        let origin = lay.groups[g].origin_m;
+        let length = basis.length_m();
+        let mut blocks = Vec::new();
+        for (s, &slot) in slots.iter().enumerate() {
+            let ww = &wl.wires[slot];
+            for (dir, coef) in [
+                (Direction::Vertical, ww.vertical_m),
+                (Direction::Lateral, ww.lateral_m),
+                (Direction::Torsional, ww.torsional_m2),
+            ] {
+                if let (Some(b), true) = (lay.find(ww.wire, dir), coef != 0.0) {
+                    blocks.push((s, lay.blocks[b].offset, coef));
+                }
             }
         }
-    }
-    let n = basis.n_modes();
-    let k = wl.wires.len();
-    let xs: Vec<f64> = wl.field.x_m.iter().map(|x| x - origin).collect();
-    let mut mean = vec![0.0; k * n];
-    for slot in 0..k {
-        let p0 = wl.mean_pressure(slot);
-        for j in 0..n {
-            let odd = if j % 2 == 0 { 2.0 } else { 0.0 };
-            mean[slot * n + j] = p0 * odd / basis.wavenumber(j);
+        let grid: Vec<usize> = (0..wl.field.x_m.len())
+            .filter(|&j| {
+                let x = wl.field.x_m[j] - origin;
+                x > 0.0 && x < length
+            })
+            .collect();
+        let xs: Vec<f64> = grid.iter().map(|&j| wl.field.x_m[j] - origin).collect();
+        let n = basis.n_modes();
+        let k = slots.len();
+        let mut mean = vec![0.0; k * n];
+        for (s, &slot) in slots.iter().enumerate() {
+            let p0 = wl.mean_pressure(slot);
+            for j in 0..n {
+                let odd = if j % 2 == 0 { 2.0 } else { 0.0 };
+                mean[s * n + j] = p0 * odd / basis.wavenumber(j);
+            }
         }
+        let ng = xs.len();
+        parts.push(WindPart {
+            sampler: PointSampler::new(&basis, &xs, model.span_m, isa),
+            slots,
+            grid,
+            k,
+            n,
+            ng,
+            blocks,
+            mean,
+            p_off,
+            q_off,
+            c_off,
+        });
+        p_off += k * ng;
+        q_off += k * n;
+        c_off += 3 * k * n;
     }
-    Ok(Some(WindStep {
-        sampler: PointSampler::new(&basis, &xs, model.span_m, isa),
-        k,
-        n,
-        ng: xs.len(),
-        blocks,
-        mean,
-    }))
+    Ok(Some(WindStep { parts }))
 }
 
 /// The penalty stiffness of pantograph `p`'s contact (0 if it has none).

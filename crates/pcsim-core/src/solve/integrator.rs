@@ -844,35 +844,24 @@ impl Integrator {
         // one scatter per step.
         if let (Some(w), Some(wl)) = (&self.cm.wind, &m.wind) {
             let (interval, tau) = wl.field.interval(st.t);
-            if ws.wind_interval != Some(interval) {
-                ws.wind_interval = Some(interval);
-                ws.wind_quadratic =
-                    w.interval_forces(wl, interval, &mut ws.wind_p, &mut ws.wind_c, &mut ws.scr);
-            }
-            if ws.wind_quadratic {
-                let kn = w.k * w.n;
-                let (c0, rest) = ws.wind_c.split_at(kn);
-                let (c1, c2) = rest.split_at(kn);
-                kernels::quadratic(isa, &mut ws.wind_q, c0, c1, c2, tau);
-            } else {
-                for slot in 0..w.k {
-                    let p0 = wl.mean_pressure(slot);
-                    for g in 0..w.ng {
-                        ws.wind_p[slot * w.ng + g] =
-                            (wl.pressure(slot, wl.field.at(g, st.t)) - p0) * wl.grid_m;
-                    }
+            let enter = ws.wind_interval != Some(interval);
+            ws.wind_interval = Some(interval);
+            for (i, part) in w.parts.iter().enumerate() {
+                let (kn, kg) = (part.k * part.n, part.k * part.ng);
+                let p = &mut ws.wind_p[part.p_off..part.p_off + kg];
+                let c = &mut ws.wind_c[part.c_off..part.c_off + 3 * kn];
+                let q = &mut ws.wind_q[part.q_off..part.q_off + kn];
+                if enter {
+                    ws.wind_quadratic[i] = part.interval_forces(wl, interval, p, c, &mut ws.scr);
                 }
-                ws.wind_q.copy_from_slice(&w.mean);
-                w.sampler
-                    .scatter_add(&ws.wind_p, w.k, &mut ws.wind_q, &mut ws.scr);
-            }
-            for &(slot, off, coef) in &w.blocks {
-                kernels::axpy(
-                    isa,
-                    coef,
-                    &ws.wind_q[slot * w.n..(slot + 1) * w.n],
-                    &mut st.modal.a[off..off + w.n],
-                );
+                if ws.wind_quadratic[i] {
+                    let (c0, rest) = c.split_at(kn);
+                    let (c1, c2) = rest.split_at(kn);
+                    kernels::quadratic(isa, q, c0, c1, c2, tau);
+                } else {
+                    part.step_forces(wl, st.t, p, q, &mut ws.scr);
+                }
+                part.add_to(isa, q, &mut st.modal.a);
             }
         }
     }

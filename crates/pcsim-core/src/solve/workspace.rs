@@ -133,15 +133,15 @@ pub struct Workspace {
     pub(crate) ev: Vec<f64>,
     pub(crate) ef: Vec<f64>,
     /// Crosswind: the grid's pressures and their generalised forces per loaded wire (one
-    /// block of modes per wire), the mean included.
+    /// block of modes per wire), the mean included; each part (basis group) at its offsets.
     pub(crate) wind_p: Vec<f64>,
     pub(crate) wind_q: Vec<f64>,
     /// Crosswind: the field interval whose forces `wind_c` holds (a pure function of it, so
     /// any step in the interval may fill it), and whether they are a quadratic in the
-    /// interval's fraction (false when the normal wind changes sign at a grid point: each step
-    /// then scatters its own pressures).
+    /// interval's fraction, per part (false when the normal wind changes sign at one of its
+    /// grid points: each step then scatters that part's own pressures).
     pub(crate) wind_interval: Option<usize>,
-    pub(crate) wind_quadratic: bool,
+    pub(crate) wind_quadratic: Vec<bool>,
     /// `[A0 | A1 | A2]`, each `k·n`: the generalised forces `A0 + τ A1 + τ² A2` (the mean in
     /// `A0`).
     pub(crate) wind_c: Vec<f64>,

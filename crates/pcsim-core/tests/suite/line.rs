@@ -973,7 +973,7 @@ fn without_overlaps(case: &Case) -> Case {
 /// the overlaps, and the height's σ, m; and the window's moves.
 fn hil_height_error(case: &Case, window_m: f64) -> ([f64; 4], usize) {
     use pcsim_core::solve::realtime::Coupling;
-    let single = pcsim_core::compile::window_case(case);
+    let single = pcsim_core::compile::window_case(case).unwrap();
     let full = run_case(&single, &mut |_| true).unwrap();
     let p = &full.pantographs[0];
     let overlaps: Vec<[f64; 2]> = p.overlaps.iter().map(|o| o.section_m).collect();

@@ -11,6 +11,8 @@
 use crate::common;
 
 use pcsim_core::analysis::assess::{assess, AssessInput};
+use pcsim_core::analysis::compare::compare;
+use pcsim_core::analysis::design::{search, Design, Local};
 use pcsim_core::analysis::eva::{run_eva, EvaSettings};
 use pcsim_core::analysis::montecarlo::monte_carlo;
 use pcsim_core::analysis::record::{simulate_with, DropperOptions};
@@ -20,7 +22,9 @@ use pcsim_core::analysis::sweep::check_seeds;
 use pcsim_core::compile::Budget;
 use pcsim_core::input::case::{Case, IrregularityCase};
 use pcsim_core::input::criteria::{self, System};
+use pcsim_core::input::design::DesignSpec;
 use pcsim_core::input::lateral::IceCase;
+use pcsim_core::input::measured::MeasuredForce;
 use pcsim_core::session::RealtimeSession;
 use pcsim_core::solve::realtime::Coupling;
 use pcsim_core::{presets, run_case, CaseError, Setup, SimError};
@@ -72,11 +76,12 @@ fn rough(mut c: Case) -> Case {
     c
 }
 
+/// The crosswind preset's wind, with its wires' coefficients (sections with `aero`).
 fn windy(mut c: Case) -> Case {
-    c.wind = presets::load("stitched-2018-like-3d-crosswind")
-        .unwrap()
-        .0
-        .wind;
+    let w = presets::load("stitched-2018-like-3d-crosswind").unwrap().0;
+    c.wind = w.wind;
+    c.catenary.messenger.section = w.catenary.messenger.section;
+    c.catenary.contact_wire.section = w.catenary.contact_wire.section;
     c
 }
 
@@ -114,6 +119,14 @@ fn geometries() -> Vec<(&'static str, Case)> {
         ("line, 3D, curve", curved_line(line3d())),
         ("line, ice", iced(sections(line()))),
         ("line, irregularity", rough(line())),
+        (
+            "line, 3D, crosswind, ice, irregularity",
+            rough(iced(windy(line3d()))),
+        ),
+        (
+            "line, 3D, curve, ice, irregularity",
+            rough(iced(curved_line(line3d()))),
+        ),
     ]
 }
 
@@ -169,7 +182,7 @@ fn window_sil(case: &Case, what: &str) -> Result<(), SimError> {
 
 fn window_hil(case: &Case, what: &str) -> Result<(), SimError> {
     let mut rt = RealtimeSession::new(case, WINDOW_M, Coupling::Hil)?;
-    let full = run_case(&pcsim_core::compile::window_case(case), &mut |_| true)?;
+    let full = run_case(&pcsim_core::compile::window_case(case)?, &mut |_| true)?;
     let p = &full.pantographs[0];
     for (f, x) in p.force_n.iter().zip(&p.position_m) {
         let o = rt
@@ -226,6 +239,91 @@ fn assessment(case: &Case, what: &str) -> Result<(), SimError> {
     Ok(())
 }
 
+/// The run against a measured record: the run's own contact force taken 2 m further on (every
+/// fifth sample, as a recording car's CSV), which the alignment must find at a correlation of 1.
+fn comparison(case: &Case, what: &str) -> Result<(), SimError> {
+    let out = run_case(case, &mut |_| true)?;
+    let p = &out.pantographs[0];
+    let mut csv = String::from("position_m,force_n\n");
+    for (x, f) in p.position_m.iter().zip(&p.force_n).step_by(5) {
+        csv.push_str(&format!("{},{f}\n", x - 2.0));
+    }
+    let meas = MeasuredForce::from_csv(&csv, "measured.csv")?;
+    let supports = Setup::from_case(case)?.model.supports_m.clone();
+    let c = compare(
+        (&p.position_m, &p.force_n),
+        &meas,
+        case.speed_m_s(),
+        case.run.analysis_m,
+        10.0,
+        &supports,
+    )?;
+    assert!(
+        (c.shift_m - 2.0).abs() <= meas.spacing_m && c.correlation > 0.99,
+        "{what}: shift {} m, correlation {}",
+        c.shift_m,
+        c.correlation
+    );
+    assert!(c.warnings.is_empty(), "{what}: {:?}", c.warnings);
+    Ok(())
+}
+
+/// A design search of three evaluations over the leading pantograph's uplift (its mean force
+/// towards 120 N): every evaluation finite, the best one confirmed by its own run.
+fn design_search(case: &Case, what: &str) -> Result<(), SimError> {
+    let spec = DesignSpec::from_toml_str(
+        r#"
+[base]
+file = "case.toml"
+
+[[variable]]
+path = "pantographs[0].uplift_n"
+min = 100.0
+max = 140.0
+
+[[speed]]
+kmh = 250.0
+
+[[objective]]
+statistic = "mean_n"
+pantograph = "leading"
+target = 120.0
+
+[budget]
+evaluations = 3
+method = "nelder-mead"
+"#,
+    )
+    .unwrap_or_else(|e| panic!("{what}: {e}"));
+    let d = Design::new(spec, case.clone())?;
+    let r = search(
+        &d,
+        Vec::new(),
+        &Local { jobs: Some(1) },
+        Some(1),
+        &mut |_| true,
+    )?;
+    assert!(
+        r.evaluations.len() >= 3,
+        "{what}: {} evaluations",
+        r.evaluations.len()
+    );
+    for e in &r.evaluations {
+        let fm = e.values[0][0].unwrap_or_else(|| panic!("{what}: {e:?}"));
+        plausible(what, fm, 0.0);
+    }
+    let best = r
+        .best
+        .unwrap_or_else(|| panic!("{what}: no feasible design"));
+    assert!(best < r.evaluations.len());
+    let (_, same) = r
+        .confirmation
+        .as_ref()
+        .expect("the best design is confirmed");
+    assert!(*same, "{what}: the confirmation differs");
+    Ok(())
+}
+
 const CAPABILITIES: &[Capability] = &[
     ("run", run),
     ("eva", eva),
@@ -234,6 +332,8 @@ const CAPABILITIES: &[Capability] = &[
     ("Monte Carlo", montecarlo),
     ("dropper fatigue", fatigue),
     ("assess", assessment),
+    ("compare", comparison),
+    ("design", design_search),
 ];
 
 /// The matrix as Markdown: a table of cells, then every refusal with its reason.
@@ -311,10 +411,21 @@ fn issue_41_6_every_capability_on_every_geometry_runs_or_is_refused_by_name() {
         committed == text,
         "docs/matrix.md differs from what the matrix finds (PCSIM_BLESS=1 rewrites it):\n{text}"
     );
-    // What the line must carry: every capability on a vertical line and on a 3D one.
+    // What the line must carry: every capability on a vertical line, a 3D one, and with every
+    // load at once; in a crosswind all but the real-time window, which refuses it by name.
     for (g, cells) in &rows {
-        if *g == "line" || *g == "line, 3D" {
-            assert!(cells.iter().all(|c| *c == Cell::Runs), "{g}: {cells:?}");
+        for ((name, _), c) in CAPABILITIES.iter().zip(cells) {
+            let windowed = name.starts_with("window");
+            let wind = g.contains("crosswind");
+            if g.starts_with("line") && !(wind && windowed) {
+                assert_eq!(*c, Cell::Runs, "{name} on {g}");
+            }
+            if wind && windowed {
+                assert!(
+                    matches!(c, Cell::Refused { field, .. } if field == "wind"),
+                    "{name} on {g}: {c:?}"
+                );
+            }
         }
     }
 }

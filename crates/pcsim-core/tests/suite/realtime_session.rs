@@ -192,3 +192,59 @@ fn a_lines_state_carries_the_windows_position_across_the_overlaps() {
         assert_eq!(b.step(f(k), x(k)).unwrap(), outputs[i], "step {k}");
     }
 }
+
+/// Issue 41, item 4: the window follows the pantograph the rig represents
+/// (`run.window_pantograph`). On `en50318-2018-like-simple` (a line of three tension lengths,
+/// pantographs 200 m apart) the window of the trailing pantograph starts at its own position
+/// (the leading one's less its offset) and steps, through the overlaps, exactly as the window of
+/// a case whose only pantograph is that one (the same bytes in SIL); by name and by index the
+/// same; a selection the case does not have is refused, naming the field and the pantographs.
+#[test]
+fn issue_41_4_the_window_follows_the_trailing_pantograph() {
+    let (case, _) = presets::load("en50318-2018-like-simple").unwrap();
+    assert_eq!(case.pantographs.len(), 2);
+    let offset = case.pantographs[1].offset_m();
+    assert!(offset > 100.0, "{offset}");
+    let mut alone = case.clone();
+    alone.pantographs.remove(0);
+    let lead = RealtimeSession::new(&case, 240.0, Coupling::Sil).unwrap();
+    let name = case.pantographs[1].name().to_string();
+    for sel in ["trailing", name.as_str(), "1"] {
+        let mut c = case.clone();
+        c.run.window_pantograph = Some(sel.into());
+        let mut rt = RealtimeSession::new(&c, 240.0, Coupling::Sil).unwrap();
+        assert_eq!(
+            rt.start_position_m(),
+            lead.start_position_m() - offset,
+            "{sel}"
+        );
+        let mut fresh = RealtimeSession::new(&alone, 240.0, Coupling::Sil).unwrap();
+        let (x0, dx) = (rt.start_position_m(), c.speed_m_s() * rt.dt_s());
+        let n = (600.0 / dx) as usize;
+        for k in 0..n {
+            let x = x0 + dx * (k + 1) as f64;
+            assert_eq!(
+                rt.step(0.0, x).unwrap(),
+                fresh.step(0.0, x).unwrap(),
+                "{sel} step {k}"
+            );
+        }
+        assert!(rt.moves() >= 3, "{sel}: {} moves", rt.moves());
+    }
+    let mut c = case.clone();
+    c.run.window_pantograph = Some("middle".into());
+    let e = RealtimeSession::new(&c, 240.0, Coupling::Sil).unwrap_err();
+    match e {
+        pcsim_core::CaseError::Invalid { field, reason, .. } => {
+            assert_eq!(field, "run.window_pantograph");
+            assert!(reason.contains("leading, trailing"), "{reason}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // The SIL window study of the trailing pantograph is measured against the full run of that
+    // pantograph alone.
+    let mut c = case.clone();
+    c.run.window_pantograph = Some("trailing".into());
+    let single = pcsim_core::compile::window_case(&c).unwrap();
+    assert_eq!(single.pantographs, alone.pantographs);
+}

@@ -174,16 +174,18 @@ def window(
     max_steps: Optional[int] = None,
     max_memory_gb: Optional[float] = None,
     coarse_only: bool = False,
+    pantograph: Optional[str] = None,
 ) -> List[Dict[str, Any]]:
     """The accuracy-based real-time window length over speeds (km/h) × tensions (N): one dict
     per case with the columns of ``pcsim window``'s ``window.csv``, by the same core sweep. As
     the CLI, every window at ``resolution_m`` from ``max_window_m`` down to the first that fails
     is run, so the length is the shortest with every longer window matching; ``coarse_only``
-    gives the quick lattice answer (``--coarse-only``)."""
+    gives the quick lattice answer (``--coarse-only``). ``pantograph`` is the one the window
+    follows (``--pantograph``: leading, trailing, a name or an index)."""
     return json.loads(
         _pcsim.window(case, list(speeds_kmh), list(tensions_n), mean_tol_pct, sigma_tol_pct,
                       max_tol_pct, min_window_m, max_window_m, coarse_m, resolution_m, jobs, seeds,
-                      shard, max_steps, max_memory_gb, not coarse_only)
+                      shard, max_steps, max_memory_gb, not coarse_only, pantograph)
     )
 
 

@@ -26,6 +26,7 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
         ));
     }
     line_physics(case, line)?;
+    line_lateral(case, line, w)?;
     for (k, t) in line.tension_lengths.iter().enumerate() {
         tension_length(case, k, t, w)?;
     }
@@ -94,8 +95,6 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
             }
         }
     }
-    // After the tension lengths and their overlaps: it reads each overlap's shared spans.
-    line_lateral(case, line, w)?;
     if c.spans != line.n_spans() {
         return Err(inv(
             "catenary.spans",
@@ -112,16 +111,10 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
 
 /// What a line carries beyond the vertical model: lateral and torsional motion (checked in
 /// [`line_lateral`]), ice on every tension length's own wires (each overriding wire with its
-/// section), a profile of irregularity along the track. Wind is refused, naming its field.
+/// section), a crosswind on every tension length's wires (an overriding wire's section and
+/// coefficients checked with its other fields), a profile of irregularity along the track.
 fn line_physics(case: &Case, line: &LineCase) -> Result<(), CaseError> {
     let c = &case.catenary;
-    if case.wind.is_some() {
-        return Err(inv(
-            "wind",
-            "given",
-            "a [line] runs without wind in this version: the crosswind's load and its turbulent field are built for one messenger and one contact wire on one modal basis, and a line's tension lengths each have their own wires on their own bases: use [catenary] for wind",
-        ));
-    }
     // A profile along the track applies on a line; the dropper pattern repeats per span.
     for (i, ir) in case.irregularity.iter().enumerate() {
         if matches!(ir, IrregularityCase::Droppers { .. }) {
@@ -342,6 +335,8 @@ fn overridden_sections(
         droppers(&alone, &mut scratch).map_err(rename)?;
         supports_and_arms(&alone, &mut scratch).map_err(rename)?;
         stitch_wire(&alone, &mut scratch).map_err(rename)?;
+        // The lateral model, the wind and the ice read an overriding wire's section.
+        lateral_sections(&alone, &mut scratch).map_err(rename)?;
         for Warning(text) in scratch {
             if let Some(key) = OVERRIDES
                 .iter()
@@ -456,6 +451,13 @@ fn line_lateral(case: &Case, line: &LineCase, w: &mut Vec<Warning>) -> Result<()
                 if lat.is_none() {
                     return Err(inv(&f("track_radius_m"), num(r), needs));
                 }
+                if case.wind.is_some() {
+                    return Err(inv(
+                        &f("track_radius_m"),
+                        num(r),
+                        "a crosswind on a curved track is not modelled: the wind's angle to the track turns along the curve, and pcsim takes the wind normal to the track everywhere (remove [wind] or the run's track_radius_m)",
+                    ));
+                }
                 if !r.is_finite() {
                     return Err(inv(&f("track_radius_m"), num(r), "must be a finite number"));
                 }
@@ -525,10 +527,17 @@ fn line_lateral(case: &Case, line: &LineCase, w: &mut Vec<Warning>) -> Result<()
         curves.push(c);
     }
     // An overlap's shared spans lie on one track: one curve in both tension lengths.
+    // (An overlap list that does not fit the tension lengths is refused after this, by count
+    // and by span: only the overlaps that fit are compared here.)
     for (k, o) in line.overlaps.iter().enumerate() {
-        let (a, b) = (&curves[k], &curves[k + 1]);
-        for j in 0..o.spans.min(a.len()).min(b.len()) {
-            let (ca, cb) = (a[a.len() - o.spans + j], b[j]);
+        let (Some(a), Some(b)) = (curves.get(k), curves.get(k + 1)) else {
+            break;
+        };
+        let Some(first) = a.len().checked_sub(o.spans) else {
+            continue;
+        };
+        for j in 0..o.spans.min(b.len()) {
+            let (ca, cb) = (a[first + j], b[j]);
             if ca != cb {
                 return Err(inv(
                     &format!("line.tension_lengths[{}].span_runs", k + 1),
