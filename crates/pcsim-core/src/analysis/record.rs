@@ -319,7 +319,7 @@ impl Recorder {
                 }
             })
             .collect();
-        RunOutput {
+        let mut out = RunOutput {
             speed_m_s: cm.speed_m_s(),
             dt_s: dt,
             time_s: self.time,
@@ -364,6 +364,34 @@ impl Recorder {
                     &of(crate::model::WireRole::Messenger),
                 )
             }),
+        };
+        on_head_per_curve(&mut out, m.track_origin_m);
+        out
+    }
+}
+
+/// Each curve section's record of where every pantograph's contact point ran on its head
+/// (from the head's centre, the section's; samples whose track position lies in the section).
+fn on_head_per_curve(out: &mut RunOutput, origin_m: f64) {
+    let Some(curve) = out.curve.as_mut() else {
+        return;
+    };
+    for c in &mut curve.sections {
+        for p in out.pantographs.iter().filter(|p| !p.lateral_m.is_empty()) {
+            let mut r = [f64::INFINITY, f64::NEG_INFINITY];
+            for (z, &x) in p.lateral_m.iter().zip(&p.position_m) {
+                if x + origin_m >= c.from_m && x + origin_m < c.to_m {
+                    let y = z - c.head_offset_m;
+                    r = [r[0].min(y), r[1].max(y)];
+                }
+            }
+            if r[0] <= r[1] {
+                c.on_head.push(crate::model::lateral::OnHead {
+                    pantograph: p.name.clone(),
+                    lateral_m: r,
+                    min_head_margin_m: p.head_half_width_m.map(|h| h - r[0].abs().max(r[1].abs())),
+                });
+            }
         }
     }
 }

@@ -389,11 +389,14 @@ pub fn timeseries_columns(out: &RunOutput) -> Vec<Column> {
         if !p.lateral_m.is_empty() {
             cols.push(col(format!("{tag}_lateral_m"), p.lateral_m.clone(), 6));
             if let Some(h) = p.head_half_width_m {
-                // From the head's centre, which a canted curve moves off the track's.
-                let off = out.curve.as_ref().map_or(0.0, |c| c.head_offset_m);
+                // From the head's centre, which a canted curve moves off the track's (each
+                // section of the curve its own).
+                let off = |x: f64| out.curve.as_ref().map_or(0.0, |c| c.head_offset_at(x));
                 cols.push(col(
                     format!("{tag}_head_margin_m"),
-                    p.lateral_m.iter().map(|z| h - (z - off).abs()).collect(),
+                    (p.lateral_m.iter().zip(&p.position_m))
+                        .map(|(z, &x)| h - (z - off(x)).abs())
+                        .collect(),
                     6,
                 ));
             }

@@ -208,6 +208,9 @@ pub struct CurveReport {
     pub contact_wire_registration_n: [f64; 2],
     /// The messengers' supports: smallest and largest static lateral force, N.
     pub messenger_support_n: [f64; 2],
+    /// Each run of spans on one radius and cant, with each pantograph's contact point on its
+    /// head there.
+    pub sections: Vec<CurveSection>,
 }
 
 impl LateralGeometry {
@@ -256,6 +259,125 @@ impl LateralGeometry {
             max_bow_mm: bow * 1e3,
             contact_wire_registration_n: range(contact),
             messenger_support_n: range(messenger),
+            sections: self.curve_sections(contact, messenger),
         })
+    }
+
+    /// Where span `i` starts, m.
+    fn span_start(&self, i: usize) -> f64 {
+        match self.uniform_span_m {
+            Some(s) => self.supports_m[0] + i as f64 * s,
+            None => self.supports_m[i],
+        }
+    }
+
+    /// The curve's sections: each run of consecutive spans on one radius with one head offset,
+    /// with its extent, the chord's largest bow and the registrations' static lateral forces at
+    /// its supports (its ends included). The pantographs' ranges on the head are the
+    /// recorder's to fill.
+    fn curve_sections(
+        &self,
+        contact: &[(usize, f64)],
+        messenger: &[(usize, f64)],
+    ) -> Vec<CurveSection> {
+        let n = self.curvature_per_m.len();
+        let head = |i: usize| match self.head_offset_m.len() {
+            0 => 0.0,
+            h => self.head_offset_m[i.min(h - 1)],
+        };
+        let mut sections: Vec<CurveSection> = Vec::new();
+        let mut i = 0;
+        while i < n {
+            let (k, h) = (self.curvature_per_m[i], head(i));
+            let mut j = i + 1;
+            while j < n && self.curvature_per_m[j] == k && head(j) == h {
+                j += 1;
+            }
+            if k != 0.0 {
+                let (from, to) = (
+                    self.span_start(i),
+                    self.span_start(i) + (i..j).map(|g| self.span_len(g)).sum::<f64>(),
+                );
+                let range = |wires: &[(usize, f64)]| {
+                    let mut r = [f64::INFINITY, f64::NEG_INFINITY];
+                    for &(l, t) in wires {
+                        let first = self.lines[l].first_support;
+                        for (m, f) in self.registration_forces_n(l, t).into_iter().enumerate() {
+                            let g = first + m + 1;
+                            if g >= i && g <= j {
+                                r = [r[0].min(f), r[1].max(f)];
+                            }
+                        }
+                    }
+                    if r[0] > r[1] {
+                        [0.0, 0.0]
+                    } else {
+                        r
+                    }
+                };
+                sections.push(CurveSection {
+                    from_m: from,
+                    to_m: to,
+                    track_radius_m: 1.0 / k,
+                    head_offset_m: h,
+                    max_bow_mm: (i..j)
+                        .map(|g| self.span_len(g).powi(2) * k.abs() / 8.0)
+                        .fold(0.0, f64::max)
+                        * 1e3,
+                    contact_wire_registration_n: range(contact),
+                    messenger_support_n: range(messenger),
+                    on_head: Vec::new(),
+                });
+            }
+            i = j;
+        }
+        sections
+    }
+}
+
+/// One section of a curve: a run of spans on one radius, with one cant (issue 41: the contact
+/// point's lateral range on the head reported per curve).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct CurveSection {
+    /// Where it starts and ends along the track, m (supports).
+    pub from_m: f64,
+    /// Where it ends, m.
+    pub to_m: f64,
+    /// Radius, m, signed as the case gives it.
+    pub track_radius_m: f64,
+    /// The pantograph head's centre from the track's centre line (a canted curve), m.
+    pub head_offset_m: f64,
+    /// The chord's largest bow toward the curve's centre within a span, `s²/(8R)`, mm.
+    pub max_bow_mm: f64,
+    /// The contact wires' registrations at its supports: smallest and largest static lateral
+    /// force, N (positive toward positive stagger).
+    pub contact_wire_registration_n: [f64; 2],
+    /// The messengers' supports at its supports: smallest and largest static lateral force, N.
+    pub messenger_support_n: [f64; 2],
+    /// Each pantograph's contact point on its head while it runs through the section.
+    pub on_head: Vec<OnHead>,
+}
+
+/// Where a pantograph's contact point ran on its head through a curve's section.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct OnHead {
+    /// The pantograph's name.
+    pub pantograph: String,
+    /// The contact point's lateral position from the head's centre, smallest and largest, m
+    /// (positive toward positive stagger).
+    pub lateral_m: [f64; 2],
+    /// The head's half-width less the largest distance from its centre, m (negative: off the
+    /// head).
+    pub min_head_margin_m: Option<f64>,
+}
+
+impl CurveReport {
+    /// The head's centre from the track's centre line at track position `x`, m: the section's
+    /// that holds `x` (0 on straight track).
+    pub fn head_offset_at(&self, x: f64) -> f64 {
+        self.sections
+            .iter()
+            .find(|c| x >= c.from_m && x <= c.to_m)
+            .map_or(0.0, |c| c.head_offset_m)
     }
 }

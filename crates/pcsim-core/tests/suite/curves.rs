@@ -498,3 +498,82 @@ fn issue_41_a_stagger_per_tension_length_is_laid_as_given() {
         }
     }
 }
+
+/// The contact point's lateral range on the head per curve (issue 41, item 2): a line of one
+/// tension length, 4 spans on 1 000 m with 60 mm cant, 4 straight, 4 on −2 000 m without cant,
+/// gives two sections (their extents, radii and head offsets as laid out); each section's range
+/// on the head is the samples' inside it, from that section's head centre, and inside the
+/// pantograph's overall range; and `timeseries.csv`'s head margin, from each sample's own head
+/// centre, has the recorder's smallest margin (they disagreed while the column took the line's
+/// largest cant everywhere).
+#[test]
+fn issue_41_the_contact_points_range_on_the_head_is_reported_per_curve() {
+    use pcsim_core::analysis::report::{timeseries_columns, RunSummary};
+    let c = line_of(
+        curved_simple(None, 0.0),
+        &[
+            (4, 60.0, Some(1000.0), Some(0.06)),
+            (4, 60.0, None, None),
+            (4, 60.0, Some(-2000.0), None),
+        ],
+    );
+    let mut c = c;
+    // The 3D preset's pantograph: its head's width gives the margin.
+    c.pantographs = curved(None, 0.0).pantographs[..1].to_vec();
+    c.run.start_m = 60.0;
+    c.run.end_m = 660.0;
+    c.run.analysis_m = [120.0, 600.0];
+    let out = run_case(&c, &mut |_| true).unwrap();
+    let curve = out.curve.as_ref().expect("a curved line reports its curve");
+    let s = &curve.sections;
+    assert_eq!(s.len(), 2, "{s:?}");
+    assert_eq!(
+        (s[0].from_m, s[0].to_m, s[1].from_m, s[1].to_m),
+        (0.0, 240.0, 480.0, 720.0)
+    );
+    assert!(
+        (s[0].track_radius_m - 1000.0).abs() < 1e-9 && (s[1].track_radius_m + 2000.0).abs() < 1e-9
+    );
+    let h = pcsim_core::input::lateral::head_offset_m(
+        Some(1000.0),
+        0.06,
+        c.catenary.lateral.as_ref().unwrap().contact_wire_height_m,
+    );
+    assert!(
+        h.abs() > 0.1 && (s[0].head_offset_m - h).abs() < 1e-12,
+        "{h}"
+    );
+    assert_eq!(s[1].head_offset_m, 0.0);
+    let p = &out.pantographs[0];
+    for sec in s {
+        let on = &sec.on_head[0];
+        assert_eq!(on.pantograph, p.name);
+        let inside: Vec<f64> = (p.lateral_m.iter().zip(&p.position_m))
+            .filter(|(_, &x)| x >= sec.from_m && x < sec.to_m)
+            .map(|(z, _)| z - sec.head_offset_m)
+            .collect();
+        assert!(inside.len() > 100);
+        let lo = inside.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = inside.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        assert_eq!(on.lateral_m, [lo, hi]);
+        assert!(hi - lo > 0.1, "the stagger is felt: {lo}..{hi}");
+    }
+    // The time series' head margin against the recorder's smallest (both over the analysis
+    // section), from each sample's own head centre.
+    let cols = timeseries_columns(&out);
+    let margin = cols
+        .iter()
+        .find(|c| c.name.ends_with("_head_margin_m"))
+        .expect("a head margin column");
+    let least = (margin.values.iter().zip(&p.position_m))
+        .filter(|(_, &x)| x >= c.run.analysis_m[0] && x <= c.run.analysis_m[1])
+        .map(|(m, _)| *m)
+        .fold(f64::INFINITY, f64::min);
+    let recorded = p.lateral.as_ref().unwrap().min_head_margin_mm.unwrap();
+    assert!(
+        (least * 1e3 - recorded).abs() < 1e-3,
+        "column {} mm, recorder {recorded} mm",
+        least * 1e3,
+    );
+    let _ = RunSummary::new(&c, &out, 0.0, Vec::new(), Vec::new());
+}
