@@ -871,9 +871,17 @@ impl Integrator {
     /// contact samples.
     #[inline(always)]
     fn moving_points(&self, st: &mut State, ws: &mut Workspace) {
+        self.moving_heights(st, ws);
+        self.moving_lateral(st, ws);
+        self.pantograph_loads(st, ws);
+        self.contact_forces(st, ws);
+        self.contact_samples(ws);
+    }
+
+    /// Moving points (contacts, Eq. 19): their rows and the wire's height under each.
+    #[inline(always)]
+    fn moving_heights(&self, st: &mut State, ws: &mut Workspace) {
         let m = &self.cm.model;
-        let isa = self.cm.isa;
-        // Moving points (contacts, Eq. 19): rows, heights, forces.
         for (mi, mp) in self.cm.moving.iter().enumerate() {
             let x = self.cm.moving_x(st, &ws.external, mp);
             let absent = !mp.covers(x);
@@ -888,8 +896,14 @@ impl Integrator {
             };
             ws.samples[mp.pantograph].position_m = x;
         }
-        // The contact points' lateral positions, before the contact forces: beyond the head
-        // there is no contact (the wire has left the pantograph).
+    }
+
+    /// The contact points' lateral positions, before the contact forces: beyond the head there
+    /// is no contact (the wire has left the pantograph).
+    #[inline(always)]
+    fn moving_lateral(&self, st: &mut State, ws: &mut Workspace) {
+        let m = &self.cm.model;
+        let isa = self.cm.isa;
         for lp in &self.cm.pan_lateral {
             let p = lp.pantograph;
             let slot = self.cm.moving_u0 + lp.moving;
@@ -928,6 +942,13 @@ impl Integrator {
                 .head_half_width_m
                 .is_some_and(|hw| on_head.abs() > hw);
         }
+    }
+
+    /// Each pantograph's head displacement and the loads it prescribes (a moving force's, a
+    /// rig's measured force).
+    #[inline(always)]
+    fn pantograph_loads(&self, st: &State, ws: &mut Workspace) {
+        let m = &self.cm.model;
         for (p, pan) in m.pantographs.iter().enumerate() {
             ws.u[self.cm.head_u0 + p] = match pan.kind {
                 PantographKind::Lumped(_) => st.pantographs.u[self.cm.pan_off[p]],
@@ -946,6 +967,14 @@ impl Integrator {
                 PantographKind::Lumped(_) => 0.0,
             };
         }
+    }
+
+    /// The contact forces (Eq. 19, each moving element by its own law) and their scatter onto
+    /// the modes through each point's row.
+    #[inline(always)]
+    fn contact_forces(&self, st: &mut State, ws: &mut Workspace) {
+        let m = &self.cm.model;
+        let isa = self.cm.isa;
         let mut io = Io {
             u: &ws.u,
             v: &ws.vel,
@@ -970,6 +999,12 @@ impl Integrator {
                 &mut st.modal.a[mp.q_off..mp.q_off + mp.n],
             );
         }
+    }
+
+    /// Each pantograph's contact sample: its force, and the height (and lateral position) of
+    /// the wire it meets.
+    #[inline(always)]
+    fn contact_samples(&self, ws: &mut Workspace) {
         for (p, pm) in self.cm.pan_point.iter().enumerate() {
             if let Some(mi) = *pm {
                 let pts = &self.cm.pan_points[p];
