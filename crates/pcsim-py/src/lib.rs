@@ -198,8 +198,10 @@ fn hand_over<'py>(
     wall_s: f64,
     warnings: Vec<String>,
     allowed: AllowedErrors,
+    verification: Option<pcsim_core::analysis::verify::Verification>,
 ) -> PyResult<Bound<'py, PyTuple>> {
-    let summary = RunSummary::new(case, out, wall_s, Vec::new(), warnings);
+    let mut summary = RunSummary::new(case, out, wall_s, Vec::new(), warnings);
+    summary.verification = verification;
     let json = serde_json::to_string(&summary).map_err(err)?;
     let cols = PyList::empty(py);
     for c in timeseries_columns(out) {
@@ -246,15 +248,17 @@ fn run_core_with(
 /// Run one case (the interpreter is released meanwhile): `(summary_json, [(column, array)])`.
 /// Ctrl-C stops it between chunks of steps (the run loop's progress checks, every 256 steps) and
 /// raises `KeyboardInterrupt`. `threads`: the run's threads (the core's `team::usable_threads`
-/// rule; the same numbers on any count).
+/// rule; the same numbers on any count). `verify`: the refined run and the stiffer contact's
+/// (the CLI's `--verify`), in the summary's `verification`.
 #[pyfunction]
-#[pyo3(signature = (case, threads=1, allow_dewirement=false, allow_contact_loss=false))]
+#[pyo3(signature = (case, threads=1, allow_dewirement=false, allow_contact_loss=false, verify=false))]
 fn run<'py>(
     py: Python<'py>,
     case: &Case,
     threads: usize,
     allow_dewirement: bool,
     allow_contact_loss: bool,
+    verify: bool,
 ) -> PyResult<Bound<'py, PyTuple>> {
     let allowed = AllowedErrors {
         dewirement: allow_dewirement,
@@ -300,7 +304,18 @@ fn run<'py>(
             return Err(e);
         }
         let (out, wall, warnings) = res.map_err(err)?;
-        hand_over(py, &out, &case.inner, wall, warnings, allowed)
+        let verification = if verify {
+            let c = &case.inner;
+            Some(
+                py.detach(|| {
+                    pcsim_core::analysis::verify::verify(c, &out, &Default::default(), None)
+                })
+                .map_err(err)?,
+            )
+        } else {
+            None
+        };
+        hand_over(py, &out, &case.inner, wall, warnings, allowed, verification)
     })
 }
 
@@ -324,7 +339,7 @@ fn run_many<'py>(
         let list = PyList::empty(py);
         for (o, c) in outs.into_iter().zip(&cases) {
             let (out, wall, w) = o.map_err(err)?;
-            list.append(hand_over(py, &out, &c.inner, wall, w, allowed)?)?;
+            list.append(hand_over(py, &out, &c.inner, wall, w, allowed, None)?)?;
         }
         Ok(list)
     })

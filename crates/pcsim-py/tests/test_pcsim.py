@@ -40,6 +40,28 @@ def cli_run(case, out):
     return summary, rows
 
 
+def test_issue_42_1_run_verify_equals_the_clis(tmp_path):
+    """``pcsim.run(case, verify=True)``: the summary's verification is the CLI's ``--verify``
+    (the same runs, the same numbers), and every statistic is judged by its tolerance."""
+    case = short_case()
+    res = pcsim.run(case, verify=True)
+    with tempfile.NamedTemporaryFile("w", suffix=".toml", delete=False) as f:
+        f.write(case.to_toml())
+        path = f.name
+    out = str(tmp_path / "cli")
+    try:
+        subprocess.run([PCSIM, "run", path, "--verify", "--quiet", "--out", out], check=True,
+                       stdout=subprocess.DEVNULL)
+    finally:
+        os.unlink(path)
+    with open(os.path.join(out, "summary.json")) as f:
+        cli = json.load(f)
+    assert res.summary["verification"] == cli["verification"]
+    for c in res.summary["verification"]["pantographs"][0]["statistics"]:
+        assert c["converged"] == (abs(c["change_percent"]) <= c["tolerance_percent"])
+    assert "verification" not in pcsim.run(case).summary
+
+
 def test_run_equals_the_cli_exactly(tmp_path):
     case = short_case()
     res = pcsim.run(case)

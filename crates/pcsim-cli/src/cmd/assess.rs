@@ -117,6 +117,37 @@ fn print(r: &Assessment) {
             row.status
         );
     }
+    if r.rows.iter().any(|row| row.verification.is_some()) {
+        println!("verification (the run's --verify: twice the modes and half the step; the contact twice as stiff):");
+        println!(
+            "  {:<22} {:<10} {:>10} {:>9} {:<16} {:>10} {:<16}",
+            "criterion",
+            "pantograph",
+            "refined",
+            "change",
+            "verdict refined",
+            "stiff k",
+            "verdict stiff k"
+        );
+        for row in &r.rows {
+            if let Some(k) = &row.verification {
+                println!(
+                    "  {:<22} {:<10} {:>10} {:>8.2}%{} {:<16} {:>10} {:<16}",
+                    row.id,
+                    row.pantograph.as_deref().unwrap_or("(run)"),
+                    value(Some(k.refined)),
+                    k.change_percent,
+                    if k.converged { " " } else { "!" },
+                    k.refined_verdict.text(),
+                    value(Some(k.stiff_contact)),
+                    k.stiff_contact_verdict.text()
+                );
+            }
+        }
+        for n in &r.not_established {
+            println!("  NOT ESTABLISHED: {n}");
+        }
+    }
     println!("clauses and sources:");
     let mut seen = Vec::new();
     for row in &r.rows {

@@ -140,6 +140,7 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         .cloned()
         .unwrap_or_default();
     statistics_section(&mut h, &pans);
+    verification_section(&mut h, &summary["verification"]);
     overlaps_section(&mut h, &pans);
     droppers_section(&mut h, dir, &summary);
     assessment(&mut h, dir, &summary_text)?;
@@ -213,6 +214,82 @@ fn statistics_section(h: &mut String, pans: &[serde_json::Value]) {
         })
         .collect();
     table(h, "Statistics per pantograph", &head, &rows);
+}
+
+/// The run's verification (`--verify`): each statistic beside its refined and stiff-contact
+/// values, the statistics not converged first.
+fn verification_section(h: &mut String, v: &serde_json::Value) {
+    if v.is_null() {
+        return;
+    }
+    h.push_str("<h2>Verification: the numbers against a refined run and a stiffer contact</h2>\n");
+    let _ = writeln!(
+        h,
+        "<p>Refined: {} modes per wire at Δt {} s (the run: {} at {} s). Model check: the contact {} N/m at Δt {} s (the run's {} N/m). A statistic is converged when the refinement moves it by no more than its tolerance.</p>",
+        num(&v["refined"]["modes_per_wire"]),
+        num(&v["refined"]["dt_s"]),
+        num(&v["run"]["modes_per_wire"]),
+        num(&v["run"]["dt_s"]),
+        num(&v["stiff_contact"]["contact_stiffness_n_per_m"]),
+        num(&v["stiff_contact"]["dt_s"]),
+        num(&v["run"]["contact_stiffness_n_per_m"]),
+    );
+    let not: Vec<String> = v["not_converged"]
+        .as_array()
+        .map(|a| a.iter().map(num).collect())
+        .unwrap_or_default();
+    if not.is_empty() {
+        h.push_str("<p>Every statistic is converged to its tolerance.</p>\n");
+    } else {
+        h.push_str(
+            "<div class=\"warn\"><p><strong>Not converged to their tolerance:</strong></p><ul>",
+        );
+        for n in &not {
+            let _ = write!(h, "<li>{}</li>", esc(n));
+        }
+        h.push_str("</ul></div>\n");
+    }
+    let mut rows = Vec::new();
+    for p in v["pantographs"].as_array().into_iter().flatten() {
+        for s in p["statistics"].as_array().into_iter().flatten() {
+            let pct = |k: &str| format!("{:+.2} %", s[k].as_f64().unwrap_or(f64::NAN));
+            rows.push(vec![
+                p["name"].as_str().unwrap_or("").into(),
+                format!(
+                    "{} [{}]",
+                    s["statistic"].as_str().unwrap_or(""),
+                    s["unit"].as_str().unwrap_or("")
+                ),
+                num(&s["value"]),
+                num(&s["refined"]),
+                pct("change_percent"),
+                format!("{} %", num(&s["tolerance_percent"])),
+                if s["converged"].as_bool() == Some(true) {
+                    "yes".into()
+                } else {
+                    "NO".into()
+                },
+                num(&s["stiff_contact"]),
+                pct("stiff_contact_change_percent"),
+            ]);
+        }
+    }
+    table(
+        h,
+        "Each statistic, refined and with the contact twice as stiff",
+        &[
+            "pantograph",
+            "statistic",
+            "value",
+            "refined",
+            "change",
+            "tolerance",
+            "converged",
+            "stiff contact",
+            "change",
+        ],
+        &rows,
+    );
 }
 
 /// Each pantograph's passage through each overlap of a line.
@@ -757,4 +834,5 @@ table{border-collapse:collapse;margin:.8em 0}caption{text-align:left;font-weight
 th,td{border:1px solid #bbb;padding:.2em .5em;font-size:.9em}th{background:#eee}\
 td:nth-child(n+2){font-variant-numeric:tabular-nums}\
 .errors{border:2px solid #b00;background:#fff0f0;padding:0 1em;margin:1em 0}.errors h2{color:#b00;border:none}\
+.warn{border:2px solid #b60;background:#fff8ec;padding:0 1em;margin:1em 0}\
 figure{margin:1.2em 0}figure svg{width:100%;height:auto}figcaption{color:#444;font-size:.9em}";

@@ -64,6 +64,12 @@ pub struct RunArgs {
     /// (implies --plot).
     #[arg(long)]
     report: bool,
+    /// Verify the numbers: run the case again refined (twice the modes, half the time step) and
+    /// with the contact twice as stiff (a model check); summary.json gains `verification`, each
+    /// statistic beside both with its change, and the statistics not converged to their
+    /// tolerance are listed (the two runs share --jobs).
+    #[arg(long)]
+    verify: bool,
 }
 
 impl RunArgs {
@@ -101,6 +107,11 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
         threads: crate::common::threads_flag(a.threads, true)?,
         ..*ctx
     };
+    if a.verify && a.seeds.is_some() {
+        anyhow::bail!(
+            "--verify with --seeds: verify one realisation (run it alone), not the spread of many"
+        );
+    }
     if a.seeds.is_some() && a.threads != 1 {
         anyhow::bail!("--threads {} with --seeds: the realisations run in parallel by --jobs; give one or the other", a.threads);
     }
@@ -143,7 +154,14 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
         eprintln!("warning: {w}");
     }
     let flags = overrides.iter().map(|o| o.flag.clone()).collect();
-    let summary = Summary::new(&case, &out, wall, flags, warnings);
+    let mut summary = Summary::new(&case, &out, wall, flags, warnings);
+    if a.verify {
+        let pb =
+            crate::progress::Progress::run("verify (refined and stiff-contact runs)", ctx.progress);
+        let v = pcsim_core::analysis::verify::verify(&case, &out, &ctx.budget, a.jobs)?;
+        pb.finish();
+        summary.verification = Some(v);
+    }
     write_run(od.path(), &out, &summary)?;
     let dropper_note = crate::output::write_droppers(od.path(), &out)?;
     // The case as given (every value with its source), for the report.
@@ -164,6 +182,9 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
         println!("report: {}", p.display());
     }
     print_run(&case, &out, &summary, wall);
+    if let Some(v) = &summary.verification {
+        print_verification(v);
+    }
     println!(
         "wrote {} and {}",
         shown(&a.out, "summary.json"),
@@ -233,6 +254,45 @@ fn print_run(case: &pcsim_core::Case, out: &RunOutput, summary: &Summary, wall: 
             w.turbulence_intensity_achieved,
             w.turbulence_intensity_target
         );
+    }
+}
+
+/// The verification on the terminal: each statistic beside its refined and stiff-contact
+/// values, and the statistics not converged to their tolerance.
+pub fn print_verification(v: &pcsim_core::analysis::verify::Verification) {
+    println!(
+        "verification: refined {} modes/wire, Δt {} s; contact {} N/m (model check: {} N/m at Δt {} s)",
+        v.refined.modes_per_wire,
+        v.refined.dt_s,
+        v.run.contact_stiffness_n_per_m,
+        v.stiff_contact.contact_stiffness_n_per_m,
+        v.stiff_contact.dt_s
+    );
+    for p in &v.pantographs {
+        println!(
+            "  {:<10} {:<26} {:>10} {:>10} {:>8} {:>6}   {:>10} {:>8}",
+            p.name, "statistic", "value", "refined", "change", "tol", "stiff k", "change"
+        );
+        for s in &p.statistics {
+            println!(
+                "  {:<10} {:<26} {:>10.3} {:>10.3} {:>7.2}% {:>5}%{} {:>10.3} {:>7.2}%",
+                "",
+                format!("{} [{}]", s.statistic, s.unit),
+                s.value,
+                s.refined,
+                s.change_percent,
+                s.tolerance_percent,
+                if s.converged { " " } else { "!" },
+                s.stiff_contact,
+                s.stiff_contact_change_percent
+            );
+        }
+    }
+    if v.not_converged.is_empty() {
+        println!("  every statistic converged to its tolerance (! marks one that is not)");
+    }
+    for n in &v.not_converged {
+        println!("  NOT CONVERGED: {n}");
     }
 }
 

@@ -6,6 +6,7 @@ mod cli;
 mod common;
 mod design;
 mod everywhere;
+mod evidence;
 mod fuzz_run;
 mod hardening;
 mod loud;

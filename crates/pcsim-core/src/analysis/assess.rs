@@ -7,6 +7,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::stats::ContactStats;
+use crate::analysis::verify::Verification;
 use crate::input::criteria::{Criterion, Kind, Quantity, System};
 
 /// One pantograph's part of what is assessed.
@@ -32,6 +33,10 @@ pub struct AssessInput {
     /// The run's error-level events (`summary.json`'s `errors`: a dewirement, contact lost over
     /// the limit): a run that had one is not accepted, whatever its rows say.
     pub run_errors: Vec<String>,
+    /// The run's verification (`pcsim run --verify`), when it has one: each row then says
+    /// whether its value is converged and whether its verdict holds refined and with the
+    /// stiffer contact.
+    pub verification: Option<Verification>,
 }
 
 #[derive(Deserialize)]
@@ -41,6 +46,8 @@ struct SummaryView {
     pantographs: Vec<PantographView>,
     #[serde(default)]
     errors: Vec<String>,
+    #[serde(default)]
+    verification: Option<Verification>,
 }
 
 #[derive(Deserialize)]
@@ -67,6 +74,7 @@ impl AssessInput {
             speed_kmh: v.speed_kmh,
             speed_ratio: v.speed_ratio,
             run_errors: v.errors,
+            verification: v.verification,
             pantographs: v
                 .pantographs
                 .into_iter()
@@ -141,6 +149,27 @@ pub struct Row {
     pub status: String,
     /// What a reader should know besides.
     pub note: String,
+    /// With a verified run: the value refined and with the stiffer contact, and whether the
+    /// verdict holds in both.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub verification: Option<RowCheck>,
+}
+
+/// A row's value under the run's verification (`pcsim run --verify`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RowCheck {
+    /// The refined run's value (twice the modes, half the step).
+    pub refined: f64,
+    /// Its change, % of the statistic's scale.
+    pub change_percent: f64,
+    /// Whether that change is within the statistic's tolerance.
+    pub converged: bool,
+    /// The verdict with the refined value, against the same limit.
+    pub refined_verdict: Verdict,
+    /// The value with the contact twice as stiff (the model check).
+    pub stiff_contact: f64,
+    /// The verdict with it.
+    pub stiff_contact_verdict: Verdict,
 }
 
 /// A run's assessment.
@@ -164,6 +193,10 @@ pub struct Assessment {
     /// The run's error-level events (a dewirement, contact lost over the limit): with any, the
     /// run is not accepted, whatever its rows say (`pcsim assess --strict` fails).
     pub run_errors: Vec<String>,
+    /// With a verified run: the rows whose value is not converged, or whose verdict changes
+    /// refined or with the stiffer contact, as sentences.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub not_established: Vec<String>,
 }
 
 impl Assessment {
@@ -185,8 +218,16 @@ impl Assessment {
                 self.run_errors.len()
             )
         };
+        let doubt = if self.not_established.is_empty() {
+            String::new()
+        } else {
+            format!(
+                "; {} row(s) not established by the verification (a value not converged, or a verdict that changes refined or with the stiffer contact)",
+                self.not_established.len()
+            )
+        };
         format!(
-            "{} criteria rows met, {} not met{open}{errors}",
+            "{} criteria rows met, {} not met{open}{errors}{doubt}",
             self.met, self.not_met
         )
     }
@@ -196,6 +237,20 @@ impl Assessment {
     pub fn passes(&self) -> bool {
         self.not_met == 0 && self.run_errors.is_empty()
     }
+}
+
+/// The name in `summary.json`'s `stats` of a quantity the verification checks.
+fn statistic_name(q: Quantity) -> Option<&'static str> {
+    Some(match q {
+        Quantity::MeanForce => "mean_n",
+        Quantity::Std => "std_n",
+        Quantity::StatMin => "stat_min_n",
+        Quantity::StatMax => "stat_max_n",
+        Quantity::ActualMax => "actual_max_n",
+        Quantity::ActualMin => "actual_min_n",
+        Quantity::UpliftAtSupport => "max_uplift_at_support_mm",
+        _ => return None,
+    })
 }
 
 fn stat(s: &ContactStats, q: Quantity) -> Option<f64> {
@@ -268,7 +323,23 @@ pub fn assess(input: &AssessInput, criteria: &[Criterion], system: Option<System
             any = true;
             let value = p.stats.as_ref().and_then(|s| stat(s, c.quantity));
             let of = |q: Quantity| p.stats.as_ref().and_then(|s| stat(s, q));
-            rows.push(row(c, Some(p.name.clone()), value, v, &of));
+            let mut r = row(c, Some(p.name.clone()), value, v, &of);
+            let check = (input.verification.as_ref())
+                .zip(statistic_name(c.quantity))
+                .and_then(|(ver, name)| ver.check(&p.name, name));
+            if let Some(k) = check {
+                // Against the same limit; without one, no verdict either way.
+                let verdict = |x: f64| r.limit.map_or(Verdict::NoLimit, |l| judge(c.kind, x, l).0);
+                r.verification = Some(RowCheck {
+                    refined: k.refined,
+                    change_percent: k.change_percent,
+                    converged: k.converged,
+                    refined_verdict: verdict(k.refined),
+                    stiff_contact: k.stiff_contact,
+                    stiff_contact_verdict: verdict(k.stiff_contact),
+                });
+            }
+            rows.push(r);
         }
         if !any && c.head_width_mm.is_some() {
             skipped.push(format!(
@@ -281,7 +352,35 @@ pub fn assess(input: &AssessInput, criteria: &[Criterion], system: Option<System
     let count = |f: &dyn Fn(Verdict) -> bool| rows.iter().filter(|r| f(r.verdict)).count();
     let met = count(&|x| x == Verdict::Met);
     let not_met = count(&|x| x == Verdict::NotMet);
+    let not_established = rows
+        .iter()
+        .filter_map(|r| {
+            let k = r.verification.as_ref()?;
+            let who = r.pantograph.as_deref().unwrap_or("the run");
+            if !k.converged {
+                Some(format!(
+                    "{} ({who}): {} not converged ({:+.2} % refined); verdict refined: {}",
+                    r.id,
+                    r.quantity,
+                    k.change_percent,
+                    k.refined_verdict.text()
+                ))
+            } else if k.refined_verdict != r.verdict || k.stiff_contact_verdict != r.verdict {
+                Some(format!(
+                    "{} ({who}): {} is {} but {} refined and {} with the contact twice as stiff",
+                    r.id,
+                    r.quantity,
+                    r.verdict.text(),
+                    k.refined_verdict.text(),
+                    k.stiff_contact_verdict.text()
+                ))
+            } else {
+                None
+            }
+        })
+        .collect();
     Assessment {
+        not_established,
         system: system.map(System::name),
         speed_kmh: v,
         met,
@@ -301,38 +400,10 @@ fn row(
     of: &dyn Fn(Quantity) -> Option<f64>,
 ) -> Row {
     let limit = c.limit_at(speed_kmh, of);
-    let mut deviation_percent = None;
-    let verdict = match (value, limit) {
-        (None, _) => Verdict::NoValue,
-        (Some(_), None) => Verdict::NoLimit,
-        (Some(x), Some(l)) => match c.kind {
-            Kind::Max => {
-                if x <= l {
-                    Verdict::Met
-                } else {
-                    Verdict::NotMet
-                }
-            }
-            Kind::Min => {
-                if x >= l {
-                    Verdict::Met
-                } else {
-                    Verdict::NotMet
-                }
-            }
-            // A target of zero (a user's formula at this speed) has no relative deviation.
-            Kind::Target { .. } if l == 0.0 => Verdict::NoLimit,
-            Kind::Target { tolerance_percent } => {
-                let d = 100.0 * (x - l) / l;
-                deviation_percent = Some(d);
-                match tolerance_percent {
-                    Some(t) if d.abs() <= t => Verdict::Met,
-                    Some(_) => Verdict::NotMet,
-                    None => Verdict::Deviation,
-                }
-            }
-            Kind::Report => Verdict::NoLimit,
-        },
+    let (verdict, deviation_percent) = match (value, limit) {
+        (None, _) => (Verdict::NoValue, None),
+        (Some(_), None) => (Verdict::NoLimit, None),
+        (Some(x), Some(l)) => judge(c.kind, x, l),
     };
     Row {
         id: c.id.clone(),
@@ -355,5 +426,29 @@ fn row(
         source: c.source.clone(),
         status: c.status.name().into(),
         note: c.note.clone(),
+        verification: None,
+    }
+}
+
+/// The verdict of value `x` against limit `l` of a criterion of kind `kind`, and for a target
+/// the deviation, %.
+fn judge(kind: Kind, x: f64, l: f64) -> (Verdict, Option<f64>) {
+    match kind {
+        Kind::Max if x <= l => (Verdict::Met, None),
+        Kind::Max => (Verdict::NotMet, None),
+        Kind::Min if x >= l => (Verdict::Met, None),
+        Kind::Min => (Verdict::NotMet, None),
+        // A target of zero (a user's formula at this speed) has no relative deviation.
+        Kind::Target { .. } if l == 0.0 => (Verdict::NoLimit, None),
+        Kind::Target { tolerance_percent } => {
+            let d = 100.0 * (x - l) / l;
+            let v = match tolerance_percent {
+                Some(t) if d.abs() <= t => Verdict::Met,
+                Some(_) => Verdict::NotMet,
+                None => Verdict::Deviation,
+            };
+            (v, Some(d))
+        }
+        Kind::Report => (Verdict::NoLimit, None),
     }
 }

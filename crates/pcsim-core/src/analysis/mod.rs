@@ -34,4 +34,5 @@ pub mod studies;
 pub mod sweep;
 pub mod sweeps;
 pub mod validation;
+pub mod verify;
 pub mod window_length;

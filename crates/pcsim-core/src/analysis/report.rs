@@ -113,6 +113,10 @@ pub struct RunSummary {
     /// of the explicit system, the largest accepted Δt and the element that sets it.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stability: Option<crate::solve::CoupledLimit>,
+    /// With `--verify`: each statistic beside the refined run's (twice the modes, half the step)
+    /// and the stiffer contact's, and which are not converged to their tolerance.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub verification: Option<crate::analysis::verify::Verification>,
 }
 
 /// The run's verdicts, built here once for every front end: a contact wire that left the
@@ -347,6 +351,7 @@ impl RunSummary {
             irregularity: out.irregularity.clone(),
             curve: out.curve.clone(),
             stability: out.stability.clone(),
+            verification: None,
         }
     }
 }

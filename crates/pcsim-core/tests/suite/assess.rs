@@ -46,6 +46,7 @@ fn input(speed_kmh: f64, ratio: Option<f64>, pans: &[(f64, f64)]) -> AssessInput
             })
             .collect(),
         run_errors: Vec::new(),
+        verification: None,
     }
 }
 

@@ -30,4 +30,5 @@ mod statics;
 mod steady_loads;
 mod stitched;
 mod threads;
+mod verify;
 mod zoo;

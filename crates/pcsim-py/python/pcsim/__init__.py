@@ -103,7 +103,7 @@ class Result:
 
 
 def run(case: Case, threads: int = 1, allow_dewirement: bool = False,
-        allow_contact_loss: bool = False) -> Result:
+        allow_contact_loss: bool = False, verify: bool = False) -> Result:
     """Simulate one case (the interpreter released) and take its statistics.
 
     ``threads``: the run's threads, as the CLI's ``run --threads`` (a line of several tension
@@ -111,8 +111,11 @@ def run(case: Case, threads: int = 1, allow_dewirement: bool = False,
     count). ``sweep`` runs one case per thread instead. A run with an error-level event (a
     dewirement, contact lost over 10 % of the analysis section) raises ``RunEventError`` with
     the result attached, unless ``allow_dewirement`` or ``allow_contact_loss`` accepts it (the
-    CLI's ``--allow-dewirement``, ``--allow-contact-loss``)."""
-    return Result._from_native(_pcsim.run(case, threads, allow_dewirement, allow_contact_loss))
+    CLI's ``--allow-dewirement``, ``--allow-contact-loss``). ``verify``: the case run again
+    refined (twice the modes, half the time step) and with the contact twice as stiff, as the
+    CLI's ``--verify``: ``summary["verification"]`` holds each statistic beside both, and
+    ``summary["verification"]["not_converged"]`` those not converged to their tolerance."""
+    return Result._from_native(_pcsim.run(case, threads, allow_dewirement, allow_contact_loss, verify))
 
 
 def sweep(cases: Sequence[Case], client: Any = None, jobs: Optional[int] = None,
