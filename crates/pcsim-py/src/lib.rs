@@ -53,6 +53,10 @@ const SIGNAL_EVERY: std::time::Duration = std::time::Duration::from_millis(50);
 #[derive(Clone)]
 struct Case {
     inner: pcsim_core::Case,
+    /// The ranges the case's text gives its values (for `run(sensitivity=True)`).
+    ranges: Vec<pcsim_core::input::RangedValue>,
+    /// The paths set by `with_overrides` (their ranges are not varied).
+    fixed: Vec<String>,
 }
 
 #[pymethods]
@@ -60,8 +64,13 @@ impl Case {
     /// An embedded preset by name (see `presets()`).
     #[staticmethod]
     fn preset(name: &str) -> PyResult<Case> {
+        let (inner, _, ranges) =
+            pcsim_core::Case::from_toml_str_with_ranges(presets::find(name).map_err(err)?.toml)
+                .map_err(err)?;
         Ok(Case {
-            inner: presets::load(name).map_err(err)?.0,
+            inner,
+            ranges,
+            fixed: Vec::new(),
         })
     }
 
@@ -69,8 +78,12 @@ impl Case {
     #[staticmethod]
     fn from_toml(text: &str) -> PyResult<Case> {
         guarded(|| {
+            let (inner, _, ranges) =
+                pcsim_core::Case::from_toml_str_with_ranges(text).map_err(err)?;
             Ok(Case {
-                inner: pcsim_core::Case::from_toml_str(text).map_err(err)?.0,
+                inner,
+                ranges,
+                fixed: Vec::new(),
             })
         })
     }
@@ -83,9 +96,13 @@ impl Case {
             let text = std::fs::File::open(&path).and_then(|f| {
                 pcsim_core::input::read_text_limited(f, pcsim_core::input::MAX_INPUT_BYTES)
             });
+            let (inner, ranges) =
+                pcsim_core::input::case_and_ranges_from_file(&path.display().to_string(), text)
+                    .map_err(err)?;
             Ok(Case {
-                inner: pcsim_core::input::case_from_file(&path.display().to_string(), text)
-                    .map_err(err)?,
+                inner,
+                ranges,
+                fixed: Vec::new(),
             })
         })
     }
@@ -116,7 +133,13 @@ impl Case {
             }
             let inner = with_overrides(&self.inner, &list).map_err(err)?;
             inner.validate().map_err(err)?;
-            Ok(Case { inner })
+            let mut fixed = self.fixed.clone();
+            fixed.extend(list.into_iter().map(|(p, _)| p));
+            Ok(Case {
+                inner,
+                ranges: self.ranges.clone(),
+                fixed,
+            })
         })
     }
 
@@ -198,10 +221,11 @@ fn hand_over<'py>(
     wall_s: f64,
     warnings: Vec<String>,
     allowed: AllowedErrors,
-    verification: Option<pcsim_core::analysis::verify::Verification>,
+    evidence: Evidence,
 ) -> PyResult<Bound<'py, PyTuple>> {
     let mut summary = RunSummary::new(case, out, wall_s, Vec::new(), warnings);
-    summary.verification = verification;
+    summary.verification = evidence.verification;
+    summary.sensitivity = evidence.sensitivity;
     let json = serde_json::to_string(&summary).map_err(err)?;
     let cols = PyList::empty(py);
     for c in timeseries_columns(out) {
@@ -228,6 +252,13 @@ fn hand_over<'py>(
     )
 }
 
+/// What `run(verify=…, sensitivity=…)` adds to a run's summary.
+#[derive(Default)]
+struct Evidence {
+    verification: Option<pcsim_core::analysis::verify::Verification>,
+    sensitivity: Option<pcsim_core::analysis::sensitivity::Sensitivity>,
+}
+
 fn run_core(case: &pcsim_core::Case) -> Result<(RunOutput, f64, Vec<String>), String> {
     run_core_with(case, 1, &mut |_| true)
 }
@@ -249,9 +280,12 @@ fn run_core_with(
 /// Ctrl-C stops it between chunks of steps (the run loop's progress checks, every 256 steps) and
 /// raises `KeyboardInterrupt`. `threads`: the run's threads (the core's `team::usable_threads`
 /// rule; the same numbers on any count). `verify`: the refined run and the stiffer contact's
-/// (the CLI's `--verify`), in the summary's `verification`.
+/// (the CLI's `--verify`), in the summary's `verification`. `sensitivity`: the case's ranged
+/// values one at a time and `sensitivity_samples` runs drawn from `sensitivity_seed` (the CLI's
+/// `--sensitivity`), in the summary's `sensitivity`.
 #[pyfunction]
-#[pyo3(signature = (case, threads=1, allow_dewirement=false, allow_contact_loss=false, verify=false))]
+#[pyo3(signature = (case, threads=1, allow_dewirement=false, allow_contact_loss=false, verify=false, sensitivity=false, sensitivity_samples=None, sensitivity_seed=None))]
+#[allow(clippy::too_many_arguments)]
 fn run<'py>(
     py: Python<'py>,
     case: &Case,
@@ -259,7 +293,23 @@ fn run<'py>(
     allow_dewirement: bool,
     allow_contact_loss: bool,
     verify: bool,
+    sensitivity: bool,
+    sensitivity_samples: Option<usize>,
+    sensitivity_seed: Option<u64>,
 ) -> PyResult<Bound<'py, PyTuple>> {
+    use pcsim_core::analysis::sensitivity::SensitivitySpec;
+    let d = SensitivitySpec::default();
+    let spec = SensitivitySpec {
+        samples: sensitivity_samples.unwrap_or(d.samples),
+        seed: sensitivity_seed.unwrap_or(d.seed),
+    };
+    if sensitivity {
+        spec.check()
+            .map_err(|e| PyValueError::new_err(format!("sensitivity_samples: {e}")))?;
+        if case.ranges.is_empty() {
+            return Err(PyValueError::new_err("sensitivity=True: the case gives no value a range (mark one as `{ value = …, source = \"…\", range = [low, high], range_source = \"why\" }`)"));
+        }
+    }
     let allowed = AllowedErrors {
         dewirement: allow_dewirement,
         contact_loss: allow_contact_loss,
@@ -304,18 +354,33 @@ fn run<'py>(
             return Err(e);
         }
         let (out, wall, warnings) = res.map_err(err)?;
-        let verification = if verify {
-            let c = &case.inner;
-            Some(
+        let mut evidence = Evidence::default();
+        let c = &case.inner;
+        if verify {
+            evidence.verification = Some(
                 py.detach(|| {
                     pcsim_core::analysis::verify::verify(c, &out, &Default::default(), None)
                 })
                 .map_err(err)?,
-            )
-        } else {
-            None
-        };
-        hand_over(py, &out, &case.inner, wall, warnings, allowed, verification)
+            );
+        }
+        if sensitivity {
+            evidence.sensitivity = Some(
+                py.detach(|| {
+                    pcsim_core::analysis::sensitivity::sensitivity(
+                        c,
+                        &out,
+                        &case.ranges,
+                        &case.fixed,
+                        &spec,
+                        &Default::default(),
+                        None,
+                    )
+                })
+                .map_err(err)?,
+            );
+        }
+        hand_over(py, &out, &case.inner, wall, warnings, allowed, evidence)
     })
 }
 
@@ -339,7 +404,15 @@ fn run_many<'py>(
         let list = PyList::empty(py);
         for (o, c) in outs.into_iter().zip(&cases) {
             let (out, wall, w) = o.map_err(err)?;
-            list.append(hand_over(py, &out, &c.inner, wall, w, allowed, None)?)?;
+            list.append(hand_over(
+                py,
+                &out,
+                &c.inner,
+                wall,
+                w,
+                allowed,
+                Evidence::default(),
+            )?)?;
         }
         Ok(list)
     })

@@ -62,6 +62,30 @@ def test_issue_42_1_run_verify_equals_the_clis(tmp_path):
     assert "verification" not in pcsim.run(case).summary
 
 
+def test_issue_42_2_run_sensitivity_equals_the_clis(tmp_path):
+    """``pcsim.run(case, sensitivity=True)``: the summary's sensitivity is the CLI's
+    ``--sensitivity`` (the same ranges from the preset, the same runs and seed, the same numbers);
+    a value set by ``with_overrides`` is not varied; a case with no range is refused by name."""
+    case = pcsim.Case.preset("en50318-2002")
+    res = pcsim.run(case, sensitivity=True, sensitivity_samples=2, sensitivity_seed=5)
+    out = str(tmp_path / "cli")
+    subprocess.run([PCSIM, "run", "--preset", "en50318-2002", "--sensitivity",
+                    "--sensitivity-samples", "2", "--sensitivity-seed", "5", "--quiet",
+                    "--out", out], check=True, stdout=subprocess.DEVNULL)
+    with open(os.path.join(out, "summary.json")) as f:
+        cli = json.load(f)
+    assert res.summary["sensitivity"] == cli["sensitivity"]
+    assert res.summary["sensitivity"]["spec"] == {"samples": 2, "seed": 5}
+    fixed = case.with_overrides({"pantographs[0].uplift_n": 115.0})
+    s = pcsim.run(fixed, sensitivity=True, sensitivity_samples=0).summary["sensitivity"]
+    assert "pantographs[0].uplift_n" not in [p["path"] for p in s["parameters"]]
+    assert any("uplift_n" in n for n in s["not_varied"])
+    with pytest.raises(ValueError, match="no value a range"):
+        pcsim.run(pcsim.Case.preset("benchmark-55m"), sensitivity=True)
+    with pytest.raises(ValueError, match="sensitivity_samples"):
+        pcsim.run(case, sensitivity=True, sensitivity_samples=10**6)
+
+
 def test_run_equals_the_cli_exactly(tmp_path):
     case = short_case()
     res = pcsim.run(case)

@@ -141,6 +141,7 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         .unwrap_or_default();
     statistics_section(&mut h, &pans);
     verification_section(&mut h, &summary["verification"]);
+    sensitivity_section(&mut h, &summary["sensitivity"]);
     overlaps_section(&mut h, &pans);
     droppers_section(&mut h, dir, &summary);
     assessment(&mut h, dir, &summary_text)?;
@@ -289,6 +290,102 @@ fn verification_section(h: &mut String, v: &serde_json::Value) {
             "change",
         ],
         &rows,
+    );
+}
+
+/// The run's sensitivity (`--sensitivity`): each statistic's band over the case's ranged values
+/// and the values that move it most, the ranges with their reasons, and the runs not made.
+fn sensitivity_section(h: &mut String, s: &serde_json::Value) {
+    if s.is_null() {
+        return;
+    }
+    h.push_str("<h2>Sensitivity: the statistics over the case's ranged values</h2>\n");
+    let params = s["parameters"].as_array().cloned().unwrap_or_default();
+    let _ = writeln!(
+        h,
+        "<p>{} ranged values, each run at its low and its high end (the others at the case's values), then {} runs with all of them drawn at once (seed {}). The band is the smallest and largest value over the case's run and every run of the study; the figure <code>sensitivity_*.svg</code> shows what moves σ.</p>",
+        params.len(),
+        num(&s["spec"]["samples"]),
+        num(&s["spec"]["seed"]),
+    );
+    let lists = [
+        ("Runs that could not be made", &s["failed"]),
+        ("Runs with an error-level event", &s["events"]),
+        ("Not varied", &s["not_varied"]),
+    ];
+    for (what, list) in lists {
+        let items: Vec<String> = list
+            .as_array()
+            .map(|a| a.iter().map(num).collect())
+            .unwrap_or_default();
+        if !items.is_empty() {
+            let _ = write!(h, "<div class=\"warn\"><p><strong>{what}:</strong></p><ul>");
+            for n in &items {
+                let _ = write!(h, "<li>{}</li>", esc(n));
+            }
+            h.push_str("</ul></div>\n");
+        }
+    }
+    let mut rows = Vec::new();
+    for p in s["pantographs"].as_array().into_iter().flatten() {
+        for b in p["statistics"].as_array().into_iter().flatten() {
+            let movers: Vec<String> = b["movers"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .take(3)
+                .map(|m| {
+                    format!(
+                        "{} ({:+.3})",
+                        m["path"].as_str().unwrap_or(""),
+                        m["swing"].as_f64().unwrap_or(f64::NAN)
+                    )
+                })
+                .collect();
+            rows.push(vec![
+                p["name"].as_str().unwrap_or("").into(),
+                format!(
+                    "{} [{}]",
+                    b["statistic"].as_str().unwrap_or(""),
+                    b["unit"].as_str().unwrap_or("")
+                ),
+                num(&b["value"]),
+                num(&b["low"]),
+                num(&b["high"]),
+                movers.join("; "),
+            ]);
+        }
+    }
+    table(
+        h,
+        "Each statistic's band and the values that move it most (low end to high end)",
+        &[
+            "pantograph",
+            "statistic",
+            "value",
+            "band low",
+            "band high",
+            "moved most by",
+        ],
+        &rows,
+    );
+    let prow: Vec<Vec<String>> = params
+        .iter()
+        .map(|p| {
+            vec![
+                p["path"].as_str().unwrap_or("").into(),
+                num(&p["value"]),
+                format!("{} – {}", num(&p["low"]), num(&p["high"])),
+                num(&p["source"]),
+                num(&p["range_source"]),
+            ]
+        })
+        .collect();
+    table(
+        h,
+        "The ranged values",
+        &["value", "case", "range", "source", "why this range"],
+        &prow,
     );
 }
 

@@ -70,6 +70,19 @@ pub struct RunArgs {
     /// tolerance are listed (the two runs share --jobs).
     #[arg(long)]
     verify: bool,
+    /// The model uncertainty from the case's own marks: every value the case gives a range
+    /// (`{ value, source, range = [low, high], range_source }`) run at its low and its high end,
+    /// one at a time, then --sensitivity-samples runs with all of them drawn at once;
+    /// summary.json gains `sensitivity`, each statistic's band and the values that move it
+    /// most (the runs share --jobs).
+    #[arg(long)]
+    sensitivity: bool,
+    /// Runs of --sensitivity's seeded sample (0: one at a time only).
+    #[arg(long, value_name = "N", default_value_t = pcsim_core::analysis::sensitivity::SensitivitySpec::default().samples)]
+    sensitivity_samples: usize,
+    /// Seed of --sensitivity's sample (in summary.json's `sensitivity.spec`).
+    #[arg(long, value_name = "SEED", default_value_t = pcsim_core::analysis::sensitivity::SensitivitySpec::default().seed)]
+    sensitivity_seed: u64,
 }
 
 impl RunArgs {
@@ -112,6 +125,27 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
             "--verify with --seeds: verify one realisation (run it alone), not the spread of many"
         );
     }
+    if a.sensitivity && a.seeds.is_some() {
+        anyhow::bail!(
+            "--sensitivity with --seeds: vary the ranged values of one realisation (run it alone), not the spread of many"
+        );
+    }
+    let sensitivity = a
+        .sensitivity
+        .then(|| -> Result<_> {
+            let spec = pcsim_core::analysis::sensitivity::SensitivitySpec {
+                samples: a.sensitivity_samples,
+                seed: a.sensitivity_seed,
+            };
+            spec.check()
+                .map_err(|e| anyhow::anyhow!("--sensitivity-samples: {e}"))?;
+            let ranges = pcsim_core::Case::from_toml_str_with_ranges(&case_text)?.2;
+            if ranges.is_empty() {
+                anyhow::bail!("--sensitivity: the case gives no value a range (mark one as `{{ value = …, source = \"…\", range = [low, high], range_source = \"why\" }}`)");
+            }
+            Ok((spec, ranges))
+        })
+        .transpose()?;
     if a.seeds.is_some() && a.threads != 1 {
         anyhow::bail!("--threads {} with --seeds: the realisations run in parallel by --jobs; give one or the other", a.threads);
     }
@@ -162,6 +196,24 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
         pb.finish();
         summary.verification = Some(v);
     }
+    if let Some((spec, ranges)) = &sensitivity {
+        let pb = crate::progress::Progress::run(
+            "sensitivity (the ranged values one at a time, then sampled)",
+            ctx.progress,
+        );
+        let fixed: Vec<String> = overrides.iter().map(|o| o.path.clone()).collect();
+        let s = pcsim_core::analysis::sensitivity::sensitivity(
+            &case,
+            &out,
+            ranges,
+            &fixed,
+            spec,
+            &ctx.budget,
+            a.jobs,
+        )?;
+        pb.finish();
+        summary.sensitivity = Some(s);
+    }
     write_run(od.path(), &out, &summary)?;
     let dropper_note = crate::output::write_droppers(od.path(), &out)?;
     // The case as given (every value with its source), for the report.
@@ -184,6 +236,9 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
     print_run(&case, &out, &summary, wall);
     if let Some(v) = &summary.verification {
         print_verification(v);
+    }
+    if let Some(s) = &summary.sensitivity {
+        print_sensitivity(s);
     }
     println!(
         "wrote {} and {}",
@@ -293,6 +348,45 @@ pub fn print_verification(v: &pcsim_core::analysis::verify::Verification) {
     }
     for n in &v.not_converged {
         println!("  NOT CONVERGED: {n}");
+    }
+}
+
+/// The sensitivity on the terminal: each statistic's band and the value that moves it most.
+pub fn print_sensitivity(s: &pcsim_core::analysis::sensitivity::Sensitivity) {
+    println!(
+        "sensitivity: {} ranged values, {} runs one at a time and {} sampled (seed {})",
+        s.parameters.len(),
+        2 * s.parameters.len(),
+        s.spec.samples,
+        s.spec.seed
+    );
+    for p in &s.pantographs {
+        println!(
+            "  {:<10} {:<26} {:>10} {:>21}   most moved by",
+            p.name, "statistic", "value", "band"
+        );
+        for b in &p.statistics {
+            let top = b.movers.first().map_or(String::from("-"), |m| {
+                format!("{} ({:+.3} {})", m.path, m.swing, b.unit)
+            });
+            println!(
+                "  {:<10} {:<26} {:>10.3} [{:>9.3}, {:>9.3}]   {top}",
+                "",
+                format!("{} [{}]", b.statistic, b.unit),
+                b.value,
+                b.low,
+                b.high
+            );
+        }
+    }
+    for n in &s.not_varied {
+        println!("  not varied: {n}");
+    }
+    for e in &s.events {
+        println!("  EVENT: {e}");
+    }
+    for f in &s.failed {
+        println!("  NOT RUN: {f}");
     }
 }
 

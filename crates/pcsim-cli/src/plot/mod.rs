@@ -9,6 +9,7 @@ pub mod eva;
 pub mod montecarlo;
 pub mod realtime;
 pub mod run;
+pub mod sensitivity;
 pub mod window;
 
 use anyhow::{anyhow, Context, Result};

@@ -583,7 +583,12 @@ pub fn draw_all(dir: &Path, d: &PlotData) -> Result<Vec<PathBuf>> {
 
 /// Redraw a run's figures from its files.
 pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
-    draw_all(dir, &read_run(dir)?)
+    let mut files = draw_all(dir, &read_run(dir)?)?;
+    let sp = dir.join("summary.json");
+    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&sp)?)
+        .with_context(|| format!("{} is not valid JSON", sp.display()))?;
+    files.extend(super::sensitivity::draw(dir, &summary)?);
+    Ok(files)
 }
 
 /// Read a finished run's `summary.json` and `timeseries.csv` back into plot data.

@@ -16,6 +16,8 @@
 //! | `window_length.rs` | the accuracy-based window length and the energy criteria's fit |
 //! | `montecarlo.rs` | realisations over seeds and their spread |
 //! | `design.rs` | the design search: an optimiser over case fields, the journal, the answer |
+//! | `verify.rs` | `--verify`: the run refined, and with a stiffer contact |
+//! | `sensitivity.rs` | `--sensitivity`: the case's ranged values, one at a time and sampled |
 //! | `report.rs` | what a run reports: the summary and the time-series columns |
 
 pub mod assess;
@@ -28,6 +30,7 @@ pub mod filter;
 pub mod montecarlo;
 pub mod record;
 pub mod report;
+pub mod sensitivity;
 pub mod specs;
 pub mod stats;
 pub mod studies;

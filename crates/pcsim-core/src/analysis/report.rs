@@ -117,6 +117,10 @@ pub struct RunSummary {
     /// and the stiffer contact's, and which are not converged to their tolerance.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub verification: Option<crate::analysis::verify::Verification>,
+    /// With `--sensitivity`: each statistic's band over the case's ranged values and the values
+    /// that move it most.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sensitivity: Option<crate::analysis::sensitivity::Sensitivity>,
 }
 
 /// The run's verdicts, built here once for every front end: a contact wire that left the
@@ -352,6 +356,7 @@ impl RunSummary {
             curve: out.curve.clone(),
             stability: out.stability.clone(),
             verification: None,
+            sensitivity: None,
         }
     }
 }

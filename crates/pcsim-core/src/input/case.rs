@@ -409,10 +409,22 @@ impl Case {
     /// Parse a case from TOML text. Sourced fields (`{ value, source }`) are unwrapped and their
     /// sources returned; unknown keys are errors that name the key.
     pub fn from_toml_str(text: &str) -> Result<(Case, Provenance), CaseError> {
+        Self::from_toml_str_with_ranges(text).map(|(c, p, _)| (c, p))
+    }
+
+    /// [`Case::from_toml_str`], with the ranges the case gives its values
+    /// (`{ value, source, range = [low, high], range_source }`, issue 42: the model uncertainty
+    /// that `pcsim run --sensitivity` varies). A range's form is checked here (two finite
+    /// numbers, low below high), so every loader refuses a bad one by its field; a value edited
+    /// out of its range loads, and the sensitivity study refuses it ([`RangedValue::check`]).
+    pub fn from_toml_str_with_ranges(
+        text: &str,
+    ) -> Result<(Case, Provenance, Vec<RangedValue>), CaseError> {
         let mut value: toml::Value =
             toml::from_str(text).map_err(|e| CaseError::Parse(parse_message(text, &e)))?;
         let mut prov = Provenance::new();
-        strip_sources(&mut value, String::new(), &mut prov)?;
+        let mut ranges = Vec::new();
+        strip_sources(&mut value, String::new(), &mut prov, &mut ranges)?;
         let pantographs = value.get("pantographs").cloned();
         let case: Case = serde_path_to_error::deserialize(value).map_err(|e| {
             let mut path = e.path().to_string();
@@ -449,7 +461,7 @@ impl Case {
                 _ => {}
             }
         }
-        Ok((case, prov))
+        Ok((case, prov, ranges))
     }
 
     /// The case as TOML (plain values).
@@ -526,20 +538,27 @@ fn parse_message(text: &str, e: &toml::de::Error) -> String {
     }
 }
 
-/// Replace every `{ value = …, source = "…" }` table by its value, recording the source.
+/// Replace every `{ value = …, source = "…" }` table by its value, recording the source (and
+/// the value's range, when it gives one).
 fn strip_sources(
     v: &mut toml::Value,
     path: String,
     prov: &mut Provenance,
+    ranges: &mut Vec<RangedValue>,
 ) -> Result<(), CaseError> {
     match v {
         toml::Value::Table(t) => {
             // `{ value = …, source = "…" }`, or `{ value = … }` alone (a value without its source
-            // yet; `note` may accompany either).
+            // yet; `note` may accompany either, `range` and `range_source` give its range).
             let is_sourced = t.contains_key("value")
-                && t.keys()
-                    .all(|k| k == "value" || k == "source" || k == "note");
+                && t.keys().all(|k| {
+                    matches!(
+                        k.as_str(),
+                        "value" | "source" | "note" | "range" | "range_source"
+                    )
+                });
             if is_sourced {
+                ranges.extend(ranged_values(&path, t)?);
                 match t.get("source") {
                     Some(toml::Value::String(s)) => {
                         prov.insert(path.clone(), s.clone());
@@ -563,17 +582,155 @@ fn strip_sources(
                 } else {
                     format!("{path}.{k}")
                 };
-                strip_sources(x, p, prov)?;
+                strip_sources(x, p, prov, ranges)?;
             }
             Ok(())
         }
         toml::Value::Array(a) => {
             for (i, x) in a.iter_mut().enumerate() {
-                strip_sources(x, format!("{path}[{i}]"), prov)?;
+                strip_sources(x, format!("{path}[{i}]"), prov, ranges)?;
             }
             Ok(())
         }
         _ => Ok(()),
+    }
+}
+
+/// A value of the case with the range it may take (issue 42, item 2): where it is, the value,
+/// the range's ends, the value's source and the range's reason. A list's range is given per
+/// element (`range = [[low, high], …]`) and gives one ranged value per element (`path[i]`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RangedValue {
+    /// The value's path in the case (`catenary.steady_arm.mass_kg`, `pantographs[0].masses_kg[1]`),
+    /// in the field's unit.
+    pub path: String,
+    /// The case's value.
+    pub value: f64,
+    /// The range's low end.
+    pub low: f64,
+    /// The range's high end.
+    pub high: f64,
+    /// The value's source (`guess: …` when it has none).
+    pub source: Option<String>,
+    /// Why the range is what it is (`range_source`).
+    pub range_source: Option<String>,
+}
+
+impl RangedValue {
+    /// Refuse a value outside its own range (edited since the range was given), by its field.
+    pub fn check(&self) -> Result<(), CaseError> {
+        if (self.low..=self.high).contains(&self.value) {
+            Ok(())
+        } else {
+            Err(inv(
+                &format!("{}.range", self.path),
+                format!("[{}, {}]", self.low, self.high),
+                &format!(
+                    "the value {} is outside its range: widen the range, or remove it",
+                    self.value
+                ),
+            ))
+        }
+    }
+
+    /// Whether the value is a guess (its source starts with `guess`, or it has none).
+    pub fn is_guess(&self) -> bool {
+        self.source
+            .as_deref()
+            .is_none_or(|s| s.trim_start().starts_with("guess"))
+    }
+}
+
+/// The ranged values of one sourced table (`{ value, source, range, range_source }`) at `path`:
+/// none without `range`; a number's range is `[low, high]`, a list's one `[low, high]` per element.
+fn ranged_values(path: &str, t: &toml::value::Table) -> Result<Vec<RangedValue>, CaseError> {
+    let Some(range) = t.get("range") else {
+        if t.contains_key("range_source") {
+            return Err(inv(
+                &format!("{path}.range_source"),
+                "given",
+                "a range_source without a range: give `range = [low, high]` too",
+            ));
+        }
+        return Ok(Vec::new());
+    };
+    let field = format!("{path}.range");
+    let text = |k: &str| -> Result<Option<String>, CaseError> {
+        match t.get(k) {
+            None => Ok(None),
+            Some(toml::Value::String(s)) => Ok(Some(s.clone())),
+            Some(_) => Err(inv(
+                &format!("{path}.{k}"),
+                "non-string",
+                "must be a string",
+            )),
+        }
+    };
+    let (source, range_source) = (text("source")?, text("range_source")?);
+    let number = |v: &toml::Value| match v {
+        toml::Value::Float(x) => Some(*x),
+        toml::Value::Integer(i) => Some(*i as f64),
+        _ => None,
+    };
+    let pair = |r: &toml::Value, at: &str| -> Result<(f64, f64), CaseError> {
+        let bad = |why: &str| inv(at, r.to_string(), why);
+        let a = r
+            .as_array()
+            .filter(|a| a.len() == 2)
+            .ok_or_else(|| bad("a range is two numbers, [low, high]"))?;
+        let (Some(lo), Some(hi)) = (number(&a[0]), number(&a[1])) else {
+            return Err(bad("a range is two numbers, [low, high]"));
+        };
+        if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+            return Err(bad(
+                "a range's ends are finite, the low one below the high one",
+            ));
+        }
+        Ok((lo, hi))
+    };
+    let one = |p: String, x: f64, r: &toml::Value, at: &str| -> Result<RangedValue, CaseError> {
+        let (low, high) = pair(r, at)?;
+        Ok(RangedValue {
+            path: p,
+            value: x,
+            low,
+            high,
+            source: source.clone(),
+            range_source: range_source.clone(),
+        })
+    };
+    match t.get("value") {
+        Some(toml::Value::Array(xs)) => {
+            let rs = range
+                .as_array()
+                .filter(|rs| rs.len() == xs.len())
+                .ok_or_else(|| {
+                    inv(
+                        &field,
+                        range.to_string(),
+                        &format!(
+                            "a list's range is one [low, high] per element ({} of them)",
+                            xs.len()
+                        ),
+                    )
+                })?;
+            xs.iter()
+                .zip(rs)
+                .enumerate()
+                .map(|(i, (x, r))| {
+                    let x = number(x).ok_or_else(|| {
+                        inv(&field, range.to_string(), "only numbers take a range")
+                    })?;
+                    one(format!("{path}[{i}]"), x, r, &format!("{field}[{i}]"))
+                })
+                .collect()
+        }
+        Some(v) => {
+            let x = number(v)
+                .ok_or_else(|| inv(&field, range.to_string(), "only numbers take a range"))?;
+            Ok(vec![one(path.to_string(), x, range, &field)?])
+        }
+        None => Ok(Vec::new()),
     }
 }
 

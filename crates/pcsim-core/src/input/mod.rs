@@ -15,7 +15,7 @@ pub mod targets;
 pub mod units;
 mod validate;
 
-pub use case::{Case, Provenance, Warning, G};
+pub use case::{Case, Provenance, RangedValue, Warning, G};
 
 /// The one case loader of every front end (CLI, C API, Python, FMU), with one error wording. The
 /// core does no I/O: the front end reads the file and hands over what the read gave.
@@ -23,12 +23,20 @@ pub fn case_from_file(
     path: &str,
     read: std::io::Result<String>,
 ) -> Result<Case, crate::error::CaseError> {
+    case_and_ranges_from_file(path, read).map(|(c, _)| c)
+}
+
+/// [`case_from_file`], with the ranges the case gives its values (for `--sensitivity`).
+pub fn case_and_ranges_from_file(
+    path: &str,
+    read: std::io::Result<String>,
+) -> Result<(Case, Vec<RangedValue>), crate::error::CaseError> {
     let text = read.map_err(|e| crate::error::CaseError::Read {
         path: path.to_string(),
         reason: e.to_string(),
     })?;
-    Case::from_toml_str(&text)
-        .map(|(c, _)| c)
+    Case::from_toml_str_with_ranges(&text)
+        .map(|(c, _, r)| (c, r))
         .map_err(|e| crate::error::CaseError::InFile {
             path: path.to_string(),
             error: Box::new(e),

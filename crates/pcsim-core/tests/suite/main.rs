@@ -25,6 +25,7 @@ mod mutations;
 mod realtime;
 mod realtime_alloc;
 mod realtime_session;
+mod sensitivity;
 mod stability;
 mod statics;
 mod steady_loads;

@@ -103,7 +103,8 @@ class Result:
 
 
 def run(case: Case, threads: int = 1, allow_dewirement: bool = False,
-        allow_contact_loss: bool = False, verify: bool = False) -> Result:
+        allow_contact_loss: bool = False, verify: bool = False, sensitivity: bool = False,
+        sensitivity_samples: Optional[int] = None, sensitivity_seed: Optional[int] = None) -> Result:
     """Simulate one case (the interpreter released) and take its statistics.
 
     ``threads``: the run's threads, as the CLI's ``run --threads`` (a line of several tension
@@ -114,8 +115,15 @@ def run(case: Case, threads: int = 1, allow_dewirement: bool = False,
     CLI's ``--allow-dewirement``, ``--allow-contact-loss``). ``verify``: the case run again
     refined (twice the modes, half the time step) and with the contact twice as stiff, as the
     CLI's ``--verify``: ``summary["verification"]`` holds each statistic beside both, and
-    ``summary["verification"]["not_converged"]`` those not converged to their tolerance."""
-    return Result._from_native(_pcsim.run(case, threads, allow_dewirement, allow_contact_loss, verify))
+    ``summary["verification"]["not_converged"]`` those not converged to their tolerance.
+    ``sensitivity``: every value the case's text gives a range run at its low and its high end,
+    then ``sensitivity_samples`` runs (8) with all drawn at once from ``sensitivity_seed`` (1), as
+    the CLI's ``--sensitivity``: ``summary["sensitivity"]`` holds each statistic's band and the
+    values that move it most. The ranges come from ``Case.preset``, ``from_toml`` and
+    ``from_file``; a path set by ``with_overrides`` is not varied; a pickled case carries none."""
+    return Result._from_native(_pcsim.run(case, threads, allow_dewirement, allow_contact_loss,
+                                          verify, sensitivity, sensitivity_samples,
+                                          sensitivity_seed))
 
 
 def sweep(cases: Sequence[Case], client: Any = None, jobs: Optional[int] = None,
