@@ -7,7 +7,8 @@ Chromium, which dumps its DOM and takes screenshots; the check asserts that
     address is the SVG namespace);
   - every figure renders: a page of that figure alone, screenshot by Chromium, is not blank
     (at least 2 % of its pixels not white, and several colours);
-  - the whole page renders (its first screen is not blank).
+  - the whole page renders (its first screen is not blank);
+  - the page opens with its answer (issue 42, item 6): before any figure or table of a file.
 Screenshots are kept in OUT (one per report, one per figure).
 
 Usage: check_reports.py CHROMIUM OUT REPORT_DIR...
@@ -132,6 +133,15 @@ def main():
             assert "<tr>" in body.split("</tbody>")[0], f"{name}: a table without rows"
         for bad in ("src=", "href=", "url(", "@import"):
             assert bad not in dom, f"{name}: {bad} in the page"
+        # Every page opens with its answer (issue 42, item 6): the answer's heading comes before
+        # the first figure and before the first table of a file.
+        answer = dom.find('id="answer"')
+        assert answer >= 0, f"{name}: no answer section"
+        first_svg = dom.find("<svg")
+        assert first_svg < 0 or answer < first_svg, f"{name}: a figure before the answer"
+        first_file = min([i for i in (dom.find("<h2>The run</h2>"), dom.find(".csv</h2>")) if i >= 0],
+                         default=len(dom))
+        assert answer < first_file, f"{name}: a table of the set-up or a file before the answer"
         # Every page: the command line, and the case with each value's source.
         assert "command line not recorded" not in dom, f"{name}: no command line"
         assert "<caption>Provenance</caption>" in dom, f"{name}: no provenance table"

@@ -134,18 +134,21 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         .map(|a| a.iter().map(num).collect())
         .unwrap_or_default();
     errors_box(&mut h, &errors);
-    run_section(&mut h, &summary);
+    warnings_section(&mut h, &summary);
+    // The answer first (issue 42, item 6): the statistics, the verdicts and their evidence;
+    // then the figures; then the tables of the set-up and the details.
     let pans = summary["pantographs"]
         .as_array()
         .cloned()
         .unwrap_or_default();
     statistics_section(&mut h, &pans);
+    assessment(&mut h, dir, &summary_text)?;
     verification_section(&mut h, &summary["verification"]);
     sensitivity_section(&mut h, &summary["sensitivity"]);
+    figures(&mut h, dir, &m.files)?;
+    run_section(&mut h, &summary);
     overlaps_section(&mut h, &pans);
     droppers_section(&mut h, dir, &summary);
-    assessment(&mut h, dir, &summary_text)?;
-    figures(&mut h, dir, &m.files)?;
     let overrides: Vec<String> = summary["overrides"]
         .as_array()
         .map(|a| a.iter().map(num).collect())
@@ -154,7 +157,24 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
     finish(dir, h)
 }
 
-/// The run's set-up and counters, and its warnings.
+/// The run's warnings (above the answer: they qualify it).
+fn warnings_section(h: &mut String, summary: &serde_json::Value) {
+    let warnings: Vec<String> = summary["warnings"]
+        .as_array()
+        .map(|a| a.iter().map(num).collect())
+        .unwrap_or_default();
+    if warnings.is_empty() {
+        h.push_str("<p>No warnings.</p>\n");
+    } else {
+        h.push_str("<h3>Warnings</h3><ul>");
+        for w in &warnings {
+            let _ = write!(h, "<li>{}</li>", esc(w));
+        }
+        h.push_str("</ul>\n");
+    }
+}
+
+/// The run's set-up and counters.
 fn run_section(h: &mut String, summary: &serde_json::Value) {
     // The run.
     let mut rows = Vec::new();
@@ -171,25 +191,12 @@ fn run_section(h: &mut String, summary: &serde_json::Value) {
     }
     h.push_str("<h2>The run</h2>\n");
     table(h, "Set-up and run", &["quantity", "value"], &rows);
-    let warnings: Vec<String> = summary["warnings"]
-        .as_array()
-        .map(|a| a.iter().map(num).collect())
-        .unwrap_or_default();
-    if warnings.is_empty() {
-        h.push_str("<p>No warnings.</p>\n");
-    } else {
-        h.push_str("<h3>Warnings</h3><ul>");
-        for w in &warnings {
-            let _ = write!(h, "<li>{}</li>", esc(w));
-        }
-        h.push_str("</ul>\n");
-    }
 }
 
 /// The EN 50318 statistics, one column per pantograph.
 fn statistics_section(h: &mut String, pans: &[serde_json::Value]) {
     // EN 50318 statistics, per pantograph.
-    h.push_str("<h2>EN 50318 statistics (0–20 Hz contact force over the analysis section)</h2>\n");
+    h.push_str("<h2 id=\"answer\">EN 50318 statistics (0–20 Hz contact force over the analysis section)</h2>\n");
     let mut keys: Vec<String> = Vec::new();
     for p in pans {
         if let Some(o) = p["stats"].as_object() {
@@ -740,6 +747,13 @@ fn write_study(dir: &Path, m: &crate::output::Manifest) -> Result<PathBuf> {
     );
     edited_box(&mut h, dir, m);
     errors_box(&mut h, &study_errors(dir, &m.kind)?);
+    // The answer first (issue 42, item 6), then the figures, then the tables.
+    if m.kind == "design" {
+        design_section(&mut h, dir)?;
+    } else {
+        study_answer(&mut h, dir, &m.kind)?;
+    }
+    figures(&mut h, dir, &m.files)?;
     let described: Vec<Vec<String>> = m
         .value
         .as_object()
@@ -759,9 +773,6 @@ fn write_study(dir: &Path, m: &crate::output::Manifest) -> Result<PathBuf> {
             &["item", "value"],
             &described,
         );
-    }
-    if m.kind == "design" {
-        design_section(&mut h, dir)?;
     }
     for f in m.files.iter().filter(|f| {
         // A design's force traces are its figures' data, not a table to read.
@@ -789,10 +800,151 @@ fn write_study(dir: &Path, m: &crate::output::Manifest) -> Result<PathBuf> {
         let _ = writeln!(h, "<h2>{}</h2>", esc(f));
         table(&mut h, &cap, &head, &rows);
     }
-    figures(&mut h, dir, &m.files)?;
     // The study's base case: the grid's flags (speeds, tensions, …) vary it, as the command says.
     provenance(&mut h, dir, &[])?;
     finish(dir, h)
+}
+
+/// The columns `cols` (name, heading) of `dir/file`, each row's values as written (none when the
+/// file or a column is missing).
+fn csv_columns(dir: &Path, file: &str, cols: &[(&str, &str)]) -> Result<Option<Vec<Vec<String>>>> {
+    let p = dir.join(file);
+    if !p.exists() {
+        return Ok(None);
+    }
+    let mut r =
+        csv::Reader::from_path(&p).with_context(|| format!("cannot read {}", p.display()))?;
+    let head: Vec<String> = r.headers()?.iter().map(String::from).collect();
+    let Some(idx) = cols
+        .iter()
+        .map(|(c, _)| head.iter().position(|h| h == c))
+        .collect::<Option<Vec<usize>>>()
+    else {
+        return Ok(None);
+    };
+    let mut rows = Vec::new();
+    for rec in r.records().take(MAX_ROWS) {
+        let rec = rec?;
+        rows.push(
+            idx.iter()
+                .map(|&i| rec.get(i).unwrap_or("").to_string())
+                .collect(),
+        );
+    }
+    Ok(Some(rows))
+}
+
+/// A study's answer, first in its report (issue 42, item 6): the EVA per case, the window
+/// length, the real-time window against the full model, the run beside the measurement side by
+/// side, the Monte Carlo mean with its 95 % interval.
+fn study_answer(h: &mut String, dir: &Path, kind: &str) -> Result<()> {
+    let (title, file, cols): (&str, &str, &[(&str, &str)]) = match kind {
+        "eva" => (
+            "The answer: the effective vibration area of each case",
+            "eva.csv",
+            &[
+                ("speed_kmh", "km/h"),
+                ("tension_kn", "kN"),
+                ("damping", "damping"),
+                ("eva_step_m", "EVA, the paper's step criterion [m]"),
+                ("eva_fraction_m", "EVA, the fraction of the energy [m]"),
+                ("converged_energy_j", "converged energy [J]"),
+                ("total_energy_j", "whole model [J]"),
+            ],
+        ),
+        "window" => (
+            "The answer: the shortest window that matches the full model",
+            "window.csv",
+            &[
+                ("speed_kmh", "km/h"),
+                ("tension_kn", "kN"),
+                ("damping", "damping"),
+                ("length_m", "window length [m]"),
+                ("mean_err_pct", "Δ mean [%]"),
+                ("sigma_err_pct", "Δ σ [%]"),
+                ("max_err_pct", "Δ max [%]"),
+                ("fine_checked_to_m", "every window checked up to [m]"),
+            ],
+        ),
+        "realtime" => (
+            "The answer: the real-time window against the full model",
+            "realtime.csv",
+            &[
+                ("window_m", "window [m]"),
+                ("mean_n", "mean [N]"),
+                ("std_n", "σ [N]"),
+                ("mean_error_percent", "Δ mean [%]"),
+                ("std_error_percent", "Δ σ [%]"),
+                ("full_mean_n", "full model mean [N]"),
+                ("full_std_n", "full model σ [N]"),
+            ],
+        ),
+        "compare" => (
+            "The answer: the run beside the measurement",
+            "compare_stats.csv",
+            &[
+                ("quantity", "quantity"),
+                ("run", "run"),
+                ("measured", "measured"),
+                ("difference", "difference"),
+            ],
+        ),
+        "montecarlo" => return montecarlo_answer(h, dir),
+        _ => return Ok(()),
+    };
+    if let Some(rows) = csv_columns(dir, file, cols)? {
+        let _ = writeln!(h, "<h2 id=\"answer\">{}</h2>", esc(title));
+        let head: Vec<&str> = cols.iter().map(|(_, l)| *l).collect();
+        table(h, file, &head, &rows);
+    }
+    Ok(())
+}
+
+/// A Monte Carlo study's answer: each statistic's mean over the realisations with its 95 %
+/// confidence interval (Student's t), the spread and the extremes (montecarlo.json).
+fn montecarlo_answer(h: &mut String, dir: &Path) -> Result<()> {
+    let p = dir.join("montecarlo.json");
+    if !p.exists() {
+        return Ok(());
+    }
+    let text =
+        std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
+    let v: serde_json::Value =
+        serde_json::from_str(&text).with_context(|| format!("{} is not JSON", p.display()))?;
+    let _ = writeln!(
+        h,
+        "<h2 id=\"answer\">The answer: the mean over {} realisations with its 95 % interval</h2>",
+        num(&v["realisations"])
+    );
+    let mut rows = Vec::new();
+    for (pan, stats) in v["statistics"].as_object().into_iter().flatten() {
+        for (name, s) in stats.as_object().into_iter().flatten() {
+            rows.push(vec![
+                pan.clone(),
+                name.clone(),
+                num(&s["mean"]),
+                format!("{} – {}", num(&s["ci95_low"]), num(&s["ci95_high"])),
+                num(&s["std"]),
+                format!("{} – {}", num(&s["min"]), num(&s["max"])),
+                num(&s["n"]),
+            ]);
+        }
+    }
+    table(
+        h,
+        "montecarlo.json",
+        &[
+            "pantograph",
+            "statistic",
+            "mean",
+            "95 % interval of the mean",
+            "σ over the realisations",
+            "min – max",
+            "n",
+        ],
+        &rows,
+    );
+    Ok(())
 }
 
 /// A design search's answer (its design.json, the core's `DesignResult::to_json`): the best
@@ -803,7 +955,7 @@ fn design_section(h: &mut String, dir: &Path) -> Result<()> {
         std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
     let v: serde_json::Value =
         serde_json::from_str(&text).with_context(|| format!("{} is not JSON", p.display()))?;
-    let _ = writeln!(h, "<h2>The answer</h2>");
+    let _ = writeln!(h, "<h2 id=\"answer\">The answer</h2>");
     // One row per element of a JSON list (none: no rows).
     let rows_of = |list: &serde_json::Value, row: &dyn Fn(&serde_json::Value) -> Vec<String>| {
         list.as_array()

@@ -167,3 +167,118 @@ fn issue_42_2_run_sensitivity_writes_and_shows_the_bands() {
         .unwrap();
     refused(&o, &["--sensitivity", "no value a range"]);
 }
+
+/// Every report opens with its answer (issue 42, item 6): the run's statistics, the EVA, the
+/// window length, the real-time window against the full model, the Monte Carlo mean with its
+/// 95 % interval, the run beside the measurement, the design's answer; each before the first
+/// figure and before the first table of a file or of the set-up.
+#[test]
+fn issue_42_6_every_report_opens_with_its_answer() {
+    let d = scratch("evidence", "answer");
+    let run = |args: &[&str]| {
+        let o = pcsim().args(args).output().unwrap();
+        ok(&o);
+    };
+    let s = |p: &str| d.join(p).to_string_lossy().into_owned();
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let ex = |p: &str| root.join(p).to_string_lossy().into_owned();
+    run(&[
+        "run",
+        "--preset",
+        "benchmark-55m",
+        "--report",
+        "--quiet",
+        "--out",
+        &s("run"),
+    ]);
+    run(&[
+        "eva",
+        "--preset",
+        "syt-7.0-9.8",
+        "--speed",
+        "150",
+        "--tension",
+        "9.8",
+        "--report",
+        "--quiet",
+        "--out",
+        &s("eva"),
+    ]);
+    run(&[
+        "window",
+        "--preset",
+        "syt-7.0-9.8",
+        "--speed",
+        "150",
+        "--tension",
+        "9.8",
+        "--coarse-only",
+        "--report",
+        "--quiet",
+        "--out",
+        &s("window"),
+    ]);
+    run(&[
+        "realtime",
+        "--preset",
+        "syt-7.0-9.8",
+        "--window",
+        "240",
+        "--quiet",
+        "--out",
+        &s("realtime"),
+    ]);
+    run(&["report", &s("realtime")]);
+    run(&[
+        "run",
+        &ex("examples/cases/syt-irregular.toml"),
+        "--seeds",
+        "2",
+        "--quiet",
+        "--out",
+        &s("mc"),
+    ]);
+    run(&["report", &s("mc")]);
+    run(&[
+        "compare",
+        &s("run"),
+        &ex("examples/compare/measured.csv"),
+        "--search",
+        "30m",
+        "--quiet",
+        "--out",
+        &s("cmp"),
+    ]);
+    run(&["report", &s("cmp")]);
+    for (dir, says) in [
+        ("run", "EN 50318 statistics"),
+        ("eva", "effective vibration area of each case"),
+        ("window", "the shortest window"),
+        ("realtime", "against the full model"),
+        ("mc", "95 % interval"),
+        ("cmp", "beside the measurement"),
+    ] {
+        let html = std::fs::read_to_string(d.join(dir).join("report.html")).unwrap();
+        let answer = html
+            .find("id=\"answer\"")
+            .unwrap_or_else(|| panic!("{dir}: no answer"));
+        assert!(
+            html[answer..answer + 200].contains(says),
+            "{dir}: {}",
+            &html[answer..answer + 200]
+        );
+        let first = ["<svg", "<h2>The run</h2>", ".csv</h2>"]
+            .iter()
+            .filter_map(|m| html.find(m))
+            .min()
+            .unwrap_or(html.len());
+        assert!(answer < first, "{dir}: something before the answer");
+    }
+    // The Monte Carlo answer holds the mean and its interval as montecarlo.json has them.
+    let mc: serde_json::Value = json(&d.join("mc/montecarlo.json"));
+    let html = std::fs::read_to_string(d.join("mc/report.html")).unwrap();
+    let m = mc["statistics"]["leading"]["std_n"]["mean"]
+        .as_f64()
+        .unwrap();
+    assert!(html.contains(&format!("{m:.3}")), "the mean σ {m:.3}");
+}
