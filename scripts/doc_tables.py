@@ -205,6 +205,16 @@ def table_verify_2002(binary, tmp):
     return "\n".join(lines)
 
 
+def table_validate_verify_2002(binary, _tmp):
+    d = json.loads(pcsim(binary, "validate", "--verify", "--json", "--quiet"))
+    rows = [r for c in d["cases"] for r in c["rows"]]
+    stand = sum(r["verification"]["established"] for r in rows)
+    lines = [f"`pcsim validate --verify`: {stand} of {len(rows)} verdicts are established; "
+             "not established:", ""]
+    lines += [f"- {n}" for n in d["not_established"]] or ["- none"]
+    return "\n".join(lines)
+
+
 def table_sensitivity_2002(binary, tmp):
     out = os.path.join(tmp, "sens")
     pcsim(binary, "run", "--preset", "en50318-2002", "--sensitivity", "--quiet", "--out", out)
@@ -557,6 +567,7 @@ TABLES = {
     "seed-table1": table_seed_table1,
     "realtime-syt": table_realtime_syt,
     "verify-en50318-2002": table_verify_2002,
+    "validate-verify-en50318-2002": table_validate_verify_2002,
     "sensitivity-en50318-2002": table_sensitivity_2002,
     "eva-readings": table_eva_readings,
     "reach-en50318-2002": table_reach_2002,

@@ -557,7 +557,8 @@ fn window(
 /// `targets_label`), optionally run on a user's case instead of the preset (`case`, named
 /// `case_label`): the report of `pcsim validate --json`, by the core's one validation run.
 #[pyfunction]
-#[pyo3(signature = (name, jobs=None, case=None, case_label=None, targets_toml=None, targets_label=None))]
+#[pyo3(signature = (name, jobs=None, case=None, case_label=None, targets_toml=None, targets_label=None, verify=false))]
+#[allow(clippy::too_many_arguments)]
 fn validate(
     py: Python<'_>,
     name: &str,
@@ -566,6 +567,7 @@ fn validate(
     case_label: Option<String>,
     targets_toml: Option<String>,
     targets_label: Option<String>,
+    verify: bool,
 ) -> PyResult<String> {
     guarded(|| {
         let plan = match &targets_toml {
@@ -583,8 +585,13 @@ fn validate(
         };
         let report = py.detach(move || -> Result<String, String> {
             let b = Budget::default();
-            let (_, report) =
+            let (runs, mut report) =
                 validation_runs(&plan, jobs, &|c| run_quietly(c, &b)).map_err(|e| e.to_string())?;
+            if verify {
+                let outs: Vec<_> = runs.into_iter().map(|r| r.0).collect();
+                plan.verify(&outs, &mut report, &b, jobs)
+                    .map_err(|e| e.to_string())?;
+            }
             serde_json::to_string(&report).map_err(|e| e.to_string())
         });
         report.map_err(err)

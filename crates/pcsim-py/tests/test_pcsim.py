@@ -86,6 +86,16 @@ def test_issue_42_2_run_sensitivity_equals_the_clis(tmp_path):
         pcsim.run(case, sensitivity=True, sensitivity_samples=10**6)
 
 
+def test_issue_42_1_validate_verify_equals_the_clis():
+    """``pcsim.validate(verify=True)``: the rows under the verification are the CLI's
+    ``validate --verify --json``."""
+    res = pcsim.validate(verify=True)
+    out = subprocess.run([PCSIM, "validate", "--verify", "--json", "--quiet"], check=True,
+                         capture_output=True, text=True).stdout
+    assert res == json.loads(out)
+    assert all("verification" in r for c in res["cases"] for r in c["rows"])
+
+
 def test_run_equals_the_cli_exactly(tmp_path):
     case = short_case()
     res = pcsim.run(case)

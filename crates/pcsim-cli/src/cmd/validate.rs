@@ -29,6 +29,12 @@ pub struct ValidateArgs {
     /// complete: rows out of reach with public data are expected, see docs/validation.md).
     #[arg(long)]
     strict: bool,
+    /// Verify each run: again refined (twice the modes, half the time step) and with the contact
+    /// twice as stiff (`pcsim run --verify`); each row gains its value and verdict under both,
+    /// and the rows whose verdict the refinement changes, or whose value is not converged to its
+    /// tolerance, are listed as not established.
+    #[arg(long)]
+    verify: bool,
 }
 
 /// The default validation.
@@ -70,12 +76,24 @@ fn plan_of(a: &ValidateArgs) -> Result<ValidationPlan> {
 pub fn validate(a: ValidateArgs, ctx: &Ctx) -> Result<i32> {
     let plan = plan_of(&a)?;
     // Each run is single-threaded and deterministic; the runs go side by side.
-    let (runs, report) = validation_runs(&plan, Some(plan.cases.len().max(1)), &|case| {
+    let (runs, mut report) = validation_runs(&plan, Some(plan.cases.len().max(1)), &|case| {
         let label = format!("{} km/h", case.run.speed_kmh);
         run_with_progress(case, &[], &label, ctx)
             .map(|r| r.0)
             .map_err(|e| CaseError::Parse(format!("{e:#}")).into())
     })?;
+    if a.verify {
+        let pb =
+            crate::progress::Progress::run("verify (refined and stiff-contact runs)", ctx.progress);
+        let outs: Vec<_> = runs.iter().map(|(o, _)| o.clone()).collect();
+        plan.verify(
+            &outs,
+            &mut report,
+            &ctx.budget,
+            Some(plan.cases.len().max(1)),
+        )?;
+        pb.finish();
+    }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
@@ -154,6 +172,9 @@ pub fn validate(a: ValidateArgs, ctx: &Ctx) -> Result<i32> {
         } else {
             println!("\n{p} of {n} rows pass. Rows out of reach with the public data are explained in docs/validation.md.");
         }
+        if a.verify {
+            print_verification(&report);
+        }
         if !a.strict {
             println!(
                 "(exit status 0: the runs completed; add --strict for status 1 when a row fails)"
@@ -161,4 +182,51 @@ pub fn validate(a: ValidateArgs, ctx: &Ctx) -> Result<i32> {
         }
     }
     Ok(if a.strict && !report.all_pass { 1 } else { 0 })
+}
+
+/// The rows under the verification: each value refined and with the stiffer contact, with
+/// their verdicts, and the rows not established.
+fn print_verification(report: &pcsim_core::analysis::validation::ValidationReport) {
+    if let Some(v) = report.verification.first() {
+        println!(
+            "\nverification: refined {} modes/wire, Δt {} s; model check: contact {} N/m at Δt {} s",
+            v.refined.modes_per_wire,
+            v.refined.dt_s,
+            v.stiff_contact.contact_stiffness_n_per_m,
+            v.stiff_contact.dt_s
+        );
+    }
+    let mark = |p: bool| if p { "pass" } else { "FAIL" };
+    for c in &report.cases {
+        let who = c
+            .pantograph
+            .as_deref()
+            .map(|p| format!(", {p} pantograph"))
+            .unwrap_or_default();
+        println!(
+            "  {} km/h{who}\n  {:<26} {:>8} {:>6}  {:>8} {:>6}  {:>10} {:>6}  established",
+            c.speed_kmh, "quantity", "value", "", "refined", "", "stiff k", ""
+        );
+        for r in &c.rows {
+            if let Some(v) = &r.verification {
+                println!(
+                    "  {:<26} {:>8.2} {:>6}  {:>8.2} {:>6}  {:>10.2} {:>6}  {}",
+                    r.quantity,
+                    r.value,
+                    mark(r.pass),
+                    v.refined,
+                    mark(v.refined_pass),
+                    v.stiff_contact,
+                    mark(v.stiff_contact_pass),
+                    if v.established { "yes" } else { "NO" }
+                );
+            }
+        }
+    }
+    if report.not_established.is_empty() {
+        println!("  every verdict is established by the verification");
+    }
+    for n in &report.not_established {
+        println!("  NOT ESTABLISHED: {n}");
+    }
 }

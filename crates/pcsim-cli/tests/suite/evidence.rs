@@ -282,3 +282,36 @@ fn issue_42_6_every_report_opens_with_its_answer() {
         .unwrap();
     assert!(html.contains(&format!("{m:.3}")), "the mean σ {m:.3}");
 }
+
+/// `pcsim validate --verify`: every row carries its refined and stiff-contact value and
+/// verdict, the terminal lists exactly the rows not established, and the JSON says the same.
+#[test]
+fn issue_42_1_validate_verify_shows_which_verdicts_stand() {
+    let o = pcsim()
+        .args(["validate", "--verify", "--quiet"])
+        .output()
+        .unwrap();
+    ok(&o);
+    let text = stdout(&o);
+    let j = pcsim()
+        .args(["validate", "--verify", "--json", "--quiet"])
+        .output()
+        .unwrap();
+    ok(&j);
+    let v: serde_json::Value = serde_json::from_slice(&j.stdout).unwrap();
+    let not = v["not_established"].as_array().unwrap();
+    assert_eq!(text.matches("NOT ESTABLISHED").count(), not.len(), "{text}");
+    let mut unestablished = 0;
+    for c in v["cases"].as_array().unwrap() {
+        for r in c["rows"].as_array().unwrap() {
+            let x = &r["verification"];
+            assert!(
+                x["refined"].is_number() && x["stiff_contact"].is_number(),
+                "{r}"
+            );
+            unestablished += usize::from(x["established"] == false);
+        }
+    }
+    assert_eq!(unestablished, not.len());
+    assert_eq!(v["verification"].as_array().unwrap().len(), 2);
+}

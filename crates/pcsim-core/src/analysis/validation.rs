@@ -32,6 +32,29 @@ pub struct Row {
     /// Whether the paper's value lies in the range.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub paper_pass: Option<bool>,
+    /// With `--verify`: the row under the refined run and the stiffer contact.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub verification: Option<RowVerification>,
+}
+
+/// A validation row under its run's verification (`pcsim validate --verify`, issue 42).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RowVerification {
+    /// The refined run's value (twice the modes, half the step).
+    pub refined: f64,
+    /// Whether it lies in the range.
+    pub refined_pass: bool,
+    /// The value with the contact twice as stiff (the model check).
+    pub stiff_contact: f64,
+    /// Whether it lies in the range.
+    pub stiff_contact_pass: bool,
+    /// Whether the statistic is converged to its tolerance (none: a quantity the verification
+    /// has no tolerance for: the contact-point range, the loss of contact).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub converged: Option<bool>,
+    /// Whether the verdict stands: the refined run gives the same one and the value is not
+    /// found unconverged (the model check is reported beside, never folded in).
+    pub established: bool,
 }
 
 /// A speed case of a validation.
@@ -116,6 +139,7 @@ pub fn compare(stats: &ContactStats, target: &TargetCase) -> CaseRows {
                 pass: inside(v),
                 paper_value,
                 paper_pass: paper_value.map(inside),
+                verification: None,
             })
         })
         .collect();
@@ -191,6 +215,13 @@ pub struct ValidationReport {
     pub all_pass: bool,
     /// The rows of every speed case.
     pub cases: Vec<CaseRows>,
+    /// With `--verify`: each run's verification (twice the modes and half the step; the
+    /// contact twice as stiff), one per run of the plan.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub verification: Vec<crate::analysis::verify::Verification>,
+    /// With `--verify`: the rows whose verdict the verification does not establish.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub not_established: Vec<String>,
 }
 
 impl ValidationPlan {
@@ -330,7 +361,77 @@ impl ValidationPlan {
                 .iter()
                 .all(|c| c.missing.is_empty() && c.rows.iter().all(|r| r.pass)),
             cases,
+            verification: Vec::new(),
+            not_established: Vec::new(),
         })
+    }
+
+    /// Verify `report` (assembled from `runs`): each run of the plan again refined and with the
+    /// contact twice as stiff (`analysis/verify.rs`), each row with its value and verdict under
+    /// both, and the rows whose verdict the verification does not establish. The runs share
+    /// `jobs` threads.
+    pub fn verify(
+        &self,
+        runs: &[RunOutput],
+        report: &mut ValidationReport,
+        budget: &crate::compile::Budget,
+        jobs: Option<usize>,
+    ) -> Result<(), SimError> {
+        use crate::analysis::verify::{compare_runs, verification_runs};
+        let checks: Vec<_> =
+            parallel_map(&self.cases, jobs, |c| verification_runs(c, budget, None))
+                .into_iter()
+                .collect::<Result<_, _>>()?;
+        report.verification = runs
+            .iter()
+            .zip(&checks)
+            .map(|(out, (r, k, d))| compare_runs(out, r, k, *d))
+            .collect();
+        let (refined, stiff): (Vec<RunOutput>, Vec<RunOutput>) =
+            checks.into_iter().map(|(r, k, _)| (r, k)).unzip();
+        let (refined, stiff) = (self.assemble(&refined)?, self.assemble(&stiff)?);
+        report.not_established.clear();
+        for (k, c) in report.cases.iter_mut().enumerate() {
+            let v = &report.verification[self.run_of_target[k]];
+            let who = c.pantograph.clone();
+            for (i, row) in c.rows.iter_mut().enumerate() {
+                let (r, s) = (&refined.cases[k].rows[i], &stiff.cases[k].rows[i]);
+                let name = who
+                    .as_deref()
+                    .unwrap_or_else(|| v.pantographs.first().map_or("", |p| p.name.as_str()));
+                let converged = crate::analysis::verify::statistic_of_quantity(&row.quantity)
+                    .and_then(|q| v.check(name, q))
+                    .map(|c| c.converged);
+                let established = r.pass == row.pass && converged != Some(false);
+                if !established {
+                    report.not_established.push(format!(
+                        "{} km/h{}: {} {:.4} {} ({}) is {:.4} refined ({}){}",
+                        c.speed_kmh,
+                        who.as_deref().map(|p| format!(", {p}")).unwrap_or_default(),
+                        row.quantity,
+                        row.value,
+                        row.unit,
+                        if row.pass { "pass" } else { "FAIL" },
+                        r.value,
+                        if r.pass { "pass" } else { "FAIL" },
+                        if converged == Some(false) {
+                            ", not converged to its tolerance"
+                        } else {
+                            ""
+                        }
+                    ));
+                }
+                row.verification = Some(RowVerification {
+                    refined: r.value,
+                    refined_pass: r.pass,
+                    stiff_contact: s.value,
+                    stiff_contact_pass: s.pass,
+                    converged,
+                    established,
+                });
+            }
+        }
+        Ok(())
     }
 }
 

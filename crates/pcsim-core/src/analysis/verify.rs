@@ -54,6 +54,23 @@ pub fn tolerance_percent(statistic: &str) -> f64 {
     }
 }
 
+/// The verified statistic of a validation quantity (`input/targets.rs` `QUANTITIES`: `mean`,
+/// `std`, …), none for the quantities the verification has no tolerance for.
+pub fn statistic_of_quantity(quantity: &str) -> Option<&'static str> {
+    Some(match quantity {
+        "mean" => "mean_n",
+        "std" => "std_n",
+        "std_0_5hz" => "std_0_5hz_n",
+        "std_5_20hz" => "std_5_20hz_n",
+        "stat_max" => "stat_max_n",
+        "stat_min" => "stat_min_n",
+        "actual_max" => "actual_max_n",
+        "actual_min" => "actual_min_n",
+        "max_uplift_at_support_mm" => "max_uplift_at_support_mm",
+        _ => return None,
+    })
+}
+
 /// A statistic's value by its name.
 pub fn statistic(s: &ContactStats, name: &str) -> Option<f64> {
     Some(match name {
@@ -199,14 +216,14 @@ fn discretisation(setup: &Setup, case_stiffness: f64) -> Discretisation {
     }
 }
 
-/// Verify `case`, whose run gave `out`: the refined run and the model check (run side by side
-/// on `jobs` threads), and each statistic beside its refined and stiff-contact values.
-pub fn verify(
+/// The two runs of a verification of `case` (side by side on `jobs` threads): the refined run
+/// and the model check, with the three discretisations (the case's, the refined, the model
+/// check's).
+pub fn verification_runs(
     case: &Case,
-    out: &RunOutput,
     budget: &Budget,
     jobs: Option<usize>,
-) -> Result<Verification, SimError> {
+) -> Result<(RunOutput, RunOutput, [Discretisation; 3]), SimError> {
     let base = Setup::from_case_with(case, budget)?;
     let refined_case = refined_case(case);
     let refined = Setup::from_case_with(&refined_case, budget)?;
@@ -217,16 +234,27 @@ pub fn verify(
     let mut runs = runs.into_iter();
     let r = runs.next().expect("two runs")?;
     let k = runs.next().expect("two runs")?;
-    Ok(compare_runs(
-        out,
-        &r,
-        &k,
+    Ok((
+        r,
+        k,
         [
             discretisation(&base, case.contact.stiffness_n_per_m),
             discretisation(&refined, case.contact.stiffness_n_per_m),
             discretisation(&stiff, case.contact.stiffness_n_per_m * CONTACT_FACTOR),
         ],
     ))
+}
+
+/// Verify `case`, whose run gave `out`: the refined run and the model check (run side by side
+/// on `jobs` threads), and each statistic beside its refined and stiff-contact values.
+pub fn verify(
+    case: &Case,
+    out: &RunOutput,
+    budget: &Budget,
+    jobs: Option<usize>,
+) -> Result<Verification, SimError> {
+    let (r, k, d) = verification_runs(case, budget, jobs)?;
+    Ok(compare_runs(out, &r, &k, d))
 }
 
 /// The checks of run `out` against its refined run `refined` and its model check `stiff`.

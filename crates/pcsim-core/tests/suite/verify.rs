@@ -127,3 +127,55 @@ fn issue_42_1_the_verification_is_the_runs_made_by_hand() {
         a.conclusion()
     );
 }
+
+/// `pcsim validate --verify`: each row's refined and stiff-contact values are those of the
+/// validation's cases run by hand refined and with the contact twice as stiff, judged by the
+/// same ranges; a row is established exactly when the refinement keeps its verdict and does not
+/// find its value unconverged.
+#[test]
+fn issue_42_1_a_validations_verification_is_the_runs_made_by_hand() {
+    use pcsim_core::analysis::validation::{compare, validate};
+    use pcsim_core::analysis::verify::{refined_case, statistic_of_quantity, stiff_contact_case};
+    let (plan, mut report, runs) = validate("en50318-2002", Some(2)).unwrap();
+    plan.verify(&runs, &mut report, &Budget::default(), Some(2))
+        .unwrap();
+    assert_eq!(report.verification.len(), plan.cases.len());
+    let mut not = 0;
+    for (k, c) in report.cases.iter().enumerate() {
+        let case = &plan.cases[plan.run_of_target[k]];
+        let fine = run_case(&refined_case(case), &mut |_| true).unwrap();
+        let stiff = run_case(&stiff_contact_case(case), &mut |_| true).unwrap();
+        let rf = compare(&fine.pantographs[0].stats.unwrap(), &plan.targets[k]);
+        let rs = compare(&stiff.pantographs[0].stats.unwrap(), &plan.targets[k]);
+        for ((row, f), s) in c.rows.iter().zip(&rf.rows).zip(&rs.rows) {
+            let v = row.verification.as_ref().unwrap();
+            assert_eq!(
+                (v.refined, v.refined_pass),
+                (f.value, f.pass),
+                "{}",
+                row.quantity
+            );
+            assert_eq!((v.stiff_contact, v.stiff_contact_pass), (s.value, s.pass));
+            let converged = statistic_of_quantity(&row.quantity).map(|q| {
+                report.verification[plan.run_of_target[k]]
+                    .check("leading", q)
+                    .unwrap()
+                    .converged
+            });
+            assert_eq!(v.converged, converged, "{}", row.quantity);
+            assert_eq!(
+                v.established,
+                f.pass == row.pass && converged != Some(false)
+            );
+            not += usize::from(!v.established);
+        }
+    }
+    assert_eq!(report.not_established.len(), not);
+    // The run's verdicts themselves are unchanged by the verification.
+    let (_, plain, _) = validate("en50318-2002", Some(2)).unwrap();
+    for (a, b) in plain.cases.iter().zip(&report.cases) {
+        for (x, y) in a.rows.iter().zip(&b.rows) {
+            assert_eq!((x.value, x.pass), (y.value, y.pass));
+        }
+    }
+}

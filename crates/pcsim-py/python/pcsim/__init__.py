@@ -205,12 +205,15 @@ def validate(
     jobs: Optional[int] = None,
     case: Optional[Any] = None,
     targets: Optional[Any] = None,
+    verify: bool = False,
 ) -> Dict[str, Any]:
     """A validation (``en50318-2002`` or ``seed-table1``): the report of ``pcsim validate
     --json`` (value against range per row, with its unit). ``targets`` (a file's path or its
     TOML text) gives a user's ranges instead of ``name``'s, as ``--targets``; ``case`` (a
     :class:`Case`, or a case file's path) runs instead of the preset the targets name, as
-    ``pcsim validate CASE.toml``."""
+    ``pcsim validate CASE.toml``. ``verify``: each run again refined and with the contact twice
+    as stiff, as ``--verify``: every row gains ``verification`` and the report
+    ``not_established``."""
     case_label = None
     if case is not None and not isinstance(case, Case):
         case_label = os.fspath(case)
@@ -226,7 +229,7 @@ def validate(
         targets_text, path = _text_or_path(targets, "targets")
         targets_label = path or "targets"
     return json.loads(
-        _pcsim.validate(name, jobs, case, case_label, targets_text, targets_label)
+        _pcsim.validate(name, jobs, case, case_label, targets_text, targets_label, verify)
     )
 
 
