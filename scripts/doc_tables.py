@@ -562,6 +562,32 @@ def table_reach_table1(binary, tmp):
     return reach(binary, tmp, "stitched-2018-like", "seed-table1", 96)
 
 
+def table_eva_grid(binary, tmp):
+    """The EVA over the paper's grid of speeds and tensions (Fig. 7), on the snapshot and on the
+    time average."""
+    out = os.path.join(tmp, "eva-grid")
+    pcsim(binary, "eva", "--preset", "syt-7.0-9.8", "--speed",
+          "100,117,133,150,167,183,200,217,233,250", "--tension", "9.8,11.3,12.8,14.3,15.8,17.3,18.8",
+          "--no-plot", "--quiet", "--out", out)
+    with open(os.path.join(out, "eva.csv")) as f:
+        rows = list(csv.DictReader(f))
+    speeds = sorted({int(float(r["speed_kmh"])) for r in rows})
+    tensions = sorted({float(r["tension_kn"]) for r in rows})
+    at = {(int(float(r["speed_kmh"])), float(r["tension_kn"])): r for r in rows}
+    lines = []
+    for col, title in (("eva_step_m", "**EVA by the paper's criterion on the snapshot (Δd = 1 m, "
+                                      "0.01 J), m**"),
+                       ("eva_step_mean_m", "**EVA by the paper's criterion on the time average "
+                                           "over the passage, m**")):
+        lines += [title, "", "| km/h \\ kN | " + " | ".join(f"{t:g}" for t in tensions) + " |",
+                  "|---|" + "---|" * len(tensions)]
+        for v in speeds:
+            lines.append(f"| {v} | " + " | ".join(f"{float(at[(v, t)][col]):.0f}" for t in tensions)
+                         + " |")
+        lines.append("")
+    return "\n".join(lines).rstrip("\n")
+
+
 TABLES = {
     "en50318-2002": table_en50318_2002,
     "seed-table1": table_seed_table1,
@@ -569,6 +595,7 @@ TABLES = {
     "verify-en50318-2002": table_verify_2002,
     "validate-verify-en50318-2002": table_validate_verify_2002,
     "sensitivity-en50318-2002": table_sensitivity_2002,
+    "eva-grid": table_eva_grid,
     "eva-readings": table_eva_readings,
     "reach-en50318-2002": table_reach_2002,
     "reach-seed-table1": table_reach_table1,
