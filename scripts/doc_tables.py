@@ -588,6 +588,30 @@ def table_eva_grid(binary, tmp):
     return "\n".join(lines).rstrip("\n")
 
 
+def table_pantograph_fit(binary, tmp):
+    """The documented example of `pcsim pantograph fit` (issue 43, item 3)."""
+    import tomllib
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+    out = os.path.join(tmp, "fit")
+    pcsim(binary, "pantograph", "fit",
+          os.path.join(root, "examples", "pantograph", "measured-apparent-mass.csv"),
+          os.path.join(root, "examples", "pantograph", "start-25-percent-off.toml"),
+          "--out", out)
+    with open(os.path.join(out, "fit.json")) as f:
+        r = json.load(f)
+    p = tomllib.loads(pcsim(binary, "presets", "show", "benchmark-55m"))["pantographs"][0]
+    truth = [x for k in ("masses_kg", "stiffness_n_per_m", "damping_ns_per_m")
+             for x in p[k]["value"]]
+    lines = [f"Residual {100 * r['residual_rms']:.2f} % RMS (from {100 * r['start_residual_rms']:.2f} % "
+             f"at the start), {r['evaluations']} evaluations.", "",
+             "| parameter | preset (the truth) | start | fitted | ± (1 σ) | within 2 σ |",
+             "|---|---|---|---|---|---|"]
+    for q, t in zip(r["parameters"], truth):
+        ok = "at its bound" if q["at_bound"] else ("yes" if abs(q["value"] - t) <= 2 * q["std"] else "no")
+        lines.append(f"| `{q['name']}` | {t:g} | {q['start']:g} | {q['value']:.4g} | {q['std']:.2g} | {ok} |")
+    return "\n".join(lines)
+
+
 TABLES = {
     "en50318-2002": table_en50318_2002,
     "seed-table1": table_seed_table1,
@@ -599,6 +623,7 @@ TABLES = {
     "eva-readings": table_eva_readings,
     "reach-en50318-2002": table_reach_2002,
     "reach-seed-table1": table_reach_table1,
+    "pantograph-fit": table_pantograph_fit,
 }
 
 

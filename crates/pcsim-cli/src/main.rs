@@ -81,6 +81,9 @@ enum Command {
     /// at several speeds, under constraints and the acceptance criteria (SPEC.toml), with a
     /// journal that a killed search resumes from.
     Design(cmd::design::DesignArgs),
+    /// A pantograph's frequency response at the head (`pantograph frf CASE`), and a lumped
+    /// chain fitted to a measured one (`pantograph fit FRF.csv CASE`).
+    Pantograph(cmd::pantograph::PantographArgs),
 }
 
 /// Restore the default SIGPIPE action so that `pcsim … | head` ends quietly instead of panicking
@@ -152,6 +155,7 @@ fn main() {
         Command::Report(a) => cmd::report::report(a),
         Command::Assess(a) => cmd::assess::run(a),
         Command::Design(a) => cmd::design::design(a, &ctx),
+        Command::Pantograph(a) => cmd::pantograph::pantograph(a),
     });
     match res {
         Ok(code) => std::process::exit(code),

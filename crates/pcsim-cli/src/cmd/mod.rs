@@ -8,6 +8,7 @@ pub mod eva;
 pub mod fmu;
 pub mod hil;
 pub mod montecarlo;
+pub mod pantograph;
 pub mod plot;
 pub mod presets;
 pub mod realtime;

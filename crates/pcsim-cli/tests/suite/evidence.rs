@@ -315,3 +315,130 @@ fn issue_42_1_validate_verify_shows_which_verdicts_stand() {
     assert_eq!(unestablished, not.len());
     assert_eq!(v["verification"].as_array().unwrap().len(), 2);
 }
+
+/// `pcsim pantograph frf` and `pcsim pantograph fit` (issue 43, item 3): the response written
+/// with its units and read back as a lab's file; the fit from a start 25 % off returns the
+/// preset's chain and writes it as a case block that loads, the measurement named as its
+/// source; malformed files, a moving force and an unknown pantograph refused by name.
+#[test]
+fn issue_43_3_pantograph_frf_and_fit_through_the_cli() {
+    let d = scratch("evidence", "frf");
+    let s = |p: &str| d.join(p).to_string_lossy().into_owned();
+    let o = pcsim()
+        .args([
+            "pantograph",
+            "frf",
+            "--preset",
+            "en50318-2002",
+            "--quantity",
+            "receptance",
+            "--out",
+            &s("frf"),
+        ])
+        .output()
+        .unwrap();
+    ok(&o);
+    assert!(stdout(&o).contains("receptance peaks at"), "{}", stdout(&o));
+    let csv = std::fs::read_to_string(d.join("frf/frf.csv")).unwrap();
+    assert!(csv.starts_with("frequency_hz,magnitude_m_per_n,phase_deg\n"));
+    assert_eq!(csv.lines().count(), 201);
+    assert!(d.join("frf/frf_magnitude.svg").exists() && d.join("frf/frf_phase.svg").exists());
+    // A start 25 % off the preset's chain.
+    let shown = pcsim()
+        .args(["presets", "show", "en50318-2002"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8(shown.stdout)
+        .unwrap()
+        .replace(
+            "masses_kg = { value = [7.2, 15.0]",
+            "masses_kg = { value = [9.0, 11.25]",
+        )
+        .replace(
+            "stiffness_n_per_m = { value = [4200.0, 50.0]",
+            "stiffness_n_per_m = { value = [5250.0, 37.5]",
+        );
+    std::fs::write(d.join("start.toml"), text).unwrap();
+    let o = pcsim()
+        .args([
+            "pantograph",
+            "fit",
+            &s("frf/frf.csv"),
+            &s("start.toml"),
+            "--out",
+            &s("fit"),
+        ])
+        .output()
+        .unwrap();
+    ok(&o);
+    let fit = json(&d.join("fit/fit.json"));
+    let truth = [7.2, 15.0, 4200.0, 50.0, 10.0, 90.0];
+    for (p, t) in fit["parameters"].as_array().unwrap().iter().zip(truth) {
+        let v = p["value"].as_f64().unwrap();
+        // The file's 10 significant digits and 4 decimals of phase bound the agreement.
+        assert!((v - t).abs() <= 2e-3 * t, "{p}");
+    }
+    let block = std::fs::read_to_string(d.join("fit/fitted-pantograph.toml")).unwrap();
+    assert!(block.contains("source = \"fitted by pcsim pantograph fit to frf.csv"));
+    // The block in a case runs.
+    let case = std::fs::read_to_string(d.join("start.toml")).unwrap();
+    let cut = case.find("[[pantographs]]").unwrap();
+    let end = case[cut..].find("\n[contact]").map(|i| cut + i).unwrap();
+    std::fs::write(
+        d.join("fitted.toml"),
+        format!("{}{}{}", &case[..cut], block, &case[end..]),
+    )
+    .unwrap();
+    let o = pcsim()
+        .args(["validate", &s("fitted.toml"), "--json", "--quiet"])
+        .output()
+        .unwrap();
+    ok(&o);
+    // Refusals by name.
+    std::fs::write(
+        d.join("bad.csv"),
+        "frequency_hz,magnitude_m_per_n,phase_deg\n1,1e-3,0\n0.5,1e-3,0\n2,1,0\n3,1,0\n",
+    )
+    .unwrap();
+    let o = pcsim()
+        .args([
+            "pantograph",
+            "fit",
+            &s("bad.csv"),
+            "--preset",
+            "en50318-2002",
+            "--out",
+            &s("x"),
+        ])
+        .output()
+        .unwrap();
+    refused(&o, &["bad.csv: line 3", "increase"]);
+    let o = pcsim()
+        .args([
+            "pantograph",
+            "frf",
+            "--preset",
+            "en50318-2002",
+            "--pantograph",
+            "rear",
+            "--out",
+            &s("y"),
+        ])
+        .output()
+        .unwrap();
+    refused(&o, &["pantograph", "rear"]);
+    let o = pcsim()
+        .args([
+            "pantograph",
+            "frf",
+            "--preset",
+            "en50318-2002",
+            "--from-hz",
+            "0",
+            "--out",
+            &s("z"),
+        ])
+        .output()
+        .unwrap();
+    refused(&o, &["--from-hz"]);
+}

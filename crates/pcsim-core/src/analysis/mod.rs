@@ -18,6 +18,7 @@
 //! | `design.rs` | the design search: an optimiser over case fields, the journal, the answer |
 //! | `verify.rs` | `--verify`: the run refined, and with a stiffer contact |
 //! | `sensitivity.rs` | `--sensitivity`: the case's ranged values, one at a time and sampled |
+//! | `frf.rs` | a pantograph's frequency response at the head, and a chain fitted to a measured one |
 //! | `report.rs` | what a run reports: the summary and the time-series columns |
 
 pub mod assess;
@@ -27,6 +28,7 @@ pub mod energy;
 pub mod eva;
 pub mod fatigue;
 pub mod filter;
+pub mod frf;
 pub mod montecarlo;
 pub mod record;
 pub mod report;

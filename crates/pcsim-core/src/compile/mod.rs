@@ -227,6 +227,51 @@ pub fn window_pantograph(case: &Case) -> Result<usize, CaseError> {
     })
 }
 
+/// The lumped chain of the pantograph `which` selects (`leading`, `trailing`, a name or an
+/// index; none: the leading one), with its name, for its frequency response and its fit
+/// (`analysis/frf.rs`). A moving force has no chain: refused by its field.
+pub fn lumped_pantograph(
+    case: &Case,
+    which: Option<&str>,
+) -> Result<(String, crate::model::pantograph::Lumped), CaseError> {
+    use crate::input::case::PantographCase;
+    let mut c = case.clone();
+    c.run.window_pantograph = which.map(String::from);
+    let i = window_pantograph(&c).map_err(|e| match e {
+        CaseError::Invalid { value, reason, .. } => CaseError::Invalid {
+            field: "pantograph".into(),
+            value,
+            reason: reason.replace("the real-time window follows", "give"),
+        },
+        other => other,
+    })?;
+    match &case.pantographs[i] {
+        PantographCase::Lumped {
+            masses_kg,
+            stiffness_n_per_m,
+            damping_ns_per_m,
+            uplift_n,
+            aero_coeffs_kmh,
+            ..
+        } => Ok((
+            pantograph_name(case, i),
+            crate::model::pantograph::Lumped {
+                masses_kg: masses_kg.clone(),
+                stiffness_n_per_m: stiffness_n_per_m.clone(),
+                damping_ns_per_m: damping_ns_per_m.clone(),
+                uplift_n: *uplift_n,
+                aero_coeffs_kmh: aero_coeffs_kmh.clone(),
+            },
+        )),
+        PantographCase::MovingForce { .. } => Err(CaseError::Invalid {
+            field: format!("pantographs[{i}].kind"),
+            value: "moving_force".into(),
+            reason: "a moving force has no masses, springs or dampers: no frequency response"
+                .into(),
+        }),
+    }
+}
+
 /// Pantograph `i`'s name as the outputs give it (its own, or "leading" for the first and
 /// "pantograph-k" for the others).
 pub fn pantograph_name(case: &Case, i: usize) -> String {

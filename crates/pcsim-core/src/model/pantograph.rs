@@ -4,6 +4,7 @@
 //! and the dissipation.
 
 use crate::linalg::{invert_small, mat_vec};
+use rustfft::num_complex::Complex;
 
 /// A lumped-mass pantograph (Eq. 16): masses head first; spring and damper `i` join mass `i` to
 /// mass `i+1`, the last ones join the lowest mass to the roof. Heights are absolute, with zero at
@@ -167,6 +168,37 @@ impl ChainOperators {
 }
 
 impl Lumped {
+    /// The receptance at the head, `X₀/F₀` in m/N, at angular frequency `omega_rad_s`: Eq. 16
+    /// under a harmonic force `F₀ e^{iωt}` on the head, `(K_P − ω² M_P + iω C_P) x = F₀ e₀` (the
+    /// chain's matrices are tridiagonal: solved by elimination from the roof up). `None` where
+    /// the dynamic stiffness is singular (an undamped resonance hit exactly).
+    pub fn receptance(&self, omega_rad_s: f64) -> Option<Complex<f64>> {
+        let n = self.masses_kg.len();
+        let w = omega_rad_s;
+        // Element i joins mass i and i+1 (the last joins the roof): its dynamic stiffness.
+        let z: Vec<Complex<f64>> = (0..n)
+            .map(|i| Complex::new(self.stiffness_n_per_m[i], w * self.damping_ns_per_m[i]))
+            .collect();
+        // From the lowest mass up: the impedance of everything below mass i, seen from mass i
+        // (the mass, its element to the next one down, and that one's own impedance in series).
+        let mut below = Complex::new(0.0, 0.0);
+        for i in (0..n).rev() {
+            let own = Complex::new(-w * w * self.masses_kg[i], 0.0);
+            let down = if i + 1 == n {
+                z[i]
+            } else {
+                // Element i in series with the impedance below mass i+1.
+                let d = z[i] + below;
+                if d.norm() == 0.0 {
+                    return None;
+                }
+                z[i] * below / d
+            };
+            below = own + down;
+        }
+        (below.norm() > 0.0).then(|| below.inv())
+    }
+
     /// Kinetic and spring energy of the chain (J) and the potential of its constant forces
     /// (−F·y), at speed `v_kmh`.
     pub fn energy(&self, y: &[f64], v: &[f64], v_kmh: f64) -> (f64, f64, f64) {

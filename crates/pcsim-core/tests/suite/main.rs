@@ -14,6 +14,7 @@ mod en50318_2002;
 mod energy;
 mod fatigue;
 mod filter_golden;
+mod frf;
 mod irregularity;
 mod isa;
 mod lateral;

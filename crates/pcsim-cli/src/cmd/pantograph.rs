@@ -1,0 +1,289 @@
+//! `pcsim pantograph frf` (a case's pantograph: its frequency response at the head) and `pcsim
+//! pantograph fit` (a lumped chain fitted to a measured response). The computing is the core's
+//! (`analysis/frf.rs`); this file reads the arguments and writes the files.
+
+use anyhow::{Context, Result};
+use clap::{Args, Subcommand, ValueEnum};
+use std::path::{Path, PathBuf};
+
+use crate::output::{write_file, write_manifest, OutDir};
+use pcsim_core::analysis::frf::{fit, Quantity, Response};
+
+#[derive(Args)]
+pub struct PantographArgs {
+    #[command(subcommand)]
+    action: Action,
+}
+
+#[derive(Subcommand)]
+enum Action {
+    /// The frequency response at the head of a case's pantograph: frf.csv (frequency,
+    /// magnitude with its unit, phase) and the figures of magnitude and phase.
+    Frf(FrfArgs),
+    /// Fit the case's pantograph (its masses, springs and dampers; the case's values as the start,
+    /// each bounded to a factor of 4 around it) to a measured response (CSV: frequency_hz,
+    /// magnitude_m_per_n or magnitude_kg, phase_deg): fit.json (each value with its uncertainty,
+    /// the residual) and fitted-pantograph.toml (the case block, the measurement as its source).
+    Fit(FitArgs),
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Kind {
+    /// Force over acceleration at the head, kg.
+    ApparentMass,
+    /// Displacement over force at the head, m/N.
+    Receptance,
+}
+
+#[derive(Args)]
+struct Which {
+    /// Case file (TOML). Give this or --preset.
+    case: Option<PathBuf>,
+    /// Embedded preset name.
+    #[arg(long)]
+    preset: Option<String>,
+    /// The pantograph: leading, trailing, a name or an index [default: leading].
+    #[arg(long)]
+    pantograph: Option<String>,
+    /// Output directory.
+    #[arg(long, default_value = "out")]
+    out: PathBuf,
+}
+
+#[derive(Args)]
+struct FrfArgs {
+    #[command(flatten)]
+    which: Which,
+    /// What the response gives.
+    #[arg(long, value_enum, default_value = "apparent-mass")]
+    quantity: Kind,
+    /// Lowest frequency, Hz.
+    #[arg(long, value_name = "HZ", default_value_t = 0.1)]
+    from_hz: f64,
+    /// Highest frequency, Hz.
+    #[arg(long, value_name = "HZ", default_value_t = 20.0)]
+    to_hz: f64,
+    /// Frequencies, evenly spaced on a logarithmic scale.
+    #[arg(long, default_value_t = 200)]
+    points: usize,
+}
+
+#[derive(Args)]
+struct FitArgs {
+    /// The measured response (CSV; the units in the header).
+    measured: PathBuf,
+    #[command(flatten)]
+    which: Which,
+}
+
+pub fn pantograph(a: PantographArgs) -> Result<i32> {
+    match a.action {
+        Action::Frf(a) => frf(a),
+        Action::Fit(a) => fit_cmd(a),
+    }
+}
+
+fn chain(w: &Which) -> Result<(String, pcsim_core::model::pantograph::Lumped)> {
+    let case = crate::common::load_case(w.case.as_ref(), w.preset.as_deref())?;
+    Ok(pcsim_core::compile::lumped_pantograph(
+        &case,
+        w.pantograph.as_deref(),
+    )?)
+}
+
+/// Magnitude and phase against frequency, one line per response.
+fn figures(dir: &Path, stem: &str, title: &str, responses: &[&Response]) -> Result<Vec<PathBuf>> {
+    use crate::plot::{figure, Figure, Line};
+    let unit = match responses[0].quantity {
+        Quantity::Receptance => "receptance |X/F| [m/N]",
+        Quantity::ApparentMass => "apparent mass |F/A| [kg]",
+    };
+    let lines = |f: &dyn Fn(f64, f64) -> f64| -> Vec<Line> {
+        responses
+            .iter()
+            .map(|r| {
+                Line::new(
+                    r.source.clone(),
+                    r.frequency_hz
+                        .iter()
+                        .zip(&r.value)
+                        .map(|(&x, h)| (x, f(h.re, h.im)))
+                        .collect(),
+                )
+            })
+            .collect()
+    };
+    let mut files = figure(
+        &dir.join(format!("{stem}_magnitude")),
+        &Figure {
+            title: &format!("{title}: magnitude"),
+            x_label: "frequency [Hz]",
+            y_label: unit,
+            lines: lines(&|re, im| re.hypot(im)),
+            log_y: true,
+            vmarks: Vec::new(),
+            hmarks: Vec::new(),
+        },
+    )?;
+    files.extend(figure(
+        &dir.join(format!("{stem}_phase")),
+        &Figure {
+            title: &format!("{title}: phase"),
+            x_label: "frequency [Hz]",
+            y_label: "phase [°]",
+            lines: lines(&|re, im| im.atan2(re).to_degrees()),
+            log_y: false,
+            vmarks: Vec::new(),
+            hmarks: Vec::new(),
+        },
+    )?);
+    Ok(files)
+}
+
+fn frf(a: FrfArgs) -> Result<i32> {
+    let (name, p) = chain(&a.which)?;
+    let quantity = match a.quantity {
+        Kind::ApparentMass => Quantity::ApparentMass,
+        Kind::Receptance => Quantity::Receptance,
+    };
+    let f = Response::log_grid(a.from_hz, a.to_hz, a.points).map_err(|e| {
+        pcsim_core::analysis::specs::with_flags(
+            e,
+            &[
+                ("from_hz", "--from-hz"),
+                ("to_hz", "--to-hz"),
+                ("points", "--points"),
+            ],
+        )
+    })?;
+    let mut r = Response::of_model(&p, quantity, &f)?;
+    r.source = format!("pantograph {name}");
+    let od = OutDir::begin(&a.which.out)?;
+    write_file(&od.path().join("frf.csv"), r.to_csv())?;
+    write_manifest(
+        od.path(),
+        "pantograph-frf",
+        serde_json::json!({ "pantograph": name }),
+    )?;
+    let figs = figures(od.path(), "frf", &format!("pantograph {name}"), &[&r])?;
+    let shown = od.in_target(&figs);
+    od.commit()?;
+    // Its resonances: the local maxima of the receptance's magnitude.
+    let rec = Response::of_model(&p, Quantity::Receptance, &f)?;
+    let peaks: Vec<String> = (1..f.len().saturating_sub(1))
+        .filter(|&i| {
+            let m = |j: usize| rec.value[j].norm();
+            m(i) > m(i - 1) && m(i) >= m(i + 1)
+        })
+        .map(|i| format!("{:.2} Hz", f[i]))
+        .collect();
+    println!(
+        "pantograph {name}: {} masses; receptance peaks at {} (from {} to {} Hz, {} points)",
+        p.masses_kg.len(),
+        if peaks.is_empty() {
+            "none in the range".into()
+        } else {
+            peaks.join(", ")
+        },
+        a.from_hz,
+        a.to_hz,
+        a.points
+    );
+    println!(
+        "wrote {}; plots: {}",
+        a.which.out.join("frf.csv").display(),
+        shown
+            .iter()
+            .map(|x| x.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    Ok(0)
+}
+
+fn fit_cmd(a: FitArgs) -> Result<i32> {
+    let (name, start) = chain(&a.which)?;
+    let text = crate::common::read_input(&a.measured)
+        .with_context(|| format!("cannot read {}", a.measured.display()))?;
+    let label = a.measured.file_name().map_or_else(
+        || a.measured.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    let measured = Response::from_csv(&text, &label)?;
+    let r = fit(&start, &measured)?;
+    let od = OutDir::begin(&a.which.out)?;
+    write_file(
+        &od.path().join("fit.json"),
+        serde_json::to_string_pretty(&r)? + "\n",
+    )?;
+    let source = format!(
+        "fitted by pcsim pantograph fit to {label} (residual {:.2} % RMS; uncertainties in fit.json)",
+        100.0 * r.residual_rms
+    );
+    let list = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("{x:.6e}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let p = &r.pantograph;
+    let block = format!(
+        "# The pantograph `{name}` fitted to {label}; paste into a case. Its uplift and aerodynamic\n\
+         # force are the case's: a frequency response does not measure them.\n\
+         [[pantographs]]\nkind = \"lumped\"\nname = \"{name}\"\n\
+         masses_kg = {{ value = [{}], source = \"{source}\" }}\n\
+         stiffness_n_per_m = {{ value = [{}], source = \"{source}\" }}\n\
+         damping_ns_per_m = {{ value = [{}], source = \"{source}\" }}\n\
+         uplift_n = {:?}\naero_coeffs_kmh = [{}]\n",
+        list(&p.masses_kg),
+        list(&p.stiffness_n_per_m),
+        list(&p.damping_ns_per_m),
+        p.uplift_n,
+        p.aero_coeffs_kmh
+            .iter()
+            .map(|x| format!("{x:?}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    write_file(&od.path().join("fitted-pantograph.toml"), &block)?;
+    let mut fitted = Response::of_model(p, measured.quantity, &measured.frequency_hz)?;
+    fitted.source = "fitted".into();
+    write_manifest(
+        od.path(),
+        "pantograph-fit",
+        serde_json::json!({ "pantograph": name, "measured": a.measured.display().to_string() }),
+    )?;
+    figures(
+        od.path(),
+        "fit",
+        &format!("pantograph {name} fitted to {label}"),
+        &[&measured, &fitted],
+    )?;
+    od.commit()?;
+    println!(
+        "pantograph {name} fitted to {label}: residual {:.2} % RMS (from {:.2} % at the start), {} evaluations",
+        100.0 * r.residual_rms,
+        100.0 * r.start_residual_rms,
+        r.evaluations
+    );
+    for q in &r.parameters {
+        println!(
+            "  {:<22} {:>12.5} ± {:<10.3} (start {}){}",
+            q.name,
+            q.value,
+            q.std,
+            q.start,
+            if q.at_bound {
+                "  AT ITS BOUND: widen the start or check the measurement"
+            } else {
+                ""
+            }
+        );
+    }
+    println!(
+        "wrote {} and {}",
+        a.which.out.join("fit.json").display(),
+        a.which.out.join("fitted-pantograph.toml").display()
+    );
+    Ok(0)
+}
