@@ -598,6 +598,70 @@ fn validate(
     })
 }
 
+/// A response handed to Python: frequencies, magnitudes, phases in degrees, the magnitude's
+/// column name (its unit).
+type Frf = (Vec<f64>, Vec<f64>, Vec<f64>, String);
+
+/// The frequency response at the head of `case`'s pantograph `pantograph` (the CLI's `pcsim
+/// pantograph frf`): `(frequency_hz, magnitude, phase_deg, unit)`.
+#[pyfunction]
+#[pyo3(signature = (case, pantograph=None, quantity="apparent-mass", from_hz=0.1, to_hz=20.0, points=200))]
+fn pantograph_frf(
+    case: &Case,
+    pantograph: Option<String>,
+    quantity: &str,
+    from_hz: f64,
+    to_hz: f64,
+    points: usize,
+) -> PyResult<Frf> {
+    use pcsim_core::analysis::frf::{Quantity, Response};
+    guarded(|| {
+        let q = match quantity {
+            "apparent-mass" => Quantity::ApparentMass,
+            "receptance" => Quantity::Receptance,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "quantity={other:?}: \"apparent-mass\" or \"receptance\""
+                )))
+            }
+        };
+        let (_, p) = pcsim_core::compile::lumped_pantograph(&case.inner, pantograph.as_deref())
+            .map_err(err)?;
+        let f = Response::log_grid(from_hz, to_hz, points).map_err(err)?;
+        let r = Response::of_model(&p, q, &f).map_err(err)?;
+        Ok((
+            r.frequency_hz,
+            r.value.iter().map(|h| h.norm()).collect(),
+            r.value.iter().map(|h| h.arg().to_degrees()).collect(),
+            q.column().to_string(),
+        ))
+    })
+}
+
+/// `case`'s pantograph fitted to a measured response (CSV text `measured_csv`, named `label`):
+/// the CLI's `pcsim pantograph fit` — `(fit_json, case_block)`.
+#[pyfunction]
+#[pyo3(signature = (measured_csv, label, case, pantograph=None))]
+fn pantograph_fit(
+    py: Python<'_>,
+    measured_csv: &str,
+    label: &str,
+    case: &Case,
+    pantograph: Option<String>,
+) -> PyResult<(String, String)> {
+    use pcsim_core::analysis::frf::{fit, Response};
+    guarded(|| {
+        let (name, p) = pcsim_core::compile::lumped_pantograph(&case.inner, pantograph.as_deref())
+            .map_err(err)?;
+        let m = Response::from_csv(measured_csv, label).map_err(err)?;
+        let r = py.detach(|| fit(&p, &m)).map_err(err)?;
+        Ok((
+            serde_json::to_string(&r).map_err(err)?,
+            r.case_block(&name, label),
+        ))
+    })
+}
+
 /// A run's summary (`Result.summary` as JSON) against the acceptance criteria, by the core's
 /// one assessment (the CLI's `pcsim assess`): the assessment as JSON. `criteria_toml` adds a
 /// user's criteria (status `user`, each with its source).
@@ -902,6 +966,8 @@ fn _pcsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(window, m)?)?;
     m.add_function(wrap_pyfunction!(presets_list, m)?)?;
     m.add_function(wrap_pyfunction!(design, m)?)?;
+    m.add_function(wrap_pyfunction!(pantograph_frf, m)?)?;
+    m.add_function(wrap_pyfunction!(pantograph_fit, m)?)?;
     m.add_function(wrap_pyfunction!(design_header, m)?)?;
     m.add_function(wrap_pyfunction!(design_evaluate, m)?)?;
     m.add_function(wrap_pyfunction!(_test_panic, m)?)?;

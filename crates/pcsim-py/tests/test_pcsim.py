@@ -96,6 +96,39 @@ def test_issue_42_1_validate_verify_equals_the_clis():
     assert all("verification" in r for c in res["cases"] for r in c["rows"])
 
 
+def test_issue_43_3_pantograph_frf_and_fit_equal_the_clis(tmp_path):
+    """``pcsim.pantograph_frf`` and ``pcsim.pantograph_fit``: the CLI's frf.csv and fit.json."""
+    case = pcsim.Case.preset("en50318-2002")
+    r = pcsim.pantograph_frf(case, quantity="receptance", points=50)
+    out = str(tmp_path / "frf")
+    subprocess.run([PCSIM, "pantograph", "frf", "--preset", "en50318-2002", "--quantity",
+                    "receptance", "--points", "50", "--out", out], check=True,
+                   stdout=subprocess.DEVNULL)
+    with open(os.path.join(out, "frf.csv")) as f:
+        rows = list(csv.DictReader(f))
+    assert r["unit"] == "magnitude_m_per_n" and len(rows) == 50
+    for k, row in enumerate(rows):
+        assert float(f"{r['magnitude'][k]:.9e}") == float(row["magnitude_m_per_n"])
+    here = os.path.dirname(os.path.abspath(__file__))
+    measured = os.path.join(here, "..", "..", "..", "examples", "pantograph", "measured-apparent-mass.csv")
+    start = pcsim.Case.from_file(os.path.join(os.path.dirname(measured), "start-25-percent-off.toml"))
+    fit = pcsim.pantograph_fit(measured, start)
+    out = str(tmp_path / "fit")
+    subprocess.run([PCSIM, "pantograph", "fit", measured,
+                    os.path.join(os.path.dirname(measured), "start-25-percent-off.toml"),
+                    "--out", out], check=True, stdout=subprocess.DEVNULL)
+    with open(os.path.join(out, "fit.json")) as f:
+        cli = json.load(f)
+    block = fit.pop("case_block")
+    assert fit == cli
+    with open(os.path.join(out, "fitted-pantograph.toml")) as f:
+        assert block == f.read()
+    with pytest.raises(ValueError, match="line 2"):
+        pcsim.pantograph_fit("frequency_hz,magnitude_kg,phase_deg\n1,x,0\n", start)
+    with pytest.raises(FileNotFoundError):
+        pcsim.pantograph_fit(str(tmp_path / "none.csv"), start)
+
+
 def test_run_equals_the_cli_exactly(tmp_path):
     case = short_case()
     res = pcsim.run(case)

@@ -216,37 +216,9 @@ fn fit_cmd(a: FitArgs) -> Result<i32> {
         &od.path().join("fit.json"),
         serde_json::to_string_pretty(&r)? + "\n",
     )?;
-    let source = format!(
-        "fitted by pcsim pantograph fit to {label} (residual {:.2} % RMS; uncertainties in fit.json)",
-        100.0 * r.residual_rms
-    );
-    let list = |v: &[f64]| {
-        v.iter()
-            .map(|x| format!("{x:.6e}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    let p = &r.pantograph;
-    let block = format!(
-        "# The pantograph `{name}` fitted to {label}; paste into a case. Its uplift and aerodynamic\n\
-         # force are the case's: a frequency response does not measure them.\n\
-         [[pantographs]]\nkind = \"lumped\"\nname = \"{name}\"\n\
-         masses_kg = {{ value = [{}], source = \"{source}\" }}\n\
-         stiffness_n_per_m = {{ value = [{}], source = \"{source}\" }}\n\
-         damping_ns_per_m = {{ value = [{}], source = \"{source}\" }}\n\
-         uplift_n = {:?}\naero_coeffs_kmh = [{}]\n",
-        list(&p.masses_kg),
-        list(&p.stiffness_n_per_m),
-        list(&p.damping_ns_per_m),
-        p.uplift_n,
-        p.aero_coeffs_kmh
-            .iter()
-            .map(|x| format!("{x:?}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
+    let block = r.case_block(&name, &label);
     write_file(&od.path().join("fitted-pantograph.toml"), &block)?;
-    let mut fitted = Response::of_model(p, measured.quantity, &measured.frequency_hz)?;
+    let mut fitted = Response::of_model(&r.pantograph, measured.quantity, &measured.frequency_hz)?;
     fitted.source = "fitted".into();
     write_manifest(
         od.path(),

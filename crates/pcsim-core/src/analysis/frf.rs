@@ -253,6 +253,45 @@ pub struct Fit {
     pub source: String,
 }
 
+impl Fit {
+    /// The fitted pantograph as a case's `[[pantographs]]` block named `name`, each fitted value
+    /// with the measurement (`label`) as its source; the uplift and the aerodynamic force are the
+    /// starting case's (a frequency response does not measure them).
+    pub fn case_block(&self, name: &str, label: &str) -> String {
+        let source = format!(
+            "fitted by pcsim pantograph fit to {label} (residual {:.2} % RMS; uncertainties in fit.json)",
+            100.0 * self.residual_rms
+        )
+        .replace('"', "'");
+        let list = |v: &[f64]| {
+            v.iter()
+                .map(|x| format!("{x:.6e}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let p = &self.pantograph;
+        let name = name.replace('"', "'");
+        format!(
+            "# The pantograph `{name}` fitted to {label}; paste into a case. Its uplift and aerodynamic\n\
+             # force are the case's: a frequency response does not measure them.\n\
+             [[pantographs]]\nkind = \"lumped\"\nname = \"{name}\"\n\
+             masses_kg = {{ value = [{}], source = \"{source}\" }}\n\
+             stiffness_n_per_m = {{ value = [{}], source = \"{source}\" }}\n\
+             damping_ns_per_m = {{ value = [{}], source = \"{source}\" }}\n\
+             uplift_n = {:?}\naero_coeffs_kmh = [{}]\n",
+            list(&p.masses_kg),
+            list(&p.stiffness_n_per_m),
+            list(&p.damping_ns_per_m),
+            p.uplift_n,
+            p.aero_coeffs_kmh
+                .iter()
+                .map(|x| format!("{x:?}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    }
+}
+
 /// The chain's parameters in a fixed order: masses, stiffnesses, dampings.
 fn params(p: &Lumped) -> Vec<f64> {
     p.masses_kg

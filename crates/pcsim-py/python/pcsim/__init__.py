@@ -37,6 +37,8 @@ __all__ = [
     "validate",
     "assess",
     "design",
+    "pantograph_frf",
+    "pantograph_fit",
     "presets",
 ]
 
@@ -268,6 +270,37 @@ def assess(result: "Result", system: Optional[str] = None, criteria: Any = None)
     if criteria is not None:
         criteria, _ = _text_or_path(criteria, "criteria")
     return json.loads(_pcsim.assess(json.dumps(result.summary), system, criteria))
+
+
+def pantograph_frf(case: Case, pantograph: Optional[str] = None, quantity: str = "apparent-mass",
+                   from_hz: float = 0.1, to_hz: float = 20.0, points: int = 200) -> Dict[str, Any]:
+    """The frequency response at the head of the case's pantograph (``pcsim pantograph frf``):
+    ``{"frequency_hz", "magnitude", "phase_deg", "unit"}`` with NumPy arrays; ``quantity``:
+    ``"apparent-mass"`` (kg) or ``"receptance"`` (m/N); ``pantograph``: leading, trailing, a name
+    or an index."""
+    f, m, p, unit = _pcsim.pantograph_frf(case, pantograph, quantity, from_hz, to_hz, points)
+    return {"frequency_hz": np.asarray(f), "magnitude": np.asarray(m),
+            "phase_deg": np.asarray(p), "unit": unit}
+
+
+def pantograph_fit(measured: Any, case: Case, pantograph: Optional[str] = None) -> Dict[str, Any]:
+    """The case's pantograph fitted to a measured response (``pcsim pantograph fit``):
+    ``measured`` is the CSV's path or text (``frequency_hz``, ``magnitude_kg`` or
+    ``magnitude_m_per_n``, ``phase_deg``). The dict of ``fit.json`` (each value with its
+    uncertainty, the residual) and ``case_block``, the ``[[pantographs]]`` block with the
+    measurement as its source."""
+    if isinstance(measured, os.PathLike) or (isinstance(measured, str) and "\n" not in measured):
+        path = os.fspath(measured)
+        if not os.path.isfile(path):
+            raise FileNotFoundError("measured: no such file: {!r}".format(path))
+        with open(path, encoding="utf-8") as f:
+            text, label = f.read(), os.path.basename(path)
+    else:
+        text, label = measured, "measured"
+    fit_json, block = _pcsim.pantograph_fit(text, label, case, pantograph)
+    out = json.loads(fit_json)
+    out["case_block"] = block
+    return out
 
 
 def _design_evaluate(spec_toml: str, base_dir: str, x: List[float]) -> List[str]:
