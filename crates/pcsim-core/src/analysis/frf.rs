@@ -278,11 +278,19 @@ impl Fit {
              masses_kg = {{ value = [{}], source = \"{source}\" }}\n\
              stiffness_n_per_m = {{ value = [{}], source = \"{source}\" }}\n\
              damping_ns_per_m = {{ value = [{}], source = \"{source}\" }}\n\
-             uplift_n = {:?}\naero_coeffs_kmh = [{}]\n",
+             uplift_n = {:?}\n{}aero_coeffs_kmh = [{}]\n",
             list(&p.masses_kg),
             list(&p.stiffness_n_per_m),
             list(&p.damping_ns_per_m),
             p.uplift_n,
+            p.uplift_by_height.as_ref().map_or(String::new(), |t| {
+                let l = |v: &[f64]| v.iter().map(|x| format!("{x:?}")).collect::<Vec<_>>().join(", ");
+                format!(
+                    "uplift_by_height = {{ height_m = [{}], uplift_n = [{}] }}\n",
+                    l(&t.height_m),
+                    l(&t.uplift_n)
+                )
+            }),
             p.aero_coeffs_kmh
                 .iter()
                 .map(|x| format!("{x:?}"))

@@ -251,6 +251,7 @@ pub fn lumped_pantograph(
             stiffness_n_per_m,
             damping_ns_per_m,
             uplift_n,
+            uplift_by_height,
             aero_coeffs_kmh,
             ..
         } => Ok((
@@ -260,6 +261,12 @@ pub fn lumped_pantograph(
                 stiffness_n_per_m: stiffness_n_per_m.clone(),
                 damping_ns_per_m: damping_ns_per_m.clone(),
                 uplift_n: *uplift_n,
+                uplift_by_height: uplift_by_height.as_ref().map(|t| {
+                    crate::model::pantograph::UpliftTable {
+                        height_m: t.height_m.clone(),
+                        uplift_n: t.uplift_n.clone(),
+                    }
+                }),
                 aero_coeffs_kmh: aero_coeffs_kmh.clone(),
             },
         )),

@@ -22,7 +22,7 @@ use crate::model::lateral::{LateralGeometry, StaggerLine};
 use crate::model::line::{
     LineStatics, SpanLayout, StitchWire, TensionLengthDesign, TensionLengthStatics,
 };
-use crate::model::pantograph::{Lumped, Pantograph, PantographKind};
+use crate::model::pantograph::{Lumped, Pantograph, PantographKind, UpliftTable};
 use crate::model::statics::{
     presag_values, StaticDesign, StaticSolution, StitchDesign, StitchStatic, G,
 };
@@ -299,6 +299,7 @@ fn pantographs(
                     stiffness_n_per_m,
                     damping_ns_per_m,
                     uplift_n,
+                    uplift_by_height,
                     aero_coeffs_kmh,
                     head_half_width_m,
                     working_half_width_m,
@@ -314,6 +315,14 @@ fn pantographs(
                         stiffness_n_per_m: stiffness_n_per_m.clone(),
                         damping_ns_per_m: damping_ns_per_m.clone(),
                         uplift_n: *uplift_n * case.run.uplift_factor(),
+                        uplift_by_height: uplift_by_height.as_ref().map(|t| UpliftTable {
+                            height_m: t.height_m.clone(),
+                            uplift_n: t
+                                .uplift_n
+                                .iter()
+                                .map(|f| f * case.run.uplift_factor())
+                                .collect(),
+                        }),
                         aero_coeffs_kmh: aero_coeffs_kmh.clone(),
                     }),
                     ContactLaw::Penalty {

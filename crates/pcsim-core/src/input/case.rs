@@ -228,6 +228,11 @@ pub enum PantographCase {
         damping_ns_per_m: Vec<f64>,
         /// Net static uplift on the lowest mass (gravity included), N.
         uplift_n: f64,
+        /// The static uplift as a function of the head's working height (issue 43, item 2): a
+        /// frame's static force changes with the height it works at, so a lowered contact wire
+        /// (structures, overlaps) changes it. Its value at height 0 is `uplift_n`.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        uplift_by_height: Option<UpliftByHeight>,
         /// Aerodynamic force on the head, `Σ c_i v^i` with `v` in km/h, N. Deviation from Eq. 17
         /// (`F = 0.0097 V²`, no unit for V, 478 N at 222 km/h): a configurable polynomial whose
         /// coefficients each preset states with their source (README §2.1).
@@ -256,6 +261,18 @@ pub enum PantographCase {
         #[serde(default)]
         lateral_force_n: f64,
     },
+}
+
+/// A lumped pantograph's static uplift at each working height of its head (linear between the
+/// points, constant beyond the ends).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UpliftByHeight {
+    /// Heights of the head, m, increasing: from the contact wire's height at the supports
+    /// (the model's zero), upward positive.
+    pub height_m: Vec<f64>,
+    /// The static uplift at each, N (gravity included, as `uplift_n`).
+    pub uplift_n: Vec<f64>,
 }
 
 impl PantographCase {

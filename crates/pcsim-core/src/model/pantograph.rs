@@ -19,9 +19,39 @@ pub struct Lumped {
     pub damping_ns_per_m: Vec<f64>,
     /// Net static uplift on the lowest mass (gravity included), N.
     pub uplift_n: f64,
+    /// The static uplift as a function of the head's height (none: `uplift_n` at every height).
+    pub uplift_by_height: Option<UpliftTable>,
     /// Aerodynamic force on the head, `Σ c_i v^i` with `v` in km/h, N (Eq. 17 as a configurable
     /// polynomial; reference README §2.1).
     pub aero_coeffs_kmh: Vec<f64>,
+}
+
+/// A frame's static uplift against the head's height (issue 43, item 2): points `(height_m,
+/// uplift_n)`, heights increasing.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UpliftTable {
+    /// Heights of the head, m (zero at the contact wire's height at the supports).
+    pub height_m: Vec<f64>,
+    /// The uplift at each, N.
+    pub uplift_n: Vec<f64>,
+}
+
+impl UpliftTable {
+    /// The uplift at head height `h_m`: linear between the points, the end values beyond them.
+    #[inline]
+    pub fn at(&self, h_m: f64) -> f64 {
+        let (x, y) = (&self.height_m, &self.uplift_n);
+        let n = x.len();
+        if h_m <= x[0] {
+            return y[0];
+        }
+        if h_m >= x[n - 1] {
+            return y[n - 1];
+        }
+        let k = x.partition_point(|&xi| xi <= h_m).clamp(1, n - 1);
+        let t = (h_m - x[k - 1]) / (x[k] - x[k - 1]);
+        y[k - 1] + t * (y[k] - y[k - 1])
+    }
 }
 
 /// What runs along the contact wire.
@@ -105,6 +135,8 @@ pub struct ChainOperators {
     pub aero_n: f64,
     /// Net static uplift on the lowest mass, N.
     pub uplift_n: f64,
+    /// The uplift against the head's height, when it depends on it.
+    pub uplift_by_height: Option<UpliftTable>,
 }
 
 impl Lumped {
@@ -124,6 +156,7 @@ impl Lumped {
             c,
             aero_n: aero_force_n(&self.aero_coeffs_kmh, v_kmh),
             uplift_n: self.uplift_n,
+            uplift_by_height: self.uplift_by_height.clone(),
         })
     }
 }
@@ -132,15 +165,41 @@ impl ChainOperators {
     /// Static equilibrium of the chain pressed on a rigid wire at height `wire_m` through a
     /// contact spring `k_n` (the initial state): `(K + k_n e₀e₀ᵀ) y = uplift e_last + (aero +
     /// k_n h) e₀`. `None` when the chain has no static equilibrium (a singular stiffness).
+    /// With an uplift that depends on the head's height the equilibrium is found by fixed-point
+    /// iteration on the head's height (to 1e-12 m; `None` if it does not settle in 100 steps).
     pub fn static_equilibrium(&self, k_n: f64, wire_m: f64) -> Option<Vec<f64>> {
         let n = self.n;
         let mut a = self.k.clone();
         a[0] += k_n;
-        let mut f = vec![0.0; n];
-        f[n - 1] += self.uplift_n;
-        f[0] += self.aero_n + k_n * wire_m;
         let inv = invert_small(&a, n)?;
-        Some(mat_vec(&inv, n, &f))
+        let solve = |uplift: f64| {
+            let mut f = vec![0.0; n];
+            f[n - 1] += uplift;
+            f[0] += self.aero_n + k_n * wire_m;
+            mat_vec(&inv, n, &f)
+        };
+        let Some(t) = &self.uplift_by_height else {
+            return Some(solve(self.uplift_n));
+        };
+        let mut y = solve(t.at(wire_m));
+        for _ in 0..100 {
+            let next = solve(t.at(y[0]));
+            let settled = (next[0] - y[0]).abs() <= 1e-12;
+            y = next;
+            if settled {
+                return Some(y);
+            }
+        }
+        None
+    }
+
+    /// The uplift on the lowest mass with the head at `head_m`, N.
+    #[inline]
+    pub fn uplift_at(&self, head_m: f64) -> f64 {
+        match &self.uplift_by_height {
+            Some(t) => t.at(head_m),
+            None => self.uplift_n,
+        }
     }
 
     /// Eq. 16 solved for the accelerations: `(M + Δt/2 C) a = −K y − C v + (aero + f_head) e₀ +
@@ -156,7 +215,7 @@ impl ChainOperators {
             r[i] = s;
         }
         r[0] += self.aero_n + f_head;
-        r[n - 1] += self.uplift_n;
+        r[n - 1] += self.uplift_at(y[0]);
         for i in 0..n {
             let mut s = 0.0;
             for j in 0..n {
@@ -209,7 +268,13 @@ impl Lumped {
             let stretch = if i + 1 < n { y[i] - y[i + 1] } else { y[i] };
             pot += 0.5 * self.stiffness_n_per_m[i] * stretch * stretch;
         }
-        let ext = -(aero_force_n(&self.aero_coeffs_kmh, v_kmh) * y[0] + self.uplift_n * y[n - 1]);
+        // With an uplift that depends on the height this is the work of the force at the head's
+        // present height, not a potential (the table's force is not conservative on the frame).
+        let uplift = match &self.uplift_by_height {
+            Some(t) => t.at(y[0]),
+            None => self.uplift_n,
+        };
+        let ext = -(aero_force_n(&self.aero_coeffs_kmh, v_kmh) * y[0] + uplift * y[n - 1]);
         (kin, pot, ext)
     }
 

@@ -305,6 +305,7 @@ fn unusual_values_are_warnings_naming_the_field() {
             stiffness_n_per_m,
             damping_ns_per_m,
             uplift_n: 900.0,
+            uplift_by_height: None,
             aero_coeffs_kmh,
             head_half_width_m,
             working_half_width_m,

@@ -14,6 +14,7 @@ fn chain(m: &[f64], k: &[f64], c: &[f64]) -> Lumped {
         stiffness_n_per_m: k.to_vec(),
         damping_ns_per_m: c.to_vec(),
         uplift_n: 70.0,
+        uplift_by_height: None,
         aero_coeffs_kmh: vec![0.0],
     }
 }

@@ -32,5 +32,6 @@ mod statics;
 mod steady_loads;
 mod stitched;
 mod threads;
+mod uplift_height;
 mod verify;
 mod zoo;

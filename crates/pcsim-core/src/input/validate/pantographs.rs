@@ -85,12 +85,16 @@ pub(super) fn lumped_pantograph(
         stiffness_n_per_m,
         damping_ns_per_m,
         uplift_n,
+        uplift_by_height,
         aero_coeffs_kmh,
         ..
     } = p
     else {
         return Ok(());
     };
+    if let Some(t) = uplift_by_height {
+        uplift_table(w, base, t, *uplift_n)?;
+    }
     if masses_kg.is_empty() {
         return Err(inv(
             &format!("{base}.masses_kg"),
@@ -152,6 +156,59 @@ pub(super) fn lumped_pantograph(
         aero,
         &bounds::AERO,
     )?;
+    Ok(())
+}
+
+/// A static uplift against the head's height: at least two points, heights finite and
+/// increasing, each uplift within the uplift's bounds, and the uplift at height 0 the case's
+/// `uplift_n` (within 0.01 N: the two say the same thing, and must not disagree).
+fn uplift_table(
+    w: &mut Vec<Warning>,
+    base: &str,
+    t: &crate::input::case::UpliftByHeight,
+    uplift_n: f64,
+) -> Result<(), CaseError> {
+    let field = format!("{base}.uplift_by_height");
+    if t.height_m.len() < 2 || t.height_m.len() != t.uplift_n.len() {
+        return Err(inv(
+            &field,
+            format!("{} heights, {} forces", t.height_m.len(), t.uplift_n.len()),
+            "give at least two points, as many forces (uplift_n) as heights (height_m)",
+        ));
+    }
+    for (j, h) in t.height_m.iter().enumerate() {
+        if !(h.is_finite() && h.abs() <= 5.0) {
+            return Err(inv(
+                &format!("{field}.height_m[{j}]"),
+                h,
+                "a head height in m, within ±5 m of the contact wire's height at the supports",
+            ));
+        }
+        if j > 0 && *h <= t.height_m[j - 1] {
+            return Err(inv(
+                &format!("{field}.height_m[{j}]"),
+                h,
+                "the heights increase from point to point",
+            ));
+        }
+    }
+    for (j, f) in t.uplift_n.iter().enumerate() {
+        check_bound(w, &format!("{field}.uplift_n[{j}]"), *f, &bounds::UPLIFT)?;
+    }
+    let table = crate::model::pantograph::UpliftTable {
+        height_m: t.height_m.clone(),
+        uplift_n: t.uplift_n.clone(),
+    };
+    let at0 = table.at(0.0);
+    if (at0 - uplift_n).abs() > 0.01 {
+        return Err(inv(
+            &field,
+            format!("{at0} N at height 0"),
+            &format!(
+                "the table's uplift at height 0 is the pantograph's uplift_n ({uplift_n} N): make them agree"
+            ),
+        ));
+    }
     Ok(())
 }
 
