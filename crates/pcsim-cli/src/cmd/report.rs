@@ -890,6 +890,16 @@ fn study_answer(h: &mut String, dir: &Path, kind: &str) -> Result<()> {
             ],
         ),
         "montecarlo" => return montecarlo_answer(h, dir),
+        "pantograph-fit" => return fit_answer(h, dir),
+        "pantograph-frf" => (
+            "The answer: the pantograph's response at the head",
+            "frf.csv",
+            &[
+                ("frequency_hz", "frequency [Hz]"),
+                ("magnitude_kg", "apparent mass [kg]"),
+                ("phase_deg", "phase [°]"),
+            ],
+        ),
         _ => return Ok(()),
     };
     if let Some(rows) = csv_columns(dir, file, cols)? {
@@ -897,6 +907,51 @@ fn study_answer(h: &mut String, dir: &Path, kind: &str) -> Result<()> {
         let head: Vec<&str> = cols.iter().map(|(_, l)| *l).collect();
         table(h, file, &head, &rows);
     }
+    Ok(())
+}
+
+/// A pantograph fit's answer: each fitted value with its uncertainty and start, the residual
+/// (fit.json).
+fn fit_answer(h: &mut String, dir: &Path) -> Result<()> {
+    let p = dir.join("fit.json");
+    if !p.exists() {
+        return Ok(());
+    }
+    let text =
+        std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
+    let v: serde_json::Value =
+        serde_json::from_str(&text).with_context(|| format!("{} is not JSON", p.display()))?;
+    let _ = writeln!(
+        h,
+        "<h2 id=\"answer\">The answer: the pantograph fitted to {} (residual {} RMS, from {} at the start)</h2>",
+        esc(v["source"].as_str().unwrap_or("")),
+        num(&v["residual_rms"]),
+        num(&v["start_residual_rms"])
+    );
+    let rows: Vec<Vec<String>> = v["parameters"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .map(|q| {
+            vec![
+                q["name"].as_str().unwrap_or("").to_string(),
+                num(&q["value"]),
+                num(&q["std"]),
+                num(&q["start"]),
+                if q["at_bound"].as_bool() == Some(true) {
+                    "at its bound".into()
+                } else {
+                    String::new()
+                },
+            ]
+        })
+        .collect();
+    table(
+        h,
+        "fit.json",
+        &["parameter", "fitted", "± (1 σ)", "start", ""],
+        &rows,
+    );
     Ok(())
 }
 

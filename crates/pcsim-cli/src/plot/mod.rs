@@ -453,6 +453,11 @@ pub fn redraw_kind(dir: &Path, kind: &str) -> Result<Vec<PathBuf>> {
         "window" => window::redraw(dir),
         "compare" => compare::redraw(dir),
         "design" => design::redraw(dir),
+        "pantograph-frf" | "pantograph-fit" => anyhow::bail!(
+            "{}: a pantograph's response and fit draw their figures when they are made; run `pcsim pantograph {}` again to redraw them",
+            dir.display(),
+            kind.trim_start_matches("pantograph-")
+        ),
         other => anyhow::bail!(
             "{}: pcsim.json names kind `{other}`, which has no figures",
             dir.display()

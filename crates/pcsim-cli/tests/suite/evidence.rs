@@ -394,6 +394,12 @@ fn issue_43_3_pantograph_frf_and_fit_through_the_cli() {
         .output()
         .unwrap();
     ok(&o);
+    // The report opens with the fit's answer.
+    let o = pcsim().args(["report", &s("fit")]).output().unwrap();
+    ok(&o);
+    let html = std::fs::read_to_string(d.join("fit/report.html")).unwrap();
+    let answer = html.find("id=\"answer\"").expect("an answer");
+    assert!(answer < html.find("<svg").unwrap() && html[answer..].contains("masses_kg[0]"));
     // Refusals by name.
     std::fs::write(
         d.join("bad.csv"),
