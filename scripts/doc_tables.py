@@ -612,10 +612,43 @@ def table_pantograph_fit(binary, tmp):
     return "\n".join(lines)
 
 
+def run_stats(binary, tmp, preset, *args):
+    """The leading pantograph's statistics of `pcsim run --preset PRESET ARGS`."""
+    out = os.path.join(tmp, "run-" + preset + "-" + "-".join(args))
+    pcsim(binary, "run", "--preset", preset, *args, "--quiet", "--out", out)
+    with open(os.path.join(out, "summary.json")) as f:
+        return json.load(f)["pantographs"][0]["stats"]
+
+
+def table_other_presets(binary, tmp):
+    lines = ["| speed | Fm [N] | σ [N] | max / min [N] | uplift at support [mm] | loss [%] |",
+             "|---|---|---|---|---|---|"]
+    for v in ("275", "320"):
+        s = run_stats(binary, tmp, "benchmark-55m", "--speed", v)
+        lines.append(f"| {v} km/h | {num(s['mean_n'])} | {num(s['std_n'])} | "
+                     f"{num(s['actual_max_n'])} / {num(s['actual_min_n'])} | "
+                     f"{num(s['max_uplift_at_support_mm'])} | {num(s['loss_of_contact_percent'], 2)} |")
+    return "\n".join(lines)
+
+
+def table_syt(binary, tmp):
+    s = run_stats(binary, tmp, "syt-7.0-9.8")
+    return "\n".join([
+        "| quantity (0–20 Hz, 222 km/h) | pcsim | measured (paper §4.2) | paper's model (converged window) |",
+        "|---|---|---|---|",
+        f"| mean [N] | {num(s['mean_n'])} (calibrated) | 85.1 | 85.8 |",
+        f"| σ [N] | {num(s['std_n'])} | 18.2 | 18.9 |",
+        f"| σ 0–5 / 5–20 Hz [N] | {num(s['std_0_5hz_n'])} / {num(s['std_5_20hz_n'])} | — | — |",
+        f"| actual max / min [N] | {num(s['actual_max_n'])} / {num(s['actual_min_n'])} | — | — |",
+    ])
+
+
 TABLES = {
     "en50318-2002": table_en50318_2002,
     "seed-table1": table_seed_table1,
     "realtime-syt": table_realtime_syt,
+    "syt": table_syt,
+    "other-presets": table_other_presets,
     "verify-en50318-2002": table_verify_2002,
     "validate-verify-en50318-2002": table_validate_verify_2002,
     "sensitivity-en50318-2002": table_sensitivity_2002,
