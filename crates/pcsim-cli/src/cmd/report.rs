@@ -522,10 +522,7 @@ fn study_errors(dir: &Path, kind: &str) -> Result<Vec<String>> {
         return Ok(Vec::new());
     }
     let p = dir.join("montecarlo.json");
-    let text =
-        std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
-    let v: serde_json::Value =
-        serde_json::from_str(&text).with_context(|| format!("{} is not JSON", p.display()))?;
+    let v = json_file(&p)?;
     let n = v["realisations"].as_u64().unwrap_or(0);
     Ok(v["errors"]
         .as_array()
@@ -910,6 +907,13 @@ fn study_answer(h: &mut String, dir: &Path, kind: &str) -> Result<()> {
     Ok(())
 }
 
+/// A JSON file of an output directory, parsed (the error names the file).
+fn json_file(p: &Path) -> Result<serde_json::Value> {
+    let text =
+        std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?;
+    serde_json::from_str(&text).with_context(|| format!("{} is not JSON", p.display()))
+}
+
 /// A pantograph fit's answer: each fitted value with its uncertainty and start, the residual
 /// (fit.json).
 fn fit_answer(h: &mut String, dir: &Path) -> Result<()> {
@@ -917,10 +921,7 @@ fn fit_answer(h: &mut String, dir: &Path) -> Result<()> {
     if !p.exists() {
         return Ok(());
     }
-    let text =
-        std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
-    let v: serde_json::Value =
-        serde_json::from_str(&text).with_context(|| format!("{} is not JSON", p.display()))?;
+    let v = json_file(&p)?;
     let _ = writeln!(
         h,
         "<h2 id=\"answer\">The answer: the pantograph fitted to {} (residual {} RMS, from {} at the start)</h2>",
@@ -962,10 +963,7 @@ fn montecarlo_answer(h: &mut String, dir: &Path) -> Result<()> {
     if !p.exists() {
         return Ok(());
     }
-    let text =
-        std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
-    let v: serde_json::Value =
-        serde_json::from_str(&text).with_context(|| format!("{} is not JSON", p.display()))?;
+    let v = json_file(&p)?;
     let _ = writeln!(
         h,
         "<h2 id=\"answer\">The answer: the mean over {} realisations with its 95 % interval</h2>",
@@ -1006,10 +1004,7 @@ fn montecarlo_answer(h: &mut String, dir: &Path) -> Result<()> {
 /// design, the sensitivity, the constraints.
 fn design_section(h: &mut String, dir: &Path) -> Result<()> {
     let p = dir.join("design.json");
-    let text =
-        std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
-    let v: serde_json::Value =
-        serde_json::from_str(&text).with_context(|| format!("{} is not JSON", p.display()))?;
+    let v = json_file(&p)?;
     let _ = writeln!(h, "<h2 id=\"answer\">The answer</h2>");
     // One row per element of a JSON list (none: no rows).
     let rows_of = |list: &serde_json::Value, row: &dyn Fn(&serde_json::Value) -> Vec<String>| {

@@ -103,11 +103,7 @@ pub fn validate(a: ValidateArgs, ctx: &Ctx) -> Result<i32> {
         );
         for (c, &k) in report.cases.iter().zip(&plan.run_of_target) {
             let (out, wall) = &runs[k];
-            let who = c
-                .pantograph
-                .as_deref()
-                .map(|p| format!(", {p} pantograph"))
-                .unwrap_or_default();
+            let who = who(c);
             println!(
                 "\n{} km/h{who}  ({:.1} s simulated in {wall:.1} s)",
                 c.speed_kmh,
@@ -126,7 +122,6 @@ pub fn validate(a: ValidateArgs, ctx: &Ctx) -> Result<i32> {
                 );
             }
             for r in &c.rows {
-                let mark = |p: bool| if p { "pass" } else { "FAIL" };
                 let range = format!("[{}, {}]", r.range[0], r.range[1]);
                 match (r.paper_value, r.paper_pass) {
                     (Some(pv), Some(pp)) => println!(
@@ -196,13 +191,8 @@ fn print_verification(report: &pcsim_core::analysis::validation::ValidationRepor
             v.stiff_contact.dt_s
         );
     }
-    let mark = |p: bool| if p { "pass" } else { "FAIL" };
     for c in &report.cases {
-        let who = c
-            .pantograph
-            .as_deref()
-            .map(|p| format!(", {p} pantograph"))
-            .unwrap_or_default();
+        let who = who(c);
         println!(
             "  {} km/h{who}\n  {:<26} {:>8} {:>6}  {:>8} {:>6}  {:>10} {:>6}  established",
             c.speed_kmh, "quantity", "value", "", "refined", "", "stiff k", ""
@@ -228,5 +218,22 @@ fn print_verification(report: &pcsim_core::analysis::validation::ValidationRepor
     }
     for n in &report.not_established {
         println!("  NOT ESTABLISHED: {n}");
+    }
+}
+
+/// A case's pantograph as the table heads it (`, trailing pantograph`; empty for one).
+fn who(c: &pcsim_core::analysis::validation::CaseRows) -> String {
+    c.pantograph
+        .as_deref()
+        .map(|p| format!(", {p} pantograph"))
+        .unwrap_or_default()
+}
+
+/// A verdict as the table prints it.
+fn mark(pass: bool) -> &'static str {
+    if pass {
+        "pass"
+    } else {
+        "FAIL"
     }
 }

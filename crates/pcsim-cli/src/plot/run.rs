@@ -583,26 +583,32 @@ pub fn draw_all(dir: &Path, d: &PlotData) -> Result<Vec<PathBuf>> {
 
 /// Redraw a run's figures from its files.
 pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
-    let mut files = draw_all(dir, &read_run(dir)?)?;
-    let sp = dir.join("summary.json");
-    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&sp)?)
-        .with_context(|| format!("{} is not valid JSON", sp.display()))?;
+    let summary = read_summary(dir)?;
+    let mut files = draw_all(dir, &read_run_with(dir, &summary)?)?;
     files.extend(super::sensitivity::draw(dir, &summary)?);
     Ok(files)
 }
 
+/// A finished run's `summary.json`.
+fn read_summary(dir: &Path) -> Result<serde_json::Value> {
+    let sp = dir.join("summary.json");
+    serde_json::from_str(&std::fs::read_to_string(&sp).with_context(|| {
+        format!(
+            "cannot read {} (is {} a run's output directory?)",
+            sp.display(),
+            dir.display()
+        )
+    })?)
+    .with_context(|| format!("{} is not valid JSON", sp.display()))
+}
+
 /// Read a finished run's `summary.json` and `timeseries.csv` back into plot data.
 pub fn read_run(dir: &Path) -> Result<PlotData> {
-    let sp = dir.join("summary.json");
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&sp).with_context(|| {
-            format!(
-                "cannot read {} (is {} a run's output directory?)",
-                sp.display(),
-                dir.display()
-            )
-        })?)
-        .with_context(|| format!("{} is not valid JSON", sp.display()))?;
+    read_run_with(dir, &read_summary(dir)?)
+}
+
+/// [`read_run`] with the run's summary already read.
+fn read_run_with(dir: &Path, summary: &serde_json::Value) -> Result<PlotData> {
     let tp = dir.join("timeseries.csv");
     let mut rdr =
         csv::Reader::from_path(&tp).with_context(|| format!("cannot read {}", tp.display()))?;
@@ -630,7 +636,7 @@ pub fn read_run(dir: &Path) -> Result<PlotData> {
         })
         .collect();
     let lat_idx: Vec<Option<usize>> = names.iter().map(|n| col(n, "lateral_m")).collect();
-    heads_from_summary(&mut traces, &summary);
+    heads_from_summary(&mut traces, summary);
     let idx: Vec<[usize; 4]> = names
         .iter()
         .map(|n| {
@@ -696,7 +702,7 @@ pub fn read_run(dir: &Path) -> Result<PlotData> {
             tp.display()
         );
     }
-    Ok(plot_data(&summary, traces))
+    Ok(plot_data(summary, traces))
 }
 
 /// Each pantograph's head and working range and wear histogram, from the run's summary.

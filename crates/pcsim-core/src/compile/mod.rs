@@ -204,8 +204,24 @@ pub fn window_case(case: &Case) -> Result<Case, CaseError> {
 
 /// The index of the pantograph a real-time window follows (`run.window_pantograph`).
 pub fn window_pantograph(case: &Case) -> Result<usize, CaseError> {
+    pantograph_index(
+        case,
+        case.run.window_pantograph.as_deref(),
+        "run.window_pantograph",
+        "the real-time window follows",
+    )
+}
+
+/// The index of the pantograph `sel` names (none: the leading one); an unknown one is refused
+/// as `field`, saying what `purpose` needs.
+fn pantograph_index(
+    case: &Case,
+    sel: Option<&str>,
+    field: &str,
+    purpose: &str,
+) -> Result<usize, CaseError> {
     let n = case.pantographs.len();
-    let Some(sel) = case.run.window_pantograph.as_deref() else {
+    let Some(sel) = sel else {
         return Ok(0);
     };
     let names: Vec<String> = (0..n).map(|i| pantograph_name(case, i)).collect();
@@ -218,10 +234,10 @@ pub fn window_pantograph(case: &Case) -> Result<usize, CaseError> {
             .or_else(|| sel.parse::<usize>().ok().filter(|&i| i < n)),
     };
     found.ok_or_else(|| CaseError::Invalid {
-        field: "run.window_pantograph".into(),
+        field: field.into(),
         value: sel.to_string(),
         reason: format!(
-            "the real-time window follows one of the case's pantographs: \"leading\", \"trailing\", a name ({}) or an index below {n}",
+            "{purpose} one of the case's pantographs: \"leading\", \"trailing\", a name ({}) or an index below {n}",
             names.join(", ")
         ),
     })
@@ -234,43 +250,10 @@ pub fn lumped_pantograph(
     case: &Case,
     which: Option<&str>,
 ) -> Result<(String, crate::model::pantograph::Lumped), CaseError> {
-    use crate::input::case::PantographCase;
-    let mut c = case.clone();
-    c.run.window_pantograph = which.map(String::from);
-    let i = window_pantograph(&c).map_err(|e| match e {
-        CaseError::Invalid { value, reason, .. } => CaseError::Invalid {
-            field: "pantograph".into(),
-            value,
-            reason: reason.replace("the real-time window follows", "give"),
-        },
-        other => other,
-    })?;
-    match &case.pantographs[i] {
-        PantographCase::Lumped {
-            masses_kg,
-            stiffness_n_per_m,
-            damping_ns_per_m,
-            uplift_n,
-            uplift_by_height,
-            aero_coeffs_kmh,
-            ..
-        } => Ok((
-            pantograph_name(case, i),
-            crate::model::pantograph::Lumped {
-                masses_kg: masses_kg.clone(),
-                stiffness_n_per_m: stiffness_n_per_m.clone(),
-                damping_ns_per_m: damping_ns_per_m.clone(),
-                uplift_n: *uplift_n,
-                uplift_by_height: uplift_by_height.as_ref().map(|t| {
-                    crate::model::pantograph::UpliftTable {
-                        height_m: t.height_m.clone(),
-                        uplift_n: t.uplift_n.clone(),
-                    }
-                }),
-                aero_coeffs_kmh: aero_coeffs_kmh.clone(),
-            },
-        )),
-        PantographCase::MovingForce { .. } => Err(CaseError::Invalid {
+    let i = pantograph_index(case, which, "pantograph", "give")?;
+    match model::lumped_chain(&case.pantographs[i], 1.0) {
+        Some(chain) => Ok((pantograph_name(case, i), chain)),
+        None => Err(CaseError::Invalid {
             field: format!("pantographs[{i}].kind"),
             value: "moving_force".into(),
             reason: "a moving force has no masses, springs or dampers: no frequency response"

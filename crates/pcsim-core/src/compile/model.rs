@@ -276,6 +276,34 @@ pub(crate) fn default_name(name: &str, i: usize) -> String {
 }
 
 /// The pantographs of a case, and one contact per pantograph and contact wire.
+/// The chain of a lumped pantograph of the case (none for a moving force), its static forces
+/// (the uplift and its table against height) times `uplift_factor`.
+pub(crate) fn lumped_chain(p: &PantographCase, uplift_factor: f64) -> Option<Lumped> {
+    let PantographCase::Lumped {
+        masses_kg,
+        stiffness_n_per_m,
+        damping_ns_per_m,
+        uplift_n,
+        uplift_by_height,
+        aero_coeffs_kmh,
+        ..
+    } = p
+    else {
+        return None;
+    };
+    Some(Lumped {
+        masses_kg: masses_kg.clone(),
+        stiffness_n_per_m: stiffness_n_per_m.clone(),
+        damping_ns_per_m: damping_ns_per_m.clone(),
+        uplift_n: *uplift_n * uplift_factor,
+        uplift_by_height: uplift_by_height.as_ref().map(|t| UpliftTable {
+            height_m: t.height_m.clone(),
+            uplift_n: t.uplift_n.iter().map(|f| f * uplift_factor).collect(),
+        }),
+        aero_coeffs_kmh: aero_coeffs_kmh.clone(),
+    })
+}
+
 fn pantographs(
     case: &Case,
     contact_wires: &[usize],
@@ -295,14 +323,9 @@ fn pantographs(
                 PantographCase::Lumped {
                     name,
                     offset_m,
-                    masses_kg,
-                    stiffness_n_per_m,
-                    damping_ns_per_m,
-                    uplift_n,
-                    uplift_by_height,
-                    aero_coeffs_kmh,
                     head_half_width_m,
                     working_half_width_m,
+                    ..
                 } => (
                     {
                         head = *head_half_width_m;
@@ -310,21 +333,9 @@ fn pantographs(
                         name
                     },
                     offset_m,
-                    PantographKind::Lumped(Lumped {
-                        masses_kg: masses_kg.clone(),
-                        stiffness_n_per_m: stiffness_n_per_m.clone(),
-                        damping_ns_per_m: damping_ns_per_m.clone(),
-                        uplift_n: *uplift_n * case.run.uplift_factor(),
-                        uplift_by_height: uplift_by_height.as_ref().map(|t| UpliftTable {
-                            height_m: t.height_m.clone(),
-                            uplift_n: t
-                                .uplift_n
-                                .iter()
-                                .map(|f| f * case.run.uplift_factor())
-                                .collect(),
-                        }),
-                        aero_coeffs_kmh: aero_coeffs_kmh.clone(),
-                    }),
+                    PantographKind::Lumped(
+                        lumped_chain(p, case.run.uplift_factor()).expect("a lumped pantograph"),
+                    ),
                     ContactLaw::Penalty {
                         stiffness_n_per_m: case.contact.stiffness_n_per_m,
                     },
