@@ -528,3 +528,19 @@ def test_issue_39_9_a_missing_path_is_not_read_as_toml_text(tmp_path):
     for given in (crit, str(crit), crit.read_text()):
         rows = {r["id"]: r for r in pcsim.assess(res, criteria=given)["rows"]}
         assert rows["mine"]["verdict"] == "met"
+
+
+def test_issue_41_a_line_with_every_physics_and_a_curve_runs_as_the_cli(tmp_path):
+    """examples/cases/line-3d-everything.toml (a line, 3D, a crosswind, ice, irregularity and a
+    curve): Python's statistics are the CLI's exactly, with the curve and the wind reported."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    path = os.path.join(here, "..", "..", "..", "examples", "cases", "line-3d-everything.toml")
+    res = pcsim.run(pcsim.Case.from_file(path))
+    out = str(tmp_path / "cli")
+    subprocess.run([PCSIM, "run", path, "--quiet", "--out", out], check=True,
+                   stdout=subprocess.DEVNULL)
+    with open(os.path.join(out, "summary.json")) as f:
+        cli = json.load(f)
+    assert res.summary["pantographs"][0]["stats"] == cli["pantographs"][0]["stats"]
+    assert res.summary["curve"] == cli["curve"] and res.summary["wind"] == cli["wind"]
+    assert res.summary["curve"]["sections"]

@@ -157,8 +157,16 @@ fn run_duration_s(case: &Case) -> f64 {
 /// wire: wire `2k + i`, on its own diameters and coefficients where a tension length overrides
 /// its wires): the mean wind at each wire's height, the aerodynamic coefficients, the
 /// linearised aerodynamic damping and the generated turbulence on one grid along the whole line
-/// (an overlap's two tension lengths feel the same field).
-fn wind_load(case: &Case, iced: &Iced, placed: &Placed) -> Option<WindLoad> {
+/// (an overlap's two tension lengths feel the same field). On a curved track the wind keeps its
+/// direction while the track turns: its part normal to the track at each grid point is
+/// `sin(ψ − θ(x))` ([`curve_normals`]), and each wire's damping is linearised about its mean
+/// normal speed over the wire's extent.
+fn wind_load(
+    case: &Case,
+    iced: &Iced,
+    placed: &Placed,
+    geometry: Option<&LateralGeometry>,
+) -> Option<WindLoad> {
     let wd = case.wind.as_ref()?;
     let c = &case.catenary;
     let lat = c.lateral.as_ref()?;
@@ -169,8 +177,21 @@ fn wind_load(case: &Case, iced: &Iced, placed: &Placed) -> Option<WindLoad> {
     };
     let normal = wd.yaw_deg.to_radians().sin().abs();
     let rho = wd.air_density_kg_m3;
+    let n_grid = (length_m / wd.grid_m).floor() as usize;
+    let xs: Vec<f64> = (1..n_grid)
+        .map(|g| g as f64 * wd.grid_m)
+        .filter(|&x| x < length_m - 1e-9)
+        .collect();
+    let curve = geometry.filter(|g| g.curved());
+    let normal_by_grid = curve.map_or_else(Vec::new, |g| curve_normals(g, wd.yaw_deg, &xs));
     let mut wires = Vec::new();
     for (k, tl) in placed.tls.iter().enumerate() {
+        // The mean normal fraction over the tension length's extent (its end supports).
+        let extent = (tl.supports_m.first(), tl.supports_m.last());
+        let damped = match (curve, extent) {
+            (Some(g), (Some(&a), Some(&b))) => mean_abs_normal(g, wd.yaw_deg, a, b),
+            _ => normal,
+        };
         // A `[catenary]`'s wires are `iced`'s; a line's tension length carries its own.
         let tl_iced;
         let (ck, diam) = if case.line.is_none() {
@@ -188,23 +209,26 @@ fn wind_load(case: &Case, iced: &Iced, placed: &Placed) -> Option<WindLoad> {
             let d = diam[i];
             let (cd, cl, cm) = aero.at(0.0);
             let (_, dcl, dcm) = aero.slopes_at_zero();
-            let u = normal
-                * mean_at_height(
-                    wd.mean_speed_m_s,
-                    wd.reference_height_m,
-                    heights[i],
-                    &profile,
-                );
+            let along = mean_at_height(
+                wd.mean_speed_m_s,
+                wd.reference_height_m,
+                heights[i],
+                &profile,
+            );
+            let u = normal * along;
+            // The speed the wire's motion is linearised about (`u` on a straight track).
+            let ud = if curve.is_some() { damped * along } else { u };
             wires.push(WireWind {
                 wire: 2 * k + i,
                 height_m: heights[i],
                 mean_normal_m_s: u,
+                mean_along_m_s: along,
                 lateral_m: d * cd,
                 vertical_m: d * cl,
                 torsional_m2: d * d * cm,
-                damping_lateral: rho * d * cd * u,
-                damping_vertical: 0.5 * rho * d * u * (dcl + cd),
-                damping_torsional: torsional_aero_damping(rho, d, u, dcm),
+                damping_lateral: rho * d * cd * ud,
+                damping_vertical: 0.5 * rho * d * ud * (dcl + cd),
+                damping_torsional: torsional_aero_damping(rho, d, ud, dcm),
             });
         }
     }
@@ -215,11 +239,6 @@ fn wind_load(case: &Case, iced: &Iced, placed: &Placed) -> Option<WindLoad> {
         lat.contact_wire_height_m,
         &profile,
     );
-    let n_grid = (length_m / wd.grid_m).floor() as usize;
-    let xs: Vec<f64> = (1..n_grid)
-        .map(|g| g as f64 * wd.grid_m)
-        .filter(|&x| x < length_m - 1e-9)
-        .collect();
     let duration = run_duration_s(case) + 2.0 * wd.dt_s;
     let spectrum = match wd.spectrum {
         Spectrum::Kaimal { integral_length_m } => Some(SpectrumModel::Kaimal {
@@ -251,6 +270,7 @@ fn wind_load(case: &Case, iced: &Iced, placed: &Placed) -> Option<WindLoad> {
         air_density_kg_m3: rho,
         normal_fraction: normal,
         wires,
+        normal_by_grid,
         field,
         grid_m: wd.grid_m,
         report: WindReport {
@@ -263,6 +283,34 @@ fn wind_load(case: &Case, iced: &Iced, placed: &Placed) -> Option<WindLoad> {
             turbulence_intensity_achieved: achieved,
         },
     })
+}
+
+/// The wind's yaw as seen from the positive-stagger side, rad: the side folded as on a
+/// straight track (the normal part `|sin ψ|` toward positive stagger), the along-track part
+/// kept (`cos ψ`).
+fn folded_yaw_rad(yaw_deg: f64) -> f64 {
+    let psi = yaw_deg.to_radians();
+    psi.sin().abs().atan2(psi.cos())
+}
+
+/// The part of the wind normal to a curved track at each of the points `xs`, `sin(ψ − θ(x))`:
+/// the wind keeps the direction it has at the first support (yaw `ψ` there, folded to blow
+/// toward positive stagger) while the track turns by `θ(x)` ([`LateralGeometry::turn_rad`]).
+fn curve_normals(g: &LateralGeometry, yaw_deg: f64, xs: &[f64]) -> Vec<f64> {
+    let psi = folded_yaw_rad(yaw_deg);
+    xs.iter().map(|&x| (psi - g.turn_rad(x)).sin()).collect()
+}
+
+/// The mean of `|sin(ψ − θ(x))|` over `[a, b]` (midpoints of 1 m or finer cells): the normal
+/// speed a wire's aerodynamic damping is linearised about on a curve.
+fn mean_abs_normal(g: &LateralGeometry, yaw_deg: f64, a: f64, b: f64) -> f64 {
+    let psi = folded_yaw_rad(yaw_deg);
+    let cells = ((b - a).abs().ceil() as usize).clamp(1, 100_000);
+    let h = (b - a) / cells as f64;
+    (0..cells)
+        .map(|i| (psi - g.turn_rad(a + (i as f64 + 0.5) * h)).sin().abs())
+        .sum::<f64>()
+        / cells as f64
 }
 
 pub(crate) fn default_name(name: &str, i: usize) -> String {
@@ -417,11 +465,11 @@ pub fn model_from_validated(
     // the ice's weight is a steady load on that geometry (it lowers the wires, solved in the
     // start state, `solve::equilibrium`).
     let placed = place(case)?;
-    let wind = wind_load(case, &iced, &placed);
+    let (registrations, geometry) = build_registrations(case, &iced.catenary, &placed, &dirs);
+    let wind = wind_load(case, &iced, &placed, geometry.as_ref());
     let wires = build_wires(case, &iced, &placed, wind.as_ref(), &dirs);
     warnings.extend(wind_warnings(wind.as_ref(), &wires, &dirs));
     let points = build_point_elements(&placed, &iced.catenary, &dirs);
-    let (registrations, geometry) = build_registrations(case, &iced.catenary, &placed, &dirs);
     let (pans, contacts) = build_pantographs(case, &placed, &iced.catenary, &dirs);
     // The registration of every element kind, in the order their forces are evaluated.
     let mut elements: Vec<Box<dyn PointElement>> = vec![

@@ -134,6 +134,33 @@ impl LateralGeometry {
         }
     }
 
+    /// The track's turn from its direction at the first support to its direction at track
+    /// position `x`, rad: `θ(x) = ∫ κ ds` from the first support, each span on its own
+    /// curvature (positive: toward positive stagger); before the first support and beyond the
+    /// last, the end spans' curvatures continue.
+    pub fn turn_rad(&self, x: f64) -> f64 {
+        let n = self.curvature_per_m.len();
+        if n == 0 || self.supports_m.is_empty() {
+            return 0.0;
+        }
+        let s0 = self.supports_m[0];
+        let mut theta = 0.0;
+        let mut from = s0;
+        for i in 0..n {
+            let to = self.span_start(i) + self.span_len(i);
+            let k = self.curvature_per_m[i];
+            if x <= to || i + 1 == n {
+                let lo = if i == 0 { x.min(from) } else { from };
+                let hi = if i == 0 && x < from { from } else { x };
+                let sign = if i == 0 && x < from { -1.0 } else { 1.0 };
+                return theta + sign * k * (hi - lo);
+            }
+            theta += k * (to - from);
+            from = to;
+        }
+        theta
+    }
+
     /// Whether the track curves anywhere.
     pub fn curved(&self) -> bool {
         self.curvature_per_m.iter().any(|&k| k != 0.0)

@@ -32,8 +32,12 @@ pub struct WireWind {
     pub wire: usize,
     /// Height above the rail, m.
     pub height_m: f64,
-    /// Mean wind normal to the track at the wire's height, m/s.
+    /// Mean wind normal to the track at the wire's height, m/s (on a curve, at the first
+    /// support).
     pub mean_normal_m_s: f64,
+    /// Mean wind at the wire's height along the wind, m/s (a curve's normal part is
+    /// `WindLoad::normal_by_grid` times it).
+    pub mean_along_m_s: f64,
     /// Per-length load coefficients on `½ρ V|V|`: lateral `d C_D`, vertical `d C_L`, torsional
     /// `d² C_M` (ice included in `d`).
     pub lateral_m: f64,
@@ -58,6 +62,10 @@ pub struct WindLoad {
     pub normal_fraction: f64,
     /// The wind on every loaded wire.
     pub wires: Vec<WireWind>,
+    /// On a curved track, the part of the wind normal to the track at each grid point,
+    /// `sin(ψ − θ(x))` with `ψ` the yaw at the first support and `θ(x)` the track's turn
+    /// since it; empty on a straight track (`normal_fraction` everywhere).
+    pub normal_by_grid: Vec<f64>,
     /// Along-wind fluctuation on the grid (model coordinates).
     pub field: WindField,
     /// Length of line each grid point stands for, m.
@@ -108,20 +116,56 @@ impl WindLoad {
     pub fn pressure_quadratic(&self, w: usize, u0: f64, u1: f64) -> Option<[f64; 3]> {
         let v0 = self.wires[w].mean_normal_m_s + self.normal_fraction * u0;
         let v1 = self.wires[w].mean_normal_m_s + self.normal_fraction * u1;
+        Self::quadratic(self.air_density_kg_m3, v0, v1)
+    }
+
+    /// `½ρ V|V|` along a normal wind linear from `v0` to `v1`, as a quadratic in the fraction
+    /// (see [`Self::pressure_quadratic`]).
+    fn quadratic(rho: f64, v0: f64, v1: f64) -> Option<[f64; 3]> {
         if v0 * v1 < 0.0 {
             return None;
         }
         let dv = v1 - v0;
         let half_rho = if v0 < 0.0 || (v0 == 0.0 && v1 < 0.0) {
-            -0.5 * self.air_density_kg_m3
+            -0.5 * rho
         } else {
-            0.5 * self.air_density_kg_m3
+            0.5 * rho
         };
         Some([
             half_rho * v0 * v0,
             half_rho * 2.0 * v0 * dv,
             half_rho * dv * dv,
         ])
+    }
+
+    /// [`Self::pressure`] at grid point `g`: on a curved track the normal wind there,
+    /// `V = sin(ψ − θ(x_g)) (U + u')`, the same law; on a straight track `pressure(w, u')`.
+    #[inline]
+    pub fn pressure_at(&self, w: usize, g: usize, u_prime: f64) -> f64 {
+        match self.normal_by_grid.get(g) {
+            None => self.pressure(w, u_prime),
+            Some(&s) => {
+                let v = s * (self.wires[w].mean_along_m_s + u_prime);
+                0.5 * self.air_density_kg_m3 * v * v.abs()
+            }
+        }
+    }
+
+    /// The mean of [`Self::pressure_at`] at grid point `g` (`u' = 0`).
+    pub fn mean_pressure_at(&self, w: usize, g: usize) -> f64 {
+        self.pressure_at(w, g, 0.0)
+    }
+
+    /// [`Self::pressure_quadratic`] at grid point `g` (on a curved track, with the normal
+    /// wind of that point).
+    pub fn pressure_quadratic_at(&self, w: usize, g: usize, u0: f64, u1: f64) -> Option<[f64; 3]> {
+        match self.normal_by_grid.get(g) {
+            None => self.pressure_quadratic(w, u0, u1),
+            Some(&s) => {
+                let a = self.wires[w].mean_along_m_s;
+                Self::quadratic(self.air_density_kg_m3, s * (a + u0), s * (a + u1))
+            }
+        }
     }
 
     /// The same load in a window starting at `origin_m` (grid points inside it only).
@@ -137,6 +181,9 @@ impl WindLoad {
             u.extend_from_slice(self.field.series(j));
         }
         Self {
+            normal_by_grid: (keep.iter())
+                .filter_map(|&j| self.normal_by_grid.get(j).copied())
+                .collect(),
             field: WindField {
                 x_m: keep.iter().map(|&j| self.field.x_m[j] - origin_m).collect(),
                 u,
@@ -158,6 +205,7 @@ impl WindLoad {
                 wire,
                 height_m: 0.0,
                 mean_normal_m_s: q_n_per_m.signum() * q_n_per_m.abs().sqrt(),
+                mean_along_m_s: q_n_per_m.signum() * q_n_per_m.abs().sqrt(),
                 lateral_m: 1.0,
                 vertical_m: 0.0,
                 torsional_m2: 0.0,
@@ -165,6 +213,7 @@ impl WindLoad {
                 damping_vertical: 0.0,
                 damping_torsional: 0.0,
             }],
+            normal_by_grid: Vec::new(),
             field: WindField::calm(&[], 1.0),
             grid_m: 1.0,
             report: WindReport {

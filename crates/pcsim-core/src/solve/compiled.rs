@@ -111,8 +111,13 @@ pub(crate) struct WindPart {
     pub(crate) ng: usize,
     /// (local wire slot in this part's `wind_q`, block offset in the state, coefficient `d C`).
     pub(crate) blocks: Vec<(usize, usize, f64)>,
-    /// The mean load's generalised "pressure" of every loaded wire, `P̄ ∫ sin(κ_k x) dx`.
+    /// The mean load's generalised force on every loaded wire: `P̄ ∫ sin(κ_k x) dx` with `P̄`
+    /// the mean pressure at the group's first support, plus on a curved track the scatter of
+    /// each grid point's own mean pressure less `P̄`.
     pub(crate) mean: Vec<f64>,
+    /// Each grid point's mean pressure per loaded wire (`k·ng`; all `P̄` on a straight track):
+    /// the step's fluctuation is taken about it.
+    pub(crate) p_mean: Vec<f64>,
     /// Where this part's pressures (`k·ng`), forces (`k·n`) and interval forces (`3·k·n`)
     /// start in the workspace's `wind_p`, `wind_q` and `wind_c`.
     pub(crate) p_off: usize,
@@ -146,13 +151,13 @@ impl WindPart {
         let kn = self.k * self.n;
         for order in 0..3 {
             for (s, &slot) in self.slots.iter().enumerate() {
-                let p0 = wl.mean_pressure(slot);
+                let p0 = &self.p_mean[s * self.ng..(s + 1) * self.ng];
                 for (gi, &g) in self.grid.iter().enumerate() {
                     let (u0, u1) = wl.field.ends(g, interval);
-                    let Some(q) = wl.pressure_quadratic(slot, u0, u1) else {
+                    let Some(q) = wl.pressure_quadratic_at(slot, g, u0, u1) else {
                         return false;
                     };
-                    let v = if order == 0 { q[0] - p0 } else { q[order] };
+                    let v = if order == 0 { q[0] - p0[gi] } else { q[order] };
                     p[s * self.ng + gi] = v * wl.grid_m;
                 }
             }
@@ -178,9 +183,10 @@ impl WindPart {
         scr: &mut SamplerScratch,
     ) {
         for (s, &slot) in self.slots.iter().enumerate() {
-            let p0 = wl.mean_pressure(slot);
+            let p0 = &self.p_mean[s * self.ng..(s + 1) * self.ng];
             for (gi, &g) in self.grid.iter().enumerate() {
-                p[s * self.ng + gi] = (wl.pressure(slot, wl.field.at(g, t)) - p0) * wl.grid_m;
+                p[s * self.ng + gi] =
+                    (wl.pressure_at(slot, g, wl.field.at(g, t)) - p0[gi]) * wl.grid_m;
             }
         }
         q.copy_from_slice(&self.mean);
@@ -1299,8 +1305,24 @@ fn wind_step(model: &Model, isa: Isa) -> Result<Option<WindStep>, CaseError> {
             }
         }
         let ng = xs.len();
+        let sampler = PointSampler::new(&basis, &xs, model.span_m, isa);
+        let mut p_mean = Vec::with_capacity(k * ng);
+        for &slot in &slots {
+            p_mean.extend(grid.iter().map(|&g| wl.mean_pressure_at(slot, g)));
+        }
+        if !wl.normal_by_grid.is_empty() {
+            // A curve: each grid point's own mean less the uniform part already projected.
+            let mut dp = p_mean.clone();
+            for (s, &slot) in slots.iter().enumerate() {
+                let p0 = wl.mean_pressure(slot);
+                for v in &mut dp[s * ng..(s + 1) * ng] {
+                    *v = (*v - p0) * wl.grid_m;
+                }
+            }
+            sampler.scatter_add(&dp, k, &mut mean, &mut sampler.scratch());
+        }
         parts.push(WindPart {
-            sampler: PointSampler::new(&basis, &xs, model.span_m, isa),
+            sampler,
             slots,
             grid,
             k,
@@ -1308,6 +1330,7 @@ fn wind_step(model: &Model, isa: Isa) -> Result<Option<WindStep>, CaseError> {
             ng,
             blocks,
             mean,
+            p_mean,
             p_off,
             q_off,
             c_off,

@@ -127,6 +127,10 @@ fn geometries() -> Vec<(&'static str, Case)> {
             "line, 3D, curve, ice, irregularity",
             rough(iced(curved_line(line3d()))),
         ),
+        (
+            "line, 3D, crosswind, curve, ice, irregularity",
+            rough(iced(curved_line(windy(line3d())))),
+        ),
     ]
 }
 

@@ -269,13 +269,6 @@ pub(super) fn lateral_geometry(case: &Case, w: &mut Vec<Warning>) -> Result<(), 
 fn curve(case: &Case, l: &LateralCase, w: &mut Vec<Warning>) -> Result<(), CaseError> {
     let (c, f) = (&case.catenary, |k: &str| format!("catenary.lateral.{k}"));
     if let Some(r) = l.track_radius_m {
-        if case.wind.is_some() {
-            return Err(inv(
-                "wind",
-                "given",
-                "a crosswind on a curved track is not modelled: the wind's angle to the track turns along the curve, and pcsim takes the wind normal to the track everywhere (remove [wind] or catenary.lateral.track_radius_m)",
-            ));
-        }
         if !r.is_finite() {
             return Err(inv(&f("track_radius_m"), num(r), "must be a finite number"));
         }

@@ -451,13 +451,6 @@ fn line_lateral(case: &Case, line: &LineCase, w: &mut Vec<Warning>) -> Result<()
                 if lat.is_none() {
                     return Err(inv(&f("track_radius_m"), num(r), needs));
                 }
-                if case.wind.is_some() {
-                    return Err(inv(
-                        &f("track_radius_m"),
-                        num(r),
-                        "a crosswind on a curved track is not modelled: the wind's angle to the track turns along the curve, and pcsim takes the wind normal to the track everywhere (remove [wind] or the run's track_radius_m)",
-                    ));
-                }
                 if !r.is_finite() {
                     return Err(inv(&f("track_radius_m"), num(r), "must be a finite number"));
                 }
@@ -541,14 +534,19 @@ fn line_lateral(case: &Case, line: &LineCase, w: &mut Vec<Warning>) -> Result<()
             if ca != cb {
                 return Err(inv(
                     &format!("line.tension_lengths[{}].span_runs", k + 1),
-                    format!("radius {:?} m, cant {} m", cb.0, cb.1),
+                    format!("{}, cant {} m", radius_text(cb.0), cb.1),
                     &format!(
-                        "span {j} of overlap {k} is shared with tension length {k}, which puts it on radius {:?} m, cant {} m: an overlap's spans lie on one track",
-                        ca.0, ca.1
+                        "span {j} of overlap {k} is shared with tension length {k}, which puts it on {}, cant {} m: an overlap's spans lie on one track",
+                        radius_text(ca.0), ca.1
                     ),
                 ));
             }
         }
     }
     Ok(())
+}
+
+/// A run's radius as a sentence names it: `radius 4000 m`, or `straight track`.
+fn radius_text(r: Option<f64>) -> String {
+    r.map_or_else(|| "straight track".into(), |r| format!("radius {r} m"))
 }
