@@ -544,3 +544,24 @@ def test_issue_41_a_line_with_every_physics_and_a_curve_runs_as_the_cli(tmp_path
     assert res.summary["pantographs"][0]["stats"] == cli["pantographs"][0]["stats"]
     assert res.summary["curve"] == cli["curve"] and res.summary["wind"] == cli["wind"]
     assert res.summary["curve"]["sections"]
+
+
+def test_issue_43_1_a_two_strip_pantograph_runs_as_the_cli(tmp_path):
+    """The preset with two collector strips: Python's summary (each strip's statistics) and its
+    per-strip force columns are the CLI's; the strips' forces sum to the pantograph's."""
+    case = pcsim.Case.preset("benchmark-55m-two-strips")
+    res = pcsim.run(case)
+    summary, rows = cli_run(case, str(tmp_path / "cli"))
+    assert res.summary["pantographs"][0]["strips"] == summary["pantographs"][0]["strips"]
+    assert len(res.summary["pantographs"][0]["strips"]) == 2
+    header = rows[0]
+    for k in (1, 2):
+        col = f"leading_strip{k}_force_n"
+        assert col in header
+        got = res.timeseries[col]
+        want = [float(r[header.index(col)]) for r in rows[1:]]
+        assert len(got) == len(want)
+        assert all(abs(a - b) <= 5e-5 for a, b in zip(got, want))
+    total = res.timeseries["leading_force_n"]
+    both = res.timeseries["leading_strip1_force_n"] + res.timeseries["leading_strip2_force_n"]
+    assert float(abs(total - both).max()) <= 1e-3

@@ -276,6 +276,14 @@ fn print_run(case: &pcsim_core::Case, out: &RunOutput, summary: &Summary, wall: 
             ),
             None => println!("  {:<10} did not cross the analysis section", p.name),
         }
+        for (k, st) in p.strips.iter().enumerate() {
+            if let Some(s) = &st.stats {
+                println!(
+                    "  {:<10} strip {} ({:+.2} m): Fm {:6.1} N  σ {:5.1} N  max {:6.1}  min {:6.1}  loss {:.2} %",
+                    "", k + 1, st.along_m, s.mean_n, s.std_n, s.actual_max_n, s.actual_min_n, s.loss_of_contact_percent
+                );
+            }
+        }
         if let Some(s) = &p.stats {
             if let (Some(lat), Some(bo)) = (s.max_lateral_offset_mm, s.max_contact_wire_blowout_mm)
             {

@@ -257,7 +257,7 @@ pub fn system_energy(cm: &CompiledModel, st: &State, ws: &mut Workspace) -> Ener
     for (p, pan) in m.pantographs.iter().enumerate() {
         if let PantographKind::Lumped(l) = &pan.kind {
             let r = cm.pantograph_dofs(p);
-            let (kin, pot, ext) = l.energy(
+            let (kin, pot, ext) = l.energy_all(
                 &st.pantographs.u[r.clone()],
                 &st.pantographs.v[r],
                 cm.speed_kmh(),
@@ -286,7 +286,7 @@ pub fn dissipation_rate(cm: &CompiledModel, st: &State, ws: &mut Workspace) -> f
     }
     for (p, pan) in m.pantographs.iter().enumerate() {
         if let PantographKind::Lumped(l) = &pan.kind {
-            d += l.dissipation(&st.pantographs.v[cm.pantograph_dofs(p)]);
+            d += l.dissipation_all(&st.pantographs.v[cm.pantograph_dofs(p)]);
         }
     }
     d

@@ -384,6 +384,13 @@ impl CostFunction for Problem<'_> {
 /// Fit the chain of `start` (its number of masses, its values as the start and the centre of
 /// the bounds) to `measured`.
 pub fn fit(start: &Lumped, measured: &Response) -> Result<Fit, CaseError> {
+    if !start.strips.is_empty() {
+        return Err(inv(
+            "pantographs.strips",
+            format!("{} strips", start.strips.len()),
+            "the fit identifies a chain of masses: give the starting pantograph without strips (its head as one mass); a head of strips is not fitted",
+        ));
+    }
     let x0 = params(start);
     let np = x0.len();
     if let Some(i) = x0.iter().position(|&v| !(v.is_finite() && v > 0.0)) {

@@ -46,6 +46,20 @@ pub struct PantographTrace {
     pub wire_forces: Vec<(String, Vec<f64>)>,
     /// The passage through each overlap of a line, in track order (those passed).
     pub overlaps: Vec<OverlapStats>,
+    /// Per collector strip (issue 43; empty for a head without strips): its place on the head
+    /// and its own contact force with its statistics (the pantograph's are the sum's).
+    pub strips: Vec<StripTrace>,
+}
+
+/// One collector strip's contact through a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StripTrace {
+    /// Where its contact point is ahead of the pantograph's position, m.
+    pub along_m: f64,
+    /// Its raw contact force on every contact wire together, N.
+    pub force_n: Vec<f64>,
+    /// EN 50318 statistics of its force over the analysis section.
+    pub stats: Option<ContactStats>,
 }
 
 /// Everything a run produced.
@@ -158,6 +172,11 @@ pub struct Recorder {
     dt_s: f64,
     /// Per pantograph with several contact wires: the force on each, by step.
     wire_force: Vec<Vec<Vec<f64>>>,
+    /// Per pantograph with several contact wires: each wire's contact points (indices into
+    /// its `contact_points`, one per collector strip), in the order of their first.
+    wire_points: Vec<Vec<Vec<usize>>>,
+    /// Per pantograph: each collector strip's force, by step.
+    strip_force: Vec<Vec<Vec<f64>>>,
     /// Per pantograph: its passage through each overlap.
     overlaps: Vec<Vec<OverlapStats>>,
     /// Per pantograph with several contact wires: the gap of the nearest idle wire above the
@@ -201,8 +220,28 @@ impl Recorder {
         }
         let lateral = cm.model().has(Direction::Lateral);
         let twist = lateral && cm.model().has(Direction::Torsional);
-        let wire_force = (0..np)
-            .map(|p| vec![Vec::with_capacity(n_steps); cm.contact_points(p).len()])
+        // A pantograph's contact points by wire (its strips' points on one wire together).
+        let wire_points: Vec<Vec<Vec<usize>>> = (0..np)
+            .map(|p| {
+                let mut groups: Vec<(usize, Vec<usize>)> = Vec::new();
+                for (k, &mi) in cm.contact_points(p).iter().enumerate() {
+                    let w = cm.moving_wire(mi);
+                    match groups.iter_mut().find(|(g, _)| *g == w) {
+                        Some((_, ks)) => ks.push(k),
+                        None => groups.push((w, vec![k])),
+                    }
+                }
+                if groups.len() < 2 {
+                    groups.clear();
+                }
+                groups.into_iter().map(|(_, ks)| ks).collect()
+            })
+            .collect();
+        let wire_force = (wire_points.iter())
+            .map(|g: &Vec<Vec<usize>>| vec![Vec::with_capacity(n_steps); g.len()])
+            .collect();
+        let strip_force = (cm.model().pantographs.iter())
+            .map(|p| vec![Vec::with_capacity(n_steps); p.strips().len()])
             .collect();
         let overlaps = vec![
             cm.model()
@@ -215,6 +254,8 @@ impl Recorder {
         Recorder {
             idle_gap: vec![Vec::new(); np],
             wire_force,
+            wire_points,
+            strip_force,
             overlaps,
             time: Vec::with_capacity(n_steps),
             pos: vec![Vec::with_capacity(n_steps); np],
@@ -297,6 +338,22 @@ impl Recorder {
                     s.min_head_margin_mm = l.min_head_margin_mm;
                     s.max_contact_wire_blowout_mm = Some(self.blowout * 1e3);
                 }
+                // Each strip's force and statistics, on the pantograph's positions and heights.
+                let strips = (pan.strips().iter())
+                    .zip(std::mem::take(&mut self.strip_force[p]))
+                    .map(|(st, force_n)| StripTrace {
+                        along_m: st.along_m,
+                        stats: contact_stats(
+                            &force_n,
+                            &self.pos[p],
+                            &self.height[p],
+                            dt,
+                            self.analysis_m,
+                            self.uplift[p],
+                        ),
+                        force_n,
+                    })
+                    .collect();
                 PantographTrace {
                     name: pan.name.clone(),
                     position_m: std::mem::take(&mut self.pos[p]),
@@ -309,13 +366,15 @@ impl Recorder {
                     twist_rad: std::mem::take(&mut self.twist[p]),
                     head_half_width_m: pan.head_half_width_m,
                     lateral,
-                    wire_forces: cm
-                        .contact_points(p)
-                        .iter()
+                    wire_forces: (self.wire_points[p].iter())
                         .zip(std::mem::take(&mut self.wire_force[p]))
-                        .map(|(&k, f)| (m.wires[cm.moving_wire(k)].name.clone(), f))
+                        .map(|(ks, f)| {
+                            let mi = cm.contact_points(p)[ks[0]];
+                            (m.wires[cm.moving_wire(mi)].name.clone(), f)
+                        })
                         .collect(),
                     overlaps,
+                    strips,
                 }
             })
             .collect();
@@ -412,13 +471,17 @@ impl Observer for Recorder {
             }
         }
         for (p, s) in ws.samples().iter().enumerate() {
+            for (k, f) in self.strip_force[p].iter_mut().enumerate() {
+                f.push(cm.head_force(ws, p, k));
+            }
             let pts = cm.contact_points(p);
-            if !pts.is_empty() {
+            if !self.wire_points[p].is_empty() {
                 // Several contact wires: the force on each; inside an overlap, how many carry
                 // force and how far above the contact point the nearest idle one is.
                 let (mut touching, mut gap) = (0, f64::INFINITY);
-                for (k, &mi) in pts.iter().enumerate() {
-                    let (f, h, present) = cm.moving_sample(ws, mi);
+                for (k, ks) in self.wire_points[p].iter().enumerate() {
+                    let (_, h, present) = cm.moving_sample(ws, pts[ks[0]]);
+                    let f: f64 = ks.iter().map(|&j| cm.moving_sample(ws, pts[j]).0).sum();
                     self.wire_force[p][k].push(f);
                     if f > 0.0 {
                         touching += 1;

@@ -39,6 +39,18 @@ pub struct PantographSummary {
     /// Its passage through each overlap of a line (issue 21).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub overlaps: Vec<OverlapStats>,
+    /// Each collector strip's own contact (issue 43; `stats` above are their sum's).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub strips: Vec<StripSummary>,
+}
+
+#[derive(Serialize)]
+/// One collector strip in `summary.json`: its place on the head and its force's statistics.
+pub struct StripSummary {
+    /// Where its contact point is ahead of the pantograph's position, m.
+    pub along_m: f64,
+    /// EN 50318 statistics of its own force over the analysis section.
+    pub stats: Option<ContactStats>,
 }
 
 #[derive(Serialize)]
@@ -349,6 +361,12 @@ impl RunSummary {
                     stats: p.stats,
                     lateral: p.lateral.clone(),
                     overlaps: p.overlaps.clone(),
+                    strips: (p.strips.iter())
+                        .map(|s| StripSummary {
+                            along_m: s.along_m,
+                            stats: s.stats,
+                        })
+                        .collect(),
                 })
                 .collect(),
             wind: out.wind.clone(),
@@ -416,6 +434,13 @@ pub fn timeseries_columns(out: &RunOutput) -> Vec<Column> {
         }
         for (wire, f) in &p.wire_forces {
             cols.push(col(format!("{tag}_force_on_{wire}_n"), f.clone(), 4));
+        }
+        for (k, s) in p.strips.iter().enumerate() {
+            cols.push(col(
+                format!("{tag}_strip{}_force_n", k + 1),
+                s.force_n.clone(),
+                4,
+            ));
         }
     }
     cols

@@ -251,7 +251,7 @@ pub fn lumped_pantograph(
     which: Option<&str>,
 ) -> Result<(String, crate::model::pantograph::Lumped), CaseError> {
     let i = pantograph_index(case, which, "pantograph", "give")?;
-    match model::lumped_chain(&case.pantographs[i], 1.0) {
+    match model::lumped_chain(&case.pantographs[i], 1.0, case.contact.stiffness_n_per_m) {
         Some(chain) => Ok((pantograph_name(case, i), chain)),
         None => Err(CaseError::Invalid {
             field: format!("pantographs[{i}].kind"),

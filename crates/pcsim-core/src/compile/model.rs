@@ -22,7 +22,7 @@ use crate::model::lateral::{LateralGeometry, StaggerLine};
 use crate::model::line::{
     LineStatics, SpanLayout, StitchWire, TensionLengthDesign, TensionLengthStatics,
 };
-use crate::model::pantograph::{Lumped, Pantograph, PantographKind, UpliftTable};
+use crate::model::pantograph::{Lumped, Pantograph, PantographKind, Strip, UpliftTable};
 use crate::model::statics::{
     presag_values, StaticDesign, StaticSolution, StitchDesign, StitchStatic, G,
 };
@@ -326,7 +326,11 @@ pub(crate) fn default_name(name: &str, i: usize) -> String {
 /// The pantographs of a case, and one contact per pantograph and contact wire.
 /// The chain of a lumped pantograph of the case (none for a moving force), its static forces
 /// (the uplift and its table against height) times `uplift_factor`.
-pub(crate) fn lumped_chain(p: &PantographCase, uplift_factor: f64) -> Option<Lumped> {
+pub(crate) fn lumped_chain(
+    p: &PantographCase,
+    uplift_factor: f64,
+    contact_stiffness_n_per_m: f64,
+) -> Option<Lumped> {
     let PantographCase::Lumped {
         masses_kg,
         stiffness_n_per_m,
@@ -334,6 +338,7 @@ pub(crate) fn lumped_chain(p: &PantographCase, uplift_factor: f64) -> Option<Lum
         uplift_n,
         uplift_by_height,
         aero_coeffs_kmh,
+        strips,
         ..
     } = p
     else {
@@ -349,6 +354,18 @@ pub(crate) fn lumped_chain(p: &PantographCase, uplift_factor: f64) -> Option<Lum
             uplift_n: t.uplift_n.iter().map(|f| f * uplift_factor).collect(),
         }),
         aero_coeffs_kmh: aero_coeffs_kmh.clone(),
+        strips: (strips.iter())
+            .map(|s| Strip {
+                mass_kg: s.mass_kg,
+                stiffness_n_per_m: s.stiffness_n_per_m,
+                damping_ns_per_m: s.damping_ns_per_m,
+                along_m: s.along_m,
+                height_offset_m: s.height_offset_m,
+                contact_stiffness_n_per_m: s
+                    .contact_stiffness_n_per_m
+                    .unwrap_or(contact_stiffness_n_per_m),
+            })
+            .collect(),
     })
 }
 
@@ -382,7 +399,8 @@ fn pantographs(
                     },
                     offset_m,
                     PantographKind::Lumped(
-                        lumped_chain(p, case.run.uplift_factor()).expect("a lumped pantograph"),
+                        lumped_chain(p, case.run.uplift_factor(), case.contact.stiffness_n_per_m)
+                            .expect("a lumped pantograph"),
                     ),
                     ContactLaw::Penalty {
                         stiffness_n_per_m: case.contact.stiffness_n_per_m,
@@ -403,17 +421,36 @@ fn pantographs(
                     ContactLaw::prescribed(Direction::Vertical, i, n_pans),
                 ),
             };
-            // One contact per contact wire (a line's tension lengths; in an overlap the head
-            // meets one wire, both, then the other).
-            for &wire in contact_wires {
-                contacts.push(Contact {
-                    pantograph: i,
-                    wire,
-                    dir: Direction::Vertical,
-                    law,
-                    eccentricity_m,
-                    twist,
-                });
+            // One contact per contact head (the head, or each collector strip at its place on
+            // the head, on its own penalty spring) and contact wire (a line's tension lengths;
+            // in an overlap the head meets one wire, both, then the other).
+            let heads: Vec<(f64, ContactLaw)> = match &kind {
+                PantographKind::Lumped(l) if !l.strips.is_empty() => (l.strips.iter())
+                    .map(|s| {
+                        let k = s.contact_stiffness_n_per_m;
+                        (
+                            s.along_m,
+                            ContactLaw::Penalty {
+                                stiffness_n_per_m: k,
+                            },
+                        )
+                    })
+                    .collect(),
+                _ => vec![(0.0, law)],
+            };
+            for (head, &(along_m, law)) in heads.iter().enumerate() {
+                for &wire in contact_wires {
+                    contacts.push(Contact {
+                        pantograph: i,
+                        head,
+                        along_m,
+                        wire,
+                        dir: Direction::Vertical,
+                        law,
+                        eccentricity_m,
+                        twist,
+                    });
+                }
             }
             if lateral && matches!(p, PantographCase::MovingForce { .. }) {
                 // The lateral probe, after the vertical contact (the pantograph's first moving
@@ -421,6 +458,8 @@ fn pantographs(
                 // point under the pantograph, its load after the vertical ones.
                 contacts.push(Contact {
                     pantograph: i,
+                    head: 0,
+                    along_m: 0.0,
                     wire: contact_wires[0],
                     dir: Direction::Lateral,
                     law: ContactLaw::prescribed(Direction::Lateral, i, n_pans),

@@ -111,6 +111,15 @@ pub const PANTOGRAPH_MASS: Bound = b((0.01, 1.0e4), (0.5, 100.0), "kg", "3–20 
 pub const PANTOGRAPH_STIFFNESS: Bound = b((0.0, 1.0e9), (0.0, 1.0e6), "N/m", "0–2e4 N/m");
 /// A pantograph damper, N·s/m.
 pub const PANTOGRAPH_DAMPING: Bound = b((0.0, 1.0e7), (0.0, 1.0e4), "N·s/m", "0–200 N·s/m");
+/// A collector strip's place on the head along the track, m.
+pub const STRIP_ALONG: Bound = b(
+    (-2.0, 2.0),
+    (-0.5, 0.5),
+    "m",
+    "±0.2–0.3 m (two strips 0.4–0.6 m apart)",
+);
+/// A collector strip's running face above the others', m.
+pub const STRIP_HEIGHT_OFFSET: Bound = b((-0.5, 0.5), (-0.02, 0.02), "m", "0 (strips worn alike)");
 /// A pantograph's static uplift, N.
 pub const UPLIFT: Bound = b((-1.0e4, 1.0e4), (20.0, 500.0), "N", "50–150 N");
 /// A pantograph's aerodynamic force at the run's speed, N.

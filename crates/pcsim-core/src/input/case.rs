@@ -245,6 +245,11 @@ pub enum PantographCase {
         /// Half the working range of the strip, m.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         working_half_width_m: Option<f64>,
+        /// Collector strips on the head (issue 43, item 1): each a mass on its own spring and
+        /// damper to the head, whose mass (`masses_kg[0]`) is then the head's frame, with its
+        /// own contact point along the track. None: the head mass carries the contact.
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        strips: Vec<StripCase>,
     },
     /// A constant upward force moving along the contact wire.
     MovingForce {
@@ -273,6 +278,27 @@ pub struct UpliftByHeight {
     pub height_m: Vec<f64>,
     /// The static uplift at each, N (gravity included, as `uplift_n`).
     pub uplift_n: Vec<f64>,
+}
+
+/// A collector strip of a lumped pantograph (`[[pantographs.strips]]`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StripCase {
+    /// The strip's mass, kg.
+    pub mass_kg: f64,
+    /// Its suspension's stiffness to the head's frame, N/m.
+    pub stiffness_n_per_m: f64,
+    /// Its suspension's damping, N·s/m.
+    pub damping_ns_per_m: f64,
+    /// Where its contact point is along the track, ahead of the pantograph's position, m.
+    pub along_m: f64,
+    /// Its running face's height above the other strips' at rest, m (negative: lower, as a
+    /// strip worn more than its neighbour).
+    #[serde(default)]
+    pub height_offset_m: f64,
+    /// The penalty stiffness of its contact, N/m (default: `[contact] stiffness_n_per_m`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_stiffness_n_per_m: Option<f64>,
 }
 
 impl PantographCase {

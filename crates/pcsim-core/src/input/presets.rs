@@ -27,6 +27,11 @@ pub const PRESETS: &[Preset] = &[
         toml: include_str!("../../../../presets/benchmark-55m.toml"),
     },
     Preset {
+        name: "benchmark-55m-two-strips",
+        summary: "benchmark-55m with the head as two collector strips 0.5 m apart and a height-dependent static force (guesses on the published head)",
+        toml: include_str!("../../../../presets/benchmark-55m-two-strips.toml"),
+    },
+    Preset {
         name: "stitched-2018-like",
         summary: "stitched catenary, 30 x 60 m, two pantographs 200 m apart (the paper's Table 1 set-up from public data; not EN 50318:2018)",
         toml: include_str!("../../../../presets/stitched-2018-like.toml"),

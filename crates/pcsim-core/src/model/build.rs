@@ -218,6 +218,8 @@ impl ModelBuilder {
             (0..np)
                 .map(|p| Contact {
                     pantograph: p,
+                    head: 0,
+                    along_m: 0.0,
                     wire: 0,
                     dir: Direction::Vertical,
                     law: ContactLaw::prescribed(Direction::Vertical, p, np),
@@ -226,6 +228,8 @@ impl ModelBuilder {
                 })
                 .chain((0..np).filter(|_| lateral_probe).map(|p| Contact {
                     pantograph: p,
+                    head: 0,
+                    along_m: 0.0,
                     wire: 0,
                     dir: Direction::Lateral,
                     law: ContactLaw::prescribed(Direction::Lateral, p, np),

@@ -56,13 +56,17 @@ pub(crate) struct MovingPoint {
     pub(crate) wire: usize,
     pub(crate) dir: Direction,
     pub(crate) pantograph: usize,
+    /// Its contact head among the head slots (a strip, or the pantograph's one head).
+    pub(crate) head: usize,
+    /// Where it is ahead of the pantograph's position, m.
+    pub(crate) along_m: f64,
     pub(crate) basis: SineBasis,
     pub(crate) origin_m: f64,
     pub(crate) n: usize,
     pub(crate) q_off: usize,
     pub(crate) row_off: usize,
-    /// False when an earlier moving point of the same pantograph on the same basis fills the
-    /// row (the directions of one wire share their sines).
+    /// False when an earlier moving point of the same pantograph, at the same place on it, on
+    /// the same basis fills the row (the directions of one wire share their sines).
     pub(crate) fills_row: bool,
 }
 
@@ -295,6 +299,9 @@ pub struct CompiledModel {
     pub(crate) node_u0: usize,
     pub(crate) node_v0: usize,
     pub(crate) head_u0: usize,
+    /// Per pantograph: its first contact head among the head slots (`head_u0 + head_base[p] +
+    /// s` is strip `s`'s running face).
+    pub(crate) head_base: Vec<usize>,
     pub(crate) moving_u0: usize,
     pub(crate) n_u: usize,
     pub(crate) n_v: usize,
@@ -428,6 +435,7 @@ impl CompiledModel {
             node_u0: sl.node_u0,
             node_v0: sl.node_v0,
             head_u0: sl.head_u0,
+            head_base: sl.head_base,
             moving_u0: sl.moving_u0,
             n_u: sl.n_u,
             n_v: sl.n_v,
@@ -656,6 +664,8 @@ impl CompiledModel {
         let p = mp.pantograph;
         match self.model.pantographs[p].kind {
             PantographKind::External => external[p].position_m,
+            // A strip's place on the head (0 for a head without strips: the bytes unchanged).
+            _ if mp.along_m != 0.0 => self.position(st, p) + mp.along_m,
             _ => self.position(st, p),
         }
     }
@@ -718,6 +728,13 @@ impl CompiledModel {
     pub fn moving_sample(&self, ws: &Workspace, m: usize) -> (f64, f64, bool) {
         let i = self.moving_u0 + m;
         (ws.f[i], ws.u[i], !ws.absent[i])
+    }
+
+    /// The contact force on collector strip `s` of pantograph `p` in the last step (on every
+    /// contact wire together), N: the reaction on its running face.
+    #[inline]
+    pub fn head_force(&self, ws: &Workspace, p: usize, s: usize) -> f64 {
+        0.0 - ws.f[self.head_u0 + self.head_base[p] + s]
     }
 
     /// The degrees of freedom of pantograph `p` in the pantograph arrays of the state.
@@ -795,10 +812,16 @@ impl CompiledModel {
         ws.eu[self.node_u0..self.node_u0 + nn].copy_from_slice(&st.nodes.u);
         ws.ev[self.node_u0..self.node_u0 + nn].copy_from_slice(&st.nodes.v);
         for (p, pan) in m.pantographs.iter().enumerate() {
-            if let PantographKind::Lumped(_) = pan.kind {
-                let o = self.pan_off[p];
-                ws.eu[self.head_u0 + p] = st.pantographs.u[o];
-                ws.ev[self.head_u0 + p] = st.pantographs.v[o];
+            if let PantographKind::Lumped(l) = &pan.kind {
+                let (o, h) = (self.pan_off[p], self.head_u0 + self.head_base[p]);
+                if l.strips.is_empty() {
+                    ws.eu[h] = st.pantographs.u[o];
+                    ws.ev[h] = st.pantographs.v[o];
+                }
+                for (s, strip) in l.strips.iter().enumerate() {
+                    ws.eu[h + s] = st.pantographs.u[o + s] + strip.height_offset_m;
+                    ws.ev[h + s] = st.pantographs.v[o + s];
+                }
             }
         }
         for (mi, mp) in self.moving.iter().enumerate() {
@@ -931,6 +954,8 @@ struct SlotLayout<'m> {
     node_v0: usize,
     head_u0: usize,
     head_v0: usize,
+    /// Per pantograph: its first contact head among the head slots.
+    head_base: Vec<usize>,
     moving_u0: usize,
     moving_v0: usize,
     n_u: usize,
@@ -975,10 +1000,16 @@ impl<'m> SlotLayout<'m> {
             n_v += xs.len();
         }
         let nn = model.nodes.len();
-        let np = model.pantographs.len();
+        // One head slot per contact head: a pantograph's strips, or its one head.
+        let mut head_base = Vec::with_capacity(model.pantographs.len());
+        let mut nh = 0;
+        for p in &model.pantographs {
+            head_base.push(nh);
+            nh += p.n_heads();
+        }
         let (node_u0, node_v0) = (n_u, n_v);
         let (head_u0, head_v0) = (n_u + nn, n_v + nn);
-        let (moving_u0, moving_v0) = (head_u0 + np, head_v0 + np);
+        let (moving_u0, moving_v0) = (head_u0 + nh, head_v0 + nh);
         SlotLayout {
             lay,
             groups,
@@ -988,6 +1019,7 @@ impl<'m> SlotLayout<'m> {
             node_v0,
             head_u0,
             head_v0,
+            head_base,
             moving_u0,
             moving_v0,
             n_u: moving_u0 + points.n_moving,
@@ -1074,14 +1106,16 @@ fn resolve_elements(
                         }
                     }
                     Attach::Ground => Slot::default(),
-                    Attach::Head(p) => Slot {
-                        u: (sl.head_u0 + p) as u32,
-                        v: (sl.head_v0 + p) as u32,
+                    Attach::Head { pantograph, head } => Slot {
+                        u: (sl.head_u0 + sl.head_base[pantograph] + head) as u32,
+                        v: (sl.head_v0 + sl.head_base[pantograph] + head) as u32,
                     },
                     Attach::Moving {
                         wire,
                         dir,
                         pantograph,
+                        head,
+                        along_m,
                     } => {
                         has_moving = true;
                         let b = block_of(model, wire, dir)?;
@@ -1092,6 +1126,7 @@ fn resolve_elements(
                         let shared = moving.iter().find(|o| {
                             o.fills_row
                                 && o.pantograph == pantograph
+                                && o.along_m == along_m
                                 && o.basis == basis
                                 && o.origin_m == origin_m
                         });
@@ -1106,6 +1141,8 @@ fn resolve_elements(
                             wire,
                             dir,
                             pantograph,
+                            head: sl.head_base[pantograph] + head,
+                            along_m,
                             basis,
                             origin_m,
                             n: bl.n_modes,

@@ -310,6 +310,19 @@ fn pantograph_chains(
                     )
                 })?;
                 let x = plan.start_m - pan.offset_m + plan.speed_m_s * 0.0;
+                if !l.strips.is_empty() {
+                    let y = strips_at_rest(cm, p, l, &ops, x).ok_or_else(|| {
+                        refused(
+                            ModelQuantity::PantographStiffness(p, None),
+                            format!("{:?}", l.stiffness_n_per_m),
+                            "the pantograph's head of strips has no static equilibrium (a spring of zero stiffness?)"
+                                .into(),
+                        )
+                    })?;
+                    initial_py.extend(y);
+                    chains.push(Some(ops));
+                    continue;
+                }
                 let (kn, h) = match cm.pan_point[p] {
                     Some(m) if cm.pan_points[p].is_empty() => {
                         (contact_stiffness(model, p), cm.start_height(m, x))
@@ -355,6 +368,36 @@ fn pantograph_chains(
         }
     }
     Ok((chains, initial_py))
+}
+
+/// The static equilibrium of pantograph `p`'s head of strips at position `x` on the static
+/// wire: each strip on the lowest wire present under its own contact point (on every wire at
+/// that height, their penalty springs in parallel), [`ChainOperators::static_equilibrium_strips`].
+fn strips_at_rest(
+    cm: &CompiledModel,
+    p: usize,
+    l: &crate::model::pantograph::Lumped,
+    ops: &ChainOperators,
+    x: f64,
+) -> Option<Vec<f64>> {
+    let ns = l.strips.len();
+    let (mut kn, mut h) = (vec![0.0; ns], vec![0.0; ns]);
+    for (s, strip) in l.strips.iter().enumerate() {
+        let xs = x + strip.along_m;
+        let head = cm.head_base[p] + s;
+        let present: Vec<f64> = (cm.moving.iter().enumerate())
+            .filter(|(_, mp)| mp.head == head && mp.dir == Direction::Vertical && mp.covers(xs))
+            .map(|(k, _)| cm.start_height(k, xs))
+            .collect();
+        let low = present.iter().copied().fold(f64::INFINITY, f64::min);
+        if low.is_finite() {
+            h[s] = low;
+            let at_low = present.iter().filter(|&&hh| hh <= low + 1e-9).count();
+            kn[s] = at_low as f64 * strip.contact_stiffness_n_per_m;
+        }
+    }
+    let offsets: Vec<f64> = l.strips.iter().map(|s| s.height_offset_m).collect();
+    ops.static_equilibrium_strips(&kn, &h, &offsets)
 }
 
 impl Integrator {
@@ -950,10 +993,20 @@ impl Integrator {
     fn pantograph_loads(&self, st: &State, ws: &mut Workspace) {
         let m = &self.cm.model;
         for (p, pan) in m.pantographs.iter().enumerate() {
-            ws.u[self.cm.head_u0 + p] = match pan.kind {
-                PantographKind::Lumped(_) => st.pantographs.u[self.cm.pan_off[p]],
-                _ => 0.0,
-            };
+            let h = self.cm.head_u0 + self.cm.head_base[p];
+            match &pan.kind {
+                PantographKind::Lumped(l) if l.strips.is_empty() => {
+                    ws.u[h] = st.pantographs.u[self.cm.pan_off[p]];
+                }
+                // Each strip's running face: the strip's height and its offset.
+                PantographKind::Lumped(l) => {
+                    let o = self.cm.pan_off[p];
+                    for (s, strip) in l.strips.iter().enumerate() {
+                        ws.u[h + s] = st.pantographs.u[o + s] + strip.height_offset_m;
+                    }
+                }
+                _ => ws.u[h] = 0.0,
+            }
             let np = m.pantographs.len();
             ws.loads[np + p] = match pan.kind {
                 PantographKind::MovingForce {
@@ -1100,7 +1153,9 @@ impl Integrator {
             if let Some(ops) = &self.chains[p] {
                 let r = self.cm.pantograph_dofs(p);
                 let n = ops.n;
-                let f_head = ws.f[self.cm.head_u0 + p];
+                // The wire's force on each contact head (its strips, or its one head).
+                let h0 = self.cm.head_u0 + self.cm.head_base[p];
+                let f_head = &ws.f[h0..h0 + ops.frame.max(1)];
                 let pd = &mut st.pantographs;
                 ops.accelerations(
                     &pd.u[r.clone()],

@@ -432,7 +432,7 @@ fn apply(
         if let PantographKind::Lumped(l) = &pan.kind {
             let r = cm.pantograph_dofs(p);
             let xs = &x[nm + nn + r.start..nm + nn + r.end];
-            let (_, spring, _) = l.energy(xs, &vec![0.0; xs.len()], 0.0);
+            let (_, spring, _) = l.energy_all(xs, &vec![0.0; xs.len()], 0.0);
             out.push((Part::Pantograph(p), spring));
         }
     }
@@ -485,7 +485,7 @@ fn describe(cm: &CompiledModel, shares: Vec<(Part, f64)>) -> String {
                     x_m - m.track_origin_m
                 ),
                 Attach::Node(j) => format!("at node {j} (x = {:.2} m)", m.nodes[j].x_m),
-                Attach::Head(p) | Attach::Moving { pantograph: p, .. } => {
+                Attach::Head { pantograph: p, .. } | Attach::Moving { pantograph: p, .. } => {
                     format!("under pantograph {}", m.pantographs[p].name)
                 }
                 Attach::Ground => String::new(),

@@ -309,6 +309,7 @@ fn unusual_values_are_warnings_naming_the_field() {
             aero_coeffs_kmh,
             head_half_width_m,
             working_half_width_m,
+            strips: Vec::new(),
         },
         other => other,
     };

@@ -16,6 +16,7 @@ fn chain(m: &[f64], k: &[f64], c: &[f64]) -> Lumped {
         uplift_n: 70.0,
         uplift_by_height: None,
         aero_coeffs_kmh: vec![0.0],
+        strips: Vec::new(),
     }
 }
 

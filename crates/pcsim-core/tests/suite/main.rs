@@ -31,6 +31,7 @@ mod stability;
 mod statics;
 mod steady_loads;
 mod stitched;
+mod strips;
 mod threads;
 mod uplift_height;
 mod verify;

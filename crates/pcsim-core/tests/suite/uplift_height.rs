@@ -48,6 +48,7 @@ fn issue_43_2_the_static_start_uses_the_force_at_its_own_height() {
             uplift_n: vec![137.0, 117.0, 107.0],
         }),
         aero_coeffs_kmh: vec![0.0],
+        strips: Vec::new(),
     };
     let ops = p.operators(1e-3, 250.0).unwrap();
     let kn = 50_000.0;

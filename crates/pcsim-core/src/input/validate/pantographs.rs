@@ -87,6 +87,7 @@ pub(super) fn lumped_pantograph(
         uplift_n,
         uplift_by_height,
         aero_coeffs_kmh,
+        strips,
         ..
     } = p
     else {
@@ -95,6 +96,7 @@ pub(super) fn lumped_pantograph(
     if let Some(t) = uplift_by_height {
         uplift_table(w, base, t, *uplift_n)?;
     }
+    collector_strips(w, base, strips)?;
     if masses_kg.is_empty() {
         return Err(inv(
             &format!("{base}.masses_kg"),
@@ -156,6 +158,62 @@ pub(super) fn lumped_pantograph(
         aero,
         &bounds::AERO,
     )?;
+    Ok(())
+}
+
+/// A head's collector strips: at most 8, each a mass on a spring of positive stiffness (a
+/// strip on no spring has no static position), a damper, its place on the head and its running
+/// face's height within their bounds, and its contact's own stiffness if given.
+fn collector_strips(
+    w: &mut Vec<Warning>,
+    base: &str,
+    strips: &[crate::input::case::StripCase],
+) -> Result<(), CaseError> {
+    if strips.len() > 8 {
+        return Err(inv(
+            &format!("{base}.strips"),
+            format!("{} strips", strips.len()),
+            "a head carries a few collector strips (at most 8)",
+        ));
+    }
+    for (j, s) in strips.iter().enumerate() {
+        let f = |k: &str| format!("{base}.strips[{j}].{k}");
+        check_bound(w, &f("mass_kg"), s.mass_kg, &bounds::PANTOGRAPH_MASS)?;
+        check_bound(
+            w,
+            &f("stiffness_n_per_m"),
+            s.stiffness_n_per_m,
+            &bounds::PANTOGRAPH_STIFFNESS,
+        )?;
+        if s.stiffness_n_per_m <= 0.0 {
+            return Err(inv(
+                &f("stiffness_n_per_m"),
+                s.stiffness_n_per_m,
+                "a strip rests on its spring: give it a positive stiffness",
+            ));
+        }
+        check_bound(
+            w,
+            &f("damping_ns_per_m"),
+            s.damping_ns_per_m,
+            &bounds::PANTOGRAPH_DAMPING,
+        )?;
+        check_bound(w, &f("along_m"), s.along_m, &bounds::STRIP_ALONG)?;
+        check_bound(
+            w,
+            &f("height_offset_m"),
+            s.height_offset_m,
+            &bounds::STRIP_HEIGHT_OFFSET,
+        )?;
+        if let Some(k) = s.contact_stiffness_n_per_m {
+            check_bound(
+                w,
+                &f("contact_stiffness_n_per_m"),
+                k,
+                &bounds::CONTACT_STIFFNESS,
+            )?;
+        }
+    }
     Ok(())
 }
 

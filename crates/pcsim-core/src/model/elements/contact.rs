@@ -37,11 +37,16 @@ pub enum ContactLaw {
     },
 }
 
-/// One pantograph on one contact wire.
+/// One contact head of a pantograph (its head, or one of its collector strips) on one contact
+/// wire.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Contact {
     /// Index of the pantograph.
     pub pantograph: usize,
+    /// The contact head: the collector strip's index (0 for a head without strips).
+    pub head: usize,
+    /// Where the contact point is ahead of the pantograph's position, m (a strip's place).
+    pub along_m: f64,
     /// Index of the contact wire.
     pub wire: usize,
     /// Direction of the contact (vertical).
@@ -133,12 +138,19 @@ impl PointElement for Contacts {
                 wire: c.wire,
                 dir: c.dir,
                 pantograph: c.pantograph,
+                head: c.head,
+                along_m: c.along_m,
             },
-            1 => Attach::Head(c.pantograph),
+            1 => Attach::Head {
+                pantograph: c.pantograph,
+                head: c.head,
+            },
             _ if c.twist => Attach::Moving {
                 wire: c.wire,
                 dir: Direction::Torsional,
                 pantograph: c.pantograph,
+                head: c.head,
+                along_m: c.along_m,
             },
             _ => Attach::Ground,
         }
@@ -214,6 +226,8 @@ mod tests {
     fn force_and_moment(e: f64, phi: f64) -> (f64, f64) {
         let c = Contacts(vec![Contact {
             pantograph: 0,
+            head: 0,
+            along_m: 0.0,
             wire: 0,
             dir: Direction::Vertical,
             law: ContactLaw::Penalty {

@@ -36,8 +36,9 @@ pub enum Attach {
     Node(usize),
     /// The ground: zero displacement and velocity; forces on it are dropped.
     Ground,
-    /// The point of a wire under a pantograph: it moves with the pantograph, and the height it
-    /// reads is the static profile plus the deviation.
+    /// The point of a wire under a pantograph's contact head: it moves with the pantograph,
+    /// `along_m` ahead of it (a collector strip's place on the head), and the height it reads
+    /// is the static profile plus the deviation.
     Moving {
         /// Index into `Model::wires`.
         wire: usize,
@@ -45,10 +46,19 @@ pub enum Attach {
         dir: Direction,
         /// Index of the pantograph.
         pantograph: usize,
+        /// The contact head: the strip's index (0 for a head without strips).
+        head: usize,
+        /// Where the point is ahead of the pantograph's position, m.
+        along_m: f64,
     },
-    /// The contact strip (head, first mass) of a pantograph. A prescribed load has none; its
-    /// slot then reads zero.
-    Head(usize),
+    /// A contact head of a pantograph: its running face (the head mass, or collector strip
+    /// `head`). A prescribed load has none; its slot then reads zero.
+    Head {
+        /// Index of the pantograph.
+        pantograph: usize,
+        /// The strip's index (0 for a head without strips).
+        head: usize,
+    },
 }
 
 /// An attachment resolved by the integrator: the index of its displacement (and force) and of its
@@ -127,10 +137,14 @@ impl WindowMap {
                 wire,
                 dir,
                 pantograph,
+                head,
+                along_m,
             } => self.wire_map[wire].map(|wire| Attach::Moving {
                 wire,
                 dir,
                 pantograph,
+                head,
+                along_m,
             }),
             Attach::Node(k) => self.node_map[k].map(Attach::Node),
             other => Some(other),

@@ -1,0 +1,230 @@
+//! Issue 43, item 1: collector strips. A head of strips is a set of masses on springs and
+//! dampers to the head's frame, each with its own contact point along the track and its own
+//! penalty contact. Checked exactly: one strip is the chain whose head it is; two strips at zero
+//! spacing with half the parameters each are that one strip; a strip that never touches carries
+//! exactly zero; the strips' forces sum to the pantograph's; the head's receptance by a dense
+//! solve is the chain's by its own elimination.
+
+use crate::common;
+
+use pcsim_core::input::case::{Case, PantographCase, StripCase};
+use pcsim_core::{run_case, CaseError, RunOutput};
+
+/// The en50318-2002 pantograph (head 7.2 kg on 4200 N/m and 10 N·s/m to a 15 kg frame) with its
+/// head given as `strips`, each `(share, along_m, height_offset_m)`: the share of the head's
+/// mass, spring, damper and contact stiffness.
+fn with_strips(mut c: Case, strips: &[(f64, f64, f64)]) -> Case {
+    let k_c = c.contact.stiffness_n_per_m;
+    if let PantographCase::Lumped {
+        masses_kg,
+        stiffness_n_per_m,
+        damping_ns_per_m,
+        strips: s,
+        ..
+    } = &mut c.pantographs[0]
+    {
+        let (m, k, d) = (masses_kg[0], stiffness_n_per_m[0], damping_ns_per_m[0]);
+        masses_kg.remove(0);
+        stiffness_n_per_m.remove(0);
+        damping_ns_per_m.remove(0);
+        *s = strips
+            .iter()
+            .map(|&(share, along_m, height_offset_m)| StripCase {
+                mass_kg: share * m,
+                stiffness_n_per_m: share * k,
+                damping_ns_per_m: share * d,
+                along_m,
+                height_offset_m,
+                contact_stiffness_n_per_m: Some(share * k_c),
+            })
+            .collect();
+    }
+    c
+}
+
+fn short() -> Case {
+    common::short_en50318(10, 250.0)
+}
+
+fn run(c: &Case) -> RunOutput {
+    run_case(c, &mut |_| true).unwrap()
+}
+
+/// The largest difference of two series relative to the largest magnitude of the first.
+fn apart(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let scale = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+        / scale
+}
+
+fn same_statistics(a: &RunOutput, b: &RunOutput, tol: f64, what: &str) {
+    let (sa, sb) = (
+        a.pantographs[0].stats.unwrap(),
+        b.pantographs[0].stats.unwrap(),
+    );
+    for (name, x, y) in [
+        ("mean", sa.mean_n, sb.mean_n),
+        ("std", sa.std_n, sb.std_n),
+        ("max", sa.actual_max_n, sb.actual_max_n),
+        ("min", sa.actual_min_n, sb.actual_min_n),
+        (
+            "uplift",
+            sa.max_uplift_at_support_mm,
+            sb.max_uplift_at_support_mm,
+        ),
+    ] {
+        assert!((x - y).abs() <= tol * x.abs(), "{what}, {name}: {x} vs {y}");
+    }
+}
+
+/// One strip carrying the whole head is the chain whose head it is: the contact force at every
+/// step and the statistics within 1e-9; its own force is the pantograph's.
+#[test]
+fn issue_43_1_one_strip_is_the_chain_whose_head_it_is() {
+    let chain = run(&short());
+    let one = run(&with_strips(short(), &[(1.0, 0.0, 0.0)]));
+    same_statistics(&chain, &one, 1e-9, "one strip");
+    let d = apart(&chain.pantographs[0].force_n, &one.pantographs[0].force_n);
+    assert!(d < 1e-9, "force series {d} apart");
+    assert!(chain.pantographs[0].strips.is_empty());
+    assert_eq!(one.pantographs[0].strips.len(), 1);
+    assert_eq!(
+        one.pantographs[0].strips[0].force_n,
+        one.pantographs[0].force_n
+    );
+}
+
+/// Two strips at zero spacing with half the strip parameters each (mass, spring, damper and
+/// contact stiffness) are the one strip: the pantograph's force and statistics within 1e-9, and
+/// each strip carries half of it at every step (1e-9).
+#[test]
+fn issue_43_1_two_strips_at_zero_spacing_with_half_parameters_are_one_strip() {
+    let one = run(&with_strips(short(), &[(1.0, 0.0, 0.0)]));
+    let two = run(&with_strips(short(), &[(0.5, 0.0, 0.0), (0.5, 0.0, 0.0)]));
+    same_statistics(&one, &two, 1e-9, "two half strips");
+    let f = &one.pantographs[0].force_n;
+    assert!(apart(f, &two.pantographs[0].force_n) < 1e-9);
+    let half: Vec<f64> = f.iter().map(|x| 0.5 * x).collect();
+    for s in &two.pantographs[0].strips {
+        assert!(apart(&half, &s.force_n) < 1e-9);
+    }
+}
+
+/// A strip whose running face sits 0.2 m below the other's never reaches the wire: its force is
+/// exactly zero at every step (and its statistics' mean), while the other carries the
+/// pantograph's whole force.
+#[test]
+fn issue_43_1_a_strip_that_is_never_touched_carries_exactly_zero() {
+    let out = run(&with_strips(
+        short(),
+        &[(0.5, 0.25, 0.0), (0.5, -0.25, -0.2)],
+    ));
+    let p = &out.pantographs[0];
+    let low = &p.strips[1];
+    assert!(low
+        .force_n
+        .iter()
+        .all(|&f| f == 0.0 && f.is_sign_positive()));
+    assert_eq!(low.stats.unwrap().mean_n, 0.0);
+    assert_eq!(p.strips[0].force_n, p.force_n);
+    assert!(p.stats.unwrap().mean_n > 50.0);
+}
+
+/// Strips 0.5 m apart meet the wire at their own points: their forces differ, each is never
+/// negative, and they sum to the pantograph's force at every step (to rounding).
+#[test]
+fn issue_43_1_strips_apart_share_the_force_and_sum_to_the_pantographs() {
+    let out = run(&with_strips(
+        short(),
+        &[(0.5, 0.25, 0.0), (0.5, -0.25, 0.0)],
+    ));
+    let p = &out.pantographs[0];
+    let (a, b) = (&p.strips[0].force_n, &p.strips[1].force_n);
+    let sum: Vec<f64> = a.iter().zip(b).map(|(x, y)| x + y).collect();
+    assert!(apart(&p.force_n, &sum) < 1e-12);
+    assert!(a.iter().chain(b).all(|&f| f >= 0.0));
+    assert!(
+        apart(a, b) > 1e-3,
+        "the strips meet the wire at different points"
+    );
+    // The sum's statistics are the pantograph's; each strip's mean is about half.
+    let (sa, sb) = (p.strips[0].stats.unwrap(), p.strips[1].stats.unwrap());
+    let m = p.stats.unwrap().mean_n;
+    assert!((sa.mean_n + sb.mean_n - m).abs() < 1e-6 * m);
+    assert!(
+        (sa.mean_n - 0.5 * m).abs() < 0.1 * m,
+        "{} of {m}",
+        sa.mean_n
+    );
+}
+
+/// The receptance of a head of one strip (a dense complex solve over the strips and the frame)
+/// is the chain's (its own elimination from the roof up) at 60 frequencies from 0.1 to 50 Hz,
+/// within 1e-12 relative.
+#[test]
+fn issue_43_1_a_heads_receptance_is_the_chains() {
+    let lumped = |c: &Case| pcsim_core::compile::lumped_pantograph(c, None).unwrap().1;
+    let chain = lumped(&short());
+    let one = lumped(&with_strips(short(), &[(1.0, 0.0, 0.0)]));
+    let two = lumped(&with_strips(short(), &[(0.5, 0.0, 0.0), (0.5, 0.0, 0.0)]));
+    for i in 0..60 {
+        let w = 2.0 * std::f64::consts::PI * 0.1 * (500.0f64).powf(i as f64 / 59.0);
+        let h = chain.receptance(w).unwrap();
+        for (what, p) in [("one strip", &one), ("two half strips", &two)] {
+            let g = p.receptance(w).unwrap();
+            assert!(
+                (g - h).norm() <= 1e-12 * h.norm(),
+                "{what} at {w} rad/s: {g} vs {h}"
+            );
+        }
+    }
+}
+
+/// What a head of strips cannot be is refused naming its field: a strip on no spring, a strip
+/// 5 m along the head, more than 8 strips; and the fit, which identifies chains, refuses a
+/// starting pantograph with strips.
+#[test]
+fn issue_43_1_a_heads_strips_refuse_by_name() {
+    let field = |c: &Case| match c.validate() {
+        Err(CaseError::Invalid { field, .. }) => field,
+        other => panic!("{other:?}"),
+    };
+    let mut c = with_strips(short(), &[(0.5, 0.25, 0.0), (0.5, -0.25, 0.0)]);
+    if let PantographCase::Lumped { strips, .. } = &mut c.pantographs[0] {
+        strips[1].stiffness_n_per_m = 0.0;
+    }
+    assert_eq!(field(&c), "pantographs[0].strips[1].stiffness_n_per_m");
+    let mut c = with_strips(short(), &[(0.5, 5.0, 0.0), (0.5, -0.25, 0.0)]);
+    assert_eq!(field(&c), "pantographs[0].strips[0].along_m");
+    c = with_strips(short(), &[(0.1, 0.0, 0.0); 9]);
+    assert_eq!(field(&c), "pantographs[0].strips");
+    let head =
+        pcsim_core::compile::lumped_pantograph(&with_strips(short(), &[(1.0, 0.0, 0.0)]), None)
+            .unwrap()
+            .1;
+    use pcsim_core::analysis::frf::{Quantity, Response};
+    let grid = Response::log_grid(0.5, 20.0, 30).unwrap();
+    let measured = Response::of_model(&head, Quantity::Receptance, &grid).unwrap();
+    match pcsim_core::analysis::frf::fit(&head, &measured) {
+        Err(CaseError::Invalid { field, .. }) => assert_eq!(field, "pantographs.strips"),
+        other => panic!("{:?}", other.map(|_| ())),
+    }
+}
+
+/// The preset with two strips runs, each strip's statistics beside the sum's, and its static
+/// force follows its height table.
+#[test]
+fn issue_43_4_the_two_strip_preset_runs_with_its_strips() {
+    let (c, _) = pcsim_core::presets::load("benchmark-55m-two-strips").unwrap();
+    let out = run(&c);
+    let p = &out.pantographs[0];
+    assert_eq!(p.strips.len(), 2);
+    let m = p.stats.unwrap().mean_n;
+    let sum: f64 = p.strips.iter().map(|s| s.stats.unwrap().mean_n).sum();
+    assert!((sum - m).abs() < 1e-6 * m, "{sum} vs {m}");
+    assert_eq!((p.strips[0].along_m, p.strips[1].along_m), (0.25, -0.25));
+}
