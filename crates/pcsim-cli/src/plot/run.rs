@@ -24,6 +24,8 @@ pub struct Trace {
     pub head_half_width_m: Option<f64>,
     pub working_half_width_m: Option<f64>,
     pub histogram: Option<(f64, f64, Vec<f64>)>,
+    /// Each collector strip's raw contact force, N (none without strips).
+    pub strips: Vec<Vec<f64>>,
 }
 
 /// Everything the plots need.
@@ -259,6 +261,16 @@ fn force_chart<DB: DrawingBackend>(
         (COLOURS[0], 0.85),
         "0–20 Hz, zero-phase Butterworth (min–max per pixel column)",
     )?;
+    // Each collector strip's own raw force (their sum is the raw force above).
+    for (k, f) in t.strips.iter().enumerate() {
+        envelope(
+            &mut chart,
+            (&t.position_m, f),
+            x,
+            (COLOURS[(k + 1) % COLOURS.len()], 0.6),
+            &format!("strip {} raw (min–max per pixel column)", k + 1),
+        )?;
+    }
     legend(&mut chart)?;
     root.present().map_err(|e| anyhow!("{e:?}"))?;
     Ok(())
@@ -633,8 +645,21 @@ fn read_run_with(dir: &Path, summary: &serde_json::Value) -> Result<PlotData> {
             head_half_width_m: None,
             working_half_width_m: None,
             histogram: None,
+            strips: vec![],
         })
         .collect();
+    // Each strip's force column, `<pantograph>_strip<k>_force_n`, k from 1.
+    let strip_idx: Vec<Vec<usize>> = names
+        .iter()
+        .map(|n| {
+            (1..)
+                .map_while(|k| col(n, &format!("strip{k}_force_n")))
+                .collect()
+        })
+        .collect();
+    for (t, ix) in traces.iter_mut().zip(&strip_idx) {
+        t.strips = vec![Vec::new(); ix.len()];
+    }
     let lat_idx: Vec<Option<usize>> = names.iter().map(|n| col(n, "lateral_m")).collect();
     heads_from_summary(&mut traces, summary);
     let idx: Vec<[usize; 4]> = names
@@ -668,6 +693,22 @@ fn read_run_with(dir: &Path, summary: &serde_json::Value) -> Result<PlotData> {
             t.force_n.push(v(ix[1])?);
             t.force_filtered_n.push(v(ix[2])?);
             t.height_m.push(v(ix[3])?);
+        }
+        for (t, ix) in traces.iter_mut().zip(&strip_idx) {
+            for (k, &i) in ix.iter().enumerate() {
+                let f = rec
+                    .get(i)
+                    .and_then(|s| s.parse::<f64>().ok())
+                    .ok_or_else(|| {
+                        anyhow!(
+                            "{} line {}: bad number in column {}",
+                            tp.display(),
+                            line + 2,
+                            header[i]
+                        )
+                    })?;
+                t.strips[k].push(f);
+            }
         }
         for (t, li) in traces.iter_mut().zip(&lat_idx) {
             if let Some(i) = li {
@@ -745,6 +786,7 @@ fn drop_non_finite(t: &mut Trace, tp: &Path) {
             ]
             .iter()
             .chain(t.lateral_m.get(k))
+            .chain(t.strips.iter().filter_map(|f| f.get(k)))
             .all(|v| v.is_finite())
         })
         .collect();
@@ -761,7 +803,10 @@ fn drop_non_finite(t: &mut Trace, tp: &Path) {
             &mut t.force_filtered_n,
             &mut t.height_m,
             &mut t.lateral_m,
-        ] {
+        ]
+        .into_iter()
+        .chain(t.strips.iter_mut())
+        {
             if v.len() == keep.len() {
                 let mut i = 0;
                 v.retain(|_| {

@@ -448,3 +448,53 @@ fn issue_43_3_pantograph_frf_and_fit_through_the_cli() {
         .unwrap();
     refused(&o, &["--from-hz"]);
 }
+
+/// Issue 43, item 1 through the CLI: a two-strip pantograph's run has each strip's statistics in
+/// summary.json, its force column in timeseries.csv (the strips summing to the pantograph's
+/// force to the file's 4 decimals), its line on the terminal and its trace in the force figure.
+#[test]
+fn issue_43_1_a_two_strip_run_shows_each_strip() {
+    let d = crate::common::scratch("evidence", "strips");
+    let o = crate::common::pcsim()
+        .args([
+            "run",
+            "--preset",
+            "benchmark-55m-two-strips",
+            "--plot",
+            "--out",
+        ])
+        .arg(&d)
+        .output()
+        .unwrap();
+    crate::common::ok(&o);
+    let out = crate::common::stdout(&o);
+    assert!(
+        out.contains("strip 1 (+0.25 m)") && out.contains("strip 2 (-0.25 m)"),
+        "{out}"
+    );
+    let s: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(d.join("summary.json")).unwrap()).unwrap();
+    let strips = s["pantographs"][0]["strips"].as_array().unwrap();
+    assert_eq!(strips.len(), 2);
+    let mean = s["pantographs"][0]["stats"]["mean_n"].as_f64().unwrap();
+    let sum: f64 = strips
+        .iter()
+        .map(|x| x["stats"]["mean_n"].as_f64().unwrap())
+        .sum();
+    assert!((sum - mean).abs() < 1e-6 * mean, "{sum} vs {mean}");
+    let mut rdr = csv::Reader::from_path(d.join("timeseries.csv")).unwrap();
+    let h: Vec<String> = rdr.headers().unwrap().iter().map(String::from).collect();
+    let at = |n: &str| h.iter().position(|x| x == n).unwrap();
+    let (f, a, b) = (
+        at("leading_force_n"),
+        at("leading_strip1_force_n"),
+        at("leading_strip2_force_n"),
+    );
+    for r in rdr.records() {
+        let r = r.unwrap();
+        let v = |i: usize| r[i].parse::<f64>().unwrap();
+        assert!((v(f) - v(a) - v(b)).abs() <= 1.5e-4, "{:?}", r);
+    }
+    let svg = std::fs::read_to_string(d.join("contact_force_leading.svg")).unwrap();
+    assert!(svg.contains("strip 1 raw") && svg.contains("strip 2 raw"));
+}
