@@ -207,17 +207,27 @@ fn statistics_section(h: &mut String, pans: &[serde_json::Value]) {
             }
         }
     }
-    let names: Vec<String> = pans
-        .iter()
-        .map(|p| p["name"].as_str().unwrap_or("").to_string())
-        .collect();
+    // A column per pantograph, then one per collector strip of it (its own force's statistics;
+    // the pantograph's are their sum's).
+    let mut cols: Vec<(String, &serde_json::Value)> = Vec::new();
+    for p in pans {
+        let name = p["name"].as_str().unwrap_or("");
+        cols.push((name.to_string(), &p["stats"]));
+        for (k, st) in p["strips"].as_array().into_iter().flatten().enumerate() {
+            let along = st["along_m"].as_f64().unwrap_or(0.0);
+            cols.push((
+                format!("{name}, strip {} ({along:+.2} m)", k + 1),
+                &st["stats"],
+            ));
+        }
+    }
     let mut head = vec!["quantity"];
-    head.extend(names.iter().map(String::as_str));
+    head.extend(cols.iter().map(|(n, _)| n.as_str()));
     let rows: Vec<Vec<String>> = keys
         .iter()
         .map(|k| {
             std::iter::once(k.clone())
-                .chain(pans.iter().map(|p| num(&p["stats"][k])))
+                .chain(cols.iter().map(|(_, st)| num(&st[k])))
                 .collect()
         })
         .collect();

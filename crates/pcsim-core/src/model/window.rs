@@ -101,7 +101,9 @@ impl Model {
     }
 
     /// The same model with every pantograph replaced by an external load (position and force
-    /// given at every step: hardware in the loop).
+    /// given at every step: hardware in the loop). The rig is the pantograph: its force is the
+    /// head's total at its position, so a head of collector strips keeps one contact per wire
+    /// (its first strip's, moved to the pantograph's position).
     pub fn with_external_pantographs(mut self) -> Model {
         for p in &mut self.pantographs {
             *p = Pantograph {
@@ -116,8 +118,10 @@ impl Model {
         for e in &mut self.elements {
             if let Some(c) = e.as_any().downcast_ref::<Contacts>() {
                 let mut c = c.clone();
+                c.0.retain(|k| k.head == 0);
                 for k in &mut c.0 {
                     k.law = ContactLaw::prescribed(k.dir, k.pantograph, np);
+                    k.along_m = 0.0;
                 }
                 *e = Box::new(c);
             }
