@@ -178,8 +178,12 @@ fn frf(a: FrfArgs) -> Result<i32> {
         .map(|i| format!("{:.2} Hz", f[i]))
         .collect();
     println!(
-        "pantograph {name}: {} masses; receptance peaks at {} (from {} to {} Hz, {} points)",
+        "pantograph {name}: {} masses{}; receptance peaks at {} (from {} to {} Hz, {} points)",
         p.masses_kg.len(),
+        match p.strips.len() {
+            0 => String::new(),
+            n => format!(" and {n} strips (a force shared equally, their mean displacement)"),
+        },
         if peaks.is_empty() {
             "none in the range".into()
         } else {

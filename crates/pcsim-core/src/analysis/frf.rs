@@ -17,7 +17,7 @@ use serde::Serialize;
 
 use crate::error::CaseError;
 use crate::input::bounds::inv;
-use crate::model::pantograph::Lumped;
+use crate::model::pantograph::{Lumped, Strip};
 
 /// The fit's bounds: each parameter within this factor of the starting pantograph's value.
 pub const BOUND_FACTOR: f64 = 4.0;
@@ -296,24 +296,65 @@ impl Fit {
                 .map(|x| format!("{x:?}"))
                 .collect::<Vec<_>>()
                 .join(", ")
-        )
+        ) + &strip_blocks(p, &source)
     }
 }
 
-/// The chain's parameters in a fixed order: masses, stiffnesses, dampings.
+/// The fitted head's strips as `[[pantographs.strips]]` blocks: the fitted design for every
+/// strip, its place, face and contact stiffness the case's.
+fn strip_blocks(p: &Lumped, source: &str) -> String {
+    p.strips
+        .iter()
+        .map(|s| {
+            format!(
+                "\n[[pantographs.strips]]\n\
+                 mass_kg = {{ value = {:.6e}, source = \"{source}\" }}\n\
+                 stiffness_n_per_m = {{ value = {:.6e}, source = \"{source}\" }}\n\
+                 damping_ns_per_m = {{ value = {:.6e}, source = \"{source}\" }}\n\
+                 along_m = {:?}\nheight_offset_m = {:?}\ncontact_stiffness_n_per_m = {:?}\n",
+                s.mass_kg,
+                s.stiffness_n_per_m,
+                s.damping_ns_per_m,
+                s.along_m,
+                s.height_offset_m,
+                s.contact_stiffness_n_per_m
+            )
+        })
+        .collect()
+}
+
+/// Whether two strips have the same mass, spring and damper (the fit's one strip design).
+fn same_strip(a: &Strip, b: &Strip) -> bool {
+    (a.mass_kg, a.stiffness_n_per_m, a.damping_ns_per_m)
+        == (b.mass_kg, b.stiffness_n_per_m, b.damping_ns_per_m)
+}
+
+/// The chain's parameters in a fixed order: masses, stiffnesses, dampings; then, with strips,
+/// the one strip design's mass, stiffness and damping (every strip alike).
 fn params(p: &Lumped) -> Vec<f64> {
+    let strip = p
+        .strips
+        .first()
+        .map(|s| [s.mass_kg, s.stiffness_n_per_m, s.damping_ns_per_m]);
     p.masses_kg
         .iter()
         .chain(&p.stiffness_n_per_m)
         .chain(&p.damping_ns_per_m)
+        .chain(strip.iter().flatten())
         .copied()
         .collect()
 }
 
-fn names(n: usize) -> Vec<String> {
+fn names(p: &Lumped) -> Vec<String> {
+    let n = p.masses_kg.len();
     let mut v = Vec::new();
     for what in ["masses_kg", "stiffness_n_per_m", "damping_ns_per_m"] {
         v.extend((0..n).map(|i| format!("{what}[{i}]")));
+    }
+    if !p.strips.is_empty() {
+        for what in ["mass_kg", "stiffness_n_per_m", "damping_ns_per_m"] {
+            v.push(format!("strips[*].{what}"));
+        }
     }
     v
 }
@@ -323,7 +364,15 @@ fn with_params(p: &Lumped, x: &[f64]) -> Lumped {
     Lumped {
         masses_kg: x[..n].to_vec(),
         stiffness_n_per_m: x[n..2 * n].to_vec(),
-        damping_ns_per_m: x[2 * n..].to_vec(),
+        damping_ns_per_m: x[2 * n..3 * n].to_vec(),
+        strips: (p.strips.iter())
+            .map(|s| Strip {
+                mass_kg: x[3 * n],
+                stiffness_n_per_m: x[3 * n + 1],
+                damping_ns_per_m: x[3 * n + 2],
+                ..s.clone()
+            })
+            .collect(),
         ..p.clone()
     }
 }
@@ -384,18 +433,22 @@ impl CostFunction for Problem<'_> {
 /// Fit the chain of `start` (its number of masses, its values as the start and the centre of
 /// the bounds) to `measured`.
 pub fn fit(start: &Lumped, measured: &Response) -> Result<Fit, CaseError> {
-    if !start.strips.is_empty() {
+    if let Some(s) = start
+        .strips
+        .iter()
+        .position(|s| !same_strip(s, &start.strips[0]))
+    {
         return Err(inv(
-            "pantographs.strips",
-            format!("{} strips", start.strips.len()),
-            "the fit identifies a chain of masses: give the starting pantograph without strips (its head as one mass); a head of strips is not fitted",
+            &format!("pantographs.strips[{s}]"),
+            "a strip unlike the first",
+            "the fit takes a head's strips alike (one mass, spring and damper for all): the response at the head, a force shared by the strips, cannot tell unequal strips apart",
         ));
     }
     let x0 = params(start);
     let np = x0.len();
     if let Some(i) = x0.iter().position(|&v| !(v.is_finite() && v > 0.0)) {
         return Err(inv(
-            &format!("pantographs.{}", names(start.masses_kg.len())[i]),
+            &format!("pantographs.{}", names(start)[i]),
             x0[i],
             "the fit starts from positive values (a zero spring or damper has no scale to fit)",
         ));
@@ -482,7 +535,7 @@ pub fn fit(start: &Lumped, measured: &Response) -> Result<Fit, CaseError> {
         }
     }
     let cov = crate::linalg::invert_small(&jtj, np);
-    let names = names(start.masses_kg.len());
+    let names = names(start);
     let parameters = (0..np)
         .map(|j| {
             let var = cov.as_ref().map_or(f64::INFINITY, |c| c[j * np + j] * s2);
