@@ -3,6 +3,7 @@
 PCSIM is the path of the `pcsim` executable of the same build (the CLI)."""
 
 import csv
+import math
 import json
 import os
 import pickle
@@ -565,3 +566,21 @@ def test_issue_43_1_a_two_strip_pantograph_runs_as_the_cli(tmp_path):
     total = res.timeseries["leading_force_n"]
     both = res.timeseries["leading_strip1_force_n"] + res.timeseries["leading_strip2_force_n"]
     assert float(abs(total - both).max()) <= 1e-3
+
+
+def test_issue_43_1_the_real_time_window_carries_two_strips():
+    """RealtimeCatenary on the two-strip preset: in the loop with hardware the rig's force acts
+    once at its position, so its heights are benchmark-55m's bit for bit; in SIL pcsim's head of
+    strips runs in the window (finite heights, not the one-head pantograph's)."""
+    two, one = pcsim.Case.preset("benchmark-55m-two-strips"), pcsim.Case.preset("benchmark-55m")
+    a, b = pcsim.RealtimeCatenary(two, 240.0), pcsim.RealtimeCatenary(one, 240.0)
+    x0, dx = a.start_position_m, 320.0 / 3.6 * a.dt_s
+    for i in range(1500):
+        f = 110.0 + 20.0 * math.sin(0.01 * i)
+        assert a.step(f, x0 + dx * i) == b.step(f, x0 + dx * i)
+    s2 = pcsim.RealtimeCatenary(two, 240.0, coupling="sil")
+    s1 = pcsim.RealtimeCatenary(one, 240.0, coupling="sil")
+    h2 = [s2.step(0.0, 0.0)[0] for _ in range(1500)]
+    h1 = [s1.step(0.0, 0.0)[0] for _ in range(1500)]
+    assert all(math.isfinite(h) for h in h2)
+    assert h2 != h1
