@@ -99,6 +99,20 @@ check("3D case: contact_lateral follows the ±0.3 m stagger",
 res_v = simulate_fmu(fmu, stop_time=0.05, step_size=dt, output_interval=dt, output=["contact_lateral"])
 check("vertical case: contact_lateral is 0", float(np.max(np.abs(res_v["contact_lateral"]))) == 0.0)
 
+# 3b'. Two collector strips (issue 43): the preset's head of strips runs in the SIL window (its
+# contact force the strips' sum, plausible, and not the one-head pantograph's).
+res_2s = simulate_fmu(fmu, stop_time=2.0, step_size=dt, output_interval=dt,
+                      start_values={"sil": True, "case": "benchmark-55m-two-strips"},
+                      output=["pantograph_contact_force"])
+res_1h = simulate_fmu(fmu, stop_time=2.0, step_size=dt, output_interval=dt,
+                      start_values={"sil": True, "case": "benchmark-55m"},
+                      output=["pantograph_contact_force"])
+f2, f1 = res_2s["pantograph_contact_force"][500:], res_1h["pantograph_contact_force"][500:]
+check("two strips (SIL): the head of strips' contact force",
+      bool(np.all(np.isfinite(f2))) and 50.0 < float(np.mean(f2)) < 200.0 and float(np.std(f2)) > 1.0
+      and not np.array_equal(f2, f1),
+      f"(mean {np.mean(f2):.1f} N, σ {np.std(f2):.1f} N; one head: {np.mean(f1):.1f} N, {np.std(f1):.1f} N)")
+
 # 3c. Irregularity (issue 13): a 10 mm sine on the contact wire from a CSV file moves the wire
 # the pantograph sees by that much (HIL with a constant force, 3 s from the start).
 with tempfile.TemporaryDirectory() as d:

@@ -354,3 +354,36 @@ fn issue_41_4_a_case_file_picks_the_trailing_pantograph() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 43: a case whose pantograph has two collector strips (`benchmark-55m-two-strips`, as
+/// a file) through the C API: the rig's force acts once at its position, so every output is the
+/// core session's on that case and `benchmark-55m`'s (the same catenary) bit for bit.
+#[test]
+fn issue_43_1_a_two_strip_case_runs_through_the_c_api() {
+    let (two, _) = pcsim_core::presets::load("benchmark-55m-two-strips").unwrap();
+    let (one, _) = pcsim_core::presets::load("benchmark-55m").unwrap();
+    let dir = std::env::temp_dir().join(format!("pcsim-capi-strips-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("two.toml");
+    std::fs::write(&p, two.to_toml_string()).unwrap();
+    let path = CString::new(p.to_str().unwrap()).unwrap();
+    let mut err = [0i8; 256];
+    let h = unsafe { pcsim_rt_new(path.as_ptr(), 1, 240.0, err.as_mut_ptr(), err.len()) };
+    assert!(!h.is_null());
+    use pcsim_core::session::{Coupling, RealtimeSession};
+    let mut core = RealtimeSession::new(&two, 240.0, Coupling::Hil).unwrap();
+    let mut plain = RealtimeSession::new(&one, 240.0, Coupling::Hil).unwrap();
+    let (x0, dt) = unsafe { (pcsim_rt_start_position(h), pcsim_rt_dt(h)) };
+    for k in 0..2000 {
+        let x = x0 + (k + 1) as f64 * dt * two.speed_m_s();
+        let f = 110.0 + 20.0 * (0.01 * k as f64).sin();
+        let (mut y, mut v) = (0.0, 0.0);
+        let s = unsafe { pcsim_rt_step(h, f, x, &mut y, &mut v, std::ptr::null_mut()) };
+        assert_eq!(s, PCSIM_OK);
+        let o = core.step(f, x).unwrap();
+        assert_eq!((y, v), (o.wire_height_m, o.wire_velocity_m_s), "step {k}");
+        assert_eq!(plain.step(f, x).unwrap(), o, "step {k}");
+    }
+    unsafe { pcsim_rt_free(h) };
+    let _ = std::fs::remove_dir_all(&dir);
+}
