@@ -73,6 +73,9 @@ pub enum ModelQuantity {
     PantographMasses(usize),
     /// The stiffnesses of pantograph `.0`, or its `.1`-th one.
     PantographStiffness(usize, Option<usize>),
+    /// Collector strip `.1` of pantograph `.0`: its contact's stiffness (`.2`), or its
+    /// suspension's.
+    StripStiffness(usize, usize, bool),
     /// The pantographs of a model (their number).
     Pantographs,
     /// The steady loads of the static start state (the mean wind, the ice's weight).
@@ -91,6 +94,12 @@ impl std::fmt::Display for ModelQuantity {
             }
             ModelQuantity::PantographStiffness(p, Some(j)) => {
                 write!(f, "stiffness {j} of pantograph {p} [N/m]")
+            }
+            ModelQuantity::StripStiffness(p, s, true) => {
+                write!(f, "contact stiffness of strip {s} of pantograph {p} [N/m]")
+            }
+            ModelQuantity::StripStiffness(p, s, false) => {
+                write!(f, "stiffness of strip {s} of pantograph {p} [N/m]")
             }
             ModelQuantity::Pantographs => write!(f, "pantographs"),
             ModelQuantity::SteadyLoads => write!(f, "static start state under the steady loads"),
@@ -111,6 +120,12 @@ impl ModelQuantity {
             }
             ModelQuantity::PantographStiffness(p, Some(j)) => {
                 format!("pantographs[{p}].stiffness_n_per_m[{j}]")
+            }
+            ModelQuantity::StripStiffness(p, s, true) => {
+                format!("pantographs[{p}].strips[{s}].contact_stiffness_n_per_m")
+            }
+            ModelQuantity::StripStiffness(p, s, false) => {
+                format!("pantographs[{p}].strips[{s}].stiffness_n_per_m")
             }
             ModelQuantity::Pantographs => "pantographs".into(),
             ModelQuantity::SteadyLoads => "wind / catenary.ice".into(),

@@ -183,10 +183,21 @@ pub fn refined_case(case: &Case) -> Case {
     c
 }
 
-/// The model check's case: the contact twice as stiff.
+/// The model check's case: the contact twice as stiff (a collector strip's own contact
+/// stiffness too, where it gives one).
 pub fn stiff_contact_case(case: &Case) -> Case {
     let mut c = case.clone();
     c.contact.stiffness_n_per_m *= CONTACT_FACTOR;
+    for p in &mut c.pantographs {
+        if let crate::input::case::PantographCase::Lumped { strips, .. } = p {
+            for k in strips
+                .iter_mut()
+                .filter_map(|s| s.contact_stiffness_n_per_m.as_mut())
+            {
+                *k *= CONTACT_FACTOR;
+            }
+        }
+    }
     c
 }
 

@@ -135,9 +135,10 @@ pub fn check_local(model: &Model, dt: f64) -> Result<(), CaseError> {
     // Penalty contacts and pantograph springs.
     for (p, pan) in model.pantographs.iter().enumerate() {
         if let PantographKind::Lumped(l) = &pan.kind {
+            strips_within_step(p, l, dt, limit)?;
             let kn = contact_stiffness(model, p);
             let m0 = l.masses_kg[0];
-            if (kn / m0).sqrt() * dt > 1.0 {
+            if l.strips.is_empty() && (kn / m0).sqrt() * dt > 1.0 {
                 return Err(refused(
                     ModelQuantity::ContactStiffness,
                     kn,
@@ -502,4 +503,38 @@ fn describe(cm: &CompiledModel, shares: Vec<(Part, f64)>) -> String {
             m.pantographs[p].name
         ),
     }
+}
+
+/// A head of collector strips against the step: each strip's own contact on its mass
+/// (`√(k_c/m)·Δt < 1`, as a head's) and its suspension between it and the frame.
+fn strips_within_step(
+    p: usize,
+    l: &crate::model::pantograph::Lumped,
+    dt: f64,
+    limit: f64,
+) -> Result<(), CaseError> {
+    let frame = l.masses_kg[0];
+    for (s, st) in l.strips.iter().enumerate() {
+        let kn = st.contact_stiffness_n_per_m;
+        if (kn / st.mass_kg).sqrt() * dt > 1.0 {
+            return Err(refused(
+                ModelQuantity::StripStiffness(p, s, true),
+                kn,
+                format!(
+                    "too stiff for Δt = {dt} s with a {} kg strip: need √(k/m)·Δt < 1, i.e. Δt < {:.2e} s",
+                    st.mass_kg,
+                    (st.mass_kg / kn).sqrt()
+                ),
+            ));
+        }
+        let m_inv = 1.0 / st.mass_kg + 1.0 / frame;
+        if (st.stiffness_n_per_m * m_inv).sqrt() * dt > limit {
+            return Err(refused(
+                ModelQuantity::StripStiffness(p, s, false),
+                st.stiffness_n_per_m,
+                format!("too stiff for Δt = {dt} s (explicit stability)"),
+            ));
+        }
+    }
+    Ok(())
 }

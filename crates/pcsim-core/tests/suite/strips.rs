@@ -185,7 +185,8 @@ fn issue_43_1_a_heads_receptance_is_the_chains() {
 }
 
 /// What a head of strips cannot be is refused naming its field: a strip on no spring, a strip
-/// 5 m along the head, more than 8 strips; and the fit, which takes a head's strips alike,
+/// 5 m along the head, more than 8 strips, a strip too light for its contact at the step; and
+/// the fit, which takes a head's strips alike,
 /// refuses a starting head whose strips differ.
 #[test]
 fn issue_43_1_a_heads_strips_refuse_by_name() {
@@ -202,6 +203,17 @@ fn issue_43_1_a_heads_strips_refuse_by_name() {
     assert_eq!(field(&c), "pantographs[0].strips[0].along_m");
     c = with_strips(short(), &[(0.1, 0.0, 0.0); 9]);
     assert_eq!(field(&c), "pantographs[0].strips");
+    // A strip too light for its contact at the step: the run refuses it by its own field.
+    let mut c = with_strips(short(), &[(0.5, 0.25, 0.0), (0.5, -0.25, 0.0)]);
+    if let PantographCase::Lumped { strips, .. } = &mut c.pantographs[0] {
+        strips[1].mass_kg = 0.02;
+    }
+    match pcsim_core::compile::Setup::from_case(&c).and_then(|s| s.integrator().map(|_| ())) {
+        Err(CaseError::Invalid { field, .. }) => {
+            assert_eq!(field, "pantographs[0].strips[1].contact_stiffness_n_per_m")
+        }
+        other => panic!("{other:?}"),
+    }
     let mut head = pcsim_core::compile::lumped_pantograph(
         &with_strips(short(), &[(0.5, 0.25, 0.0), (0.5, -0.25, 0.0)]),
         None,
@@ -324,4 +336,21 @@ fn issue_43_3_a_head_of_two_strips_is_fitted_within_its_uncertainty() {
         block.contains("along_m = 0.25") && block.contains("along_m = -0.25"),
         "{block}"
     );
+}
+
+/// The verification's model check doubles every contact stiffness, a strip's own included: the
+/// preset's strips (25 000 N/m each) at 50 000 N/m in the stiffer case.
+#[test]
+fn issue_43_1_the_stiffer_contact_check_stiffens_every_strip() {
+    let (c, _) = pcsim_core::presets::load("benchmark-55m-two-strips").unwrap();
+    let stiff = pcsim_core::analysis::verify::stiff_contact_case(&c);
+    let k = |c: &Case| match &c.pantographs[0] {
+        PantographCase::Lumped { strips, .. } => strips
+            .iter()
+            .map(|s| s.contact_stiffness_n_per_m.unwrap())
+            .collect::<Vec<_>>(),
+        _ => unreachable!(),
+    };
+    assert_eq!(k(&c), vec![25_000.0; 2]);
+    assert_eq!(k(&stiff), vec![50_000.0; 2]);
 }
