@@ -78,10 +78,10 @@ pub struct RunArgs {
     #[arg(long)]
     sensitivity: bool,
     /// Runs of --sensitivity's seeded sample (0: one at a time only).
-    #[arg(long, value_name = "N", default_value_t = pcsim_core::analysis::sensitivity::SensitivitySpec::default().samples)]
+    #[arg(long, value_name = "N", requires = "sensitivity", default_value_t = pcsim_core::analysis::sensitivity::SensitivitySpec::default().samples)]
     sensitivity_samples: usize,
     /// Seed of --sensitivity's sample (in summary.json's `sensitivity.spec`).
-    #[arg(long, value_name = "SEED", default_value_t = pcsim_core::analysis::sensitivity::SensitivitySpec::default().seed)]
+    #[arg(long, value_name = "SEED", requires = "sensitivity", default_value_t = pcsim_core::analysis::sensitivity::SensitivitySpec::default().seed)]
     sensitivity_seed: u64,
 }
 

@@ -498,3 +498,17 @@ fn issue_43_1_a_two_strip_run_shows_each_strip() {
     let svg = std::fs::read_to_string(d.join("contact_force_leading.svg")).unwrap();
     assert!(svg.contains("strip 1 raw") && svg.contains("strip 2 raw"));
 }
+
+/// The sensitivity's sample size and seed without `--sensitivity` are refused naming the flag
+/// they need (they were ignored: a user asking for 3 samples got a plain run and exit 0).
+#[test]
+fn issue_42_2_sensitivity_options_without_the_flag_are_refused() {
+    for args in [["--sensitivity-samples", "3"], ["--sensitivity-seed", "7"]] {
+        let o = pcsim()
+            .args(["run", "--preset", "en50318-2002", "--quiet"])
+            .args(args)
+            .output()
+            .unwrap();
+        refused(&o, &["--sensitivity"]);
+    }
+}
