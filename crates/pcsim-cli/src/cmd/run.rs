@@ -324,7 +324,7 @@ fn print_run(case: &pcsim_core::Case, out: &RunOutput, summary: &Summary, wall: 
 /// values, and the statistics not converged to their tolerance.
 pub fn print_verification(v: &pcsim_core::analysis::verify::Verification) {
     println!(
-        "verification: refined {} modes/wire, Δt {} s; contact {} N/m (model check: {} N/m at Δt {} s)",
+        "verification: refined {} modes/wire, Δt {} s; contact {} N/m (model check: every contact, a strip's own too, twice as stiff: {} N/m at Δt {} s)",
         v.refined.modes_per_wire,
         v.refined.dt_s,
         v.run.contact_stiffness_n_per_m,
