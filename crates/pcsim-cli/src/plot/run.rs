@@ -676,19 +676,20 @@ fn read_run_with(dir: &Path, summary: &serde_json::Value) -> Result<PlotData> {
         .collect::<Result<_>>()?;
     for (line, rec) in rdr.records().enumerate() {
         let rec = rec.with_context(|| format!("{} line {}", tp.display(), line + 2))?;
+        // Every number of the row by one reader, its error naming the line and the column.
+        let v = |i: usize| -> Result<f64> {
+            rec.get(i)
+                .and_then(|s| s.parse::<f64>().ok())
+                .ok_or_else(|| {
+                    anyhow!(
+                        "{} line {}: bad number in column {}",
+                        tp.display(),
+                        line + 2,
+                        header[i]
+                    )
+                })
+        };
         for (t, ix) in traces.iter_mut().zip(&idx) {
-            let v = |i: usize| -> Result<f64> {
-                rec.get(i)
-                    .and_then(|s| s.parse::<f64>().ok())
-                    .ok_or_else(|| {
-                        anyhow!(
-                            "{} line {}: bad number in column {}",
-                            tp.display(),
-                            line + 2,
-                            header[i]
-                        )
-                    })
-            };
             t.position_m.push(v(ix[0])?);
             t.force_n.push(v(ix[1])?);
             t.force_filtered_n.push(v(ix[2])?);
@@ -696,34 +697,12 @@ fn read_run_with(dir: &Path, summary: &serde_json::Value) -> Result<PlotData> {
         }
         for (t, ix) in traces.iter_mut().zip(&strip_idx) {
             for (k, &i) in ix.iter().enumerate() {
-                let f = rec
-                    .get(i)
-                    .and_then(|s| s.parse::<f64>().ok())
-                    .ok_or_else(|| {
-                        anyhow!(
-                            "{} line {}: bad number in column {}",
-                            tp.display(),
-                            line + 2,
-                            header[i]
-                        )
-                    })?;
-                t.strips[k].push(f);
+                t.strips[k].push(v(i)?);
             }
         }
         for (t, li) in traces.iter_mut().zip(&lat_idx) {
             if let Some(i) = li {
-                let z = rec
-                    .get(*i)
-                    .and_then(|s| s.parse::<f64>().ok())
-                    .ok_or_else(|| {
-                        anyhow!(
-                            "{} line {}: bad number in column {}",
-                            tp.display(),
-                            line + 2,
-                            header[*i]
-                        )
-                    })?;
-                t.lateral_m.push(z);
+                t.lateral_m.push(v(*i)?);
             }
         }
     }

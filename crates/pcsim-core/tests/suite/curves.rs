@@ -146,30 +146,23 @@ fn issue_41_a_curve_of_very_large_radius_runs_as_the_straight_track() {
     let r = 1.0e7;
     let a = run_case(&curved(None, 0.0), &mut |_| true).unwrap();
     let b = run_case(&curved(Some(r), 0.0), &mut |_| true).unwrap();
-    let (sa, sb) = (
-        a.pantographs[0].stats.unwrap(),
-        b.pantographs[0].stats.unwrap(),
-    );
-    for (name, x, y) in [
-        ("mean", sa.mean_n, sb.mean_n),
-        ("std", sa.std_n, sb.std_n),
-        ("max", sa.actual_max_n, sb.actual_max_n),
-        ("min", sa.actual_min_n, sb.actual_min_n),
-    ] {
-        assert!((x - y).abs() <= 1e-9 * x.abs(), "{name}: {x} vs {y}");
-    }
-    let bow = 60.0f64.powi(2) / (8.0 * r);
-    let worst = (a.pantographs[0]
-        .lateral_m
-        .iter()
-        .zip(&b.pantographs[0].lateral_m))
-    .map(|(x, y)| (x - y).abs())
-    .fold(0.0, f64::max);
+    common::same_statistics(&a, &b, 1e-9, "still air");
+    let (worst, bow) = lateral_apart(&a, &b, r);
     assert!(
         worst <= bow + 1e-12 && worst > 0.0,
         "{worst} m, bow {bow} m"
     );
     assert!(a.curve.is_none() && b.curve.is_some());
+}
+
+/// The largest difference of two runs' lateral traces of the first pantograph, m, and the
+/// chord's bow `s²/(8R)` on a curve of radius `r` (60 m spans), m.
+fn lateral_apart(a: &pcsim_core::RunOutput, b: &pcsim_core::RunOutput, r: f64) -> (f64, f64) {
+    let worst = (a.pantographs[0].lateral_m.iter())
+        .zip(&b.pantographs[0].lateral_m)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    (worst, 60.0f64.powi(2) / (8.0 * r))
 }
 
 /// On a canted curve the head stands `h · cant / 1.5` toward the centre: the wire is where it
@@ -277,25 +270,8 @@ fn issue_41_a_crosswind_on_a_curve_of_very_large_radius_runs_as_on_the_straight_
     let r = 1.0e7;
     let a = run_case(&windy_curve(None, 90.0), &mut |_| true).unwrap();
     let b = run_case(&windy_curve(Some(r), 90.0), &mut |_| true).unwrap();
-    let (sa, sb) = (
-        a.pantographs[0].stats.unwrap(),
-        b.pantographs[0].stats.unwrap(),
-    );
-    for (name, x, y) in [
-        ("mean", sa.mean_n, sb.mean_n),
-        ("std", sa.std_n, sb.std_n),
-        ("max", sa.actual_max_n, sb.actual_max_n),
-        ("min", sa.actual_min_n, sb.actual_min_n),
-    ] {
-        assert!((x - y).abs() <= 1e-7 * x.abs(), "{name}: {x} vs {y}");
-    }
-    let bow = 60.0f64.powi(2) / (8.0 * r);
-    let worst = (a.pantographs[0]
-        .lateral_m
-        .iter()
-        .zip(&b.pantographs[0].lateral_m))
-    .map(|(x, y)| (x - y).abs())
-    .fold(0.0, f64::max);
+    common::same_statistics(&a, &b, 1e-7, "in wind");
+    let (worst, bow) = lateral_apart(&a, &b, r);
     assert!(worst <= bow + 1e-6, "{worst} m, bow {bow} m");
 }
 
@@ -433,21 +409,7 @@ fn a_line_runs_as_its_catenary(a: &pcsim_core::RunOutput, windy: bool, lines: [(
         let which = format!("{which}{}", if windy { ", in wind" } else { "" });
         let b = run_case(&line, &mut |_| true).unwrap();
 
-        let (sa, sb) = (
-            a.pantographs[0].stats.unwrap(),
-            b.pantographs[0].stats.unwrap(),
-        );
-        for (name, x, y) in [
-            ("mean", sa.mean_n, sb.mean_n),
-            ("std", sa.std_n, sb.std_n),
-            ("max", sa.actual_max_n, sb.actual_max_n),
-            ("min", sa.actual_min_n, sb.actual_min_n),
-        ] {
-            assert!(
-                (x - y).abs() <= 1e-9 * x.abs(),
-                "{which}, {name}: {x} vs {y}"
-            );
-        }
+        common::same_statistics(a, &b, 1e-9, &which);
         let (la, lb) = (
             a.pantographs[0].lateral.as_ref().unwrap(),
             b.pantographs[0].lateral.as_ref().unwrap(),

@@ -5,7 +5,6 @@
 
 use pcsim_core::analysis::frf::{fit, Quantity, Response};
 use pcsim_core::model::pantograph::Lumped;
-use pcsim_core::model::wind_field::SplitMix64;
 use rustfft::num_complex::Complex;
 
 fn chain(m: &[f64], k: &[f64], c: &[f64]) -> Lumped {
@@ -58,26 +57,13 @@ fn issue_43_3_the_receptance_of_a_two_mass_chain_is_its_closed_form() {
     assert!((a.re - 6.0).abs() < 0.01, "{a}");
 }
 
-/// Normal deviates (Box–Muller) from a seeded stream.
-fn normal(rng: &mut SplitMix64) -> f64 {
-    let (u, v) = (rng.uniform().max(1e-300), rng.uniform());
-    (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
-}
-
 #[test]
 fn issue_43_3_a_fit_recovers_known_parameters_within_its_uncertainty() {
     let truth = reference();
     let f = Response::log_grid(0.2, 20.0, 120).unwrap();
     let mut measured = Response::of_model(&truth, Quantity::ApparentMass, &f).unwrap();
     // 2 % noise on the magnitude, 2 % of a radian on the phase (seeded).
-    let mut rng = SplitMix64::new(43);
-    for h in &mut measured.value {
-        let (m, p) = (h.norm(), h.arg());
-        *h = Complex::from_polar(
-            m * (1.0 + 0.02 * normal(&mut rng)),
-            p + 0.02 * normal(&mut rng),
-        );
-    }
+    crate::common::with_noise(&mut measured, 43);
     measured.source = "synthetic".into();
     // Through its CSV text, as a lab would hand it over.
     let measured = Response::from_csv(&measured.to_csv(), "synthetic.csv").unwrap();
