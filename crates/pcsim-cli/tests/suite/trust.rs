@@ -146,7 +146,9 @@ fn issue_19_1_a_directory_holding_other_files_is_refused_not_deleted() {
 fn issue_19_1_a_second_writer_to_the_same_directory_is_refused() {
     let d = scratch("lock");
     let out = d.join("out");
-    // A longer run (about a second at 100 km/h) holds the lock while a second one starts.
+    // A longer run holds the lock while a second one starts: 100 km/h at a quarter-millisecond
+    // step, about 2.5 s on this machine (at the case's own step it took 0.6 s, and on a busy
+    // CI machine once ended before the second writer looked).
     let mut first = pcsim()
         .args([
             "run",
@@ -154,6 +156,8 @@ fn issue_19_1_a_second_writer_to_the_same_directory_is_refused() {
             "stitched-2018-like",
             "--speed",
             "100",
+            "--dt",
+            "0.25ms",
             "--quiet",
             "--out",
         ])
