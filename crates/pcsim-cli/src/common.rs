@@ -356,3 +356,14 @@ pub fn allow_flag(kind: pcsim_core::analysis::report::RunErrorKind) -> &'static 
         RunErrorKind::ContactLoss => "--allow-contact-loss",
     }
 }
+
+/// `x` with `digits` significant digits (`0.00123`, `4.66`, `1230`), for the terminal: a small
+/// value never prints as `0.00`.
+pub fn significant(x: f64, digits: usize) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let magnitude = x.abs().log10().floor() as i64;
+    let decimals = (digits as i64 - 1 - magnitude).max(0) as usize;
+    format!("{x:.decimals$}")
+}

@@ -155,7 +155,7 @@ fn main() {
         Command::Report(a) => cmd::report::report(a),
         Command::Assess(a) => cmd::assess::run(a),
         Command::Design(a) => cmd::design::design(a, &ctx),
-        Command::Pantograph(a) => cmd::pantograph::pantograph(a),
+        Command::Pantograph(a) => cmd::pantograph::pantograph(a, &ctx),
     });
     match res {
         Ok(code) => std::process::exit(code),

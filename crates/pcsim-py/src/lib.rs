@@ -284,7 +284,7 @@ fn run_core_with(
 /// values one at a time and `sensitivity_samples` runs drawn from `sensitivity_seed` (the CLI's
 /// `--sensitivity`), in the summary's `sensitivity`.
 #[pyfunction]
-#[pyo3(signature = (case, threads=1, allow_dewirement=false, allow_contact_loss=false, verify=false, sensitivity=false, sensitivity_samples=None, sensitivity_seed=None))]
+#[pyo3(signature = (case, threads=1, allow_dewirement=false, allow_contact_loss=false, verify=false, sensitivity=false, sensitivity_samples=None, sensitivity_seed=None, sensitivity_max_runs=None, allow_failed_runs=false))]
 #[allow(clippy::too_many_arguments)]
 fn run<'py>(
     py: Python<'py>,
@@ -296,12 +296,16 @@ fn run<'py>(
     sensitivity: bool,
     sensitivity_samples: Option<usize>,
     sensitivity_seed: Option<u64>,
+    sensitivity_max_runs: Option<usize>,
+    allow_failed_runs: bool,
 ) -> PyResult<Bound<'py, PyTuple>> {
     use pcsim_core::analysis::sensitivity::SensitivitySpec;
     let d = SensitivitySpec::default();
     let spec = SensitivitySpec {
         samples: sensitivity_samples.unwrap_or(d.samples),
         seed: sensitivity_seed.unwrap_or(d.seed),
+        max_runs: sensitivity_max_runs.unwrap_or(d.max_runs),
+        allow_failed_runs,
     };
     if sensitivity {
         spec.check()
@@ -373,12 +377,17 @@ fn run<'py>(
                         &case.ranges,
                         &case.fixed,
                         &spec,
+                        allowed,
                         &Default::default(),
                         None,
+                        &|_, _| {},
                     )
                 })
                 .map_err(err)?,
             );
+            if let Some(s) = &evidence.sensitivity {
+                s.check().map_err(err)?;
+            }
         }
         hand_over(py, &out, &case.inner, wall, warnings, allowed, evidence)
     })
@@ -641,20 +650,36 @@ fn pantograph_frf(
 /// `case`'s pantograph fitted to a measured response (CSV text `measured_csv`, named `label`):
 /// the CLI's `pcsim pantograph fit` — `(fit_json, case_block)`.
 #[pyfunction]
-#[pyo3(signature = (measured_csv, label, case, pantograph=None))]
+#[pyo3(signature = (measured_csv, label, case, pantograph=None, starts=None, seed=None, max_residual_percent=None))]
+#[allow(clippy::too_many_arguments)]
 fn pantograph_fit(
     py: Python<'_>,
     measured_csv: &str,
     label: &str,
     case: &Case,
     pantograph: Option<String>,
+    starts: Option<usize>,
+    seed: Option<u64>,
+    max_residual_percent: Option<f64>,
 ) -> PyResult<(String, String)> {
-    use pcsim_core::analysis::frf::{fit, Response};
+    use pcsim_core::analysis::frf::{fit_with, FitSpec, Response};
     guarded(|| {
         let (name, p) = pcsim_core::compile::lumped_pantograph(&case.inner, pantograph.as_deref())
             .map_err(err)?;
         let m = Response::from_csv(measured_csv, label).map_err(err)?;
-        let r = py.detach(|| fit(&p, &m)).map_err(err)?;
+        let d = FitSpec::default();
+        let spec = FitSpec {
+            starts: starts.unwrap_or(d.starts),
+            seed: seed.unwrap_or(d.seed),
+            max_residual_rms: max_residual_percent.map_or(d.max_residual_rms, |x| x / 100.0),
+        };
+        let r = py
+            .detach(|| {
+                let r = fit_with(&p, &m, &spec, &mut |_, _| {})?;
+                r.check(&p, &m)?;
+                Ok::<_, pcsim_core::CaseError>(r)
+            })
+            .map_err(err)?;
         Ok((
             serde_json::to_string(&r).map_err(err)?,
             r.case_block(&name, label),

@@ -130,6 +130,27 @@ def test_issue_43_3_pantograph_frf_and_fit_equal_the_clis(tmp_path):
         pcsim.pantograph_fit(str(tmp_path / "none.csv"), start)
 
 
+def test_issue_51_a_fit_from_a_mislabelled_file_raises_as_the_cli_fails(tmp_path):
+    """An apparent mass under a receptance header: no block to paste. The CLI exits 1 and writes
+    no fitted-pantograph.toml; Python raises ValueError naming the residual and the header."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    ex = os.path.join(here, "..", "..", "..", "examples", "pantograph")
+    with open(os.path.join(ex, "measured-apparent-mass.csv")) as f:
+        text = f.read().replace("magnitude_kg", "magnitude_m_per_n")
+    bad = tmp_path / "mislabelled.csv"
+    bad.write_text(text)
+    start_toml = os.path.join(ex, "start-25-percent-off.toml")
+    start = pcsim.Case.from_file(start_toml)
+    with pytest.raises(ValueError, match="header"):
+        pcsim.pantograph_fit(str(bad), start)
+    out = tmp_path / "fit"
+    p = subprocess.run([PCSIM, "pantograph", "fit", str(bad), start_toml, "--out", str(out)],
+                       capture_output=True, text=True)
+    assert p.returncode == 1, p.stdout + p.stderr
+    assert "FIT FAILED" in p.stdout and "magnitude_kg" in p.stdout
+    assert not (out / "fitted-pantograph.toml").exists()
+
+
 def test_run_equals_the_cli_exactly(tmp_path):
     case = short_case()
     res = pcsim.run(case)

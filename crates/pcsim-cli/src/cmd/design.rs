@@ -336,7 +336,7 @@ pub fn design(a: DesignArgs, ctx: &Ctx) -> Result<i32> {
     println!(
         "wrote {}/design.csv, design.json, traces.csv{}",
         a.out.display(),
-        if result.best.is_some() && unconfirmed.is_none() {
+        if result.recommended.is_some() && unconfirmed.is_none() {
             ", best-case.toml"
         } else {
             ""
@@ -348,7 +348,7 @@ pub fn design(a: DesignArgs, ctx: &Ctx) -> Result<i32> {
     if let Some(e) = unconfirmed {
         anyhow::bail!("{e}");
     }
-    Ok(if result.best.is_some() { 0 } else { 1 })
+    Ok(if result.recommended.is_some() { 0 } else { 1 })
 }
 
 fn fmt(x: Option<f64>) -> String {
@@ -363,6 +363,13 @@ fn print(d: &Design, r: &DesignResult, wall: f64) {
     let names: Vec<&str> = d.spec.variables.iter().map(|v| v.path.as_str()).collect();
     let Some(bi) = r.best else {
         let searched = r.evaluations.iter().filter(|e| e.phase == "search").count();
+        if let Some(b) = r.base.as_ref().filter(|b| b.feasible()) {
+            println!(
+                "NO IMPROVEMENT FOUND: none of the {searched} designs searched meets the constraints, the base design does (objective {}); no design is recommended and no best-case.toml is written.",
+                fmt(b.objective)
+            );
+            return;
+        }
         println!(
             "INFEASIBLE: none of the {searched} designs evaluated meets the constraints{}; there is no best design.",
             match r.stop {
@@ -389,8 +396,19 @@ fn print(d: &Design, r: &DesignResult, wall: f64) {
         return;
     };
     let e = &r.evaluations[bi];
+    if r.recommended.is_none() {
+        println!(
+            "NO IMPROVEMENT FOUND: none of the designs evaluated beats the base design (objective {}); no design is recommended and no best-case.toml is written (search a wider range or with more evaluations).",
+            r.base.as_ref().map_or("—".into(), |b| fmt(b.objective))
+        );
+    }
     println!(
-        "best design (evaluation {bi}), objective {}:",
+        "{} (evaluation {bi}), objective {}:",
+        if r.recommended.is_some() {
+            "best design"
+        } else {
+            "the best evaluated, not recommended"
+        },
         fmt(e.objective)
     );
     for (n, x) in names.iter().zip(&e.x) {
@@ -499,7 +517,7 @@ fn base_text(spec: &Path, d: &Design) -> Result<String> {
 fn write_outputs(out: &Path, d: &Design, r: &DesignResult, journal: &Path) -> Result<()> {
     std::fs::copy(journal, out.join("design.csv"))
         .with_context(|| format!("cannot copy {}", journal.display()))?;
-    let best = r.best.map(|i| &r.evaluations[i]);
+    let best = r.recommended.map(|i| &r.evaluations[i]);
     let v = r.to_json(d);
     write_file(
         &out.join("design.json"),

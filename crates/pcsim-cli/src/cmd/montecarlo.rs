@@ -5,7 +5,7 @@
 
 use anyhow::Result;
 use pcsim_core::analysis::montecarlo::Realisation;
-use pcsim_core::analysis::montecarlo::{monte_carlo, stat_of, Spread, MC_STATS};
+use pcsim_core::analysis::montecarlo::{monte_carlo, stat_of, statistics_of, Spread};
 use pcsim_core::analysis::report::{count_events, run_errors, EventCount, RunError};
 use pcsim_core::analysis::specs::MonteCarloSpec;
 use pcsim_core::Case;
@@ -136,9 +136,10 @@ fn realisation_rows(
     per_run: &[Vec<RunError>],
     names: &[String],
 ) -> String {
+    let stats = statistics_of(real.iter().map(|r| &r.output));
     let mut csv = String::from("realisation,seed_offset,seeds,irregularity_rms_m,errors");
     for nm in names {
-        for s in MC_STATS {
+        for s in &stats {
             let _ = write!(csv, ",{nm}_{s}");
         }
     }
@@ -175,7 +176,7 @@ fn realisation_rows(
             kinds.join(" ")
         );
         for p in 0..names.len() {
-            for s in MC_STATS {
+            for s in &stats {
                 let v = stat_of(&r.output, p, s);
                 if v.is_finite() {
                     let _ = write!(csv, ",{v:.6}");
@@ -195,9 +196,10 @@ fn spreads(
     names: &[String],
 ) -> Result<serde_json::Map<String, serde_json::Value>> {
     let mut stats = serde_json::Map::new();
+    let names_of = statistics_of(real.iter().map(|r| &r.output));
     for (p, nm) in names.iter().enumerate() {
         let mut m = serde_json::Map::new();
-        for s in MC_STATS {
+        for s in &names_of {
             let v: Vec<f64> = real.iter().map(|r| stat_of(&r.output, p, s)).collect();
             m.insert(s.to_string(), serde_json::to_value(Spread::of(&v))?);
         }
@@ -209,16 +211,22 @@ fn spreads(
 /// The spread of σ, the minimum and the loss of contact on the terminal.
 fn print_spreads(real: &[Realisation], names: &[String]) {
     for (p, nm) in names.iter().enumerate() {
-        for s in ["std_n", "actual_min_n", "loss_of_contact_percent"] {
+        for s in [
+            "std_n",
+            "actual_min_n",
+            "loss_of_contact_percent",
+            "max_lateral_offset_mm",
+            "max_contact_wire_blowout_mm",
+        ] {
             let v: Vec<f64> = real.iter().map(|r| stat_of(&r.output, p, s)).collect();
             if let Some(sp) = Spread::of(&v) {
                 match (sp.std, sp.ci95_low, sp.ci95_high) {
                     (Some(sd), Some(lo), Some(hi)) => println!(
-                        "  {nm:<10} {s:<24} mean {:8.3}  std {sd:7.3}  95 % CI [{lo:.3}, {hi:.3}]  range [{:.3}, {:.3}]",
+                        "  {nm:<10} {s:<28} mean {:8.3}  std {sd:7.3}  95 % CI [{lo:.3}, {hi:.3}]  range [{:.3}, {:.3}]",
                         sp.mean, sp.min, sp.max
                     ),
                     _ => println!(
-                        "  {nm:<10} {s:<24} mean {:8.3}  std and 95 % CI undefined (one realisation)",
+                        "  {nm:<10} {s:<28} mean {:8.3}  std and 95 % CI undefined (one realisation)",
                         sp.mean
                     ),
                 }

@@ -7,7 +7,7 @@ use clap::{Args, Subcommand, ValueEnum};
 use std::path::{Path, PathBuf};
 
 use crate::output::{write_file, write_manifest, OutDir};
-use pcsim_core::analysis::frf::{fit, Quantity, Response};
+use pcsim_core::analysis::frf::{fit_with, FitSpec, Quantity, Response};
 
 #[derive(Args)]
 pub struct PantographArgs {
@@ -74,12 +74,23 @@ struct FitArgs {
     measured: PathBuf,
     #[command(flatten)]
     which: Which,
+    /// Starts of the least-squares method: the case's values, then seeded draws inside the
+    /// bounds.
+    #[arg(long, default_value_t = FitSpec::default().starts)]
+    starts: usize,
+    /// The draws' seed.
+    #[arg(long, default_value_t = FitSpec::default().seed)]
+    seed: u64,
+    /// The largest RMS misfit accepted, %: above it the fit fails (exit status 1, no case
+    /// block written).
+    #[arg(long, value_name = "PERCENT", default_value_t = 100.0 * FitSpec::default().max_residual_rms)]
+    max_residual_percent: f64,
 }
 
-pub fn pantograph(a: PantographArgs) -> Result<i32> {
+pub fn pantograph(a: PantographArgs, ctx: &crate::common::Ctx) -> Result<i32> {
     match a.action {
         Action::Frf(a) => frf(a),
-        Action::Fit(a) => fit_cmd(a),
+        Action::Fit(a) => fit_cmd(a, ctx),
     }
 }
 
@@ -170,12 +181,8 @@ fn frf(a: FrfArgs) -> Result<i32> {
     od.commit()?;
     // Its resonances: the local maxima of the receptance's magnitude.
     let rec = Response::of_model(&p, Quantity::Receptance, &f)?;
-    let peaks: Vec<String> = (1..f.len().saturating_sub(1))
-        .filter(|&i| {
-            let m = |j: usize| rec.value[j].norm();
-            m(i) > m(i - 1) && m(i) >= m(i + 1)
-        })
-        .map(|i| format!("{:.2} Hz", f[i]))
+    let peaks: Vec<String> = (rec.peaks().iter())
+        .map(|f| format!("{} Hz", crate::common::significant(*f, 3)))
         .collect();
     println!(
         "pantograph {name}: {} masses{}; receptance peaks at {} (from {} to {} Hz, {} points)",
@@ -205,7 +212,7 @@ fn frf(a: FrfArgs) -> Result<i32> {
     Ok(0)
 }
 
-fn fit_cmd(a: FitArgs) -> Result<i32> {
+fn fit_cmd(a: FitArgs, ctx: &crate::common::Ctx) -> Result<i32> {
     let (name, start) = chain(&a.which)?;
     let text = crate::common::read_input(&a.measured)
         .with_context(|| format!("cannot read {}", a.measured.display()))?;
@@ -214,14 +221,38 @@ fn fit_cmd(a: FitArgs) -> Result<i32> {
         |n| n.to_string_lossy().into_owned(),
     );
     let measured = Response::from_csv(&text, &label)?;
-    let r = fit(&start, &measured)?;
+    let spec = FitSpec {
+        starts: a.starts,
+        seed: a.seed,
+        max_residual_rms: a.max_residual_percent / 100.0,
+    };
+    spec.check().map_err(|e| {
+        pcsim_core::analysis::specs::with_flags(
+            e,
+            &[
+                ("fit.starts", "--starts"),
+                ("fit.max_residual_rms", "--max-residual-percent"),
+            ],
+        )
+    })?;
+    let pb = crate::progress::Progress::new(
+        "fit",
+        spec.starts as u64,
+        ctx.progress,
+        "fit [{bar:40}] {pos}/{len} starts {elapsed_precise} eta {eta}",
+    );
+    let r = fit_with(&start, &measured, &spec, &mut |k, _| pb.set(k as u64))?;
+    pb.finish();
+    let failure = r.check(&start, &measured).err();
     let od = OutDir::begin(&a.which.out)?;
     write_file(
         &od.path().join("fit.json"),
         serde_json::to_string_pretty(&r)? + "\n",
     )?;
-    let block = r.case_block(&name, &label);
-    write_file(&od.path().join("fitted-pantograph.toml"), &block)?;
+    if failure.is_none() {
+        let block = r.case_block(&name, &label);
+        write_file(&od.path().join("fitted-pantograph.toml"), &block)?;
+    }
     let mut fitted = Response::of_model(&r.pantograph, measured.quantity, &measured.frequency_hz)?;
     fitted.source = "fitted".into();
     write_manifest(
@@ -255,6 +286,11 @@ fn fit_cmd(a: FitArgs) -> Result<i32> {
                 ""
             }
         );
+    }
+    if let Some(e) = failure {
+        println!("wrote {}", a.which.out.join("fit.json").display());
+        println!("FIT FAILED: {e}");
+        return Ok(1);
     }
     println!(
         "wrote {} and {}",

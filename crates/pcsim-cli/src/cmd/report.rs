@@ -1025,7 +1025,7 @@ fn design_section(h: &mut String, dir: &Path) -> Result<()> {
     let paths: Vec<String> = v["variables"].as_array().map_or(Vec::new(), |a| {
         a.iter().map(|x| as_text(&x["path"])).collect()
     });
-    if v["feasible"] != true {
+    if v["answer"] == "infeasible" || v["best_evaluated"].is_null() {
         let _ = writeln!(
             h,
             "<p><b>Infeasible</b>: none of the designs evaluated meets the constraints; there is no best design. The least violating: {}.</p>",
@@ -1033,7 +1033,17 @@ fn design_section(h: &mut String, dir: &Path) -> Result<()> {
         );
         return Ok(());
     }
-    let best = &v["best"];
+    let improved = !v["best"].is_null();
+    if !improved {
+        let _ = writeln!(
+            h,
+            "<p><b>No improvement found</b>: no design evaluated beats the base design (objective {}); the best evaluated (evaluation {}) has objective {}. No design is recommended: keep the base, or search a wider range or with more evaluations.</p>",
+            num(&v["base"]["objective"]),
+            num(&v["best_evaluated"]["index"]),
+            num(&v["best_evaluated"]["objective"]),
+        );
+    }
+    let best = &v["best_evaluated"];
     let base = &v["base"];
     let mut rows: Vec<Vec<String>> = paths
         .iter()
@@ -1054,7 +1064,8 @@ fn design_section(h: &mut String, dir: &Path) -> Result<()> {
     table(
         h,
         &format!(
-            "The best design (evaluation {}; confirmation run {})",
+            "The best design {}(evaluation {}; confirmation run {})",
+            if improved { "" } else { "evaluated, not recommended " },
             num(&best["index"]),
             if v["confirmation"]["same_as_search"] == true {
                 "equal to the search's"

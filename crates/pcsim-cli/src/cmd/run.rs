@@ -83,6 +83,14 @@ pub struct RunArgs {
     /// Seed of --sensitivity's sample (in summary.json's `sensitivity.spec`).
     #[arg(long, value_name = "SEED", requires = "sensitivity", default_value_t = pcsim_core::analysis::sensitivity::SensitivitySpec::default().seed)]
     sensitivity_seed: u64,
+    /// The most runs --sensitivity may make (two per ranged value, then the sample), checked
+    /// before any run.
+    #[arg(long, value_name = "N", requires = "sensitivity", default_value_t = pcsim_core::analysis::sensitivity::SensitivitySpec::default().max_runs)]
+    sensitivity_max_runs: usize,
+    /// Exit 0 even when runs of --sensitivity could not be made (the bands are then taken over
+    /// fewer runs, said); without it such a study exits 2, its outputs written.
+    #[arg(long, requires = "sensitivity")]
+    allow_failed_runs: bool,
 }
 
 impl RunArgs {
@@ -136,9 +144,18 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
             let spec = pcsim_core::analysis::sensitivity::SensitivitySpec {
                 samples: a.sensitivity_samples,
                 seed: a.sensitivity_seed,
+                max_runs: a.sensitivity_max_runs,
+                allow_failed_runs: a.allow_failed_runs,
             };
-            spec.check()
-                .map_err(|e| anyhow::anyhow!("--sensitivity-samples: {e}"))?;
+            spec.check().map_err(|e| {
+                pcsim_core::analysis::specs::with_flags(
+                    e,
+                    &[
+                        ("sensitivity.samples", "--sensitivity-samples"),
+                        ("sensitivity.max_runs", "--sensitivity-max-runs"),
+                    ],
+                )
+            })?;
             let ranges = pcsim_core::Case::from_toml_str_with_ranges(&case_text)?.2;
             if ranges.is_empty() {
                 anyhow::bail!("--sensitivity: the case gives no value a range (mark one as `{{ value = …, source = \"…\", range = [low, high], range_source = \"why\" }}`)");
@@ -197,20 +214,37 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
         summary.verification = Some(v);
     }
     if let Some((spec, ranges)) = &sensitivity {
-        let pb = crate::progress::Progress::run(
-            "sensitivity (the ranged values one at a time, then sampled)",
-            ctx.progress,
-        );
         let fixed: Vec<String> = overrides.iter().map(|o| o.path.clone()).collect();
+        let n = spec.runs_for(ranges.iter().filter(|r| !fixed.contains(&r.path)).count());
+        let workers = pcsim_core::analysis::sweep::workers(a.jobs, n);
+        eprintln!(
+            "sensitivity: {n} runs (at most {}), about {:.0} s on {workers} workers at this run's speed",
+            spec.max_runs,
+            wall * n as f64 / workers as f64
+        );
+        let pb = crate::progress::Progress::new(
+            "sensitivity",
+            n as u64,
+            ctx.progress,
+            "sensitivity [{bar:40}] {pos}/{len} runs {elapsed_precise} eta {eta}",
+        );
         let s = pcsim_core::analysis::sensitivity::sensitivity(
             &case,
             &out,
             ranges,
             &fixed,
             spec,
+            a.allowed(),
             &ctx.budget,
             a.jobs,
-        )?;
+            &|k, _| pb.set(k as u64),
+        )
+        .map_err(|e| {
+            pcsim_core::analysis::specs::with_flags(
+                e,
+                &[("sensitivity.max_runs", "--sensitivity-max-runs")],
+            )
+        })?;
         pb.finish();
         summary.sensitivity = Some(s);
     }
@@ -253,6 +287,11 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
     }
     // Error-level events: each kind is refused (exit 2) unless its flag accepts it.
     refuse_errors(&out, a.allowed())?;
+    // A study that produced less than it was asked: refused (exit 2), its outputs written.
+    if let Some(s) = &summary.sensitivity {
+        s.check()
+            .map_err(|e| anyhow::anyhow!("{e} (the outputs are written)"))?;
+    }
     Ok(0)
 }
 
@@ -374,8 +413,12 @@ pub fn print_sensitivity(s: &pcsim_core::analysis::sensitivity::Sensitivity) {
             p.name, "statistic", "value", "band"
         );
         for b in &p.statistics {
-            let top = b.movers.first().map_or(String::from("-"), |m| {
-                format!("{} ({:+.3} {})", m.path, m.swing, b.unit)
+            let top = b.movers.first().map_or(String::from("-"), |m| match m.swing {
+                Some(w) => format!("{} ({w:+.3} {})", m.path, b.unit),
+                None => format!(
+                    "{} (one end only: moved {:.3} {})",
+                    m.path, m.moved, b.unit
+                ),
             });
             println!(
                 "  {:<10} {:<26} {:>10.3} [{:>9.3}, {:>9.3}]   {top}",

@@ -211,8 +211,11 @@ pub struct DesignResult {
     pub run_now: usize,
     /// Why the search stopped.
     pub stop: StopReason,
-    /// The best feasible evaluation's index (none: no feasible design was found).
+    /// The search's best feasible evaluation's index (none: no feasible design was found).
     pub best: Option<usize>,
+    /// The design handed over: `best` when it beats the base design (a base that is feasible
+    /// and costs no more is not beaten: "no improvement found"); none otherwise.
+    pub recommended: Option<usize>,
     /// No feasible design: the least violating evaluation's index (none: every run failed).
     pub least_violating: Option<usize>,
     /// The best design run again, and whether its statistics equal the journal's.
@@ -229,24 +232,13 @@ pub struct DesignResult {
     pub constraints: Vec<ConstraintStatus>,
 }
 
+/// A pantograph's statistic `q` (none for the run's own statistics, or one the run has no
+/// value of): the one lookup by name, [`crate::analysis::verify::statistic`].
 fn stat_of(s: &ContactStats, q: Statistic) -> Option<f64> {
-    Some(match q {
-        Statistic::MeanN => s.mean_n,
-        Statistic::StdN => s.std_n,
-        Statistic::Std05HzN => s.std_0_5hz_n,
-        Statistic::Std520HzN => s.std_5_20hz_n,
-        Statistic::StatMaxN => s.stat_max_n,
-        Statistic::StatMinN => s.stat_min_n,
-        Statistic::ActualMaxN => s.actual_max_n,
-        Statistic::ActualMinN => s.actual_min_n,
-        Statistic::ContactPointRangeMm => s.contact_point_range_mm,
-        Statistic::MaxUpliftAtSupportMm => s.max_uplift_at_support_mm,
-        Statistic::LossOfContactPercent => s.loss_of_contact_percent,
-        Statistic::MaxLateralOffsetMm => return s.max_lateral_offset_mm,
-        Statistic::MaxSlackDroppers | Statistic::StepsWithSlackPercent | Statistic::SpeedRatio => {
-            return None
-        }
-    })
+    if q.per_run() {
+        return None;
+    }
+    crate::analysis::verify::statistic(s, q.name())
 }
 
 /// A statistic `need` of one run (none: the run has no value of it).
@@ -1106,6 +1098,16 @@ fn sensitivities(
     sensitivity
 }
 
+/// Whether `best` is worth handing over against the base design: the base must have been run
+/// (not after an interrupt) and be infeasible or cost strictly more. A search never recommends
+/// what it did not beat.
+fn beats_base(best: &Evaluation, base: Option<&Evaluation>) -> bool {
+    match base {
+        None => false,
+        Some(b) => !b.feasible() || best.cost < b.cost,
+    }
+}
+
 /// The evaluation that violates the constraints least (an infeasible search's answer).
 fn least_violating(evaluations: &[Evaluation]) -> Option<usize> {
     evaluations
@@ -1231,12 +1233,14 @@ pub fn search(
         }
         _ => (None, Vec::new(), Vec::new()),
     };
+    let recommended = best.filter(|&bi| beats_base(&evaluations[bi], base.as_ref()));
     Ok(DesignResult {
         asked: book.asked,
         run_now: book.run_now,
         evaluations,
         stop,
         best,
+        recommended,
         least_violating,
         confirmation,
         base,
@@ -1248,6 +1252,22 @@ pub fn search(
 }
 
 impl DesignResult {
+    /// The search's answer in one phrase: `improved` (a recommended design beats the base),
+    /// `no improvement found` (the base design is feasible and nothing evaluated beats it),
+    /// `infeasible` (no design evaluated, the base included, meets the constraints) or
+    /// `interrupted`.
+    pub fn answer(&self) -> &'static str {
+        if self.recommended.is_some() {
+            "improved"
+        } else if self.stop == StopReason::Interrupted {
+            "interrupted"
+        } else if self.base.as_ref().is_some_and(|b| b.feasible()) {
+            "no improvement found"
+        } else {
+            "infeasible"
+        }
+    }
+
     /// An error when the best design's confirmation run differs from its evaluation in the
     /// search (a journal row that does not reproduce: evaluated by another build or machine, or
     /// changed): then there is no best design to hand over (the CLI writes no `best-case.toml`
@@ -1282,6 +1302,7 @@ impl DesignResult {
         use serde_json::json;
         let best = self.best.map(|i| &self.evaluations[i]);
         json!({
+            "answer": self.answer(),
             "fingerprint": d.fingerprint(),
             "method": d.spec.budget.method.name(),
             "seed": d.spec.budget.seed,
@@ -1290,8 +1311,9 @@ impl DesignResult {
             "variables": d.spec.variables.iter().map(|v| json!({"path": v.path, "min": v.min, "max": v.max, "integer": v.integer})).collect::<Vec<_>>(),
             "speeds_kmh": d.spec.speeds.iter().map(|s| s.kmh).collect::<Vec<_>>(),
             "columns": d.needs.iter().map(|n| n.label()).collect::<Vec<_>>(),
-            "feasible": best.is_some(),
-            "best": best,
+            "feasible": best.is_some() || self.base.as_ref().is_some_and(|b| b.feasible()),
+            "best": self.recommended.map(|i| &self.evaluations[i]),
+            "best_evaluated": best,
             "least_violating": self.least_violating.map(|i| &self.evaluations[i]),
             "base": self.base,
             "confirmation": self.confirmation.as_ref().map(|(e, same)| json!({"evaluation": e, "same_as_search": same})),

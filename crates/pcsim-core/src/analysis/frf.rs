@@ -5,13 +5,13 @@
 //! `F₀/A₀ = −1/(ω² X₀/F₀)` (kg) that pantograph test rigs commonly report. A measured response
 //! is read from CSV text with the units in its header (`frequency_hz`, `magnitude_m_per_n` or
 //! `magnitude_kg`, `phase_deg`); the fit is a least-squares fit of the chain's masses, springs
-//! and dampers to it: argmin's Nelder–Mead on the logarithms of the parameters (bounded to a
-//! factor of [`BOUND_FACTOR`] around the starting pantograph, the case's), the residual the
-//! complex relative misfit at every frequency, and each parameter's standard uncertainty from
-//! the Jacobian at the optimum (`s² (JᵀJ)⁻¹`, `s²` the residual variance).
+//! and dampers to it: bounded Levenberg–Marquardt on the logarithms of the parameters (bounded
+//! to a factor of [`BOUND_FACTOR`] around the starting pantograph, the case's) from several
+//! starts inside the bounds, the residual the complex relative misfit at every frequency, and
+//! each parameter's standard uncertainty from the Jacobian at the optimum (`s² (JᵀJ)⁻¹`, `s²`
+//! the residual variance). A residual above [`FitSpec::max_residual_rms`] is a failure
+//! ([`Fit::check`]), never a block to paste.
 
-use argmin::core::{CostFunction, Error as ArgminError, Executor};
-use argmin::solver::neldermead::NelderMead;
 use rustfft::num_complex::Complex;
 use serde::Serialize;
 
@@ -109,6 +109,29 @@ impl Response {
             .collect())
     }
 
+    /// The frequencies of its resonances, Hz: the local maxima of the magnitude that stand out
+    /// from the lower of their two sides (the lowest magnitude between the peak and the nearest
+    /// higher point, or the range's end) by at least 1 % of their height. Rounding noise on a
+    /// flat response (a relative 1e-15) is no peak.
+    pub fn peaks(&self) -> Vec<f64> {
+        let m: Vec<f64> = self.value.iter().map(|h| h.norm()).collect();
+        let n = m.len();
+        let side = |i: usize, step: isize| {
+            let mut lowest = m[i];
+            let mut j = i as isize + step;
+            while j >= 0 && (j as usize) < n && m[j as usize] <= m[i] {
+                lowest = lowest.min(m[j as usize]);
+                j += step;
+            }
+            lowest
+        };
+        (1..n.saturating_sub(1))
+            .filter(|&i| m[i] > m[i - 1] && m[i] >= m[i + 1])
+            .filter(|&i| m[i] - side(i, -1).max(side(i, 1)) >= 0.01 * m[i])
+            .map(|i| self.frequency_hz[i])
+            .collect()
+    }
+
     /// As CSV text: `frequency_hz`, the magnitude with its unit, `phase_deg`.
     pub fn to_csv(&self) -> String {
         let mut s = format!("frequency_hz,{},phase_deg\n", self.quantity.column());
@@ -126,6 +149,7 @@ impl Response {
     /// `frequency_hz`, `magnitude_m_per_n` or `magnitude_kg`, and `phase_deg`, then one row per
     /// frequency, increasing. Each malformed line or value is refused by its line and column.
     pub fn from_csv(text: &str, source: &str) -> Result<Self, CaseError> {
+        let text = crate::input::without_bom(text);
         let bad = |line: usize, what: &str, reason: &str| CaseError::Invalid {
             field: format!("{source}: line {line}"),
             value: what.to_string(),
@@ -247,13 +271,70 @@ pub struct Fit {
     pub residual_rms: f64,
     /// The same at the start.
     pub start_residual_rms: f64,
-    /// Cost evaluations.
+    /// Evaluations of the residuals.
     pub evaluations: u64,
     /// The measurement's source.
     pub source: String,
+    /// The settings.
+    pub spec: FitSpec,
+    /// Whether the residual is within `spec.max_residual_rms` (else the fit is a failure: no
+    /// case block is handed over).
+    pub converged: bool,
 }
 
 impl Fit {
+    /// An error when the fit is not one a user may paste (its residual above
+    /// `spec.max_residual_rms`): the residual, the parameters left at a bound, and, when the
+    /// measurement fits well read as the other quantity (an apparent mass under a receptance
+    /// header, or the reverse: a common slip), that.
+    pub fn check(&self, start: &Lumped, measured: &Response) -> Result<(), CaseError> {
+        if self.converged {
+            return Ok(());
+        }
+        let at_bound: Vec<&str> = (self.parameters.iter())
+            .filter(|p| p.at_bound)
+            .map(|p| p.name.as_str())
+            .collect();
+        let other = match measured.quantity {
+            Quantity::Receptance => Quantity::ApparentMass,
+            Quantity::ApparentMass => Quantity::Receptance,
+        };
+        let swapped = Response {
+            quantity: other,
+            ..measured.clone()
+        };
+        let quick = FitSpec {
+            starts: 2,
+            ..self.spec
+        };
+        let hint = match fit_with(start, &swapped, &quick, &mut |_, _| {}) {
+            Ok(f) if f.converged => format!(
+                "; read as {} ({}) it fits at {:.2} % RMS: is the header's unit right?",
+                match other {
+                    Quantity::Receptance => "a receptance",
+                    Quantity::ApparentMass => "an apparent mass",
+                },
+                other.column(),
+                100.0 * f.residual_rms
+            ),
+            _ => String::new(),
+        };
+        Err(inv(
+            &format!("{}: fit", self.source),
+            format!("residual {:.2} % RMS", 100.0 * self.residual_rms),
+            &format!(
+                "above the {:.1} % accepted (fit.max_residual_rms): the chain does not describe this measurement{}{}; no case block is written",
+                100.0 * self.spec.max_residual_rms,
+                if at_bound.is_empty() {
+                    String::new()
+                } else {
+                    format!(", and {} ended at a bound of the start's factor of {BOUND_FACTOR}", at_bound.join(", "))
+                },
+                hint
+            ),
+        ))
+    }
+
     /// The fitted pantograph as a case's `[[pantographs]]` block named `name`, each fitted value
     /// with the measurement (`label`) as its source; the uplift and the aerodynamic force are the
     /// starting case's (a frequency response does not measure them).
@@ -391,48 +472,180 @@ fn residuals(p: &Lumped, m: &Response) -> Vec<f64> {
     r
 }
 
-#[derive(Clone)]
+/// The fit's settings (`Default`: 8 starts, seed 1, a residual of at most 10 % RMS).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct FitSpec {
+    /// Starts of the least-squares method: the case's values, then `starts − 1` points drawn
+    /// uniformly (on the logarithms) inside the bounds; the best end is the answer.
+    pub starts: usize,
+    /// The draws' seed.
+    pub seed: u64,
+    /// The largest RMS relative misfit accepted (0.10: 10 %); above it the fit is a failure.
+    pub max_residual_rms: f64,
+}
+
+impl Default for FitSpec {
+    fn default() -> Self {
+        Self {
+            starts: 8,
+            seed: 1,
+            max_residual_rms: 0.10,
+        }
+    }
+}
+
+impl FitSpec {
+    /// Refuse settings the fit cannot honour, by their field.
+    pub fn check(&self) -> Result<(), CaseError> {
+        if !(1..=MAX_STARTS).contains(&self.starts) {
+            return Err(inv(
+                "fit.starts",
+                self.starts,
+                &format!("from 1 to {MAX_STARTS}"),
+            ));
+        }
+        if !(self.max_residual_rms.is_finite() && self.max_residual_rms > 0.0) {
+            return Err(inv(
+                "fit.max_residual_rms",
+                self.max_residual_rms,
+                "a positive fraction (0.10: 10 % RMS)",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The most starts a fit takes.
+pub const MAX_STARTS: usize = 64;
+
+/// The most frequencies a measured response may hold (each start costs about
+/// `60 × 2 × parameters` evaluations of the chain at every frequency): thin a longer record.
+pub const MAX_FREQUENCIES: usize = 20_000;
+
+/// The residuals on the logarithms `u` of the parameters, clamped into the bounds.
 struct Problem<'a> {
-    /// Cost evaluations so far.
-    count: &'a std::sync::atomic::AtomicU64,
     start: &'a Lumped,
     measured: &'a Response,
     /// Natural logarithms of the bounds.
     lo: Vec<f64>,
     hi: Vec<f64>,
+    /// Residual evaluations so far.
+    count: u64,
 }
 
 impl Problem<'_> {
-    fn cost_of(&self, u: &[f64]) -> f64 {
-        self.count
-            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        // Outside the bounds: the bound's cost plus a steep penalty.
-        let mut pen = 0.0;
-        let x: Vec<f64> = u
-            .iter()
-            .zip(self.lo.iter().zip(&self.hi))
-            .map(|(&v, (&l, &h))| {
-                let c = v.clamp(l, h);
-                pen += (v - c) * (v - c);
-                c.exp()
-            })
-            .collect();
-        let r = residuals(&with_params(self.start, &x), self.measured);
-        r.iter().map(|v| v * v).sum::<f64>() + 1e3 * pen
+    fn x_of(&self, u: &[f64]) -> Vec<f64> {
+        (u.iter().zip(self.lo.iter().zip(&self.hi)))
+            .map(|(&v, (&l, &h))| v.clamp(l, h).exp())
+            .collect()
+    }
+
+    fn residuals(&mut self, u: &[f64]) -> Vec<f64> {
+        self.count += 1;
+        residuals(&with_params(self.start, &self.x_of(u)), self.measured)
+    }
+
+    /// The Jacobian of the residuals in `u` by central differences (one-sided at a bound).
+    fn jacobian(&mut self, u: &[f64]) -> Vec<Vec<f64>> {
+        let h = 1e-6;
+        let np = u.len();
+        let mut cols = Vec::with_capacity(np);
+        for j in 0..np {
+            let (mut up, mut dn) = (u.to_vec(), u.to_vec());
+            up[j] = (u[j] + h).min(self.hi[j]);
+            dn[j] = (u[j] - h).max(self.lo[j]);
+            let (ru, rd) = (self.residuals(&up), self.residuals(&dn));
+            let d = up[j] - dn[j];
+            cols.push(ru.iter().zip(&rd).map(|(a, b)| (a - b) / d).collect());
+        }
+        cols
     }
 }
 
-impl CostFunction for Problem<'_> {
-    type Param = Vec<f64>;
-    type Output = f64;
-    fn cost(&self, u: &Self::Param) -> Result<Self::Output, ArgminError> {
-        Ok(self.cost_of(u))
-    }
+fn sum_sq(r: &[f64]) -> f64 {
+    r.iter().map(|v| v * v).sum()
 }
 
-/// Fit the chain of `start` (its number of masses, its values as the start and the centre of
-/// the bounds) to `measured`.
+/// Levenberg–Marquardt from `u0`, each step projected into the bounds (Marquardt's scaling by
+/// the diagonal of `JᵀJ`; `λ` divided by 3 on a step that lowers the cost, multiplied by 4 on
+/// one that does not). Ends when a step lowers the cost by less than 1e-12 of it, when `λ`
+/// exceeds 1e12 (no direction lowers it), or after 200 iterations. Returns the end and its cost.
+///
+/// Written here rather than taken from a crate: argmin offers Gauss–Newton without bounds, and
+/// the `levenberg-marquardt` crate has no bounds either and brings nalgebra, a second linear
+/// algebra library, for a system of at most a dozen unknowns.
+fn levenberg_marquardt(p: &mut Problem<'_>, u0: &[f64]) -> (Vec<f64>, f64) {
+    let np = u0.len();
+    let mut u: Vec<f64> = (u0.iter().zip(p.lo.iter().zip(&p.hi)))
+        .map(|(&v, (&l, &h))| v.clamp(l, h))
+        .collect();
+    let mut r = p.residuals(&u);
+    let mut cost = sum_sq(&r);
+    let mut lambda = 1e-3;
+    for _ in 0..200 {
+        let jac = p.jacobian(&u);
+        let mut jtj = vec![0.0; np * np];
+        let mut g = vec![0.0; np];
+        for a in 0..np {
+            g[a] = crate::linalg::dot(&jac[a], &r);
+            for b in a..np {
+                let v = crate::linalg::dot(&jac[a], &jac[b]);
+                jtj[a * np + b] = v;
+                jtj[b * np + a] = v;
+            }
+        }
+        let mut moved = false;
+        while lambda <= 1e12 {
+            let mut m = jtj.clone();
+            for a in 0..np {
+                m[a * np + a] += lambda * jtj[a * np + a].max(1e-12);
+            }
+            let Some(inv_m) = crate::linalg::invert_small(&m, np) else {
+                lambda *= 4.0;
+                continue;
+            };
+            let step = crate::linalg::mat_vec(&inv_m, np, &g);
+            let trial: Vec<f64> = (0..np)
+                .map(|a| (u[a] - step[a]).clamp(p.lo[a], p.hi[a]))
+                .collect();
+            let rt = p.residuals(&trial);
+            let ct = sum_sq(&rt);
+            if ct < cost {
+                let gain = cost - ct;
+                u = trial;
+                r = rt;
+                cost = ct;
+                lambda = (lambda / 3.0).max(1e-12);
+                moved = gain > 1e-12 * cost.max(1e-300);
+                break;
+            }
+            lambda *= 4.0;
+        }
+        if !moved {
+            break;
+        }
+    }
+    (u, cost)
+}
+
+/// Fit the chain of `start` with the default settings ([`fit_with`]).
 pub fn fit(start: &Lumped, measured: &Response) -> Result<Fit, CaseError> {
+    fit_with(start, measured, &FitSpec::default(), &mut |_, _| {})
+}
+
+/// Fit the chain of `start` (its number of masses, its values as the first start and the centre
+/// of the bounds) to `measured`: bounded Levenberg–Marquardt on the logarithms of the
+/// parameters from `spec.starts` starts (the case's values, then seeded draws inside the
+/// bounds), the best end taken. `progress(k, n)` is called as start `k` of `n` ends. The
+/// answer's [`Fit::converged`] says whether its residual is within `spec.max_residual_rms`;
+/// [`Fit::check`] turns a fit that is not into an error.
+pub fn fit_with(
+    start: &Lumped,
+    measured: &Response,
+    spec: &FitSpec,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Fit, CaseError> {
+    spec.check()?;
     if let Some(s) = start
         .strips
         .iter()
@@ -460,47 +673,39 @@ pub fn fit(start: &Lumped, measured: &Response) -> Result<Fit, CaseError> {
             &format!("{np} parameters need at least {np} frequencies"),
         ));
     }
-    let count = std::sync::atomic::AtomicU64::new(0);
-    let problem = Problem {
-        count: &count,
+    if measured.value.len() > MAX_FREQUENCIES {
+        return Err(inv(
+            "measured",
+            format!("{} frequencies", measured.value.len()),
+            &format!("at most {MAX_FREQUENCIES} (each start evaluates the chain about 60 × 2 × {np} times at every frequency): thin the record, a chain of {np} parameters needs a few hundred"),
+        ));
+    }
+    let mut problem = Problem {
         start,
         measured,
         lo: x0.iter().map(|v| (v / BOUND_FACTOR).ln()).collect(),
         hi: x0.iter().map(|v| (v * BOUND_FACTOR).ln()).collect(),
+        count: 0,
     };
-    let mut u: Vec<f64> = x0.iter().map(|v| v.ln()).collect();
-    let start_cost = problem.cost_of(&u);
-    // Nelder–Mead restarted from its answer until it no longer improves (a simplex collapses
-    // on a valley; a fresh one leaves it).
-    let mut best = start_cost;
-    for round in 0..12 {
-        let step = if round == 0 { 0.3 } else { 0.05 };
-        let mut simplex = vec![u.clone()];
-        for i in 0..np {
-            let mut v = u.clone();
-            v[i] += step;
-            simplex.push(v);
-        }
-        let solver = NelderMead::new(simplex)
-            .with_sd_tolerance(1e-14)
-            .map_err(|e| inv("fit", "nelder-mead", &e.to_string()))?;
-        let res = Executor::new(problem.clone(), solver)
-            .configure(|s| s.max_iters(4000))
-            .run()
-            .map_err(|e| inv("fit", "nelder-mead", &e.to_string()))?;
-        let state = res.state();
-        let (Some(b), c) = (state.best_param.clone(), state.best_cost) else {
-            break;
+    let u0: Vec<f64> = x0.iter().map(|v| v.ln()).collect();
+    let start_cost = sum_sq(&problem.residuals(&u0));
+    let mut rng = crate::model::wind_field::SplitMix64::new(spec.seed);
+    let mut best: Option<(Vec<f64>, f64)> = None;
+    for k in 0..spec.starts {
+        let from: Vec<f64> = if k == 0 {
+            u0.clone()
+        } else {
+            (problem.lo.iter().zip(&problem.hi))
+                .map(|(&l, &h)| l + (h - l) * rng.uniform())
+                .collect()
         };
-        let improved = c < best * (1.0 - 1e-9);
-        if c <= best {
-            u = b;
-            best = c;
+        let (u, c) = levenberg_marquardt(&mut problem, &from);
+        if best.as_ref().is_none_or(|(_, b)| c < *b) {
+            best = Some((u, c));
         }
-        if !improved && round > 0 {
-            break;
-        }
+        progress(k + 1, spec.starts);
     }
+    let (u, _) = best.expect("at least one start");
     let x: Vec<f64> = u
         .iter()
         .zip(problem.lo.iter().zip(&problem.hi))
@@ -551,12 +756,15 @@ pub fn fit(start: &Lumped, measured: &Response) -> Result<Fit, CaseError> {
         })
         .collect();
     let rms = |c: f64| (c / measured.value.len() as f64).sqrt();
+    let residual_rms = rms(sum_sq(&r));
     Ok(Fit {
         pantograph: fitted,
         parameters,
-        residual_rms: rms(r.iter().map(|v| v * v).sum()),
+        residual_rms,
         start_residual_rms: rms(start_cost),
-        evaluations: count.load(std::sync::atomic::Ordering::Relaxed),
+        evaluations: problem.count,
         source: measured.source.clone(),
+        spec: *spec,
+        converged: residual_rms <= spec.max_residual_rms,
     })
 }

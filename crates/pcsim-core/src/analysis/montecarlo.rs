@@ -102,7 +102,8 @@ pub fn monte_carlo(
     .collect()
 }
 
-/// The statistics a Monte Carlo summary reports per pantograph, by name.
+/// The statistics a Monte Carlo summary reports per pantograph, by name (with
+/// [`LATERAL_STATS`] where the lateral motion is modelled: [`statistics_of`]).
 pub const MC_STATS: [&str; 6] = [
     "mean_n",
     "std_n",
@@ -112,19 +113,39 @@ pub const MC_STATS: [&str; 6] = [
     "max_uplift_at_support_mm",
 ];
 
-/// The value of statistic `name` (one of [`MC_STATS`]) of pantograph `p` of a run (NaN when the
-/// pantograph did not cross the analysis section).
-pub fn stat_of(out: &RunOutput, p: usize, name: &str) -> f64 {
-    let Some(s) = out.pantographs.get(p).and_then(|t| t.stats) else {
-        return f64::NAN;
+/// The lateral statistics that decide a dewirement's verdict: the contact point's largest offset,
+/// the head's smallest margin and the contact wire's largest blow-out (issue 51: a study in wind
+/// reports them beside the vertical ones).
+pub const LATERAL_STATS: [&str; 3] = [
+    "max_lateral_offset_mm",
+    "min_head_margin_mm",
+    "max_contact_wire_blowout_mm",
+];
+
+/// The statistics a study of `runs` reports: [`MC_STATS`], then each of [`LATERAL_STATS`] that
+/// some run has a value of.
+pub fn statistics_of<'a>(runs: impl IntoIterator<Item = &'a RunOutput> + Clone) -> Vec<&'static str> {
+    let has = |name: &str| {
+        runs.clone().into_iter().any(|o| {
+            (o.pantographs.iter())
+                .filter_map(|p| p.stats.as_ref())
+                .any(|s| crate::analysis::verify::statistic(s, name).is_some())
+        })
     };
-    match name {
-        "mean_n" => s.mean_n,
-        "std_n" => s.std_n,
-        "actual_max_n" => s.actual_max_n,
-        "actual_min_n" => s.actual_min_n,
-        "loss_of_contact_percent" => s.loss_of_contact_percent,
-        "max_uplift_at_support_mm" => s.max_uplift_at_support_mm,
-        _ => f64::NAN,
-    }
+    MC_STATS
+        .iter()
+        .copied()
+        .chain(LATERAL_STATS.iter().copied().filter(|n| has(n)))
+        .collect()
+}
+
+/// The value of statistic `name` of pantograph `p` of a run (NaN when the pantograph did not
+/// cross the analysis section, or the run has no value of it): the one lookup,
+/// [`crate::analysis::verify::statistic`].
+pub fn stat_of(out: &RunOutput, p: usize, name: &str) -> f64 {
+    out.pantographs
+        .get(p)
+        .and_then(|t| t.stats.as_ref())
+        .and_then(|s| crate::analysis::verify::statistic(s, name))
+        .unwrap_or(f64::NAN)
 }

@@ -16,8 +16,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::record::{simulate, RunOutput};
-use crate::analysis::report::run_errors;
-use crate::analysis::verify::{statistic, STATISTICS};
+use crate::analysis::report::{run_errors, AllowedErrors};
+use crate::analysis::verify::{statistic, VERDICT_STATISTICS};
 use crate::compile::budget::Budget;
 use crate::compile::Setup;
 use crate::error::CaseError;
@@ -28,13 +28,26 @@ use crate::model::wind_field::SplitMix64;
 /// The largest seeded sample a study draws (each sample is a run of the whole case).
 pub const MAX_SAMPLES: usize = 1000;
 
-/// What the study varies and how: the sample's size and seed (`Default`: 8 runs, seed 1).
+/// What the study varies and how (`Default`: 8 sampled runs, seed 1, at most 200 runs, no
+/// failed run accepted).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct SensitivitySpec {
     /// Runs with every ranged value drawn at once (0: one at a time only).
     pub samples: usize,
     /// The sample's seed.
     pub seed: u64,
+    /// The most runs the study may make (two per ranged value, then the sample): a bound on its
+    /// work, checked before any run.
+    #[serde(default = "default_max_runs")]
+    pub max_runs: usize,
+    /// Accept runs that could not be made (then the bands are taken over fewer runs, said);
+    /// without it such a study is a failure.
+    #[serde(default)]
+    pub allow_failed_runs: bool,
+}
+
+fn default_max_runs() -> usize {
+    SensitivitySpec::default().max_runs
 }
 
 impl Default for SensitivitySpec {
@@ -42,6 +55,8 @@ impl Default for SensitivitySpec {
         Self {
             samples: 8,
             seed: 1,
+            max_runs: 200,
+            allow_failed_runs: false,
         }
     }
 }
@@ -56,7 +71,19 @@ impl SensitivitySpec {
                 &format!("at most {MAX_SAMPLES} (each sample is a run of the whole case)"),
             ));
         }
+        if self.max_runs == 0 {
+            return Err(crate::input::bounds::inv(
+                "sensitivity.max_runs",
+                self.max_runs,
+                "at least 1",
+            ));
+        }
         Ok(())
+    }
+
+    /// The runs a study of `n` ranged values makes: two per value, then the sample.
+    pub fn runs_for(&self, n: usize) -> usize {
+        2 * n + self.samples
     }
 }
 
@@ -74,12 +101,22 @@ pub struct StudyRun {
 pub struct Mover {
     /// The value's path.
     pub path: String,
-    /// The statistic with the value at its low end.
-    pub at_low: f64,
-    /// The statistic with the value at its high end.
-    pub at_high: f64,
-    /// `at_high − at_low`.
-    pub swing: f64,
+    /// The statistic with the value at its low end (none: that run was not made).
+    pub at_low: Option<f64>,
+    /// The statistic with the value at its high end (none: that run was not made).
+    pub at_high: Option<f64>,
+    /// `at_high − at_low` (none: an end is missing).
+    pub swing: Option<f64>,
+    /// How far the statistic moved from the case's value, the larger of the two ends: what the
+    /// ranking sorts by when an end is missing (a missing end never drops a value from it).
+    pub moved: f64,
+}
+
+impl Mover {
+    /// Its rank's key: `|swing|` with both ends, else the one end's move from the case's value.
+    fn key(&self) -> f64 {
+        self.swing.map_or(self.moved, f64::abs)
+    }
 }
 
 /// One statistic's band.
@@ -104,7 +141,7 @@ pub struct StatisticBand {
 pub struct PantographBands {
     /// Its name.
     pub name: String,
-    /// Its statistics, in [`STATISTICS`]' order.
+    /// Its statistics, in [`VERDICT_STATISTICS`]' order (those its own run has a value of).
     pub statistics: Vec<StatisticBand>,
 }
 
@@ -123,11 +160,31 @@ pub struct Sensitivity {
     pub failed: Vec<String>,
     /// Runs with an error-level event, with the event.
     pub events: Vec<String>,
+    /// What makes the study a failure (the failed runs unless `spec.allow_failed_runs`, the
+    /// events the user did not accept): empty for a study a front end may report with exit 0.
+    #[serde(default)]
+    pub failures: Vec<String>,
     /// Per pantograph that crossed the analysis section in the case's own run.
     pub pantographs: Vec<PantographBands>,
 }
 
 impl Sensitivity {
+    /// An error when the study produced less than it was asked ([`Sensitivity::failures`]):
+    /// the count, the first reason and the flags that accept them. Every front end refuses
+    /// such a study with it (after writing its outputs).
+    pub fn check(&self) -> Result<(), CaseError> {
+        let Some(first) = self.failures.first() else {
+            return Ok(());
+        };
+        Err(crate::input::bounds::inv(
+            "sensitivity",
+            format!("{} of {} runs", self.failures.len(), self.runs.len()),
+            &format!(
+                "not made or with an event not accepted; the first: {first}. Accept runs that could not be made with --allow-failed-runs (Python: allow_failed_runs=True), events with their --allow flag"
+            ),
+        ))
+    }
+
     /// The band of pantograph `name`'s statistic `statistic`.
     pub fn band(&self, pantograph: &str, statistic: &str) -> Option<&StatisticBand> {
         self.pantographs
@@ -156,7 +213,16 @@ pub fn study_runs(parameters: &[RangedValue], spec: &SensitivitySpec) -> Vec<Stu
     for k in 0..spec.samples {
         let values = parameters
             .iter()
-            .map(|p| (p.path.clone(), p.low + (p.high - p.low) * rng.uniform()))
+            .map(|p| {
+                let u = rng.uniform();
+                let x = if p.integer {
+                    // Whole numbers from low to high, each equally likely.
+                    (p.low + ((p.high - p.low + 1.0) * u).floor()).min(p.high)
+                } else {
+                    p.low + (p.high - p.low) * u
+                };
+                (p.path.clone(), x)
+            })
             .collect();
         runs.push(StudyRun {
             label: format!("sample {k}"),
@@ -177,16 +243,22 @@ pub fn run_case(case: &Case, run: &StudyRun) -> Result<Case, CaseError> {
 }
 
 /// The study of `case`, whose own run gave `out`: `ranges` are the case's ranged values, `fixed`
-/// the paths a flag set (not varied). The runs share `jobs` threads; the answer does not depend
-/// on them.
+/// the paths a flag set (not varied), `allowed` the error-level events the user accepts. Before
+/// any run: the spec, each value within its range, the number of runs against
+/// `spec.max_runs`, and the case at every range end built (a time step the stiffer end cannot
+/// take is refused then, naming the end). The runs share `jobs` threads (the answer does not
+/// depend on them); `progress(done, total)` is called as each ends.
+#[allow(clippy::too_many_arguments)]
 pub fn sensitivity(
     case: &Case,
     out: &RunOutput,
     ranges: &[RangedValue],
     fixed: &[String],
     spec: &SensitivitySpec,
+    allowed: AllowedErrors,
     budget: &Budget,
     jobs: Option<usize>,
+    progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Sensitivity, CaseError> {
     spec.check()?;
     for r in ranges {
@@ -207,34 +279,112 @@ pub fn sensitivity(
             "the case gives no value a range to vary: mark one as `{ value = …, source = \"…\", range = [low, high], range_source = \"why\" }`",
         ));
     }
+    let n_runs = spec.runs_for(parameters.len());
+    if n_runs > spec.max_runs {
+        return Err(crate::input::bounds::inv(
+            "sensitivity.max_runs",
+            spec.max_runs,
+            &format!(
+                "the study would make {n_runs} runs ({} ranged values at both ends, {} sampled), each a run of the whole case: raise the bound (--sensitivity-max-runs) or range fewer values",
+                parameters.len(),
+                spec.samples
+            ),
+        ));
+    }
     let runs = study_runs(&parameters, spec);
+    preflight(case, &runs[..2 * parameters.len()], budget, jobs)?;
+    let done = std::sync::atomic::AtomicUsize::new(0);
     let outputs = crate::analysis::sweep::parallel_map(&runs, jobs, |r| {
-        let c = run_case(case, r).map_err(|e| e.to_string())?;
-        let setup = Setup::from_case_with(&c, budget).map_err(|e| e.to_string())?;
-        simulate(&setup, &mut |_| true).map_err(|e| e.to_string())
+        let o = (|| {
+            let c = run_case(case, r).map_err(|e| e.to_string())?;
+            let setup = Setup::from_case_with(&c, budget).map_err(|e| e.to_string())?;
+            simulate(&setup, &mut |_| true).map_err(|e| e.to_string())
+        })();
+        progress(
+            done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
+            runs.len(),
+        );
+        o
     });
+    Ok(assemble(
+        out, parameters, not_varied, runs, &outputs, spec, allowed,
+    ))
+}
+
+/// The study from its runs' `outputs` (in [`study_runs`]' order): the runs not made and the
+/// events, what makes it a failure, and each pantograph's bands.
+fn assemble(
+    out: &RunOutput,
+    parameters: Vec<RangedValue>,
+    not_varied: Vec<String>,
+    runs: Vec<StudyRun>,
+    outputs: &[Result<RunOutput, String>],
+    spec: &SensitivitySpec,
+    allowed: AllowedErrors,
+) -> Sensitivity {
     let mut failed = Vec::new();
     let mut events = Vec::new();
-    for (r, o) in runs.iter().zip(&outputs) {
+    let mut failures = Vec::new();
+    for (r, o) in runs.iter().zip(outputs) {
         match o {
-            Err(e) => failed.push(format!("{}: {e}", r.label)),
-            Ok(o) => events.extend(
-                run_errors(o)
-                    .into_iter()
-                    .map(|e| format!("{}: {}", r.label, e.message)),
-            ),
+            Err(e) => {
+                failed.push(format!("{}: {e}", r.label));
+                if !spec.allow_failed_runs {
+                    failures.push(format!("{}: not made: {e}", r.label));
+                }
+            }
+            Ok(o) => {
+                for e in run_errors(o) {
+                    let m = format!("{}: {}", r.label, e.message);
+                    if !allowed.allows(e.kind) {
+                        failures.push(m.clone());
+                    }
+                    events.push(m);
+                }
+            }
         }
     }
-    let pantographs = bands(out, &parameters, &outputs);
-    Ok(Sensitivity {
+    let pantographs = bands(out, &parameters, outputs);
+    Sensitivity {
         spec: *spec,
         parameters,
         not_varied,
         runs,
         failed,
         events,
+        failures,
         pantographs,
-    })
+    }
+}
+
+/// The case at every range end built before any run (statics, the time step against the
+/// coupled system's limit): an end that cannot run is refused by its range, not found after
+/// the others have run.
+fn preflight(
+    case: &Case,
+    ends: &[StudyRun],
+    budget: &Budget,
+    jobs: Option<usize>,
+) -> Result<(), CaseError> {
+    let checks = crate::analysis::sweep::parallel_map(ends, jobs, |r| {
+        run_case(case, r)
+            .and_then(|c| Setup::from_case_with(&c, budget).map(drop))
+            .err()
+    });
+    match ends.iter().zip(checks).find_map(|(r, e)| e.map(|e| (r, e))) {
+        None => Ok(()),
+        Some((r, e)) => {
+            let (path, x) = &r.values[0];
+            Err(crate::input::bounds::inv(
+                &format!("{path}.range"),
+                x,
+                &format!(
+                    "the case cannot run at this end ({}): {e}",
+                    r.label.rsplit(' ').next().unwrap_or("")
+                ),
+            ))
+        }
+    }
 }
 
 /// Each pantograph's bands over the case's run `out` and the study's `outputs` (in
@@ -254,16 +404,16 @@ fn bands(
     for (i, p) in out.pantographs.iter().enumerate() {
         let Some(s) = &p.stats else { continue };
         let all: Vec<_> = outputs.iter().map(|o| stats_of(o, i)).collect();
-        let statistics = STATISTICS
+        let statistics = VERDICT_STATISTICS
             .iter()
-            .map(|(name, unit)| {
+            .filter_map(|(name, unit)| {
                 let at = |k: usize| {
                     all[k]
                         .as_ref()
                         .and_then(|s| statistic(s, name))
                         .filter(|x| x.is_finite())
                 };
-                let value = statistic(s, name).expect("listed");
+                let value = statistic(s, name)?;
                 let (mut low, mut high) = (value, value);
                 for x in (0..all.len()).filter_map(at) {
                     low = low.min(x);
@@ -273,29 +423,34 @@ fn bands(
                     .iter()
                     .enumerate()
                     .filter_map(|(j, q)| {
-                        let (a, b) = (at(2 * j)?, at(2 * j + 1)?);
+                        let (a, b) = (at(2 * j), at(2 * j + 1));
+                        let moved = [a, b]
+                            .iter()
+                            .flatten()
+                            .map(|x| (x - value).abs())
+                            .reduce(f64::max)?;
                         Some(Mover {
                             path: q.path.clone(),
                             at_low: a,
                             at_high: b,
-                            swing: b - a,
+                            swing: a.zip(b).map(|(a, b)| b - a),
+                            moved,
                         })
                     })
                     .collect();
                 movers.sort_by(|a, b| {
-                    b.swing
-                        .abs()
-                        .total_cmp(&a.swing.abs())
+                    b.key()
+                        .total_cmp(&a.key())
                         .then_with(|| a.path.cmp(&b.path))
                 });
-                StatisticBand {
+                Some(StatisticBand {
                     statistic: (*name).into(),
                     unit: (*unit).into(),
                     value,
                     low,
                     high,
                     movers,
-                }
+                })
             })
             .collect();
         pantographs.push(PantographBands {
@@ -304,4 +459,72 @@ fn bands(
         });
     }
     pantographs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 51, item 3: a run not made makes the study a failure unless the spec accepts it, and
+    /// a value whose one end ran keeps its place among the movers (ranked by how far that end
+    /// moved the statistic), never dropped.
+    #[test]
+    fn a_run_not_made_fails_the_study_and_keeps_its_value_ranked() {
+        let case = crate::input::presets::load("en50318-2002").unwrap().0;
+        let case = crate::input::overrides::with_overrides(
+            &case,
+            &[
+                ("catenary.spans".into(), crate::input::overrides::OverrideValue::Integer(6)),
+                ("run.end_m".into(), 300.0.into()),
+                ("run.analysis_m".into(), crate::input::overrides::OverrideValue::Numbers(vec![120.0, 240.0])),
+            ],
+        )
+        .unwrap();
+        let go = |c: &Case| simulate(&Setup::from_case(c).unwrap(), &mut |_| true).unwrap();
+        let out = go(&case);
+        let set = |p: &str, x: f64| {
+            go(&crate::input::overrides::with_overrides(&case, &[(p.into(), x.into())]).unwrap())
+        };
+        let ranged = |path: &str, low: f64, high: f64, value: f64| RangedValue {
+            path: path.into(),
+            value,
+            low,
+            high,
+            source: None,
+            range_source: None,
+            integer: false,
+        };
+        let params = vec![
+            ranged("pantographs[0].uplift_n", 100.0, 160.0, 120.0),
+            ranged("catenary.steady_arm.mass_kg", 0.5, 1.5, 0.91),
+        ];
+        let spec = SensitivitySpec {
+            samples: 0,
+            ..SensitivitySpec::default()
+        };
+        let runs = study_runs(&params, &spec);
+        // The uplift's high end "failed"; its low end moved the mean by about 20 N.
+        let outputs = vec![
+            Ok(set("pantographs[0].uplift_n", 100.0)),
+            Err("the run could not be made".to_string()),
+            Ok(set("catenary.steady_arm.mass_kg", 0.5)),
+            Ok(set("catenary.steady_arm.mass_kg", 1.5)),
+        ];
+        let s = assemble(&out, params.clone(), Vec::new(), runs.clone(), &outputs, &spec, AllowedErrors::default());
+        assert_eq!(s.failed.len(), 1);
+        let e = s.check().unwrap_err().to_string();
+        assert!(e.contains("1 of 4 runs") && e.contains("pantographs[0].uplift_n high"), "{e}");
+        let mean = s.band("leading", "mean_n").unwrap();
+        let m = &mean.movers[0];
+        assert_eq!(m.path, "pantographs[0].uplift_n", "{:?}", mean.movers);
+        assert_eq!((m.at_high, m.swing), (None, None));
+        assert!(m.moved > 10.0, "{m:?}");
+        // Accepted by the spec: the study passes, the run still listed as not made.
+        let allow = SensitivitySpec {
+            allow_failed_runs: true,
+            ..spec
+        };
+        let s = assemble(&out, params, Vec::new(), runs, &outputs, &allow, AllowedErrors::default());
+        assert!(s.check().is_ok() && s.failed.len() == 1);
+    }
 }

@@ -71,9 +71,35 @@ pub fn statistic_of_quantity(quantity: &str) -> Option<&'static str> {
     })
 }
 
-/// A statistic's value by its name.
+/// Every statistic that decides a verdict, as the studies that vary a case report them
+/// (`--sensitivity`, Monte Carlo): [`STATISTICS`], the share of contact lost and, where the
+/// lateral motion is modelled, the contact point's largest offset, the head's smallest margin
+/// and the contact wire's largest blow-out (a study leaves out those a run has no value of).
+pub const VERDICT_STATISTICS: [(&str, &str); 13] = [
+    ("mean_n", "N"),
+    ("std_n", "N"),
+    ("std_0_5hz_n", "N"),
+    ("std_5_20hz_n", "N"),
+    ("stat_max_n", "N"),
+    ("stat_min_n", "N"),
+    ("actual_max_n", "N"),
+    ("actual_min_n", "N"),
+    ("max_uplift_at_support_mm", "mm"),
+    ("loss_of_contact_percent", "%"),
+    ("max_lateral_offset_mm", "mm"),
+    ("min_head_margin_mm", "mm"),
+    ("max_contact_wire_blowout_mm", "mm"),
+];
+
+/// A statistic's value by its name (none: not a statistic, or one the run has no value of, a
+/// lateral one of a vertical run).
 pub fn statistic(s: &ContactStats, name: &str) -> Option<f64> {
     Some(match name {
+        "loss_of_contact_percent" => s.loss_of_contact_percent,
+        "contact_point_range_mm" => s.contact_point_range_mm,
+        "max_lateral_offset_mm" => return s.max_lateral_offset_mm,
+        "min_head_margin_mm" => return s.min_head_margin_mm,
+        "max_contact_wire_blowout_mm" => return s.max_contact_wire_blowout_mm,
         "mean_n" => s.mean_n,
         "std_n" => s.std_n,
         "std_0_5hz_n" => s.std_0_5hz_n,

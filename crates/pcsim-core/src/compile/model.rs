@@ -175,7 +175,13 @@ fn wind_load(
         WindProfile::Log { roughness_m } => Profile::Log { roughness_m },
         WindProfile::Power { exponent } => Profile::Power { exponent },
     };
-    let normal = wd.yaw_deg.to_radians().sin().abs();
+    // Signed: positive yaw blows toward positive stagger, negative toward negative stagger
+    // (a mirror image of the case gives the mirror result).
+    let normal = wd.yaw_deg.to_radians().sin();
+    // The lift of a section symmetric about its vertical plane does not change sign with the
+    // wind's side: on `½ρ V|V|` its coefficient carries the side of the normal wind at the first
+    // support (`½ρ V²` wherever the normal wind keeps that side).
+    let side = if normal < 0.0 { -1.0 } else { 1.0 };
     let rho = wd.air_density_kg_m3;
     let n_grid = (length_m / wd.grid_m).floor() as usize;
     let xs: Vec<f64> = (1..n_grid)
@@ -216,15 +222,16 @@ fn wind_load(
                 &profile,
             );
             let u = normal * along;
-            // The speed the wire's motion is linearised about (`u` on a straight track).
-            let ud = if curve.is_some() { damped * along } else { u };
+            // The speed the wire's motion is linearised about (`|u|` on a straight track): the
+            // aerodynamic damping does not depend on the wind's side.
+            let ud = if curve.is_some() { damped * along } else { u.abs() };
             wires.push(WireWind {
                 wire: 2 * k + i,
                 height_m: heights[i],
                 mean_normal_m_s: u,
                 mean_along_m_s: along,
                 lateral_m: d * cd,
-                vertical_m: d * cl,
+                vertical_m: side * d * cl,
                 torsional_m2: d * d * cm,
                 damping_lateral: rho * d * cd * ud,
                 damping_vertical: 0.5 * rho * d * ud * (dcl + cd),
@@ -285,26 +292,20 @@ fn wind_load(
     })
 }
 
-/// The wind's yaw as seen from the positive-stagger side, rad: the side folded as on a
-/// straight track (the normal part `|sin ψ|` toward positive stagger), the along-track part
-/// kept (`cos ψ`).
-fn folded_yaw_rad(yaw_deg: f64) -> f64 {
-    let psi = yaw_deg.to_radians();
-    psi.sin().abs().atan2(psi.cos())
-}
-
 /// The part of the wind normal to a curved track at each of the points `xs`, `sin(ψ − θ(x))`:
-/// the wind keeps the direction it has at the first support (yaw `ψ` there, folded to blow
-/// toward positive stagger) while the track turns by `θ(x)` ([`LateralGeometry::turn_rad`]).
+/// the wind keeps the direction it has at the first support (yaw `ψ` there: positive blows
+/// toward positive stagger, negative toward negative stagger) while the track turns by `θ(x)`
+/// ([`LateralGeometry::turn_rad`], signed with the curve's hand). The mirror image of a case
+/// (radius, stagger and yaw negated) negates every normal part.
 fn curve_normals(g: &LateralGeometry, yaw_deg: f64, xs: &[f64]) -> Vec<f64> {
-    let psi = folded_yaw_rad(yaw_deg);
+    let psi = yaw_deg.to_radians();
     xs.iter().map(|&x| (psi - g.turn_rad(x)).sin()).collect()
 }
 
 /// The mean of `|sin(ψ − θ(x))|` over `[a, b]` (midpoints of 1 m or finer cells): the normal
 /// speed a wire's aerodynamic damping is linearised about on a curve.
 fn mean_abs_normal(g: &LateralGeometry, yaw_deg: f64, a: f64, b: f64) -> f64 {
-    let psi = folded_yaw_rad(yaw_deg);
+    let psi = yaw_deg.to_radians();
     let cells = ((b - a).abs().ceil() as usize).clamp(1, 100_000);
     let h = (b - a) / cells as f64;
     (0..cells)

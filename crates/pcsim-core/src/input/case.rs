@@ -458,8 +458,10 @@ impl Case {
     /// [`Case::from_toml_str`], with the ranges the case gives its values
     /// (`{ value, source, range = [low, high], range_source }`, issue 42: the model uncertainty
     /// that `pcsim run --sensitivity` varies). A range's form is checked here (two finite
-    /// numbers, low below high), so every loader refuses a bad one by its field; a value edited
-    /// out of its range loads, and the sensitivity study refuses it ([`RangedValue::check`]).
+    /// numbers, low below high), so every loader refuses a bad one by its field, and so is each
+    /// end: the case must pass its checks with the value at either end
+    /// ([`crate::input::overrides::check_range_ends`]); a value edited out of its range loads,
+    /// and the sensitivity study refuses it ([`RangedValue::check`]).
     pub fn from_toml_str_with_ranges(
         text: &str,
     ) -> Result<(Case, Provenance, Vec<RangedValue>), CaseError> {
@@ -504,6 +506,7 @@ impl Case {
                 _ => {}
             }
         }
+        crate::input::overrides::check_range_ends(&case, &ranges)?;
         Ok((case, prov, ranges))
     }
 
@@ -657,6 +660,10 @@ pub struct RangedValue {
     pub source: Option<String>,
     /// Why the range is what it is (`range_source`).
     pub range_source: Option<String>,
+    /// The field holds a whole number (`catenary.spans`): its ends are whole and a study draws
+    /// whole numbers.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub integer: bool,
 }
 
 impl RangedValue {
@@ -731,8 +738,17 @@ fn ranged_values(path: &str, t: &toml::value::Table) -> Result<Vec<RangedValue>,
         }
         Ok((lo, hi))
     };
-    let one = |p: String, x: f64, r: &toml::Value, at: &str| -> Result<RangedValue, CaseError> {
+    let one = |p: String, v: &toml::Value, r: &toml::Value, at: &str| -> Result<RangedValue, CaseError> {
+        let x = number(v).ok_or_else(|| inv(&field, range.to_string(), "only numbers take a range"))?;
         let (low, high) = pair(r, at)?;
+        let integer = matches!(v, toml::Value::Integer(_));
+        if integer && (low.fract() != 0.0 || high.fract() != 0.0) {
+            return Err(inv(
+                at,
+                r.to_string(),
+                &format!("{p} holds a whole number: its range's ends are whole numbers"),
+            ));
+        }
         Ok(RangedValue {
             path: p,
             value: x,
@@ -740,6 +756,7 @@ fn ranged_values(path: &str, t: &toml::value::Table) -> Result<Vec<RangedValue>,
             high,
             source: source.clone(),
             range_source: range_source.clone(),
+            integer,
         })
     };
     match t.get("value") {
@@ -760,19 +777,10 @@ fn ranged_values(path: &str, t: &toml::value::Table) -> Result<Vec<RangedValue>,
             xs.iter()
                 .zip(rs)
                 .enumerate()
-                .map(|(i, (x, r))| {
-                    let x = number(x).ok_or_else(|| {
-                        inv(&field, range.to_string(), "only numbers take a range")
-                    })?;
-                    one(format!("{path}[{i}]"), x, r, &format!("{field}[{i}]"))
-                })
+                .map(|(i, (x, r))| one(format!("{path}[{i}]"), x, r, &format!("{field}[{i}]")))
                 .collect()
         }
-        Some(v) => {
-            let x = number(v)
-                .ok_or_else(|| inv(&field, range.to_string(), "only numbers take a range"))?;
-            Ok(vec![one(path.to_string(), x, range, &field)?])
-        }
+        Some(v) => Ok(vec![one(path.to_string(), v, range, &field)?]),
         None => Ok(Vec::new()),
     }
 }

@@ -71,6 +71,10 @@ pub enum Statistic {
     LossOfContactPercent,
     /// Largest lateral offset of the contact point, mm (lateral motion modelled).
     MaxLateralOffsetMm,
+    /// Smallest margin of the contact point to the head's end, mm (lateral motion modelled).
+    MinHeadMarginMm,
+    /// Largest lateral blow-out of the contact wire, mm (lateral motion modelled).
+    MaxContactWireBlowoutMm,
     /// Largest number of droppers slack at once (of the run, not of a pantograph).
     MaxSlackDroppers,
     /// Share of steps with a slack dropper, % (of the run).
@@ -81,7 +85,7 @@ pub enum Statistic {
 
 impl Statistic {
     /// Every statistic, as a spec names it.
-    pub const ALL: [Statistic; 15] = [
+    pub const ALL: [Statistic; 17] = [
         Statistic::MeanN,
         Statistic::StdN,
         Statistic::Std05HzN,
@@ -94,6 +98,8 @@ impl Statistic {
         Statistic::MaxUpliftAtSupportMm,
         Statistic::LossOfContactPercent,
         Statistic::MaxLateralOffsetMm,
+        Statistic::MinHeadMarginMm,
+        Statistic::MaxContactWireBlowoutMm,
         Statistic::MaxSlackDroppers,
         Statistic::StepsWithSlackPercent,
         Statistic::SpeedRatio,
@@ -114,6 +120,8 @@ impl Statistic {
             Statistic::MaxUpliftAtSupportMm => "max_uplift_at_support_mm",
             Statistic::LossOfContactPercent => "loss_of_contact_percent",
             Statistic::MaxLateralOffsetMm => "max_lateral_offset_mm",
+            Statistic::MinHeadMarginMm => "min_head_margin_mm",
+            Statistic::MaxContactWireBlowoutMm => "max_contact_wire_blowout_mm",
             Statistic::MaxSlackDroppers => "max_slack_droppers",
             Statistic::StepsWithSlackPercent => "steps_with_slack_percent",
             Statistic::SpeedRatio => "speed_ratio",

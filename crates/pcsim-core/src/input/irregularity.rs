@@ -59,6 +59,7 @@ impl IrregularityCase {
     /// A profile from CSV text: a header line, then `position_m,deviation_m` rows (m). The
     /// caller reads the file (the core does no I/O); `source` names it in errors and outputs.
     pub fn from_csv(text: &str, source: &str) -> Result<Self, CaseError> {
+        let text = crate::input::without_bom(text);
         let mut xs = Vec::new();
         let mut ys = Vec::new();
         for (i, line) in text.lines().enumerate().skip(1) {

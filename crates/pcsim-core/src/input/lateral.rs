@@ -245,7 +245,8 @@ pub struct WindCase {
     pub reference_height_m: f64,
     /// The mean-wind profile with height.
     pub profile: WindProfile,
-    /// Angle between the wind and the track, degrees (90: square to the track).
+    /// Angle between the wind and the track, degrees (90: square to the track, blowing toward
+    /// positive stagger; −90: toward negative stagger; on a curve, at the first support).
     pub yaw_deg: f64,
     /// σ_u / U at the reference height.
     pub turbulence_intensity: f64,

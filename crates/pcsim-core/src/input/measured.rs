@@ -30,6 +30,7 @@ impl MeasuredForce {
     /// Read `position_m,force_n` rows (after that header line). `source` names the file in the
     /// errors, which name the line, the column or the spacing at fault.
     pub fn from_csv(text: &str, source: &str) -> Result<Self, CaseError> {
+        let text = crate::input::without_bom(text);
         let mut lines = text
             .lines()
             .enumerate()

@@ -50,7 +50,8 @@ pub const MAX_INPUT_BYTES: u64 = 256 << 20;
 
 /// Read all of `reader` as UTF-8 text, refusing more than `limit_bytes` (the one bounded read of
 /// every front end: the core opens no file, the front end hands over the reader). The error says
-/// the limit; the front end names the file and how to raise it.
+/// the limit; the front end names the file and how to raise it. A leading byte-order mark (a
+/// spreadsheet's CSV) is dropped.
 pub fn read_text_limited(reader: impl std::io::Read, limit_bytes: u64) -> std::io::Result<String> {
     use std::io::Read;
     let mut buf = Vec::new();
@@ -63,12 +64,27 @@ pub fn read_text_limited(reader: impl std::io::Read, limit_bytes: u64) -> std::i
             format!("larger than the limit of {limit_bytes} bytes"),
         ));
     }
-    String::from_utf8(buf).map_err(|e| {
-        std::io::Error::new(
-            std::io::ErrorKind::InvalidData,
-            format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()),
-        )
-    })
+    String::from_utf8(buf)
+        .map(|t| match t.strip_prefix(BOM) {
+            Some(rest) => rest.to_string(),
+            None => t,
+        })
+        .map_err(|e| {
+            std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()),
+            )
+        })
+}
+
+/// The UTF-8 byte-order mark a spreadsheet writes at the start of a CSV file.
+const BOM: char = '\u{feff}';
+
+/// `text` without a leading byte-order mark (a spreadsheet's CSV: its header must read as the
+/// header it looks like). Every reader of a user's text takes it through here or
+/// [`read_text_limited`].
+pub fn without_bom(text: &str) -> &str {
+    text.strip_prefix(BOM).unwrap_or(text)
 }
 
 /// An embedded preset by name (the same wording for an unknown name everywhere).

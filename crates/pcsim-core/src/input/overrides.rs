@@ -145,7 +145,21 @@ pub fn with_overrides(
                 }
             };
         }
-        *at = value.clone().into();
+        *at = match (&*at, value) {
+            // A whole number for a field that holds one (`catenary.spans`, `run.modes`): a
+            // study's draws and ranges are numbers, the case's field an integer.
+            (toml::Value::Integer(_), OverrideValue::Number(x)) => {
+                if x.fract() != 0.0 || !x.is_finite() || x.abs() > 9.0e15 {
+                    return Err(CaseError::Invalid {
+                        field: path.clone(),
+                        value: format!("{x}"),
+                        reason: "the field holds a whole number".into(),
+                    });
+                }
+                toml::Value::Integer(*x as i64)
+            }
+            _ => value.clone().into(),
+        };
     }
     let text = toml::to_string(&root).map_err(|e| CaseError::Parse(e.to_string()))?;
     let (out, _) = Case::from_toml_str(&text).map_err(|e| match e {
@@ -161,6 +175,31 @@ pub fn with_overrides(
     })?;
     out.validate()?;
     Ok(out)
+}
+
+/// Each ranged value at its low and at its high end, the case checked as any case is (issue 51:
+/// a range end that can never run, a speed of 0 or a start outside the model, is refused when
+/// the case is read, not when a study reaches it). The error names the value's range, the end
+/// and the case's reason. A case that does not validate itself is left to its own check.
+pub fn check_range_ends(
+    case: &Case,
+    ranges: &[crate::input::RangedValue],
+) -> Result<(), CaseError> {
+    if ranges.is_empty() || case.validate().is_err() {
+        return Ok(());
+    }
+    for r in ranges {
+        for (end, x) in [("low", r.low), ("high", r.high)] {
+            if let Err(e) = with_overrides(case, &[(r.path.clone(), OverrideValue::Number(x))]) {
+                return Err(CaseError::Invalid {
+                    field: format!("{}.range", r.path),
+                    value: format!("[{}, {}]", r.low, r.high),
+                    reason: format!("the case cannot run at its {end} end ({x}): {e}"),
+                });
+            }
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

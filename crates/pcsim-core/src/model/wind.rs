@@ -41,7 +41,9 @@ pub struct WireWind {
     /// Per-length load coefficients on `½ρ V|V|`: lateral `d C_D`, vertical `d C_L`, torsional
     /// `d² C_M` (ice included in `d`).
     pub lateral_m: f64,
-    /// Vertical load coefficient `d C_L`, m.
+    /// Vertical load coefficient `d C_L`, m, times the side of the normal wind (`±1`, at the
+    /// first support): the lift of a section symmetric about its vertical plane is even in the
+    /// wind's side (`½ρ V² d C_L`), the drag and the moment are odd.
     pub vertical_m: f64,
     /// Torsional load coefficient `d² C_M`, m².
     pub torsional_m2: f64,
@@ -58,7 +60,8 @@ pub struct WireWind {
 pub struct WindLoad {
     /// Air density, kg/m³.
     pub air_density_kg_m3: f64,
-    /// `sin(yaw)`: the part of the wind (and its fluctuation) normal to the track.
+    /// `sin(yaw)`: the part of the wind (and its fluctuation) normal to the track, signed
+    /// (positive: toward positive stagger).
     pub normal_fraction: f64,
     /// The wind on every loaded wire.
     pub wires: Vec<WireWind>,

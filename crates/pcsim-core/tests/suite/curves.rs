@@ -231,7 +231,7 @@ fn windy_curve(radius_m: Option<f64>, yaw_deg: f64) -> Case {
 /// On a curve the wind keeps its direction while the track turns: the part normal to the track
 /// at every grid point is `sin(ψ − θ)`, `θ = (x − x₀)/R` the arc's turn since the first support
 /// (closed form), for both signs of the radius and a wind at 60° to the track; on a straight
-/// track there is no per-point normal (the yaw's `|sin ψ|` everywhere).
+/// track there is no per-point normal (the yaw's `sin ψ` everywhere).
 #[test]
 fn issue_41_a_crosswinds_normal_part_turns_with_the_track() {
     for (r, yaw) in [
@@ -244,7 +244,7 @@ fn issue_41_a_crosswinds_normal_part_turns_with_the_track() {
         let wl = m.wind.as_ref().unwrap();
         let x0 = m.lateral.as_ref().unwrap().supports_m[0];
         assert_eq!(wl.normal_by_grid.len(), wl.field.x_m.len());
-        let psi = yaw.to_radians().sin().abs().atan2(yaw.to_radians().cos());
+        let psi = yaw.to_radians();
         for (&x, &s) in wl.field.x_m.iter().zip(&wl.normal_by_grid) {
             let want = (psi - (x - x0) / r).sin();
             assert!(
@@ -655,4 +655,38 @@ fn issue_41_the_contact_points_range_on_the_head_is_reported_per_curve() {
         least * 1e3,
     );
     let _ = RunSummary::new(&c, &out, 0.0, Vec::new(), Vec::new());
+}
+
+/// Issue 51, item 2: a wind's side, a curve's hand and a stagger's sign are physical. The mirror
+/// image of a right-hand case in wind (radius, stagger and yaw negated: the same line seen in a
+/// mirror along the track) gives the mirror result: the same vertical statistics (within 1e-9
+/// relative), the contact point's lateral trace negated (within 1e-9 m), the same largest
+/// offset. And a wind from the other side of the same curve is another case: yaw −60° on the
+/// right-hand curve does not give yaw +60°'s lateral trace.
+#[test]
+fn issue_51_the_mirror_image_of_a_curve_in_wind_gives_the_mirror_result() {
+    let right = windy_curve(Some(2000.0), 60.0);
+    let mut mirror = windy_curve(Some(-2000.0), -60.0);
+    let l = mirror.catenary.lateral.as_mut().unwrap();
+    l.stagger_m = l.stagger_m.map(|s| -s);
+    l.stagger_list_m = l.stagger_list_m.take().map(|v| v.iter().map(|s| -s).collect());
+    let a = run_case(&right, &mut |_| true).unwrap();
+    let b = run_case(&mirror, &mut |_| true).unwrap();
+    common::same_statistics(&a, &b, 1e-9, "mirror");
+    let (pa, pb) = (&a.pantographs[0], &b.pantographs[0]);
+    assert_eq!(pa.lateral_m.len(), pb.lateral_m.len());
+    let worst = (pa.lateral_m.iter().zip(&pb.lateral_m))
+        .map(|(x, y)| (x + y).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-9, "the lateral trace is not mirrored: {worst} m");
+    let (sa, sb) = (pa.stats.unwrap(), pb.stats.unwrap());
+    let (oa, ob) = (sa.max_lateral_offset_mm.unwrap(), sb.max_lateral_offset_mm.unwrap());
+    assert!((oa - ob).abs() < 1e-6, "largest offset {oa} mm vs {ob} mm");
+    // The other side of the same curve: the wind pushes the wire the other way.
+    let other = run_case(&windy_curve(Some(2000.0), -60.0), &mut |_| true).unwrap();
+    let po = &other.pantographs[0];
+    let apart = (pa.lateral_m.iter().zip(&po.lateral_m))
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    assert!(apart > 0.01, "yaw +60 and -60 on one curve: {apart} m apart");
 }

@@ -300,3 +300,41 @@ fn issue_39_6_an_edited_journal_row_is_refused_by_its_checksum() {
     edited[last] = "0000000000000000".into();
     assert!(d.journal_read(&header, &edited).is_err());
 }
+
+/// Issue 51, item 1: a search never recommends what it did not beat. The synthetic spec's
+/// target is set to the base design's own mean force (uplift 100 N): the base costs exactly 0
+/// and every other uplift moves the mean force (it equals the uplift, tested above), so no
+/// evaluation can beat it. The answer is "no improvement found", with no design recommended;
+/// the same spec with a target the base misses by 20 N is improved upon.
+#[test]
+fn a_search_from_a_base_that_cannot_be_beaten_recommends_nothing() {
+    let with_base = SYNTHETIC.replace(
+        "set = { \"pantographs[0].stiffness_n_per_m\" = [4200.0, 0.0] }",
+        "set = { \"pantographs[0].stiffness_n_per_m\" = [4200.0, 0.0], \"pantographs[0].uplift_n\" = 100.0 }",
+    );
+    let probe = design(&with_base);
+    let (base, _) = probe.evaluate(&probe.base_x(), Some(1));
+    let fm0 = base.values[0][0].unwrap();
+    let spec = with_base
+        .replace("target = 100.0", &format!("target = {fm0:?}"))
+        .replace("evaluations = 14", "evaluations = 6");
+    let d = design(&spec);
+    let r = run(&d, Vec::new(), 2);
+    let b = r.base.as_ref().expect("the base evaluated");
+    assert_eq!(b.objective, Some(0.0), "the base meets its own target exactly");
+    let best = &r.evaluations[r.best.expect("the search's best")];
+    // Nelder–Mead starts from the base: its best is the base itself, a tie, which is no
+    // improvement either.
+    assert!(best.cost >= b.cost, "nothing costs less than 0");
+    assert_eq!(r.recommended, None, "nothing beat the base");
+    assert_eq!(r.answer(), "no improvement found");
+    let v = r.to_json(&d);
+    assert!(v["best"].is_null(), "design.json recommends nothing: {}", v["best"]);
+    assert_eq!(v["best_evaluated"]["index"], best.index);
+    // The base 20 N off its target: the search beats it and recommends its best.
+    let off = design(&spec.replace(&format!("target = {fm0:?}"), &format!("target = {:?}", fm0 + 20.0)));
+    let r = run(&off, Vec::new(), 2);
+    assert_eq!(r.answer(), "improved");
+    let rec = &r.evaluations[r.recommended.expect("a recommendation")];
+    assert!(rec.cost < r.base.as_ref().unwrap().cost);
+}

@@ -106,7 +106,8 @@ class Result:
 
 def run(case: Case, threads: int = 1, allow_dewirement: bool = False,
         allow_contact_loss: bool = False, verify: bool = False, sensitivity: bool = False,
-        sensitivity_samples: Optional[int] = None, sensitivity_seed: Optional[int] = None) -> Result:
+        sensitivity_samples: Optional[int] = None, sensitivity_seed: Optional[int] = None,
+        sensitivity_max_runs: Optional[int] = None, allow_failed_runs: bool = False) -> Result:
     """Simulate one case (the interpreter released) and take its statistics.
 
     ``threads``: the run's threads, as the CLI's ``run --threads`` (a line of several tension
@@ -122,10 +123,14 @@ def run(case: Case, threads: int = 1, allow_dewirement: bool = False,
     then ``sensitivity_samples`` runs (8) with all drawn at once from ``sensitivity_seed`` (1), as
     the CLI's ``--sensitivity``: ``summary["sensitivity"]`` holds each statistic's band and the
     values that move it most. The ranges come from ``Case.preset``, ``from_toml`` and
-    ``from_file``; a path set by ``with_overrides`` is not varied; a pickled case carries none."""
+    ``from_file``; a path set by ``with_overrides`` is not varied; a pickled case carries none.
+    A study of more than ``sensitivity_max_runs`` runs (200) is refused before any run; one with
+    runs that could not be made, or with events not accepted, raises ``ValueError`` with the
+    count and the first reason, unless ``allow_failed_runs`` (the CLI's ``--allow-failed-runs``)."""
     return Result._from_native(_pcsim.run(case, threads, allow_dewirement, allow_contact_loss,
                                           verify, sensitivity, sensitivity_samples,
-                                          sensitivity_seed))
+                                          sensitivity_seed, sensitivity_max_runs,
+                                          allow_failed_runs))
 
 
 def sweep(cases: Sequence[Case], client: Any = None, jobs: Optional[int] = None,
@@ -283,12 +288,16 @@ def pantograph_frf(case: Case, pantograph: Optional[str] = None, quantity: str =
             "phase_deg": np.asarray(p), "unit": unit}
 
 
-def pantograph_fit(measured: Any, case: Case, pantograph: Optional[str] = None) -> Dict[str, Any]:
+def pantograph_fit(measured: Any, case: Case, pantograph: Optional[str] = None,
+                   starts: Optional[int] = None, seed: Optional[int] = None,
+                   max_residual_percent: Optional[float] = None) -> Dict[str, Any]:
     """The case's pantograph fitted to a measured response (``pcsim pantograph fit``):
     ``measured`` is the CSV's path or text (``frequency_hz``, ``magnitude_kg`` or
     ``magnitude_m_per_n``, ``phase_deg``). The dict of ``fit.json`` (each value with its
     uncertainty, the residual) and ``case_block``, the ``[[pantographs]]`` block with the
-    measurement as its source."""
+    measurement as its source. ``starts``, ``seed`` and ``max_residual_percent`` are the CLI's
+    flags (``None``: the core's defaults); a fit whose residual is above
+    ``max_residual_percent`` raises ``ValueError`` with the reason (the CLI's exit status 1)."""
     if isinstance(measured, os.PathLike) or (isinstance(measured, str) and "\n" not in measured):
         path = os.fspath(measured)
         if not os.path.isfile(path):
@@ -297,7 +306,8 @@ def pantograph_fit(measured: Any, case: Case, pantograph: Optional[str] = None) 
             text, label = f.read(), os.path.basename(path)
     else:
         text, label = measured, "measured"
-    fit_json, block = _pcsim.pantograph_fit(text, label, case, pantograph)
+    fit_json, block = _pcsim.pantograph_fit(text, label, case, pantograph, starts, seed,
+                                            max_residual_percent)
     out = json.loads(fit_json)
     out["case_block"] = block
     return out
