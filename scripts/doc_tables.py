@@ -180,6 +180,10 @@ STAT_LABELS = {
     "actual_max_n": "actual max [N]",
     "actual_min_n": "actual min [N]",
     "max_uplift_at_support_mm": "max uplift at support [mm]",
+    "loss_of_contact_percent": "loss of contact [%]",
+    "max_lateral_offset_mm": "largest lateral offset [mm]",
+    "min_head_margin_mm": "smallest head margin [mm]",
+    "max_contact_wire_blowout_mm": "largest blow-out [mm]",
 }
 
 
@@ -229,8 +233,10 @@ def table_sensitivity_2002(binary, tmp):
         m = b["movers"]
 
         def mover(k):
-            if len(m) <= k or m[k]["swing"] == 0:
+            if len(m) <= k or m[k]["moved"] == 0:
                 return "—"
+            if m[k]["swing"] is None:
+                return f"`{m[k]['path']}` one end only, moved {m[k]['moved']:.2f}"
             return f"`{m[k]['path']}` {m[k]['swing']:+.2f}".replace("-", MINUS)
         lines.append(f"| {STAT_LABELS[b['statistic']]} | {num(b['value'], 2)} | "
                      f"{num(b['low'], 2)} – {num(b['high'], 2)} | {mover(0)} | {mover(1)} |")
@@ -660,46 +666,66 @@ TABLES = {
 }
 
 
+def doc_files():
+    """Every document that may hold a generated table: docs/*.md and the README."""
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+    files = sorted(glob.glob(os.path.join(root, "docs", "*.md")))
+    return files + [os.path.join(root, "README.md")]
+
+
 def main():
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
     write = "--write" in sys.argv
     if len(args) != 1:
         sys.exit(__doc__)
     binary = os.path.abspath(args[0])
-    with open(DOC, encoding="utf-8") as f:
-        doc = f.read()
+    docs = {}
+    for path in doc_files():
+        with open(path, encoding="utf-8") as f:
+            docs[path] = f.read()
     failed = []
     found = set()
+    copies = 0
     with tempfile.TemporaryDirectory() as tmp:
         for name, make in TABLES.items():
             pat = re.compile(r"(<!-- generated: " + re.escape(name) +
                              r" \(scripts/doc_tables.py\) -->\n)(.*?)(\n<!-- end: " +
                              re.escape(name) + r" -->)", re.S)
-            m = pat.search(doc)
-            if not m:
-                failed.append(f"{name}: no markers in docs/validation.md")
-                continue
-            found.add(name)
-            text = make(binary, tmp)
-            if m.group(2) != text:
-                if write:
-                    doc = doc[:m.start(2)] + text + doc[m.end(2):]
-                else:
-                    diff = "\n".join(difflib.unified_diff(m.group(2).splitlines(),
-                                                          text.splitlines(), "documented",
-                                                          "today", lineterm=""))
-                    failed.append(f"{name}: the documented table differs from what its command "
-                                  f"gives today:\n{diff}")
-    unknown = set(re.findall(r"<!-- generated: (\S+) \(scripts/doc_tables.py\) -->", doc)) - found
-    failed += [f"{n}: markers with no generator" for n in sorted(unknown)]
-    if write:
-        with open(DOC, "w", encoding="utf-8") as f:
-            f.write(doc)
+            text = None
+            for path, doc in docs.items():
+                # Every copy of the table, in every document, from the last to the first (so
+                # that a rewrite keeps the earlier copies' offsets).
+                for m in reversed(list(pat.finditer(doc))):
+                    found.add(name)
+                    copies += 1
+                    if text is None:
+                        text = make(binary, tmp)
+                    if m.group(2) == text:
+                        continue
+                    if write:
+                        doc = doc[:m.start(2)] + text + doc[m.end(2):]
+                    else:
+                        diff = "\n".join(difflib.unified_diff(m.group(2).splitlines(),
+                                                              text.splitlines(), "documented",
+                                                              "today", lineterm=""))
+                        failed.append(f"{name} in {os.path.relpath(path)}: the documented table "
+                                      f"differs from what its command gives today:\n{diff}")
+                docs[path] = doc
+            if name not in found:
+                failed.append(f"{name}: no markers in the docs")
+    for path, doc in docs.items():
+        unknown = set(re.findall(r"<!-- generated: (\S+) \(scripts/doc_tables.py\) -->", doc))
+        failed += [f"{n} in {os.path.relpath(path)}: markers with no generator"
+                   for n in sorted(unknown - set(TABLES))]
+        if write:
+            with open(path, "w", encoding="utf-8") as f:
+                f.write(doc)
     for f in failed:
         print(f, file=sys.stderr)
     if failed and not write:
         sys.exit(1)
-    print(f"{len(found)} generated tables {'written' if write else 'match their commands'}")
+    print(f"{len(found)} generated tables ({copies} copies) "
+          f"{'written' if write else 'match their commands'}")
 
 
 if __name__ == "__main__":

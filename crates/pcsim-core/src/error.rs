@@ -80,6 +80,10 @@ pub enum ModelQuantity {
     Pantographs,
     /// The steady loads of the static start state (the mean wind, the ice's weight).
     SteadyLoads,
+    /// The contact wire's static lateral position: the stagger and the track's curve.
+    StaticLateralPosition,
+    /// The static force against the head's height of pantograph `0`.
+    PantographUpliftTable(usize),
 }
 
 impl std::fmt::Display for ModelQuantity {
@@ -103,6 +107,12 @@ impl std::fmt::Display for ModelQuantity {
             }
             ModelQuantity::Pantographs => write!(f, "pantographs"),
             ModelQuantity::SteadyLoads => write!(f, "static start state under the steady loads"),
+            ModelQuantity::StaticLateralPosition => {
+                write!(f, "the contact wire's static lateral position [m]")
+            }
+            ModelQuantity::PantographUpliftTable(p) => {
+                write!(f, "static force against height of pantograph {p} [N]")
+            }
         }
     }
 }
@@ -129,6 +139,10 @@ impl ModelQuantity {
             }
             ModelQuantity::Pantographs => "pantographs".into(),
             ModelQuantity::SteadyLoads => "wind / catenary.ice".into(),
+            ModelQuantity::StaticLateralPosition => {
+                "catenary.lateral (stagger, track_radius_m)".into()
+            }
+            ModelQuantity::PantographUpliftTable(p) => format!("pantographs[{p}].uplift_by_height"),
         }
     }
 }

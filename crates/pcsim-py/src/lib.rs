@@ -579,19 +579,19 @@ fn validate(
     verify: bool,
 ) -> PyResult<String> {
     guarded(|| {
-        let plan = match &targets_toml {
-            Some(text) => {
-                ValidationPlan::from_targets(text, targets_label.as_deref().unwrap_or("targets"))
+        let label = case_label.as_deref().unwrap_or("case");
+        let plan = match (&targets_toml, case) {
+            (Some(text), c) => ValidationPlan::from_targets_on(
+                text,
+                targets_label.as_deref().unwrap_or("targets"),
+                c.map(|c| (c.inner.clone(), label)),
+            ),
+            (None, Some(c)) => {
+                ValidationPlan::new(name).and_then(|p| p.on_case(c.inner.clone(), label))
             }
-            None => ValidationPlan::new(name),
+            (None, None) => ValidationPlan::new(name),
         }
         .map_err(err)?;
-        let plan = match case {
-            Some(c) => plan
-                .on_case(c.inner.clone(), case_label.as_deref().unwrap_or("case"))
-                .map_err(err)?,
-            None => plan,
-        };
         let report = py.detach(move || -> Result<String, String> {
             let b = Budget::default();
             let (runs, mut report) =

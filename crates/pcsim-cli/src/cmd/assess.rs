@@ -73,6 +73,15 @@ fn read_run(dir: &Path) -> Result<AssessInput> {
             m.kind
         );
     }
+    // The same check as the report's: a summary edited after pcsim wrote it (its error events
+    // deleted, a value changed) is not judged.
+    let edited = crate::output::edited_files(dir, &m);
+    if edited.iter().any(|f| f == "summary.json") {
+        bail!(
+            "{}: summary.json is not the file pcsim wrote (its bytes differ from the hash in pcsim.json): assess judges only what a run computed; run it again",
+            dir.display()
+        );
+    }
     let path = dir.join("summary.json");
     let text = std::fs::read_to_string(&path)
         .with_context(|| format!("cannot read {}", path.display()))?;

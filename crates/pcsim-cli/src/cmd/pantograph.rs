@@ -46,7 +46,7 @@ struct Which {
     #[arg(long)]
     pantograph: Option<String>,
     /// Output directory.
-    #[arg(long, default_value = "out")]
+    #[arg(long, default_value = "out/pantograph")]
     out: PathBuf,
 }
 

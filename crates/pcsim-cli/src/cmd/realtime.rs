@@ -58,6 +58,7 @@ pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
         overrides.push(Override::speed(v)?);
     }
     let case = crate::common::window_pantograph(apply(&base, &overrides)?, a.pantograph.as_deref());
+    let together = case.pantographs.len();
     let case = pcsim_core::compile::window_case(&case)?;
     let windows: Vec<f64> = a
         .window
@@ -123,9 +124,14 @@ pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
         );
     }
     println!(
-        "{:>10} {:>6} {:>6} {:>9.2} {:>8.2}",
-        "full", full.n_modes, "", fs.mean_n, fs.std_n
+        "{:>10} {:>6} {:>6} {:>9.2} {:>8.2}   (the full model with pantograph {} alone)",
+        "full", full.n_modes, "", fs.mean_n, fs.std_n, full.pantographs[0].name
     );
+    if together > 1 {
+        println!(
+            "  the window and its reference carry one pantograph, the rig's: the case runs {together} together, and their waves change this one's force (pcsim run gives it among them)"
+        );
+    }
     if let Some((m, s)) = reference {
         println!(
             "{:>10} {:>6} {:>6} {:>9.2} {:>8.2}   (paper §4.2)",

@@ -882,8 +882,8 @@ fn study_answer(h: &mut String, dir: &Path, kind: &str) -> Result<()> {
                 ("std_n", "σ [N]"),
                 ("mean_error_percent", "Δ mean [%]"),
                 ("std_error_percent", "Δ σ [%]"),
-                ("full_mean_n", "full model mean [N]"),
-                ("full_std_n", "full model σ [N]"),
+                ("full_mean_n", "full model, this pantograph alone: mean [N]"),
+                ("full_std_n", "full model, this pantograph alone: σ [N]"),
             ],
         ),
         "compare" => (
@@ -1065,7 +1065,11 @@ fn design_section(h: &mut String, dir: &Path) -> Result<()> {
         h,
         &format!(
             "The best design {}(evaluation {}; confirmation run {})",
-            if improved { "" } else { "evaluated, not recommended " },
+            if improved {
+                ""
+            } else {
+                "evaluated, not recommended "
+            },
             num(&best["index"]),
             if v["confirmation"]["same_as_search"] == true {
                 "equal to the search's"

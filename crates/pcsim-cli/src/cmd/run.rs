@@ -25,7 +25,7 @@ pub struct RunArgs {
     #[arg(long, value_name = "S")]
     dt: Option<String>,
     /// Output directory (written as a whole: a directory of an earlier run is replaced).
-    #[arg(long, default_value = "out")]
+    #[arg(long, default_value = "out/run")]
     out: PathBuf,
     /// Also draw the figures (SVG and PNG) into the output directory.
     #[arg(long)]
@@ -413,13 +413,13 @@ pub fn print_sensitivity(s: &pcsim_core::analysis::sensitivity::Sensitivity) {
             p.name, "statistic", "value", "band"
         );
         for b in &p.statistics {
-            let top = b.movers.first().map_or(String::from("-"), |m| match m.swing {
-                Some(w) => format!("{} ({w:+.3} {})", m.path, b.unit),
-                None => format!(
-                    "{} (one end only: moved {:.3} {})",
-                    m.path, m.moved, b.unit
-                ),
-            });
+            let top = b
+                .movers
+                .first()
+                .map_or(String::from("-"), |m| match m.swing {
+                    Some(w) => format!("{} ({w:+.3} {})", m.path, b.unit),
+                    None => format!("{} (one end only: moved {:.3} {})", m.path, m.moved, b.unit),
+                });
             println!(
                 "  {:<10} {:<26} {:>10.3} [{:>9.3}, {:>9.3}]   {top}",
                 "",

@@ -54,8 +54,19 @@ fn plan_of(a: &ValidateArgs) -> Result<ValidationPlan> {
         (Some(path), None, _) | (Some(path), Some(_), true) => {
             let text = crate::common::read_input(path)
                 .with_context(|| format!("cannot read {}", path.display()))?;
-            ValidationPlan::from_targets(&text, &path.display().to_string())
-                .with_context(|| format!("in {}", path.display()))?
+            let on = match &case {
+                Some(c) => Some((
+                    crate::common::load_case(Some(c), None)?,
+                    c.display().to_string(),
+                )),
+                None => None,
+            };
+            return ValidationPlan::from_targets_on(
+                &text,
+                &path.display().to_string(),
+                on.as_ref().map(|(c, l)| (c.clone(), l.as_str())),
+            )
+            .with_context(|| format!("in {}", path.display()));
         }
         (Some(_), Some(name), false) => anyhow::bail!(
             "give a validation name ({name}) or --targets, not both (a case file may go with --targets)"

@@ -221,10 +221,14 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
         if let Ok(fit) = std::fs::read_to_string(dir.join("fit.csv")) {
             if let Some(best) = fit.lines().nth(1) {
                 let f: Vec<&str> = best.split(',').collect();
-                println!(
-                    "best energy criterion over the grid: {} (RMS error {} m, largest {} m, {} cases, {} misses)",
-                    f[0], f[1], f[2], f[3], f[4]
-                );
+                if f[3] == "0" {
+                    println!("no energy criterion fitted: no case reached an accuracy-based length (the errors of the longest windows are above)");
+                } else {
+                    println!(
+                        "best energy criterion over the grid: {} (RMS error {} m, largest {} m, {} cases, {} misses)",
+                        f[0], f[1], f[2], f[3], f[4]
+                    );
+                }
             }
         }
     }
@@ -301,8 +305,14 @@ fn print_rows(
         );
     }
     for r in rows {
+        let errors = match (r.length_m, r.mean_err_pct, r.sigma_err_pct, r.max_err_pct) {
+            (None, Some(m), Some(s), Some(x)) => {
+                format!(": mean {m:+.2} %, σ {s:+.2} %, max {x:+.2} %")
+            }
+            _ => String::new(),
+        };
         println!(
-            "  {} km/h, {} kN, seed {}: {}",
+            "  {} km/h, {} kN, seed {}: {}{errors}",
             r.speed_kmh,
             r.tension_kn,
             r.seed_offset,

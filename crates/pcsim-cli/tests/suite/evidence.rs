@@ -159,7 +159,7 @@ fn issue_42_2_run_sensitivity_writes_and_shows_the_bands() {
         .arg(d.join("y"))
         .output()
         .unwrap();
-    refused(&o, &["--sensitivity-samples", "sensitivity.samples"]);
+    refused(&o, &["--sensitivity-samples", "at most 1000"]);
     let o = pcsim()
         .args(["run", "--preset", "benchmark-55m", "--sensitivity", "--out"])
         .arg(d.join("z"))

@@ -200,7 +200,8 @@ pub struct DropperFatigue {
     pub x_m: f64,
     /// The wire its lower end holds (a line's tension length), by name.
     pub wire: String,
-    /// Its static tension (preload), N.
+    /// Its static tension, N: the preload of the design, or under steady loads (ice, a mean
+    /// wind) its tension in the loaded static start.
     pub preload_n: f64,
     /// Smallest and largest tension, N.
     pub min_n: f64,
@@ -229,6 +230,8 @@ pub struct DropperRecorder {
     step: usize,
     /// The histories, step after step (all droppers per step), when kept.
     history: Option<Vec<f64>>,
+    /// The tensions in the start state, when it is not the design's (steady loads).
+    static_n: Option<Vec<f64>>,
 }
 
 impl DropperRecorder {
@@ -248,6 +251,18 @@ impl DropperRecorder {
             slack: vec![0; n],
             step: 0,
             history,
+            static_n: None,
+        }
+    }
+
+    /// Take each dropper's static tension from the start state `ws` was gathered at
+    /// ([`crate::solve::Integrator::gathered_at`]): under steady loads (the ice's weight, a mean
+    /// wind) the start is not the design's, and the droppers carry more than their preload.
+    pub fn static_from(&mut self, cm: &CompiledModel, ws: &Workspace) {
+        if let Some((droppers, slots)) = cm.element::<Droppers>() {
+            let mut t = vec![0.0; droppers.list().len()];
+            droppers.tensions(slots, cm.displacements(ws), &mut t);
+            self.static_n = Some(t);
         }
     }
 
@@ -282,7 +297,7 @@ impl DropperRecorder {
                 DropperFatigue {
                     x_m: d.x_m,
                     wire,
-                    preload_n: d.preload_n,
+                    preload_n: self.static_n.as_ref().map_or(d.preload_n, |t| t[i]),
                     min_n: self.min[i],
                     max_n: self.max[i],
                     slack_steps: self.slack[i],

@@ -124,7 +124,9 @@ pub const LATERAL_STATS: [&str; 3] = [
 
 /// The statistics a study of `runs` reports: [`MC_STATS`], then each of [`LATERAL_STATS`] that
 /// some run has a value of.
-pub fn statistics_of<'a>(runs: impl IntoIterator<Item = &'a RunOutput> + Clone) -> Vec<&'static str> {
+pub fn statistics_of<'a>(
+    runs: impl IntoIterator<Item = &'a RunOutput> + Clone,
+) -> Vec<&'static str> {
     let has = |name: &str| {
         runs.clone().into_iter().any(|o| {
             (o.pantographs.iter())

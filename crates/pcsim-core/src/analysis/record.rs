@@ -617,12 +617,17 @@ pub(crate) fn simulate_beside<O: Observer>(
         rec.measure_uplift_from(integ.monitors_at(&st));
     }
     let mut drec = droppers.map(|o| {
-        crate::analysis::fatigue::DropperRecorder::new(
+        let mut d = crate::analysis::fatigue::DropperRecorder::new(
             integ.compiled(),
             n_steps,
             o.history,
             o.history_limit,
-        )
+        );
+        if integ.compiled().initial.is_some() {
+            // Steady loads: each dropper's static tension is the loaded start's.
+            d.static_from(integ.compiled(), &integ.gathered_at(&st));
+        }
+        d
     });
     let mut extra = beside(&integ, &st)?;
     let rs = match &mut drec {

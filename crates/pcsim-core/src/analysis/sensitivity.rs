@@ -474,9 +474,15 @@ mod tests {
         let case = crate::input::overrides::with_overrides(
             &case,
             &[
-                ("catenary.spans".into(), crate::input::overrides::OverrideValue::Integer(6)),
+                (
+                    "catenary.spans".into(),
+                    crate::input::overrides::OverrideValue::Integer(6),
+                ),
                 ("run.end_m".into(), 300.0.into()),
-                ("run.analysis_m".into(), crate::input::overrides::OverrideValue::Numbers(vec![120.0, 240.0])),
+                (
+                    "run.analysis_m".into(),
+                    crate::input::overrides::OverrideValue::Numbers(vec![120.0, 240.0]),
+                ),
             ],
         )
         .unwrap();
@@ -510,10 +516,21 @@ mod tests {
             Ok(set("catenary.steady_arm.mass_kg", 0.5)),
             Ok(set("catenary.steady_arm.mass_kg", 1.5)),
         ];
-        let s = assemble(&out, params.clone(), Vec::new(), runs.clone(), &outputs, &spec, AllowedErrors::default());
+        let s = assemble(
+            &out,
+            params.clone(),
+            Vec::new(),
+            runs.clone(),
+            &outputs,
+            &spec,
+            AllowedErrors::default(),
+        );
         assert_eq!(s.failed.len(), 1);
         let e = s.check().unwrap_err().to_string();
-        assert!(e.contains("1 of 4 runs") && e.contains("pantographs[0].uplift_n high"), "{e}");
+        assert!(
+            e.contains("1 of 4 runs") && e.contains("pantographs[0].uplift_n high"),
+            "{e}"
+        );
         let mean = s.band("leading", "mean_n").unwrap();
         let m = &mean.movers[0];
         assert_eq!(m.path, "pantographs[0].uplift_n", "{:?}", mean.movers);
@@ -524,7 +541,15 @@ mod tests {
             allow_failed_runs: true,
             ..spec
         };
-        let s = assemble(&out, params, Vec::new(), runs, &outputs, &allow, AllowedErrors::default());
+        let s = assemble(
+            &out,
+            params,
+            Vec::new(),
+            runs,
+            &outputs,
+            &allow,
+            AllowedErrors::default(),
+        );
         assert!(s.check().is_ok() && s.failed.len() == 1);
     }
 }

@@ -89,7 +89,8 @@ pub struct WindowRow {
     pub damping: String,
     /// The accuracy-based window length, m (`None`: not reached within the longest window).
     pub length_m: Option<f64>,
-    /// The errors of that window against the full model, %.
+    /// The errors of that window against the full model, % (when no window matches, the
+    /// longest window's: what fails, by how much).
     pub mean_err_pct: Option<f64>,
     /// Error of σ against the full model, %.
     pub sigma_err_pct: Option<f64>,
@@ -200,9 +201,15 @@ pub fn window_sweep(
         let fs = full_stats(&case, &full).map_err(|e| in_case(job.index, "", e))?;
         let r = search_windows(&case, &fs, search, tol).map_err(|e| in_case(job.index, "", e))?;
         let curves = EnergyCurves::of(&eva);
-        let at = r
-            .length_m
-            .and_then(|l| r.evaluated.iter().find(|e| (e.window_m - l).abs() < 1e-9));
+        // The errors of the window found; when none matches, of the longest window run (what
+        // fails, by how much).
+        let at = match r.length_m {
+            Some(l) => r.evaluated.iter().find(|e| (e.window_m - l).abs() < 1e-9),
+            None => r
+                .evaluated
+                .iter()
+                .max_by(|a, b| a.window_m.total_cmp(&b.window_m)),
+        };
         let row = WindowRow {
             index: job.index,
             seed_offset: job.seed_offset,

@@ -256,26 +256,46 @@ impl ValidationPlan {
     /// The plan of a user's targets file (`pcsim validate --targets FILE`, [`targets_file`]),
     /// read from `text`; `path` names it in the report.
     pub fn from_targets(text: &str, path: &str) -> Result<Self, CaseError> {
+        Self::from_targets_on(text, path, None)
+    }
+
+    /// A user's targets file run on the preset it names, or on a user's case `on = (case,
+    /// label)` (`pcsim validate CASE.toml --targets FILE`): then the file need name no preset;
+    /// one it names is said not to be run (the report's "runs on" names both), never ignored
+    /// silently. Without a case, a file that names no preset is refused, saying how to give one.
+    pub fn from_targets_on(
+        text: &str,
+        path: &str,
+        on: Option<(Case, &str)>,
+    ) -> Result<Self, CaseError> {
         let f = targets_file(text)?;
         let title = if f.source.is_empty() {
             format!("Targets `{}`", f.table)
         } else {
             format!("Targets `{}` ({})", f.table, f.source)
         };
-        let base = presets::load(&f.preset)?.0;
-        Self::of(
-            title,
-            base,
-            format!("preset `{}`", f.preset),
-            path.into(),
-            f.cases,
-        )
+        let (base, runs_on) = match (on, &f.preset) {
+            (Some((case, label)), None) => (case, format!("case `{label}`")),
+            (Some((case, label)), Some(p)) => (
+                case,
+                format!("case `{label}` (the targets name preset `{p}`: it is not run, the case is)"),
+            ),
+            (None, Some(p)) => (presets::load(p)?.0, format!("preset `{p}`")),
+            (None, None) => {
+                return Err(CaseError::Invalid {
+                    field: format!("{}.preset", f.table),
+                    value: "missing".into(),
+                    reason: "name the preset the targets are for (preset = \"…\"), or run them on your case: pcsim validate CASE.toml --targets FILE".into(),
+                })
+            }
+        };
+        Self::of(title, base, runs_on, path.into(), f.cases)
     }
 
     /// The same targets run on a user's case instead of the preset they name (`pcsim validate
-    /// CASE.toml [--targets FILE]`): the case at each target's speed, everything else as the
-    /// case gives it. `label` names the case in the report (its path). The ranges stay those
-    /// of the targets: the caller says what they were written for.
+    /// CASE.toml`): the case at each target's speed, everything else as the case gives it.
+    /// `label` names the case in the report (its path). The ranges stay those of the targets:
+    /// the caller says what they were written for.
     pub fn on_case(self, base: Case, label: &str) -> Result<Self, CaseError> {
         Self::of(
             self.title,

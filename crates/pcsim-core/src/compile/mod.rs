@@ -192,8 +192,18 @@ pub fn require_contact(case: &Case, study: &str) -> Result<(), CaseError> {
 /// pantograph's own track position). The window carries one pantograph (the rig's): another
 /// pantograph's waves reach it only through a catenary the window does not hold, so the window
 /// and its reference both leave the others out. This is the one place that says so, and
-/// [`realtime_window`] applies it. An unknown selection is refused, naming the pantographs.
+/// [`realtime_window`] applies it. An unknown selection is refused, naming the pantographs; a
+/// crosswind is refused, naming `wind` (the window cannot carry it), before any run.
 pub fn window_case(case: &Case) -> Result<Case, CaseError> {
+    // Refused here, before any run (a window study runs the full model first): every window
+    // path passes through this function.
+    if case.wind.is_some() {
+        return Err(CaseError::Invalid {
+            field: "wind".into(),
+            value: "given".into(),
+            reason: "the real-time window does not carry a crosswind: the turbulent field is generated before a run, along the whole line, for the run's known duration, and a window session runs as long and as fast as the rig drives it, past any field made in advance (a field generated ahead of the window while it runs is not built); remove [wind] for the window".into(),
+        });
+    }
     let p = window_pantograph(case)?;
     let mut single = case.clone();
     let keep = single.pantographs.swap_remove(p);
@@ -285,13 +295,6 @@ pub fn realtime_window_with(
     coupling: Coupling,
     budget: &Budget,
 ) -> Result<RealtimeCatenary, CaseError> {
-    if case.wind.is_some() {
-        return Err(CaseError::Invalid {
-            field: "wind".into(),
-            value: "given".into(),
-            reason: "the real-time window does not carry a crosswind: the turbulent field is generated before a run, along the whole line, for the run's known duration, and a window session runs as long and as fast as the rig drives it, past any field made in advance (a field generated ahead of the window while it runs is not built); remove [wind] for the window".into(),
-        });
-    }
     let case = &window_case(case)?;
     let full = Setup::from_case_with(case, budget)?;
     let static_force_n = match case.pantographs.first() {

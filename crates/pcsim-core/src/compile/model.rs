@@ -224,7 +224,11 @@ fn wind_load(
             let u = normal * along;
             // The speed the wire's motion is linearised about (`|u|` on a straight track): the
             // aerodynamic damping does not depend on the wind's side.
-            let ud = if curve.is_some() { damped * along } else { u.abs() };
+            let ud = if curve.is_some() {
+                damped * along
+            } else {
+                u.abs()
+            };
             wires.push(WireWind {
                 wire: 2 * k + i,
                 height_m: heights[i],

@@ -738,27 +738,29 @@ fn ranged_values(path: &str, t: &toml::value::Table) -> Result<Vec<RangedValue>,
         }
         Ok((lo, hi))
     };
-    let one = |p: String, v: &toml::Value, r: &toml::Value, at: &str| -> Result<RangedValue, CaseError> {
-        let x = number(v).ok_or_else(|| inv(&field, range.to_string(), "only numbers take a range"))?;
-        let (low, high) = pair(r, at)?;
-        let integer = matches!(v, toml::Value::Integer(_));
-        if integer && (low.fract() != 0.0 || high.fract() != 0.0) {
-            return Err(inv(
-                at,
-                r.to_string(),
-                &format!("{p} holds a whole number: its range's ends are whole numbers"),
-            ));
-        }
-        Ok(RangedValue {
-            path: p,
-            value: x,
-            low,
-            high,
-            source: source.clone(),
-            range_source: range_source.clone(),
-            integer,
-        })
-    };
+    let one =
+        |p: String, v: &toml::Value, r: &toml::Value, at: &str| -> Result<RangedValue, CaseError> {
+            let x = number(v)
+                .ok_or_else(|| inv(&field, range.to_string(), "only numbers take a range"))?;
+            let (low, high) = pair(r, at)?;
+            let integer = matches!(v, toml::Value::Integer(_));
+            if integer && (low.fract() != 0.0 || high.fract() != 0.0) {
+                return Err(inv(
+                    at,
+                    r.to_string(),
+                    &format!("{p} holds a whole number: its range's ends are whole numbers"),
+                ));
+            }
+            Ok(RangedValue {
+                path: p,
+                value: x,
+                low,
+                high,
+                source: source.clone(),
+                range_source: range_source.clone(),
+                integer,
+            })
+        };
     match t.get("value") {
         Some(toml::Value::Array(xs)) => {
             let rs = range

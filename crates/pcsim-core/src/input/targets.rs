@@ -55,8 +55,8 @@ pub fn target_cases(table: &str) -> Result<Vec<TargetCase>, CaseError> {
 pub struct TargetsFile {
     /// The table's name.
     pub table: String,
-    /// The preset it runs (`preset = "…"`).
-    pub preset: String,
+    /// The preset it runs (`preset = "…"`; none: the targets run only on a case a user gives).
+    pub preset: Option<String>,
     /// Where its ranges come from (`source = "…"`).
     pub source: String,
     /// Its cases.
@@ -89,13 +89,7 @@ pub fn targets_file(text: &str) -> Result<TargetsFile, CaseError> {
     };
     let t = &v[table.as_str()];
     let text_of = |key: &str| t.get(key).and_then(|x| x.as_str()).map(str::to_string);
-    let preset = text_of("preset").ok_or_else(|| {
-        bad(
-            &format!("{table}.preset"),
-            "missing",
-            "name the preset the targets are for (preset = \"…\")",
-        )
-    })?;
+    let preset = text_of("preset");
     let cases = target_cases_in(text, table)?;
     if cases.is_empty() {
         return Err(bad(

@@ -508,6 +508,7 @@ impl CompiledModel {
             external: vec![ExternalInput::default(); np],
             off_head: vec![false; self.n_u],
             moving_lateral: vec![(0.0, None); self.moving.len()],
+            moving_static: vec![(0.0, 0.0); self.moving.len()],
             absent: vec![false; self.n_u],
             sample_point: self.pan_point.iter().map(|p| p.unwrap_or(0)).collect(),
             samples: vec![ContactSample::default(); np],

@@ -310,15 +310,9 @@ fn pantograph_chains(
                     )
                 })?;
                 let x = plan.start_m - pan.offset_m + plan.speed_m_s * 0.0;
+                let no_equilibrium = || no_static_equilibrium(p, l);
                 if !l.strips.is_empty() {
-                    let y = strips_at_rest(cm, p, l, &ops, x).ok_or_else(|| {
-                        refused(
-                            ModelQuantity::PantographStiffness(p, None),
-                            format!("{:?}", l.stiffness_n_per_m),
-                            "the pantograph's head of strips has no static equilibrium (a spring of zero stiffness?)"
-                                .into(),
-                        )
-                    })?;
+                    let y = strips_at_rest(cm, p, l, &ops, x).ok_or_else(no_equilibrium)?;
                     initial_py.extend(y);
                     chains.push(Some(ops));
                     continue;
@@ -353,14 +347,7 @@ fn pantograph_chains(
                     }
                     None => (contact_stiffness(model, p), 0.0),
                 };
-                let y = ops.static_equilibrium(kn, h).ok_or_else(|| {
-                    refused(
-                        ModelQuantity::PantographStiffness(p, None),
-                        format!("{:?}", l.stiffness_n_per_m),
-                        "the pantograph has no static equilibrium (a spring of zero stiffness?)"
-                            .into(),
-                    )
-                })?;
+                let y = ops.static_equilibrium(kn, h).ok_or_else(no_equilibrium)?;
                 initial_py.extend(y);
                 chains.push(Some(ops));
             }
@@ -368,6 +355,37 @@ fn pantograph_chains(
         }
     }
     Ok((chains, initial_py))
+}
+
+/// Why pantograph `p` has no static equilibrium, in the model's terms: with a static force that
+/// depends on the head's height, a table steeper than the chain's springs (the fixed point on
+/// the head's height diverges: the table's steepest slope is named); else a spring of zero
+/// stiffness.
+fn no_static_equilibrium(p: usize, l: &crate::model::pantograph::Lumped) -> CaseError {
+    match &l.uplift_by_height {
+        Some(t) => {
+            let steepest = (t.height_m.windows(2).zip(t.uplift_n.windows(2)))
+                .map(|(h, f)| ((f[1] - f[0]) / (h[1] - h[0])).abs())
+                .fold(0.0, f64::max);
+            let series = 1.0
+                / (l.stiffness_n_per_m.iter())
+                    .filter(|k| **k > 0.0)
+                    .map(|k| 1.0 / k)
+                    .sum::<f64>();
+            refused(
+                ModelQuantity::PantographUpliftTable(p),
+                format!("a slope of {steepest:.4e} N/m"),
+                format!(
+                    "the pantograph has no static equilibrium on the wire: its static force changes with the head's height by up to {steepest:.4e} N per metre, against springs of {series:.4e} N/m in series, so the head's height found for one force asks another; a frame's force varies by a few newtons over its working range"
+                ),
+            )
+        }
+        None => refused(
+            ModelQuantity::PantographStiffness(p, None),
+            format!("{:?}", l.stiffness_n_per_m),
+            "the pantograph has no static equilibrium (a spring of zero stiffness?)".into(),
+        ),
+    }
 }
 
 /// The static equilibrium of pantograph `p`'s head of strips at position `x` on the static
@@ -571,6 +589,16 @@ impl Integrator {
         (0..self.cm.monitor_positions().len())
             .map(|k| self.cm.monitor(&ws, k))
             .collect()
+    }
+
+    /// The slot displacements gathered at state `st` (what the point elements see), for a
+    /// law evaluated once at a state (the droppers' static tensions under steady loads).
+    /// Allocates a workspace: not for the step.
+    pub fn gathered_at(&self, st: &State) -> Workspace {
+        let mut st = st.clone();
+        let mut ws = self.workspace();
+        self.gather(&mut st, &mut ws);
+        ws
     }
 
     /// Position of pantograph `p` at the state's time (model coordinates), m.
@@ -930,6 +958,7 @@ impl Integrator {
             let absent = !mp.covers(x);
             ws.absent[self.cm.moving_u0 + mi] = absent;
             let h = m.static_height(mp.wire, mp.dir, x, st.track_origin_m);
+            ws.moving_static[mi].0 = h;
             // A point beyond its wire's ends (a pantograph outside that tension length) has no
             // contact and no force: its row and the wire's deviation there are not needed.
             ws.u[self.cm.moving_u0 + mi] = if absent {
@@ -953,6 +982,7 @@ impl Integrator {
             let mp = &self.cm.moving[lp.moving];
             let x = ws.samples[p].position_m;
             let mut z = m.static_height(lp.wire, Direction::Lateral, x, st.track_origin_m);
+            ws.moving_static[lp.moving].1 = z;
             let single = self.cm.pan_points[p].is_empty();
             if ws.absent[slot] {
                 // Beyond the wire's ends: no row, no deviation (and no contact).
@@ -960,6 +990,7 @@ impl Integrator {
                 ws.off_head[slot] = false;
                 if single {
                     ws.samples[p].lateral_m = z;
+                    ws.samples[p].static_lateral_m = z;
                 }
                 continue;
             }
@@ -974,6 +1005,7 @@ impl Integrator {
             ws.moving_lateral[lp.moving] = (z, twist);
             if single {
                 ws.samples[p].lateral_m = z;
+                ws.samples[p].static_lateral_m = ws.moving_static[lp.moving].1;
                 if let Some(phi) = twist {
                     ws.samples[p].twist_rad = phi;
                 }
@@ -1064,6 +1096,7 @@ impl Integrator {
                 if pts.is_empty() {
                     ws.samples[p].force_n = ws.f[self.cm.moving_u0 + mi];
                     ws.samples[p].wire_height_m = ws.u[self.cm.moving_u0 + mi];
+                    ws.samples[p].static_height_m = ws.moving_static[mi].0;
                 } else {
                     // Several contact wires: the force is theirs together; the height is the
                     // lowest wire's among those present (the one the head meets first).
@@ -1079,10 +1112,12 @@ impl Integrator {
                     }
                     ws.sample_point[p] = best;
                     ws.samples[p].wire_height_m = ws.u[u0 + best];
+                    ws.samples[p].static_height_m = ws.moving_static[best].0;
                     // Its lateral position (and rotation) where the wire moves laterally.
                     if self.cm.pan_lateral.iter().any(|lp| lp.moving == best) {
                         let (z, twist) = ws.moving_lateral[best];
                         ws.samples[p].lateral_m = z;
+                        ws.samples[p].static_lateral_m = ws.moving_static[best].1;
                         if let Some(phi) = twist {
                             ws.samples[p].twist_rad = phi;
                         }

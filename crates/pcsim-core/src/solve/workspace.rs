@@ -24,6 +24,12 @@ pub struct ContactSample {
     /// motion is not modelled): the stagger, the contact wire's lateral deviation, and its
     /// rotation times the depth of the contact point below its axis.
     pub lateral_m: f64,
+    /// The wire's static height at the contact point (its design and static shape), m: the
+    /// reference of the blow-up test.
+    pub static_height_m: f64,
+    /// The wire's static lateral position at the contact point from the track's centre line,
+    /// m (the stagger and a curve's bow; 0 without lateral motion).
+    pub static_lateral_m: f64,
     /// Rotation of the contact wire about its axis at the contact point, rad (0 when torsion is
     /// not modelled).
     pub twist_rad: f64,
@@ -48,15 +54,15 @@ impl ContactSample {
                 "a non-finite value at pantograph {pantograph} (contact force {} N, wire height {} m, velocity {} m/s, lateral position {} m)",
                 self.force_n, self.wire_height_m, self.wire_velocity_m_s, self.lateral_m
             ))
-        } else if self.lateral_m.abs() >= MAX_PLAUSIBLE_HEIGHT_M {
+        } else if (self.lateral_m - self.static_lateral_m).abs() >= MAX_PLAUSIBLE_HEIGHT_M {
             Some(format!(
-                "the contact point under pantograph {pantograph} is {:.3} m from the track's centre line (more than {MAX_PLAUSIBLE_HEIGHT_M} m)",
-                self.lateral_m
+                "the contact point under pantograph {pantograph} is {:.3} m from the wire's static lateral position (more than {MAX_PLAUSIBLE_HEIGHT_M} m)",
+                self.lateral_m - self.static_lateral_m
             ))
-        } else if self.wire_height_m.abs() >= max_height_m {
+        } else if (self.wire_height_m - self.static_height_m).abs() >= max_height_m {
             Some(format!(
-                "the contact wire under pantograph {pantograph} is {:.3} m from its design height (more than {max_height_m:.3} m, the system height: it would have passed the messenger)",
-                self.wire_height_m
+                "the contact wire under pantograph {pantograph} is {:.3} m from its static height (more than {max_height_m:.3} m, the system height: it would have passed the messenger)",
+                self.wire_height_m - self.static_height_m
             ))
         } else if self.force_n.abs() >= MAX_PLAUSIBLE_FORCE_N {
             Some(format!(
@@ -69,15 +75,18 @@ impl ContactSample {
     }
 
     /// Finite and physically plausible (the blow-up test of every run loop): the contact wire
-    /// within `max_height_m` of its design height (the model's
-    /// [`crate::solve::CompiledModel::max_wire_deviation_m`]).
+    /// within `max_height_m` of its static height (the model's
+    /// [`crate::solve::CompiledModel::max_wire_deviation_m`]) and the contact point within
+    /// [`MAX_PLAUSIBLE_HEIGHT_M`] of the wire's static lateral position. Measured from the
+    /// wire's own static place, not from the nominal height or the track's centre line: a line
+    /// designed high, or a curve's bow, is a design, not a blow-up.
     pub fn is_sound(&self, max_height_m: f64) -> bool {
         self.force_n.is_finite()
             && self.wire_height_m.is_finite()
             && self.wire_velocity_m_s.is_finite()
             && self.force_n.abs() < MAX_PLAUSIBLE_FORCE_N
-            && self.wire_height_m.abs() < max_height_m
-            && self.lateral_m.abs() < MAX_PLAUSIBLE_HEIGHT_M
+            && (self.wire_height_m - self.static_height_m).abs() < max_height_m
+            && (self.lateral_m - self.static_lateral_m).abs() < MAX_PLAUSIBLE_HEIGHT_M
     }
 }
 
@@ -122,6 +131,9 @@ pub struct Workspace {
     /// By moving point: its contact point's lateral position this step, m, and the wire's
     /// rotation there where torsion is modelled, rad.
     pub(crate) moving_lateral: Vec<(f64, Option<f64>)>,
+    /// Per moving point: the wire's static height and lateral position there (the blow-up
+    /// test's reference).
+    pub(crate) moving_static: Vec<(f64, f64)>,
     /// By displacement slot: a moving point beyond its wire's ends this step (no contact).
     pub(crate) absent: Vec<bool>,
     /// Per pantograph: the moving point its sample reads this step (the lowest wire present).

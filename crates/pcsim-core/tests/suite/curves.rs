@@ -282,6 +282,11 @@ fn issue_41_a_crosswind_on_a_curve_of_very_large_radius_runs_as_on_the_straight_
 fn issue_41_a_crosswind_that_crosses_the_track_on_a_tight_curve_runs() {
     let mut c = windy_curve(Some(500.0), 20.0);
     c.catenary.span_m = 60.0;
+    // The 60 m spans bow 0.9 m toward the centre on 500 m: the stagger is laid 0.45 m outside
+    // at every registration (design practice on tight curves), so the wire stays on the head.
+    let l = c.catenary.lateral.as_mut().unwrap();
+    l.stagger_m = None;
+    l.stagger_list_m = Some(vec![-0.45, -0.45]);
     let (m, _) = pcsim_core::compile::model_from_case(&c).unwrap();
     let wl = m.wind.as_ref().unwrap();
     let (lo, hi) = wl
@@ -669,7 +674,10 @@ fn issue_51_the_mirror_image_of_a_curve_in_wind_gives_the_mirror_result() {
     let mut mirror = windy_curve(Some(-2000.0), -60.0);
     let l = mirror.catenary.lateral.as_mut().unwrap();
     l.stagger_m = l.stagger_m.map(|s| -s);
-    l.stagger_list_m = l.stagger_list_m.take().map(|v| v.iter().map(|s| -s).collect());
+    l.stagger_list_m = l
+        .stagger_list_m
+        .take()
+        .map(|v| v.iter().map(|s| -s).collect());
     let a = run_case(&right, &mut |_| true).unwrap();
     let b = run_case(&mirror, &mut |_| true).unwrap();
     common::same_statistics(&a, &b, 1e-9, "mirror");
@@ -680,7 +688,10 @@ fn issue_51_the_mirror_image_of_a_curve_in_wind_gives_the_mirror_result() {
         .fold(0.0, f64::max);
     assert!(worst < 1e-9, "the lateral trace is not mirrored: {worst} m");
     let (sa, sb) = (pa.stats.unwrap(), pb.stats.unwrap());
-    let (oa, ob) = (sa.max_lateral_offset_mm.unwrap(), sb.max_lateral_offset_mm.unwrap());
+    let (oa, ob) = (
+        sa.max_lateral_offset_mm.unwrap(),
+        sb.max_lateral_offset_mm.unwrap(),
+    );
     assert!((oa - ob).abs() < 1e-6, "largest offset {oa} mm vs {ob} mm");
     // The other side of the same curve: the wind pushes the wire the other way.
     let other = run_case(&windy_curve(Some(2000.0), -60.0), &mut |_| true).unwrap();
@@ -688,5 +699,37 @@ fn issue_51_the_mirror_image_of_a_curve_in_wind_gives_the_mirror_result() {
     let apart = (pa.lateral_m.iter().zip(&po.lateral_m))
         .map(|(x, y)| (x - y).abs())
         .fold(0.0, f64::max);
-    assert!(apart > 0.01, "yaw +60 and -60 on one curve: {apart} m apart");
+    assert!(
+        apart > 0.01,
+        "yaw +60 and -60 on one curve: {apart} m apart"
+    );
+}
+
+/// Issue 51, item 2: a case a user writes runs or is refused for its physical reason before any
+/// run starts. On a 300 m curve the 60 m spans bow the wire 1.5 m toward the centre: beyond the
+/// 0.8 m half-width of the head. Refused when the run is planned, naming `catenary.lateral`, the
+/// place and the head (it was a "numerical blow-up, try a smaller Δt" with the stagger, a
+/// dewirement without); on the 4 000 m curve the same stagger runs.
+#[test]
+fn issue_51_a_curve_that_puts_the_wire_off_the_head_is_refused_before_the_run() {
+    let mut c = curved(Some(300.0), 0.0);
+    let l = c.catenary.lateral.as_mut().unwrap();
+    l.stagger_m = Some(0.0);
+    l.stagger_list_m = None;
+    match Setup::from_case(&c) {
+        Err(CaseError::Invalid {
+            field,
+            value,
+            reason,
+        }) => {
+            assert!(field.starts_with("catenary.lateral"), "{field}");
+            assert!(value.contains("from the head's centre"), "{value}");
+            assert!(
+                reason.contains("0.8 m") && reason.contains("leading"),
+                "{reason}"
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(Setup::from_case(&curved(Some(4000.0), 0.0)).is_ok());
 }

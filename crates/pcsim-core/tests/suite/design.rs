@@ -321,7 +321,11 @@ fn a_search_from_a_base_that_cannot_be_beaten_recommends_nothing() {
     let d = design(&spec);
     let r = run(&d, Vec::new(), 2);
     let b = r.base.as_ref().expect("the base evaluated");
-    assert_eq!(b.objective, Some(0.0), "the base meets its own target exactly");
+    assert_eq!(
+        b.objective,
+        Some(0.0),
+        "the base meets its own target exactly"
+    );
     let best = &r.evaluations[r.best.expect("the search's best")];
     // Nelder–Mead starts from the base: its best is the base itself, a tie, which is no
     // improvement either.
@@ -329,10 +333,17 @@ fn a_search_from_a_base_that_cannot_be_beaten_recommends_nothing() {
     assert_eq!(r.recommended, None, "nothing beat the base");
     assert_eq!(r.answer(), "no improvement found");
     let v = r.to_json(&d);
-    assert!(v["best"].is_null(), "design.json recommends nothing: {}", v["best"]);
+    assert!(
+        v["best"].is_null(),
+        "design.json recommends nothing: {}",
+        v["best"]
+    );
     assert_eq!(v["best_evaluated"]["index"], best.index);
     // The base 20 N off its target: the search beats it and recommends its best.
-    let off = design(&spec.replace(&format!("target = {fm0:?}"), &format!("target = {:?}", fm0 + 20.0)));
+    let off = design(&spec.replace(
+        &format!("target = {fm0:?}"),
+        &format!("target = {:?}", fm0 + 20.0),
+    ));
     let r = run(&off, Vec::new(), 2);
     assert_eq!(r.answer(), "improved");
     let rec = &r.evaluations[r.recommended.expect("a recommendation")];

@@ -199,7 +199,9 @@ fn issue_51_a_fit_from_a_start_far_off_reaches_the_truth_and_a_mislabelled_file_
         );
     }
     // The same numbers under the other header.
-    let text = measured.to_csv().replace("magnitude_kg", "magnitude_m_per_n");
+    let text = measured
+        .to_csv()
+        .replace("magnitude_kg", "magnitude_m_per_n");
     let wrong = Response::from_csv(&text, "mislabelled.csv").unwrap();
     let r = fit_with(&start, &wrong, &FitSpec::default(), &mut |_, _| {}).unwrap();
     assert!(!r.converged && r.residual_rms > 0.5, "{}", r.residual_rms);

@@ -615,10 +615,11 @@ fn ice_adds_its_annulus_mass_and_widens_the_wire_for_drag() {
     assert!((drag(&iced) / drag(&bare) - 0.0324 / 0.0124).abs() < 1e-9);
 }
 
-/// Issue 20, item 2: contact exists only on the head. With a stagger of 1.9 m and a head of
-/// ±0.8 m the contact point leaves the head; there the contact force is zero, the run reports a
-/// dewirement (an error-level event), and the statistics differ from the on-head run (they did
-/// not: the force was the 0.3 m-stagger run's to the bit).
+/// Issue 20, item 2: contact exists only on the head. With a stagger of 0.6 m and a 65 m/s
+/// crosswind the wire is blown beyond the ±0.8 m head; there the contact force is zero, the run
+/// reports a dewirement (an error-level event), and the statistics differ from the on-head run
+/// (they did not: the force was the 0.3 m-stagger run's to the bit). (A static stagger beyond
+/// the head, 1.9 m as this test had, is refused before the run since issue 51.)
 #[test]
 fn contact_exists_only_on_the_head() {
     let mut wide = short_3d(200.0, 700.0);
@@ -630,7 +631,14 @@ fn contact_exists_only_on_the_head() {
         _ => unreachable!(),
     };
     let narrow = wide.clone();
-    wide.catenary.lateral.as_mut().unwrap().stagger_m = Some(1.9);
+    let windy = presets::load("stitched-2018-like-3d-crosswind").unwrap().0;
+    wide.wind = windy.wind.map(|w| pcsim_core::input::lateral::WindCase {
+        mean_speed_m_s: 65.0,
+        ..w
+    });
+    wide.catenary.messenger.section = windy.catenary.messenger.section;
+    wide.catenary.contact_wire.section = windy.catenary.contact_wire.section;
+    wide.catenary.lateral.as_mut().unwrap().stagger_m = Some(0.6);
     let on = run_case(&narrow, &mut |_| true).unwrap();
     let off = run_case(&wide, &mut |_| true).unwrap();
     let p = &off.pantographs[0];
@@ -665,7 +673,7 @@ fn contact_exists_only_on_the_head() {
     );
     assert_eq!(s_on.loss_of_contact_percent, 0.0);
     eprintln!(
-        "on the head: Fm {:.1} N, σ {:.1} N, loss {:.2} %; 1.9 m stagger: Fm {:.1} N, σ {:.1} N, loss {:.2} %",
+        "on the head: Fm {:.1} N, σ {:.1} N, loss {:.2} %; blown off: Fm {:.1} N, σ {:.1} N, loss {:.2} %",
         s_on.mean_n, s_on.std_n, s_on.loss_of_contact_percent,
         s_off.mean_n, s_off.std_n, s_off.loss_of_contact_percent
     );

@@ -708,7 +708,7 @@ fn targets_files_and_the_2018_templates() {
         let path = root.join(format!("data/targets-en50318-2018-{kind}-template.toml"));
         let text = std::fs::read_to_string(&path).unwrap();
         let f = targets_file(&text).unwrap();
-        assert_eq!(f.preset, format!("en50318-2018-like-{kind}"));
+        assert_eq!(f.preset, Some(format!("en50318-2018-like-{kind}")));
         assert_eq!(f.cases.len(), 4, "275 and 320 km/h, leading and trailing");
         for c in &f.cases {
             assert!(c.ranges.is_empty(), "the template invents no range");
@@ -744,6 +744,43 @@ fn targets_files_and_the_2018_templates() {
         let two = format!("{text}\n[other]\npreset = \"en50318-2002\"\n");
         assert!(matches!(targets_file(&two), Err(CaseError::Invalid { .. })));
     }
+}
+
+/// Issue 51, item 2: a user's own targets run on a user's case. A file without a preset runs on
+/// the case given (and, without one, is refused saying how to give it); a file that names a
+/// preset, run on a case, says that the preset is not run: never silently ignored.
+#[test]
+fn issue_51_a_users_targets_run_on_a_users_case() {
+    use pcsim_core::analysis::validation::ValidationPlan;
+    let mine = "[mine]\nsource = \"my own\"\n[mine.v250]\nspeed_kmh = 250\nmean = [100.0, 130.0]\n";
+    let case = common::short_en50318(6, 200.0);
+    let plan = ValidationPlan::from_targets_on(mine, "mine.toml", Some((case.clone(), "my.toml")))
+        .unwrap();
+    assert_eq!(plan.runs_on, "case `my.toml`");
+    assert_eq!(plan.cases.len(), 1);
+    assert_eq!(plan.cases[0].run.speed_kmh, 250.0);
+    assert_eq!(
+        plan.cases[0].catenary.spans, 6,
+        "the case runs, at the target's speed"
+    );
+    match ValidationPlan::from_targets(mine, "mine.toml") {
+        Err(CaseError::Invalid { field, reason, .. }) => {
+            assert_eq!(field, "mine.preset");
+            assert!(reason.contains("CASE.toml --targets"), "{reason}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let named = mine.replace("source = ", "preset = \"syt-7.0-9.8\"\nsource = ");
+    let plan =
+        ValidationPlan::from_targets_on(&named, "mine.toml", Some((case, "my.toml"))).unwrap();
+    assert!(
+        plan.runs_on.contains("my.toml")
+            && plan.runs_on.contains("syt-7.0-9.8")
+            && plan.runs_on.contains("not run"),
+        "{}",
+        plan.runs_on
+    );
+    assert_eq!(plan.cases[0].catenary.spans, 6);
 }
 
 /// The energy density (EVA) needs every wire over the whole model: on a line of several tension
@@ -1037,4 +1074,20 @@ fn the_hil_window_returns_the_wire_height_across_the_overlaps() {
         line[0],
         plain[0]
     );
+}
+
+/// Issue 51, item 2: the blow-up test measures the wire from its own static place. A line
+/// designed 1.5 m above the nominal height (every support; more than the 1.2 m system height)
+/// is a design, not a blow-up: it runs, its contact wire near 1.5 m (it was "numerical blow-up:
+/// the contact wire is 1.500 m from its design height" at the first step).
+#[test]
+fn issue_51_a_line_designed_high_is_not_a_blow_up() {
+    let mut case = pcsim_core::presets::load("line-structure-2002").unwrap().0;
+    for tl in &mut case.line.as_mut().unwrap().tension_lengths {
+        tl.contact_height_m.iter_mut().for_each(|x| *x = 1.5);
+    }
+    let out = run_case(&case, &mut |_| true).unwrap();
+    let h = &out.pantographs[0].wire_height_m;
+    let mid = h[h.len() / 2];
+    assert!((1.3..1.7).contains(&mid), "the wire at {mid} m");
 }

@@ -266,7 +266,6 @@ fn issue_42_2_the_sensitivity_is_the_runs_made_by_hand() {
     assert!(e.to_string().contains("sensitivity.samples"), "{e}");
 }
 
-
 /// The preset's text with one line's sourced value replaced (the line that starts `key = {` in
 /// the table that holds `anchor`).
 fn with_line(base: &str, anchor: &str, line: &str) -> String {
@@ -292,7 +291,9 @@ fn issue_51_range_ends_that_cannot_run_are_refused_when_the_case_is_read() {
         &speed,
         "speed_kmh = { value = 250.0, source = \"x\", range = [0.0, 300.0], range_source = \"y\" }",
     );
-    let e = Case::from_toml_str_with_ranges(&text).unwrap_err().to_string();
+    let e = Case::from_toml_str_with_ranges(&text)
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("run.speed_kmh.range") && e.contains("low end (0)"),
         "{e}"
@@ -307,8 +308,13 @@ fn issue_51_range_ends_that_cannot_run_are_refused_when_the_case_is_read() {
         &start,
         "start_m = { value = 60.0, source = \"x\", range = [60.0, 5000.0], range_source = \"y\" }",
     );
-    let e = Case::from_toml_str_with_ranges(&text).unwrap_err().to_string();
-    assert!(e.contains("run.start_m.range") && e.contains("high end"), "{e}");
+    let e = Case::from_toml_str_with_ranges(&text)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("run.start_m.range") && e.contains("high end"),
+        "{e}"
+    );
     // A whole number's range: whole ends, whole draws, and the runs are made.
     let spans = base
         .lines()
@@ -320,7 +326,9 @@ fn issue_51_range_ends_that_cannot_run_are_refused_when_the_case_is_read() {
         &spans,
         "spans = { value = 20, source = \"x\", range = [18.5, 22], range_source = \"y\" }",
     );
-    let e = Case::from_toml_str_with_ranges(&bad).unwrap_err().to_string();
+    let e = Case::from_toml_str_with_ranges(&bad)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("catenary.spans") && e.contains("whole"), "{e}");
     let good = with_line(
         base,
@@ -393,5 +401,8 @@ fn issue_51_a_sensitivity_study_with_a_failing_end_is_not_a_pass() {
     let e = study(std::slice::from_ref(&uplift), &spec)
         .unwrap_err()
         .to_string();
-    assert!(e.contains("12 runs") && e.contains("sensitivity.max_runs"), "{e}");
+    assert!(
+        e.contains("12 runs") && e.contains("sensitivity.max_runs"),
+        "{e}"
+    );
 }

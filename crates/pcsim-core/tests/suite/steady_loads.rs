@@ -391,3 +391,63 @@ fn issue_39_3_ice_and_wind_add_no_vibration_energy_of_their_own_to_the_eva() {
     let with = eva(&windy);
     assert!(with.snapshot.total_j > 0.5, "{} J", with.snapshot.total_j);
 }
+
+/// Issue 51: the droppers' static tension under ice is the loaded start's, not the ice-free
+/// design's preload. With a zero force the wires stay at rest in their iced static state, so
+/// every dropper's tension through the run is its static tension: the reported one equals it
+/// (within 1e-6 N); the design preload, which the column showed before, is not it.
+#[test]
+fn issue_51_the_droppers_static_tension_under_ice_is_the_loaded_starts() {
+    use pcsim_core::analysis::record::{simulate_with, DropperOptions};
+    let mut case =
+        observed_by_a_zero_force(with_sections(presets::load("en50318-2002").unwrap().0));
+    case.catenary.spans = 8;
+    case.run.start_m = 120.0;
+    case.run.end_m = 300.0;
+    case.run.analysis_m = [120.0, 300.0];
+    let options = || DropperOptions {
+        history: false,
+        history_limit: 0,
+        curve: None,
+    };
+    let bare = simulate_with(
+        &Setup::from_case(&case).unwrap(),
+        Some(options()),
+        &mut |_| true,
+    )
+    .unwrap()
+    .droppers
+    .unwrap();
+    case.catenary.ice = Some(IceCase {
+        density_kg_m3: 900.0,
+        contact_wire_m: 0.01,
+        messenger_m: 0.01,
+    });
+    let iced = simulate_with(
+        &Setup::from_case(&case).unwrap(),
+        Some(options()),
+        &mut |_| true,
+    )
+    .unwrap()
+    .droppers
+    .unwrap();
+    for (b, d) in bare.droppers.iter().zip(&iced.droppers) {
+        assert!(
+            (d.min_n - d.preload_n).abs() < 1e-6 && (d.max_n - d.preload_n).abs() < 1e-6,
+            "dropper at {} m: static {} N, run {}..{} N",
+            d.x_m,
+            d.preload_n,
+            d.min_n,
+            d.max_n
+        );
+    }
+    // The ice moves the static tensions (the messenger, iced and less tensioned, sags more than
+    // the contact wire: the droppers share the weight anew); the design preload would not.
+    let moved = (bare.droppers.iter().zip(&iced.droppers))
+        .map(|(b, d)| (d.preload_n - b.preload_n).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        moved > 1.0,
+        "the ice moved no dropper's static tension: {moved} N"
+    );
+}

@@ -139,3 +139,24 @@ fn issue_43_2_a_bad_table_is_refused_by_its_field() {
         );
     }
 }
+
+/// Issue 51, item 2: a table too steep for the chain to rest on the wire is refused by its own
+/// field, `uplift_by_height`, naming its slope (it was refused under `stiffness_n_per_m`).
+#[test]
+fn issue_51_a_table_too_steep_to_rest_on_is_refused_by_its_field() {
+    let steep = with_table(
+        common::short_en50318(8, 250.0),
+        UpliftByHeight {
+            height_m: vec![-0.001, 0.0, 0.001],
+            uplift_n: vec![5000.0, 117.0, 0.0],
+        },
+    );
+    let e = pcsim_core::compile::Setup::from_case(&steep)
+        .and_then(|s| s.integrator())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("pantographs[0].uplift_by_height") && e.contains("4.8830e6 N/m"),
+        "{e}"
+    );
+}

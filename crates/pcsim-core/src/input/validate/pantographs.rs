@@ -41,6 +41,21 @@ pub(super) fn contact_and_pantographs(case: &Case, w: &mut Vec<Warning>) -> Resu
                 &format!("pantographs[{j}] has the same name: each pantograph's columns and figures need their own name"),
             ));
         }
+        // Figures are named by the name's letters, digits, - and _ (others become _), and a
+        // file system may fold case: two names alike in that form would write one file.
+        if let Some(j) =
+            (0..i).find(|&j| file_key(&case.pantographs[j].output_name(j)) == file_key(&name))
+        {
+            return Err(inv(
+                &format!("{base}.name"),
+                format!("{name:?}"),
+                &format!(
+                    "pantographs[{j}] is named {:?}: in a file name (letters, digits, - and _ kept, others as _, case folded) both are {:?}, and their figures would overwrite each other",
+                    case.pantographs[j].output_name(j),
+                    file_key(&name)
+                ),
+            ));
+        }
         check_bound(
             w,
             &format!("{base}.offset_m"),
@@ -314,4 +329,18 @@ pub(super) fn pantograph_heads(case: &Case, w: &mut Vec<Warning>) -> Result<(), 
         }
     }
     Ok(())
+}
+
+/// A name as it becomes part of a file's name (the CLI's figures: letters, digits, `-` and `_`
+/// kept, every other character `_`), case folded (a file system may not tell `A` from `a`).
+fn file_key(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c.to_ascii_lowercase()
+            } else {
+                '_'
+            }
+        })
+        .collect()
 }
