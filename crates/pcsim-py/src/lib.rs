@@ -868,6 +868,25 @@ fn presets_list() -> Vec<String> {
         .collect()
 }
 
+/// The tiny cases of every geometry family (`pcsim_core::zoo::geometries`), as `(name,
+/// case)`: the cases every front end's table of docs/matrix.md is checked on.
+#[pyfunction]
+fn zoo_geometries() -> Vec<(String, Case)> {
+    pcsim_core::zoo::geometries::geometries()
+        .into_iter()
+        .map(|(g, c)| {
+            (
+                g.to_string(),
+                Case {
+                    inner: c,
+                    ranges: Vec::new(),
+                    fixed: Vec::new(),
+                },
+            )
+        })
+        .collect()
+}
+
 /// `case` with the pantograph a real-time window follows set (`run.window_pantograph`), where a
 /// keyword gives one; the core resolves it and refuses one the case does not have.
 fn with_window_pantograph(case: &pcsim_core::Case, pantograph: Option<String>) -> pcsim_core::Case {
@@ -990,6 +1009,7 @@ fn _pcsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(assess, m)?)?;
     m.add_function(wrap_pyfunction!(window, m)?)?;
     m.add_function(wrap_pyfunction!(presets_list, m)?)?;
+    m.add_function(wrap_pyfunction!(zoo_geometries, m)?)?;
     m.add_function(wrap_pyfunction!(design, m)?)?;
     m.add_function(wrap_pyfunction!(pantograph_frf, m)?)?;
     m.add_function(wrap_pyfunction!(pantograph_fit, m)?)?;

@@ -76,7 +76,8 @@ def test_issue_42_2_run_sensitivity_equals_the_clis(tmp_path):
     with open(os.path.join(out, "summary.json")) as f:
         cli = json.load(f)
     assert res.summary["sensitivity"] == cli["sensitivity"]
-    assert res.summary["sensitivity"]["spec"] == {"samples": 2, "seed": 5}
+    assert res.summary["sensitivity"]["spec"] == {"samples": 2, "seed": 5, "max_runs": 200,
+                                                  "allow_failed_runs": False}
     fixed = case.with_overrides({"pantographs[0].uplift_n": 115.0})
     s = pcsim.run(fixed, sensitivity=True, sensitivity_samples=0).summary["sensitivity"]
     assert "pantographs[0].uplift_n" not in [p["path"] for p in s["parameters"]]
@@ -605,3 +606,84 @@ def test_issue_43_1_the_real_time_window_carries_two_strips():
     h1 = [s1.step(0.0, 0.0)[0] for _ in range(1500)]
     assert all(math.isfinite(h) for h in h2)
     assert h2 != h1
+
+
+def _matrix_block(doc, name):
+    """The block ``name`` of docs/matrix.md (the core's ``zoo::geometries::matrix_block``)."""
+    open_, close = f"<!-- matrix: {name} -->\n", f"<!-- end: {name} -->"
+    a = doc.find(open_)
+    if a < 0:
+        return None
+    a += len(open_)
+    b = doc.find(close, a)
+    return None if b < 0 else doc[a:b]
+
+
+def _with_matrix_block(doc, name, text):
+    open_, close = f"<!-- matrix: {name} -->\n", f"<!-- end: {name} -->"
+    a, b = doc.find(open_), doc.find(close)
+    if a >= 0 and b > a:
+        return doc[:a] + open_ + text + doc[b:]
+    return f"{doc}\n{open_}{text}{close}\n"
+
+
+def test_issue_51_every_geometry_through_python_runs_or_is_refused_by_name():
+    """Python's table of docs/matrix.md: every geometry family of the core's zoo through
+    ``pcsim.run`` and ``RealtimeCatenary`` (a 180 m window fed a constant 100 N at the case's
+    speed for a second). Each cell runs (plausible statistics; finite heights) or is refused by
+    name (``ValueError`` naming the field). Nothing is injected; ``PCSIM_BLESS=1`` rewrites the
+    block, and the test fails while it differs."""
+    import re
+    rows = []
+    for g, case in pcsim._pcsim.zoo_geometries():
+        cells = []
+        res = pcsim.run(case)
+        fm = res.summary["pantographs"][0]["stats"]["mean_n"]
+        assert 20.0 < fm < 500.0, (g, fm)
+        cells.append(None)
+        try:
+            rt = pcsim.RealtimeCatenary(case, window_m=180.0, coupling="hil")
+        except ValueError as e:
+            m = re.search(r"invalid value for `([^`]*)`", str(e))
+            assert m, (g, str(e))
+            cells.append(m.group(1))
+        else:
+            v = case.get("run.speed_kmh") / 3.6
+            for k in range(1, int(round(1.0 / rt.dt_s)) + 1):
+                h, w = rt.step(100.0, rt.start_position_m + v * k * rt.dt_s)
+                assert math.isfinite(h) and math.isfinite(w), (g, k)
+            cells.append(None)
+        assert (cells[1] == "wind") == ("crosswind" in g), (g, cells)
+        rows.append((g, cells))
+    text = "### Python (`pcsim.run`, `pcsim.RealtimeCatenary`)\n\n| geometry | run | real-time window (HIL) |\n|---|---|---|\n"
+    for g, cells in rows:
+        text += f"| {g} |" + "".join(" runs |" if c is None else f" refused: `{c}` |" for c in cells) + "\n"
+    here = os.path.dirname(os.path.abspath(__file__))
+    path = os.path.join(here, "..", "..", "..", "docs", "matrix.md")
+    with open(path, encoding="utf-8") as f:
+        doc = f.read()
+    if os.environ.get("PCSIM_BLESS"):
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(_with_matrix_block(doc, "python", text))
+        with open(path, encoding="utf-8") as f:
+            doc = f.read()
+    assert _matrix_block(doc, "python") == text, text
+
+
+def test_issue_51_a_users_targets_run_on_a_users_case_as_the_cli(tmp_path):
+    """``validate(case=, targets=)`` with targets that name no preset runs the case (the CLI's
+    ``pcsim validate CASE.toml --targets FILE``); without a case they are refused naming the
+    missing preset and how to give a case."""
+    targets = tmp_path / "mine.toml"
+    targets.write_text("[mine]\nsource = \"my own\"\n[mine.v250]\nspeed_kmh = 250\n"
+                       "mean = [100.0, 130.0]\n")
+    case_path = tmp_path / "case.toml"
+    case_path.write_text(subprocess.run([PCSIM, "presets", "show", "en50318-2002"],
+                                        capture_output=True, text=True, check=True).stdout)
+    res = pcsim.validate(case=str(case_path), targets=str(targets))
+    out = subprocess.run([PCSIM, "validate", str(case_path), "--targets", str(targets), "--json"],
+                         capture_output=True, text=True, check=True).stdout
+    assert res == json.loads(out)
+    assert res["cases"][0]["rows"][0]["quantity"] == "mean"
+    with pytest.raises(ValueError, match="mine.preset"):
+        pcsim.validate(targets=str(targets))

@@ -2,4 +2,5 @@
 //! module is one former test file, named as before (`cargo test -p pcsim-capi --test suite NAME::`).
 
 mod header;
+mod matrix;
 mod robustness;

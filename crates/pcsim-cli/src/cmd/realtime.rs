@@ -95,32 +95,33 @@ pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
         case.run.speed_kmh, case.run.analysis_m
     );
     println!(
-        "{:>10} {:>6} {:>6} {:>9} {:>8} {:>9} {:>9}",
-        "window [m]", "modes", "moves", "mean [N]", "σ [N]", "Δmean %", "Δσ %"
+        "{:>10} {:>6} {:>6} {:>9} {:>8} {:>9} {:>9} {:>9}",
+        "window [m]", "modes", "moves", "mean [N]", "σ [N]", "Δmean %", "Δσ %", "Δmax %"
     );
     for (r, e) in runs.iter().zip(study.errors_percent()) {
         let s = r
             .stats
             .context("window run did not cross the analysis section")?;
-        let (em, es) = e.context("window run did not cross the analysis section")?;
+        let e = e.context("window run did not cross the analysis section")?;
         let _ = writeln!(
             table,
-            "{},{},{},{:.4},{:.4},{:.3},{:.3},{:.4},{:.4},{},{}",
+            "{},{},{},{:.4},{:.4},{:.3},{:.3},{:.4},{:.4},{},{},{:.3}",
             r.window_m,
             r.n_modes,
             r.moves,
             s.mean_n,
             s.std_n,
-            em,
-            es,
+            e.mean_pct,
+            e.sigma_pct,
             fs.mean_n,
             fs.std_n,
             cell(reference.map(|r| r.0)),
-            cell(reference.map(|r| r.1))
+            cell(reference.map(|r| r.1)),
+            e.max_pct
         );
         println!(
-            "{:>10} {:>6} {:>6} {:>9.2} {:>8.2} {:>+9.2} {:>+9.2}",
-            r.window_m, r.n_modes, r.moves, s.mean_n, s.std_n, em, es
+            "{:>10} {:>6} {:>6} {:>9.2} {:>8.2} {:>+9.2} {:>+9.2} {:>+9.2}",
+            r.window_m, r.n_modes, r.moves, s.mean_n, s.std_n, e.mean_pct, e.sigma_pct, e.max_pct
         );
     }
     println!(

@@ -882,6 +882,7 @@ fn study_answer(h: &mut String, dir: &Path, kind: &str) -> Result<()> {
                 ("std_n", "σ [N]"),
                 ("mean_error_percent", "Δ mean [%]"),
                 ("std_error_percent", "Δ σ [%]"),
+                ("max_error_percent", "Δ max [%]"),
                 ("full_mean_n", "full model, this pantograph alone: mean [N]"),
                 ("full_std_n", "full model, this pantograph alone: σ [N]"),
             ],

@@ -458,7 +458,7 @@ fn realtime_compares_windows_with_the_full_model() {
     let lines: Vec<&str> = table.lines().collect();
     assert_eq!(
         lines[0],
-        "window_m,modes,moves,mean_n,std_n,mean_error_percent,std_error_percent,full_mean_n,full_std_n,measured_mean_n,measured_std_n"
+        "window_m,modes,moves,mean_n,std_n,mean_error_percent,std_error_percent,full_mean_n,full_std_n,measured_mean_n,measured_std_n,max_error_percent"
     );
     assert_eq!(lines.len(), 3, "one row per window, numbers only");
     assert!(lines[1].starts_with("60,") && lines[2].starts_with("240,"));

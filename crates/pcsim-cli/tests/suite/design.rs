@@ -244,3 +244,44 @@ fn design_evaluated_by_another_program_gives_the_local_bytes() {
     assert!(!o.status.success());
     assert!(text(&o).contains("failed"), "{}", text(&o));
 }
+
+/// Issue 51, item 1: `pcsim design` never recommends what it did not beat. The base (a short
+/// en50318-2002) is run first; the spec's target is its own mean force, so the base costs
+/// exactly 0 and no other uplift can do better: the answer says "NO IMPROVEMENT FOUND", exits
+/// 1, writes no best-case.toml, and design.json's `best` is null beside `best_evaluated`.
+#[test]
+fn issue_51_a_design_from_a_base_that_cannot_be_beaten_recommends_nothing() {
+    let dir = scratch("unbeaten");
+    let (mut c, _) = pcsim_core::presets::load("en50318-2002").unwrap();
+    c.catenary.spans = 6;
+    c.run.start_m = 60.0;
+    c.run.end_m = 300.0;
+    c.run.analysis_m = [120.0, 240.0];
+    std::fs::write(dir.join("short.toml"), c.to_toml_string()).unwrap();
+    let o = pcsim()
+        .arg("run")
+        .arg(dir.join("short.toml"))
+        .args(["--quiet", "--out"])
+        .arg(dir.join("base"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let s: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("base/summary.json")).unwrap()).unwrap();
+    let fm = s["pantographs"][0]["stats"]["mean_n"].as_f64().unwrap();
+    let spec = format!(
+        "[base]\nfile = \"short.toml\"\n\n[[variable]]\npath = \"pantographs[0].uplift_n\"\nmin = 100.0\nmax = 140.0\n\n[[speed]]\nkmh = 250.0\n\n[[objective]]\nstatistic = \"mean_n\"\npantograph = \"leading\"\ntarget = {fm:?}\n\n[budget]\nevaluations = 4\nparticles = 4\nseed = 3\n"
+    );
+    let p = dir.join("spec.toml");
+    std::fs::write(&p, spec).unwrap();
+    let out = dir.join("out");
+    let o = design(&p, &out, &[]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("NO IMPROVEMENT FOUND"), "{}", text(&o));
+    assert!(!out.join("best-case.toml").exists());
+    let j: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("design.json")).unwrap()).unwrap();
+    assert_eq!(j["answer"], "no improvement found");
+    assert!(j["best"].is_null() && !j["best_evaluated"].is_null());
+    assert_eq!(j["base"]["objective"], 0.0);
+}

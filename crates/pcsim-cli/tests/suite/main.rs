@@ -10,6 +10,7 @@ mod evidence;
 mod fuzz_run;
 mod hardening;
 mod loud;
+mod matrix;
 mod preset_golden;
 mod realtime_golden;
 mod trust;

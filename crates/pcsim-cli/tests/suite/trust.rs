@@ -889,6 +889,26 @@ fn issue_19_8_every_readme_command_parses_and_its_files_exist() {
         checked += 1;
     }
     assert!(checked >= 15, "only {checked} commands checked");
+    // Issue 51: followed in order, no command writes into another's output: every `--out` of
+    // the block is its own (none repeated, none inside another), so a rerun is never refused as
+    // a folder holding files pcsim did not write, and no example overwrites another.
+    let outs: Vec<&str> = block
+        .lines()
+        .filter(|l| l.trim_start().starts_with("pcsim "))
+        .filter_map(|l| {
+            let w: Vec<&str> = l.split('#').next().unwrap().split_whitespace().collect();
+            w.iter().position(|x| *x == "--out").map(|i| w[i + 1])
+        })
+        .collect();
+    for (i, a) in outs.iter().enumerate() {
+        for b in &outs[i + 1..] {
+            let inside = |x: &str, y: &str| Path::new(y).starts_with(x);
+            assert!(
+                a != b && !inside(a, b) && !inside(b, a),
+                "the README's outputs {a} and {b} collide"
+            );
+        }
+    }
 }
 
 /// A seeded stream (xorshift64*), for the mutation runs below.

@@ -145,6 +145,36 @@ fn issue_39_1_the_report_shows_a_runs_errors_above_everything_and_assess_strict_
     assert!(html.contains("error-level event(s) (at the top of the page)"));
 }
 
+/// Issue 51, item 6: outputs that cannot be doctored quietly. A summary.json whose error
+/// events were deleted by hand passes `assess --strict` no more: assess checks the bytes against
+/// the manifest, as the report does, and refuses the edited file (exit 2, naming it).
+#[test]
+fn issue_51_assess_refuses_a_summary_edited_by_hand() {
+    let d = scratch("edited");
+    let case = lossy_syt(&d);
+    let out = d.join("run");
+    ok(&run(
+        &["run", case.to_str().unwrap(), "--allow-contact-loss"],
+        &out,
+    ));
+    let p = out.join("summary.json");
+    let mut v = json(&p);
+    v["errors"] = serde_json::json!([]);
+    std::fs::write(&p, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+    let o = pcsim()
+        .arg("assess")
+        .arg(&out)
+        .arg("--strict")
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2), "{}", stdout(&o));
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains("summary.json is not the file pcsim wrote"),
+        "{e}"
+    );
+}
+
 /// The line preset with its second tension length's contact wire at `tension_n` (or its height
 /// at support 7 moved by `dip_m`).
 fn line_case(dir: &Path, name: &str, tension_n: Option<f64>, dip_m: Option<f64>) -> PathBuf {

@@ -134,21 +134,19 @@ pub struct WindowStudy {
 }
 
 impl WindowStudy {
-    /// Relative errors (%) of the window's mean and σ of the 0–20 Hz force against the full
-    /// model, per window (`None` where a run did not cross the analysis section).
-    pub fn errors_percent(&self) -> Vec<Option<(f64, f64)>> {
+    /// Relative errors (%) of the window's mean, σ and maximum of the 0–20 Hz force against the
+    /// full model, per window (`None` where a run did not cross the analysis section): the one
+    /// law of the window's accuracy, [`crate::analysis::window_length::WindowErrors::of`], the
+    /// window sweep's too.
+    pub fn errors_percent(&self) -> Vec<Option<crate::analysis::window_length::WindowErrors>> {
         let Some(fs) = self.full.pantographs[0].stats else {
             return vec![None; self.windows.len()];
         };
         self.windows
             .iter()
             .map(|r| {
-                r.stats.map(|s| {
-                    (
-                        100.0 * (s.mean_n - fs.mean_n) / fs.mean_n,
-                        100.0 * (s.std_n - fs.std_n) / fs.std_n,
-                    )
-                })
+                r.stats
+                    .map(|s| crate::analysis::window_length::WindowErrors::of(r.window_m, &s, &fs))
             })
             .collect()
     }

@@ -886,3 +886,67 @@ fn an_undriven_messenger_torsion_leaves_the_model() {
     assert_eq!(m.layout.blocks.len(), 6);
     assert!(m.block(WireRole::Messenger, Direction::Torsional).is_some());
 }
+
+/// Issue 51, item 4: every statistic that decides a verdict is in every study's output. In a
+/// crosswind a Monte Carlo study reports the contact point's largest offset, the head's smallest
+/// margin and the contact wire's blow-out beside the vertical statistics (they decide a
+/// dewirement; σ spreads by 0.002 N there), each from the runs' own values; a vertical case has
+/// none of them. A sensitivity study bands them too.
+#[test]
+fn issue_51_studies_in_wind_report_the_lateral_statistics() {
+    use pcsim_core::analysis::montecarlo::{monte_carlo, stat_of, statistics_of, LATERAL_STATS};
+    use pcsim_core::compile::Budget;
+    let windy = crate::common::short_preset("stitched-2018-like-3d-crosswind", 8, 250.0);
+    let r = monte_carlo(&windy, 2, Some(2), &Budget::default(), &|| {}).unwrap();
+    let names = statistics_of(r.iter().map(|x| &x.output));
+    for s in LATERAL_STATS {
+        assert!(names.contains(&s), "{s} missing from {names:?}");
+        for x in &r {
+            let want = pcsim_core::analysis::verify::statistic(
+                x.output.pantographs[0].stats.as_ref().unwrap(),
+                s,
+            )
+            .unwrap();
+            assert_eq!(stat_of(&x.output, 0, s), want);
+        }
+    }
+    let flat = run_case(&short_3d(200.0, 430.0), &mut |_| true).unwrap();
+    let vertical = run_case(&crate::common::short_en50318(6, 250.0), &mut |_| true).unwrap();
+    assert!(statistics_of([&flat]).contains(&"max_lateral_offset_mm"));
+    assert!(!statistics_of([&vertical])
+        .iter()
+        .any(|s| LATERAL_STATS.contains(s)));
+    // The sensitivity's bands hold them too.
+    use pcsim_core::analysis::report::AllowedErrors;
+    use pcsim_core::analysis::sensitivity::{sensitivity, SensitivitySpec};
+    let out = &r[0].output;
+    let t = windy.catenary.contact_wire.tension_n;
+    let ranged = pcsim_core::input::RangedValue {
+        path: "catenary.contact_wire.tension_n".into(),
+        value: t,
+        low: 0.95 * t,
+        high: 1.05 * t,
+        source: None,
+        range_source: None,
+        integer: false,
+    };
+    let spec = SensitivitySpec {
+        samples: 0,
+        ..SensitivitySpec::default()
+    };
+    let s = sensitivity(
+        &windy,
+        out,
+        &[ranged],
+        &[],
+        &spec,
+        AllowedErrors::default(),
+        &Budget::default(),
+        Some(2),
+        &|_, _| {},
+    )
+    .unwrap();
+    for name in LATERAL_STATS {
+        assert!(s.band(&out.pantographs[0].name, name).is_some(), "{name}");
+    }
+}

@@ -901,7 +901,7 @@ fn the_real_time_window_crosses_the_overlaps_of_a_line() {
     let windows = [240.0, 400.0];
     let study = window_study(&case, &windows, Some(2), &mut |_| true).unwrap();
     let plain = window_study(&without_overlaps(&case), &[240.0], Some(1), &mut |_| true).unwrap();
-    let plain_240 = plain.errors_percent()[0].unwrap().1;
+    let plain_240 = plain.errors_percent()[0].unwrap().sigma_pct;
     let full = &study.full.pantographs[0];
     let fs = full.stats.unwrap();
     let dt = study.full.dt_s;
@@ -916,7 +916,8 @@ fn the_real_time_window_crosses_the_overlaps_of_a_line() {
         fs.mean_n, fs.std_n
     );
     for (r, e) in study.windows.iter().zip(study.errors_percent()) {
-        let (dm, ds) = e.unwrap();
+        let e = e.unwrap();
+        let (dm, ds) = (e.mean_pct, e.sigma_pct);
         let de: Vec<f64> = overlaps
             .iter()
             .zip(&full_ext)

@@ -8,26 +8,29 @@
 //! written to `docs/matrix.md`, which must equal what the test finds (`PCSIM_BLESS=1` rewrites
 //! it): the docs' matrix is generated from this test, never typed.
 
-use crate::common;
-
 use pcsim_core::analysis::assess::{assess, AssessInput};
 use pcsim_core::analysis::compare::compare;
 use pcsim_core::analysis::design::{search, Design, Local};
 use pcsim_core::analysis::eva::{run_eva, EvaSettings};
 use pcsim_core::analysis::montecarlo::monte_carlo;
 use pcsim_core::analysis::record::{simulate_with, DropperOptions};
+use pcsim_core::analysis::report::AllowedErrors;
 use pcsim_core::analysis::report::RunSummary;
+use pcsim_core::analysis::sensitivity::{sensitivity, SensitivitySpec};
 use pcsim_core::analysis::studies::run_window_sil;
 use pcsim_core::analysis::sweep::check_seeds;
+use pcsim_core::analysis::sweeps::validation_runs;
+use pcsim_core::analysis::validation::ValidationPlan;
+use pcsim_core::analysis::verify::verify;
 use pcsim_core::compile::Budget;
-use pcsim_core::input::case::{Case, IrregularityCase};
+use pcsim_core::input::case::Case;
 use pcsim_core::input::criteria::{self, System};
 use pcsim_core::input::design::DesignSpec;
-use pcsim_core::input::lateral::IceCase;
 use pcsim_core::input::measured::MeasuredForce;
 use pcsim_core::session::RealtimeSession;
 use pcsim_core::solve::realtime::Coupling;
-use pcsim_core::{presets, run_case, CaseError, Setup, SimError};
+use pcsim_core::zoo::geometries::{matrix_block, with_matrix_block};
+use pcsim_core::{run_case, CaseError, Setup, SimError};
 
 /// The window of the real-time cells, m (shorter than every tiny case).
 const WINDOW_M: f64 = 180.0;
@@ -39,99 +42,9 @@ enum Cell {
     Refused { field: String, reason: String },
 }
 
-fn sections_and_lateral(mut c: Case) -> Case {
-    let d = presets::load("stitched-2018-like-3d").unwrap().0;
-    c.catenary.messenger.section = d.catenary.messenger.section.clone();
-    c.catenary.contact_wire.section = d.catenary.contact_wire.section.clone();
-    c.catenary.lateral = d.catenary.lateral.clone();
-    c.run.dofs = d.run.dofs.clone();
-    c
-}
-
-fn sections(mut c: Case) -> Case {
-    let d = presets::load("stitched-2018-like-3d").unwrap().0;
-    c.catenary.messenger.section = d.catenary.messenger.section;
-    c.catenary.contact_wire.section = d.catenary.contact_wire.section;
-    c
-}
-
-fn iced(mut c: Case) -> Case {
-    c.catenary.ice = Some(IceCase {
-        density_kg_m3: 900.0,
-        contact_wire_m: 0.005,
-        messenger_m: 0.005,
-    });
-    c
-}
-
-fn rough(mut c: Case) -> Case {
-    c.irregularity = vec![IrregularityCase::Psd {
-        rms_m: 0.002,
-        min_wavelength_m: 2.0,
-        max_wavelength_m: 60.0,
-        exponent: 2.0,
-        table: None,
-        seed: 7,
-    }];
-    c
-}
-
-/// The crosswind preset's wind, with its wires' coefficients (sections with `aero`).
-fn windy(mut c: Case) -> Case {
-    let w = presets::load("stitched-2018-like-3d-crosswind").unwrap().0;
-    c.wind = w.wind;
-    c.catenary.messenger.section = w.catenary.messenger.section;
-    c.catenary.contact_wire.section = w.catenary.contact_wire.section;
-    c
-}
-
-fn curved_line(mut c: Case) -> Case {
-    for t in &mut c.line.as_mut().unwrap().tension_lengths {
-        for r in &mut t.span_runs {
-            r.track_radius_m = Some(2000.0);
-        }
-    }
-    c
-}
-
-/// The geometries: a name and its tiny case.
+/// The geometries: a name and its tiny case (the core's zoo, shared with the front ends' tests).
 fn geometries() -> Vec<(&'static str, Case)> {
-    let cat = || common::short_en50318(8, 250.0);
-    let cat3d = || common::short_preset("stitched-2018-like-3d", 8, 250.0);
-    let line = common::overlap_line;
-    let line3d = || sections_and_lateral(line());
-    vec![
-        ("catenary", cat()),
-        ("catenary, 3D", cat3d()),
-        (
-            "catenary, 3D, crosswind",
-            common::short_preset("stitched-2018-like-3d-crosswind", 8, 250.0),
-        ),
-        (
-            "catenary, 3D, curve",
-            common::short_preset("stitched-2018-like-3d-curve", 8, 250.0),
-        ),
-        ("catenary, ice", iced(sections(cat()))),
-        ("catenary, irregularity", rough(cat())),
-        ("line", line()),
-        ("line, 3D", line3d()),
-        ("line, 3D, crosswind", windy(line3d())),
-        ("line, 3D, curve", curved_line(line3d())),
-        ("line, ice", iced(sections(line()))),
-        ("line, irregularity", rough(line())),
-        (
-            "line, 3D, crosswind, ice, irregularity",
-            rough(iced(windy(line3d()))),
-        ),
-        (
-            "line, 3D, curve, ice, irregularity",
-            rough(iced(curved_line(line3d()))),
-        ),
-        (
-            "line, 3D, crosswind, curve, ice, irregularity",
-            rough(iced(curved_line(windy(line3d())))),
-        ),
-    ]
+    pcsim_core::zoo::geometries::geometries()
 }
 
 /// A refusal by name is a cell; anything else that fails is the test's failure.
@@ -198,13 +111,15 @@ fn window_hil(case: &Case, what: &str) -> Result<(), SimError> {
 }
 
 fn montecarlo(case: &Case, what: &str) -> Result<(), SimError> {
-    let mut c = case.clone();
-    if !c.is_random() {
-        // A geometry without a random input of its own: the uplift perturbed, seeded.
-        c.run.perturb_uplift_rel = 1e-3;
-    }
-    let n = check_seeds(Some(2), &c).unwrap_or_else(|e| panic!("{what}: {e}"));
-    let r = monte_carlo(&c, n, Some(1), &Budget::default(), &|| {})?;
+    // Nothing injected: a geometry without a random input of its own is refused, saying why.
+    let n = check_seeds(Some(2), case).map_err(|reason| {
+        SimError::Case(CaseError::Invalid {
+            field: "--seeds".into(),
+            value: "2".into(),
+            reason,
+        })
+    })?;
+    let r = monte_carlo(case, n, Some(1), &Budget::default(), &|| {})?;
     assert_eq!(r.len(), 2, "{what}");
     let m: Vec<f64> = r
         .iter()
@@ -212,6 +127,71 @@ fn montecarlo(case: &Case, what: &str) -> Result<(), SimError> {
         .collect();
     m.iter().for_each(|&v| plausible(what, v, 0.0));
     assert_ne!(m[0], m[1], "{what}: two realisations alike");
+    Ok(())
+}
+
+/// `--verify`: the run refined and with a stiffer contact, each statistic beside both.
+fn verification(case: &Case, what: &str) -> Result<(), SimError> {
+    let out = run_case(case, &mut |_| true)?;
+    let v = verify(case, &out, &Budget::default(), Some(1))?;
+    assert!(!v.pantographs.is_empty(), "{what}: nothing verified");
+    for p in &v.pantographs {
+        for s in &p.statistics {
+            assert!(
+                s.refined.is_finite() && s.stiff_contact.is_finite(),
+                "{what}: {}",
+                s.statistic
+            );
+        }
+    }
+    Ok(())
+}
+
+/// `--sensitivity`: the contact wire's tension ranged ±5 %, one at a time (two runs).
+fn sensitivity_study(case: &Case, what: &str) -> Result<(), SimError> {
+    let out = run_case(case, &mut |_| true)?;
+    let t = case.catenary.contact_wire.tension_n;
+    let ranged = pcsim_core::input::RangedValue {
+        path: "catenary.contact_wire.tension_n".into(),
+        value: t,
+        low: 0.95 * t,
+        high: 1.05 * t,
+        source: None,
+        range_source: Some("the matrix: ±5 %".into()),
+        integer: false,
+    };
+    let spec = SensitivitySpec {
+        samples: 0,
+        ..SensitivitySpec::default()
+    };
+    let s = sensitivity(
+        case,
+        &out,
+        &[ranged],
+        &[],
+        &spec,
+        AllowedErrors::default(),
+        &Budget::default(),
+        Some(1),
+        &|_, _| {},
+    )?;
+    s.check()?;
+    let b = s
+        .band(&out.pantographs[0].name, "std_n")
+        .unwrap_or_else(|| panic!("{what}: no band"));
+    assert!(b.low <= b.value && b.value <= b.high, "{what}: {b:?}");
+    Ok(())
+}
+
+/// `pcsim validate CASE`: the case at the EN 50318:2002 speeds against its ranges.
+fn validate_case(case: &Case, what: &str) -> Result<(), SimError> {
+    let plan = ValidationPlan::new("en50318-2002")?.on_case(case.clone(), "matrix")?;
+    let (runs, report) = validation_runs(&plan, Some(1), &|c| run_case(c, &mut |_| true))?;
+    assert_eq!(runs.len(), 2, "{what}");
+    assert!(
+        report.cases.iter().all(|c| !c.rows.is_empty()),
+        "{what}: no rows"
+    );
     Ok(())
 }
 
@@ -272,18 +252,20 @@ fn comparison(case: &Case, what: &str) -> Result<(), SimError> {
     Ok(())
 }
 
-/// A design search of three evaluations over the leading pantograph's uplift (its mean force
-/// towards 120 N): every evaluation finite, the best one confirmed by its own run.
+/// A design search of three evaluations over the contact wire's tension (±10 % of the case's;
+/// the mean force towards 120 N): every evaluation finite, the best one confirmed by its own
+/// run.
 fn design_search(case: &Case, what: &str) -> Result<(), SimError> {
-    let spec = DesignSpec::from_toml_str(
+    let t = case.catenary.contact_wire.tension_n;
+    let spec = DesignSpec::from_toml_str(&format!(
         r#"
 [base]
 file = "case.toml"
 
 [[variable]]
-path = "pantographs[0].uplift_n"
-min = 100.0
-max = 140.0
+path = "catenary.contact_wire.tension_n"
+min = {:?}
+max = {:?}
 
 [[speed]]
 kmh = 250.0
@@ -297,7 +279,9 @@ target = 120.0
 evaluations = 3
 method = "nelder-mead"
 "#,
-    )
+        0.9 * t,
+        1.1 * t
+    ))
     .unwrap_or_else(|e| panic!("{what}: {e}"));
     let d = Design::new(spec, case.clone())?;
     let r = search(
@@ -338,20 +322,26 @@ const CAPABILITIES: &[Capability] = &[
     ("assess", assessment),
     ("compare", comparison),
     ("design", design_search),
+    ("verify", verification),
+    ("sensitivity", sensitivity_study),
+    ("validate CASE", validate_case),
 ];
 
 /// The matrix as Markdown: a table of cells, then every refusal with its reason.
 fn render(rows: &[(&str, Vec<Cell>)]) -> String {
     let mut s = String::from(
-        "# The capability × geometry matrix\n\n\
-         Generated by `cargo test --release -p pcsim-core --test suite matrix::` \
+        "Generated by `cargo test --release -p pcsim-core --test suite matrix::` \
          (`crates/pcsim-core/tests/suite/matrix.rs`; `PCSIM_BLESS=1` rewrites this file, and the \
          test fails while it differs). Each cell ran on a tiny case of its geometry (8 spans of \
          a catenary, or two tension lengths of six spans with a 3-span overlap; 250 km/h): \
          \"runs\" passed its check (finite, plausible forces and energies; the HIL window fed \
          with the full run's force accepted every step); a refusal names the field, and its \
          reason, the physical one, is listed below the table. A blow-up, a panic or an error \
-         without a field fails the test.\n\n",
+         without a field fails the test. Nothing is injected to make a cell run: a Monte Carlo \
+         study of a case without a random input of its own is refused, saying so. The \
+         sensitivity cell ranges the contact wire's tension ±5 %; the design cell searches it \
+         ±10 %; validate CASE runs the case at the EN 50318:2002 speeds. The front ends' own \
+         tables follow the capabilities'.\n\n",
     );
     s.push_str("| geometry |");
     for (name, _) in CAPABILITIES {
@@ -407,20 +397,31 @@ fn issue_41_6_every_capability_on_every_geometry_runs_or_is_refused_by_name() {
     }
     let text = render(&rows);
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/matrix.md");
+    let doc = std::fs::read_to_string(path).unwrap_or_default();
     if std::env::var_os("PCSIM_BLESS").is_some() {
-        std::fs::write(path, &text).unwrap();
+        std::fs::write(path, with_matrix_block(&doc, "core", &text)).unwrap();
     }
     let committed = std::fs::read_to_string(path).unwrap_or_default();
     assert!(
-        committed == text,
+        matrix_block(&committed, "core") == Some(text.as_str()),
         "docs/matrix.md differs from what the matrix finds (PCSIM_BLESS=1 rewrites it):\n{text}"
     );
     // What the line must carry: every capability on a vertical line, a 3D one, and with every
-    // load at once; in a crosswind all but the real-time window, which refuses it by name.
-    for (g, cells) in &rows {
+    // load at once; in a crosswind all but the real-time window, which refuses it by name; a
+    // Monte Carlo study wherever the case has a random input of its own (nothing injected:
+    // without one it is refused, saying so).
+    let random: Vec<bool> = geometries().iter().map(|(_, c)| c.is_random()).collect();
+    for ((g, cells), random) in rows.iter().zip(random) {
         for ((name, _), c) in CAPABILITIES.iter().zip(cells) {
             let windowed = name.starts_with("window");
             let wind = g.contains("crosswind");
+            if *name == "Monte Carlo" && !random {
+                assert!(
+                    matches!(c, Cell::Refused { field, .. } if field == "--seeds"),
+                    "{name} on {g}: {c:?}"
+                );
+                continue;
+            }
             if g.starts_with("line") && !(wind && windowed) {
                 assert_eq!(*c, Cell::Runs, "{name} on {g}");
             }

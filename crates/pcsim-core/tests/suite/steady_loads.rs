@@ -431,7 +431,7 @@ fn issue_51_the_droppers_static_tension_under_ice_is_the_loaded_starts() {
     .unwrap()
     .droppers
     .unwrap();
-    for (b, d) in bare.droppers.iter().zip(&iced.droppers) {
+    for d in &iced.droppers {
         assert!(
             (d.min_n - d.preload_n).abs() < 1e-6 && (d.max_n - d.preload_n).abs() < 1e-6,
             "dropper at {} m: static {} N, run {}..{} N",

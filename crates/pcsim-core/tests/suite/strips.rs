@@ -330,3 +330,29 @@ fn issue_43_1_the_stiffer_contact_check_stiffens_every_strip() {
     assert_eq!(k(&c), vec![25_000.0; 2]);
     assert_eq!(k(&stiff), vec![50_000.0; 2]);
 }
+
+/// Issue 51, item 6: names that would write one file are refused. Figures are named by the
+/// pantograph's name with every character but letters, digits, - and _ as _ (and a file system
+/// may fold case): "panto<A>" and "panto[A]" would both write `contact_force_panto_A_`, and
+/// "Lead" and "lead" one file on such a system. Refused by the second name's field, naming both.
+#[test]
+fn issue_51_pantograph_names_alike_in_a_file_name_are_refused() {
+    let mut c = pcsim_core::presets::load("stitched-2018-like").unwrap().0;
+    for (a, b) in [("panto<A>", "panto[A]"), ("Lead", "lead")] {
+        for (p, n) in c.pantographs.iter_mut().zip([a, b]) {
+            if let pcsim_core::input::case::PantographCase::Lumped { name, .. } = p {
+                *name = n.into();
+            }
+        }
+        match c.validate() {
+            Err(pcsim_core::CaseError::Invalid { field, reason, .. }) => {
+                assert_eq!(field, "pantographs[1].name");
+                assert!(
+                    reason.contains(a) && reason.contains("overwrite"),
+                    "{reason}"
+                );
+            }
+            other => panic!("{a} / {b}: {other:?}"),
+        }
+    }
+}

@@ -13,6 +13,8 @@
 //! Golden time histories of every zoo model are committed in `data/golden/zoo/`, written by
 //! `cargo run --release -p pcsim-core --example zoo_golden -- data/golden/zoo`.
 
+pub mod geometries;
+
 use crate::compile::{Setup, Stepper};
 use crate::input::case::{Damping, PantographCase};
 use crate::input::presets;

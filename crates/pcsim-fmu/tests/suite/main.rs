@@ -1,0 +1,3 @@
+//! The integration tests of pcsim-fmu, one binary (`cargo test -p pcsim-fmu --test suite NAME::`).
+
+mod matrix;
