@@ -161,3 +161,251 @@ fn study_rows_are_byte_identical() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The inputs of the study goldens, written into `dir`: a short en50318-2002 (8 spans), the same
+/// with 2 mm of irregularity (Monte Carlo), the design test spec on 6 spans.
+fn study_inputs(dir: &Path) {
+    use pcsim_core::zoo::geometries::{geometries, short_en50318};
+    std::fs::write(
+        dir.join("case.toml"),
+        short_en50318(8, 250.0).to_toml_string(),
+    )
+    .unwrap();
+    let rough = geometries()
+        .into_iter()
+        .find(|(g, _)| *g == "catenary, irregularity")
+        .unwrap()
+        .1;
+    std::fs::write(dir.join("rough.toml"), rough.to_toml_string()).unwrap();
+    std::fs::copy(
+        root().join("tests/design/swarm.toml"),
+        dir.join("spec.toml"),
+    )
+    .unwrap();
+}
+
+/// Each study's command and the files it writes (issue 52's proof: the outputs of every study,
+/// written by the build before the study contract, one driver and typed outputs). `OUT` is the
+/// study's output directory; `RUN` the `run` study's, `B55` a run of benchmark-55m.
+const STUDIES: &[(&str, &[&str], &[&str])] = &[
+    (
+        "run",
+        &["run", "case.toml", "--dropper-forces", "--out", "OUT"],
+        &["summary.json", "timeseries.csv", "droppers.csv"],
+    ),
+    (
+        "b55",
+        &["run", "--preset", "benchmark-55m", "--out", "OUT"],
+        &["summary.json"],
+    ),
+    (
+        "verify",
+        &["run", "case.toml", "--verify", "--out", "OUT"],
+        &["summary.json"],
+    ),
+    (
+        "sensitivity",
+        &[
+            "run",
+            "--preset",
+            "en50318-2002",
+            "--sensitivity",
+            "--sensitivity-samples",
+            "2",
+            "--out",
+            "OUT",
+        ],
+        &["summary.json"],
+    ),
+    (
+        "montecarlo",
+        &["run", "rough.toml", "--seeds", "3", "--out", "OUT"],
+        &["montecarlo.csv", "montecarlo.json"],
+    ),
+    (
+        "eva",
+        &[
+            "eva",
+            "case.toml",
+            "--speed",
+            "200,250",
+            "--out",
+            "OUT",
+            "--no-plot",
+        ],
+        &["eva.csv"],
+    ),
+    (
+        "window",
+        &[
+            "window",
+            "case.toml",
+            "--speed",
+            "250",
+            "--max-window",
+            "240",
+            "--coarse",
+            "60",
+            "--resolution",
+            "30",
+            "--out",
+            "OUT",
+            "--no-plot",
+        ],
+        &["window.csv", "fit.csv"],
+    ),
+    (
+        "realtime",
+        &[
+            "realtime",
+            "case.toml",
+            "--window",
+            "180,240",
+            "--out",
+            "OUT",
+            "--no-plot",
+        ],
+        &["realtime.csv", "timeseries.csv"],
+    ),
+    (
+        "validate",
+        &["validate", "case.toml", "--json"],
+        &["stdout"],
+    ),
+    (
+        "design",
+        &["design", "spec.toml", "--out", "OUT", "--no-plot"],
+        &["design.json", "design.csv", "traces.csv", "best-case.toml"],
+    ),
+    (
+        "frf",
+        &[
+            "pantograph",
+            "frf",
+            "case.toml",
+            "--points",
+            "40",
+            "--out",
+            "OUT",
+        ],
+        &["frf.csv"],
+    ),
+    (
+        "fit",
+        &["pantograph", "fit", "FITDATA", "FITSTART", "--out", "OUT"],
+        &["fit.json", "fitted-pantograph.toml"],
+    ),
+    (
+        "compare",
+        &[
+            "compare",
+            "B55",
+            "MEASURED",
+            "--search",
+            "30m",
+            "--out",
+            "OUT",
+            "--no-plot",
+        ],
+        &[
+            "compare.csv",
+            "compare_stats.csv",
+            "compare_spectrum.csv",
+            "compare_profile.csv",
+        ],
+    ),
+    (
+        "assess",
+        &["assess", "RUN", "--system", "ac"],
+        &["assessment.json", "assessment.csv"],
+    ),
+];
+
+/// A study's output text with what changes from run to run taken out: the lines with a
+/// wall-clock time, and the scratch folder's path.
+fn normalised(text: &str, dir: &Path) -> Vec<u8> {
+    text.split_inclusive('\n')
+        .filter(|l| !l.contains("\"wall_time_s\"") && !l.contains("wall time"))
+        .collect::<String>()
+        .replace(&dir.display().to_string(), "DIR")
+        .into_bytes()
+}
+
+/// Issue 52's proof: every study's outputs (a run with its droppers, `--verify`,
+/// `--sensitivity`, Monte Carlo, the EVA and window sweeps, the real-time comparison, validate,
+/// design, the pantograph's response and fit, compare, assess) hash to the values the build
+/// before the study contract wrote (`data/golden/study_bytes.json`, portable kernels; made by
+/// this test with `PCSIM_BLESS=1` on that build and committed before the restructure).
+#[test]
+fn every_studys_outputs_are_the_bytes_they_were() {
+    let dir = std::env::temp_dir().join(format!("pcsim-study-bytes-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    study_inputs(&dir);
+    let ex = root().join("examples");
+    let subst = |a: &str, out: &Path| -> String {
+        match a {
+            "OUT" => out.display().to_string(),
+            "RUN" => dir.join("out-run").display().to_string(),
+            "B55" => dir.join("out-b55").display().to_string(),
+            "FITDATA" => ex
+                .join("pantograph/measured-apparent-mass.csv")
+                .display()
+                .to_string(),
+            "FITSTART" => ex
+                .join("pantograph/start-25-percent-off.toml")
+                .display()
+                .to_string(),
+            "MEASURED" => ex.join("compare/measured.csv").display().to_string(),
+            a => a.to_string(),
+        }
+    };
+    let mut found = serde_json::Map::new();
+    for (name, args, files) in STUDIES {
+        let out = dir.join(format!("out-{name}"));
+        let argv: Vec<String> = args.iter().map(|a| subst(a, &out)).collect();
+        let mut c = Command::new(env!("CARGO_BIN_EXE_pcsim"));
+        c.args(&argv).current_dir(&dir).env("PCSIM_PORTABLE", "1");
+        if !matches!(args[0], "validate" | "assess") {
+            c.arg("--quiet");
+        }
+        let o = c.output().unwrap();
+        assert!(
+            o.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let mut hashes = serde_json::Map::new();
+        for f in *files {
+            let text = if *f == "stdout" {
+                String::from_utf8(o.stdout.clone()).unwrap()
+            } else {
+                // assess writes beside the run it assesses.
+                let from = if *name == "assess" {
+                    dir.join("out-run")
+                } else {
+                    out.clone()
+                };
+                std::fs::read_to_string(from.join(f)).unwrap_or_else(|e| panic!("{name}: {f}: {e}"))
+            };
+            hashes.insert(f.to_string(), fnv1a64(&normalised(&text, &dir)).into());
+        }
+        found.insert(name.to_string(), hashes.into());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    let path = root().join("data/golden/study_bytes.json");
+    let found = serde_json::Value::Object(found);
+    if std::env::var_os("PCSIM_BLESS").is_some() {
+        std::fs::write(&path, serde_json::to_string_pretty(&found).unwrap() + "\n").unwrap();
+    }
+    let golden: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    for (name, _, files) in STUDIES {
+        for f in *files {
+            assert_eq!(
+                found[name][f], golden[name][f],
+                "{name}'s {f} is not the bytes it was"
+            );
+        }
+    }
+}
