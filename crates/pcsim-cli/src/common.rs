@@ -349,8 +349,8 @@ pub fn read_irregularity_csv(path: &Path) -> Result<pcsim_core::input::case::Irr
 }
 
 /// The flag that accepts an error-level event of `kind`.
-pub fn allow_flag(kind: pcsim_core::analysis::report::RunErrorKind) -> &'static str {
-    use pcsim_core::analysis::report::RunErrorKind;
+pub fn allow_flag(kind: pcsim_core::analysis::events::RunErrorKind) -> &'static str {
+    use pcsim_core::analysis::events::RunErrorKind;
     match kind {
         RunErrorKind::Dewirement => "--allow-dewirement",
         RunErrorKind::ContactLoss => "--allow-contact-loss",

@@ -111,8 +111,8 @@ fn context(cli: &Cli) -> anyhow::Result<Ctx> {
     }
     // The core's one conversion and check of the limits, named by flag.
     let budget =
-        pcsim_core::analysis::specs::budget_of(cli.max_steps, cli.max_memory_gb).map_err(|e| {
-            pcsim_core::analysis::specs::with_flags(
+        pcsim_core::study::specs::budget_of(cli.max_steps, cli.max_memory_gb).map_err(|e| {
+            pcsim_core::study::specs::with_flags(
                 e,
                 &[
                     ("max_steps", "--max-steps"),

@@ -296,7 +296,7 @@ fn refuse_writing_into_a_shard(shards: &[ShardDir], out: &Path) -> Result<()> {
 /// confidence interval of each `values` column (empty cells are realisations where the value was
 /// not reached; they are counted in `n_missing_<column>`). Does nothing for a single realisation.
 pub fn write_montecarlo(dir: &Path, csv: &str, group: &[&str], values: &[&str]) -> Result<()> {
-    use pcsim_core::analysis::montecarlo::Spread;
+    use pcsim_core::study::montecarlo::Spread;
     let p = dir.join(csv);
     let text =
         std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;

@@ -10,12 +10,15 @@
 //! - [`input`]: cases (TOML with provenance), presets, validation targets (reusing the model's
 //!   vocabulary);
 //! - [`compile`]: a case becomes a set-up (the only reader of cases for the engine);
-//! - [`analysis`]: filters, EN 50318 statistics, energy, EVA, validation, sweeps, studies;
-//! - [`session`]: the real-time session, the one owner of the real-time step contract.
+//! - [`analysis`]: what a run means: filters, EN 50318 statistics, energy, EVA, fatigue, a run
+//!   against criteria and beside a measurement, a run's own evidence;
+//! - [`session`]: the real-time session, the one owner of the real-time step contract;
+//! - [`study`]: the studies over many runs, one file each, each the owner of its spec, run,
+//!   typed output and answer.
 //!
 //! Flow: a [`Case`] → [`compile::Setup`] (model, plan, options) → [`solve::Integrator`] steps a
 //! [`solve::State`] with a [`solve::Workspace`] in [`solve::run()`] → observers such as the EN 50318
-//! recorder ([`analysis::record::simulate`]) → [`analysis::validation`].
+//! recorder ([`analysis::record::simulate`]) → [`study::validate`].
 
 // Index loops read like the equations they implement.
 #![allow(clippy::needless_range_loop)]
@@ -33,6 +36,7 @@ pub mod linalg;
 pub mod model;
 pub mod session;
 pub mod solve;
+pub mod study;
 #[cfg(feature = "zoo")]
 pub mod zoo;
 

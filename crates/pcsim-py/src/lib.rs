@@ -9,18 +9,17 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 
 use pcsim_core::analysis::eva::{EvaRow, EvaSettings};
+use pcsim_core::analysis::events::{run_errors, AllowedErrors, RunErrorKind};
 use pcsim_core::analysis::record::{simulate, RunOutput};
-use pcsim_core::analysis::report::{
-    run_errors, timeseries_columns, AllowedErrors, RunErrorKind, RunSummary,
-};
-use pcsim_core::analysis::specs::{EvaSweepSpec, GridSpec, WindowSweepSpec};
+use pcsim_core::analysis::report::{timeseries_columns, RunSummary};
 use pcsim_core::analysis::sweep::{parallel_map, Shard};
-use pcsim_core::analysis::sweeps::{run_quietly, validation_runs, WindowRow};
-use pcsim_core::analysis::validation::ValidationPlan;
-use pcsim_core::analysis::window_length::Tolerances;
 use pcsim_core::compile::Budget;
 use pcsim_core::input::overrides::{with_overrides, OverrideValue};
 use pcsim_core::session::{Coupling, RealtimeSession};
+use pcsim_core::study::specs::{EvaSweepSpec, GridSpec, WindowSweepSpec};
+use pcsim_core::study::sweeps::{run_quietly, validation_runs, WindowRow};
+use pcsim_core::study::validate::ValidationPlan;
+use pcsim_core::study::window_search::Tolerances;
 use pcsim_core::{presets, Setup};
 
 fn err(e: impl std::fmt::Display) -> PyErr {
@@ -454,7 +453,7 @@ fn grid_spec(
 /// The resource budget of a sweep (the CLI's `--max-steps`, `--max-memory-gb`): the core's one
 /// conversion and check.
 fn budget(max_steps: Option<u64>, max_memory_gb: Option<f64>) -> Result<Budget, String> {
-    pcsim_core::analysis::specs::budget_of(max_steps, max_memory_gb).map_err(|e| e.to_string())
+    pcsim_core::study::specs::budget_of(max_steps, max_memory_gb).map_err(|e| e.to_string())
 }
 
 /// EVA over speeds (km/h) × tensions (N): the rows of `eva.csv` as JSON text, by the core's one
@@ -623,7 +622,7 @@ fn pantograph_frf(
     to_hz: f64,
     points: usize,
 ) -> PyResult<Frf> {
-    use pcsim_core::analysis::frf::{Quantity, Response};
+    use pcsim_core::study::frf::{Quantity, Response};
     guarded(|| {
         let q = match quantity {
             "apparent-mass" => Quantity::ApparentMass,
@@ -662,7 +661,7 @@ fn pantograph_fit(
     seed: Option<u64>,
     max_residual_percent: Option<f64>,
 ) -> PyResult<(String, String)> {
-    use pcsim_core::analysis::frf::{fit_with, FitSpec, Response};
+    use pcsim_core::study::frf::{fit_with, FitSpec, Response};
     guarded(|| {
         let (name, p) = pcsim_core::compile::lumped_pantograph(&case.inner, pantograph.as_deref())
             .map_err(err)?;
@@ -715,13 +714,13 @@ fn assess(
 
 /// A design spec's text with its base case (a `base.file` read relative to `base_dir`, within
 /// the input limit), by the core's one loader.
-fn design_of(spec_toml: &str, base_dir: &str) -> PyResult<pcsim_core::analysis::design::Design> {
+fn design_of(spec_toml: &str, base_dir: &str) -> PyResult<pcsim_core::study::design::Design> {
     let dir = std::path::PathBuf::from(base_dir);
     let read = |f: &str| {
         let f = std::fs::File::open(dir.join(f))?;
         pcsim_core::input::read_text_limited(f, pcsim_core::input::MAX_INPUT_BYTES)
     };
-    pcsim_core::analysis::design::Design::from_spec_text(spec_toml, &read)
+    pcsim_core::study::design::Design::from_spec_text(spec_toml, &read)
         .map_err(|e| err(format!("design spec: {e}")))
 }
 
@@ -761,12 +760,12 @@ struct PyEvaluator {
     evaluate: Py<PyAny>,
 }
 
-impl pcsim_core::analysis::design::Evaluator for PyEvaluator {
+impl pcsim_core::study::design::Evaluator for PyEvaluator {
     fn evaluate(
         &self,
-        design: &pcsim_core::analysis::design::Design,
+        design: &pcsim_core::study::design::Design,
         xs: &[Vec<f64>],
-    ) -> Result<Vec<pcsim_core::analysis::design::Evaluation>, String> {
+    ) -> Result<Vec<pcsim_core::study::design::Evaluation>, String> {
         let rows: Vec<Vec<String>> = Python::attach(|py| {
             self.evaluate
                 .call1(py, (xs.to_vec(),))
@@ -796,7 +795,7 @@ fn design(
     evaluate: Option<Py<PyAny>>,
     jobs: Option<usize>,
 ) -> PyResult<(String, Vec<String>)> {
-    use pcsim_core::analysis::design::{search, Evaluator, Local};
+    use pcsim_core::study::design::{search, Evaluator, Local};
     guarded(|| {
         let d = design_of(spec_toml, base_dir)?;
         let header = d.journal_header();

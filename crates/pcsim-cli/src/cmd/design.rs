@@ -1,5 +1,5 @@
 //! `pcsim design SPEC.toml`: the design search (issue 24). The search is the core's
-//! (`analysis::design`); this file reads the spec and its base case, keeps the journal
+//! (`study::design`); this file reads the spec and its base case, keeps the journal
 //! (`--journal`, design.csv's rows appended batch by batch, so that a killed search resumes where
 //! it stopped), and writes the answer: design.csv, design.json, best-case.toml, traces.csv and
 //! the figures.
@@ -11,8 +11,8 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use pcsim_core::analysis::design::{search, Design, DesignResult, Evaluation, Local};
 use pcsim_core::analysis::record::RunOutput;
+use pcsim_core::study::design::{search, Design, DesignResult, Evaluation, Local};
 
 use crate::common::Ctx;
 use crate::output::{write_file, write_manifest, OutDir};
@@ -70,7 +70,7 @@ struct CommandEvaluator {
     next: std::sync::Mutex<usize>,
 }
 
-impl pcsim_core::analysis::design::Evaluator for CommandEvaluator {
+impl pcsim_core::study::design::Evaluator for CommandEvaluator {
     fn evaluate(
         &self,
         d: &Design,
@@ -288,7 +288,7 @@ pub fn design(a: DesignArgs, ctx: &Ctx) -> Result<i32> {
             next: std::sync::Mutex::new(0),
         }),
     };
-    let evaluator: &dyn pcsim_core::analysis::design::Evaluator = match &remote {
+    let evaluator: &dyn pcsim_core::study::design::Evaluator = match &remote {
         Some(r) => r,
         None => &local,
     };
@@ -373,7 +373,7 @@ fn print(d: &Design, r: &DesignResult, wall: f64) {
         println!(
             "INFEASIBLE: none of the {searched} designs evaluated meets the constraints{}; there is no best design.",
             match r.stop {
-                pcsim_core::analysis::design::StopReason::WallTime => " (the search stopped at its wall time: more time may find one)",
+                pcsim_core::study::design::StopReason::WallTime => " (the search stopped at its wall time: more time may find one)",
                 _ => "",
             }
         );

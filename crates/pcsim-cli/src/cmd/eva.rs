@@ -4,8 +4,8 @@
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 use pcsim_core::analysis::eva::{EvaOutput, EvaRow, EvaSettings};
-use pcsim_core::analysis::specs::{with_flags, EvaSweepSpec, GridSpec};
 use pcsim_core::analysis::sweep::{parse_damping, Job, Shard};
+use pcsim_core::study::specs::{with_flags, EvaSweepSpec, GridSpec};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 

@@ -1,13 +1,13 @@
 //! `pcsim run --seeds N`: a Monte Carlo study of one case over the seeds of its random inputs
-//! (the core's `analysis::montecarlo`): `montecarlo.csv` (one row per realisation),
+//! (the core's `study::montecarlo`): `montecarlo.csv` (one row per realisation),
 //! `montecarlo.json` (the spread of each statistic: mean, standard deviation, 95 % confidence
 //! interval of the mean) and histograms of σ and of the minimum force.
 
 use anyhow::Result;
-use pcsim_core::analysis::montecarlo::Realisation;
-use pcsim_core::analysis::montecarlo::{monte_carlo, stat_of, statistics_of, Spread};
-use pcsim_core::analysis::report::{count_events, run_errors, EventCount, RunError};
-use pcsim_core::analysis::specs::MonteCarloSpec;
+use pcsim_core::analysis::events::{count_events, run_errors, EventCount, RunError};
+use pcsim_core::study::montecarlo::Realisation;
+use pcsim_core::study::montecarlo::{monte_carlo, stat_of, statistics_of, Spread};
+use pcsim_core::study::specs::MonteCarloSpec;
 use pcsim_core::Case;
 use std::fmt::Write as _;
 use std::path::Path;

@@ -1,13 +1,13 @@
 //! `pcsim pantograph frf` (a case's pantograph: its frequency response at the head) and `pcsim
 //! pantograph fit` (a lumped chain fitted to a measured response). The computing is the core's
-//! (`analysis/frf.rs`); this file reads the arguments and writes the files.
+//! (`study/frf.rs`); this file reads the arguments and writes the files.
 
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand, ValueEnum};
 use std::path::{Path, PathBuf};
 
 use crate::output::{write_file, write_manifest, OutDir};
-use pcsim_core::analysis::frf::{fit_with, FitSpec, Quantity, Response};
+use pcsim_core::study::frf::{fit_with, FitSpec, Quantity, Response};
 
 #[derive(Args)]
 pub struct PantographArgs {
@@ -158,7 +158,7 @@ fn frf(a: FrfArgs) -> Result<i32> {
         Kind::Receptance => Quantity::Receptance,
     };
     let f = Response::log_grid(a.from_hz, a.to_hz, a.points).map_err(|e| {
-        pcsim_core::analysis::specs::with_flags(
+        pcsim_core::study::specs::with_flags(
             e,
             &[
                 ("from_hz", "--from-hz"),
@@ -227,7 +227,7 @@ fn fit_cmd(a: FitArgs, ctx: &crate::common::Ctx) -> Result<i32> {
         max_residual_rms: a.max_residual_percent / 100.0,
     };
     spec.check().map_err(|e| {
-        pcsim_core::analysis::specs::with_flags(
+        pcsim_core::study::specs::with_flags(
             e,
             &[
                 ("fit.starts", "--starts"),

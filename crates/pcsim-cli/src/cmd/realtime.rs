@@ -5,8 +5,8 @@ use anyhow::{Context, Result};
 use clap::Args;
 use pcsim_core::analysis::filter::lowpass_zero_phase;
 use pcsim_core::analysis::stats::CUTOFF_HZ;
-use pcsim_core::analysis::studies::window_study;
 use pcsim_core::input::targets::target_value;
+use pcsim_core::study::realtime::window_study;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -174,7 +174,7 @@ pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
 /// model and of each window.
 fn filtered_histories(
     full: &pcsim_core::analysis::record::RunOutput,
-    runs: &[pcsim_core::analysis::studies::WindowRun],
+    runs: &[pcsim_core::study::realtime::WindowRun],
     dt: f64,
 ) -> String {
     let ff = lowpass_zero_phase(&full.pantographs[0].force_n, 1.0 / dt, CUTOFF_HZ);

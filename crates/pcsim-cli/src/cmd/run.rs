@@ -95,8 +95,8 @@ pub struct RunArgs {
 
 impl RunArgs {
     /// The error-level events accepted by flag.
-    fn allowed(&self) -> pcsim_core::analysis::report::AllowedErrors {
-        pcsim_core::analysis::report::AllowedErrors {
+    fn allowed(&self) -> pcsim_core::analysis::events::AllowedErrors {
+        pcsim_core::analysis::events::AllowedErrors {
             dewirement: self.allow_dewirement,
             contact_loss: self.allow_contact_loss,
         }
@@ -148,7 +148,7 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
                 allow_failed_runs: a.allow_failed_runs,
             };
             spec.check().map_err(|e| {
-                pcsim_core::analysis::specs::with_flags(
+                pcsim_core::study::specs::with_flags(
                     e,
                     &[
                         ("sensitivity.samples", "--sensitivity-samples"),
@@ -177,7 +177,7 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
                 case: &case,
                 case_text: &case_text,
                 overrides: &overrides,
-                spec: pcsim_core::analysis::specs::MonteCarloSpec {
+                spec: pcsim_core::study::specs::MonteCarloSpec {
                     realisations: n,
                     allowed: a.allowed(),
                 },
@@ -240,7 +240,7 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
             &|k, _| pb.set(k as u64),
         )
         .map_err(|e| {
-            pcsim_core::analysis::specs::with_flags(
+            pcsim_core::study::specs::with_flags(
                 e,
                 &[("sensitivity.max_runs", "--sensitivity-max-runs")],
             )
@@ -445,9 +445,9 @@ pub fn print_sensitivity(s: &pcsim_core::analysis::sensitivity::Sensitivity) {
 /// outputs written) for the first that is not.
 fn refuse_errors(
     out: &RunOutput,
-    allowed: pcsim_core::analysis::report::AllowedErrors,
+    allowed: pcsim_core::analysis::events::AllowedErrors,
 ) -> Result<()> {
-    let errors = pcsim_core::analysis::report::run_errors(out);
+    let errors = pcsim_core::analysis::events::run_errors(out);
     for e in errors.iter().filter(|e| allowed.allows(e.kind)) {
         eprintln!(
             "warning: {} (allowed by {})",

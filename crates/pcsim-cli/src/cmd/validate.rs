@@ -2,8 +2,8 @@
 
 use anyhow::{Context, Result};
 use clap::Args;
-use pcsim_core::analysis::sweeps::validation_runs;
-use pcsim_core::analysis::validation::{ValidationPlan, VALIDATIONS};
+use pcsim_core::study::sweeps::validation_runs;
+use pcsim_core::study::validate::{ValidationPlan, VALIDATIONS};
 use pcsim_core::CaseError;
 use std::path::PathBuf;
 
@@ -192,7 +192,7 @@ pub fn validate(a: ValidateArgs, ctx: &Ctx) -> Result<i32> {
 
 /// The rows under the verification: each value refined and with the stiffer contact, with
 /// their verdicts, and the rows not established.
-fn print_verification(report: &pcsim_core::analysis::validation::ValidationReport) {
+fn print_verification(report: &pcsim_core::study::validate::ValidationReport) {
     if let Some(v) = report.verification.first() {
         println!(
             "\nverification: refined {} modes/wire, Δt {} s; model check: contact {} N/m at Δt {} s",
@@ -233,7 +233,7 @@ fn print_verification(report: &pcsim_core::analysis::validation::ValidationRepor
 }
 
 /// A case's pantograph as the table heads it (`, trailing pantograph`; empty for one).
-fn who(c: &pcsim_core::analysis::validation::CaseRows) -> String {
+fn who(c: &pcsim_core::study::validate::CaseRows) -> String {
     c.pantograph
         .as_deref()
         .map(|p| format!(", {p} pantograph"))

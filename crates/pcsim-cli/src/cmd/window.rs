@@ -4,10 +4,10 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
-use pcsim_core::analysis::specs::{with_flags, GridSpec, WindowSweepSpec};
 use pcsim_core::analysis::sweep::Shard;
-use pcsim_core::analysis::sweeps::WindowRow;
-use pcsim_core::analysis::window_length::{fit_criteria, EnergyCurves, Tolerances};
+use pcsim_core::study::specs::{with_flags, GridSpec, WindowSweepSpec};
+use pcsim_core::study::sweeps::WindowRow;
+use pcsim_core::study::window_search::{fit_criteria, EnergyCurves, Tolerances};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -253,7 +253,7 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
 }
 
 /// A case's files: the errors of every window tried and its energy curves.
-fn write_case_files(dir: &Path, c: &pcsim_core::analysis::sweeps::WindowCase) -> Result<()> {
+fn write_case_files(dir: &Path, c: &pcsim_core::study::sweeps::WindowCase) -> Result<()> {
     let st = stem(c.job.index, c.job.speed_kmh, c.job.tension_n / 1e3);
     let mut errs = String::from("window_m,mean_err_pct,sigma_err_pct,max_err_pct\n");
     for e in &c.search.evaluated {
@@ -281,7 +281,7 @@ fn write_case_files(dir: &Path, c: &pcsim_core::analysis::sweeps::WindowCase) ->
 fn print_rows(
     rows: &[&WindowRow],
     tol: &Tolerances,
-    search: &pcsim_core::analysis::window_length::SearchSettings,
+    search: &pcsim_core::study::window_search::SearchSettings,
 ) {
     println!(
         "accuracy-based window length (mean ±{}%, σ ±{}%, max ±{}% of the full model; {}–{} m, coarse {} m, resolution {} m)",
@@ -316,7 +316,7 @@ fn print_rows(
             r.speed_kmh,
             r.tension_kn,
             r.seed_offset,
-            pcsim_core::analysis::window_length::claim(r.length_m, r.fine_checked_to_m, search)
+            pcsim_core::study::window_search::claim(r.length_m, r.fine_checked_to_m, search)
         );
     }
 }

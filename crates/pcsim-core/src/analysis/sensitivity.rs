@@ -15,8 +15,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::analysis::events::{run_errors, AllowedErrors};
 use crate::analysis::record::{simulate, RunOutput};
-use crate::analysis::report::{run_errors, AllowedErrors};
 use crate::analysis::verify::{statistic, VERDICT_STATISTICS};
 use crate::compile::budget::Budget;
 use crate::compile::Setup;

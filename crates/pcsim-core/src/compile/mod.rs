@@ -255,7 +255,7 @@ fn pantograph_index(
 
 /// The lumped chain of the pantograph `which` selects (`leading`, `trailing`, a name or an
 /// index; none: the leading one), with its name, for its frequency response and its fit
-/// (`analysis/frf.rs`). A moving force has no chain: refused by its field.
+/// (`study/frf.rs`). A moving force has no chain: refused by its field.
 pub fn lumped_pantograph(
     case: &Case,
     which: Option<&str>,

@@ -1,7 +1,7 @@
 //! A design search's spec (`pcsim design SPEC.toml`, Python's `pcsim.design`; issue 24): the base
 //! case, the design variables (any numeric case field by its override path, with bounds), the
 //! speeds with their weights, the objective, the constraints, the acceptance criteria and the
-//! budget. Parsed and checked here for its own shape; `analysis::design::Design::new` checks it
+//! budget. Parsed and checked here for its own shape; `study::design::Design::new` checks it
 //! against the base case (every variable's path, every pantograph named) before any run.
 //!
 //! ```toml
@@ -406,7 +406,7 @@ pub struct DesignSpec {
     pub budget: Budget,
 }
 
-/// An invalid value (the design search's errors, here and in `analysis::design`).
+/// An invalid value (the design search's errors, here and in `study::design`).
 pub(crate) fn invalid(
     field: impl Into<String>,
     value: impl Into<String>,

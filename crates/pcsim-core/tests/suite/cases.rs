@@ -405,8 +405,8 @@ fn every_section_a_preset_cites_exists_and_no_source_is_a_placeholder() {
 /// wire is refused before any run, naming the field.
 #[test]
 fn a_validation_of_a_pantograph_that_never_touches_is_refused() {
-    use pcsim_core::analysis::sweeps::{run_quietly, validation_runs};
-    use pcsim_core::analysis::validation::ValidationPlan;
+    use pcsim_core::study::sweeps::{run_quietly, validation_runs};
+    use pcsim_core::study::validate::ValidationPlan;
     let mut plan = ValidationPlan::new("en50318-2002").unwrap();
     for c in &mut plan.cases {
         if let pcsim_core::input::case::PantographCase::Lumped { uplift_n, .. } =

@@ -2,9 +2,9 @@
 //! same search on 1 and 2 jobs, an interrupted search resumed from its journal, an infeasible
 //! spec reported as such, and a spec that names what does not exist.
 
-use pcsim_core::analysis::design::{search, Design, DesignResult, Evaluation, Local, StopReason};
 use pcsim_core::input::design::DesignSpec;
 use pcsim_core::input::presets;
+use pcsim_core::study::design::{search, Design, DesignResult, Evaluation, Local, StopReason};
 
 /// en50318-2002 over its 20 spans, with the frame's spring to the roof taken out: the pantograph
 /// is then held by its uplift force alone, so over a run the mean contact force equals the

@@ -3,7 +3,7 @@
 //! docs/validation.md with the reasons; they are asserted to stay near the README §5 cross-check
 //! so that a change in the physics shows up here too.
 
-use pcsim_core::analysis::validation::{compare, target_cases};
+use pcsim_core::study::validate::{compare, target_cases};
 use pcsim_core::{presets, run_case};
 
 /// (speed, quantity) rows that pass today and must keep passing.

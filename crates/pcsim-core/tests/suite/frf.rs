@@ -3,8 +3,8 @@
 //! a 3-mass chain; a fit recovering known parameters from a synthetic response with 2 % noise
 //! within the uncertainty it reports; malformed measurements refused by line.
 
-use pcsim_core::analysis::frf::{fit, Quantity, Response};
 use pcsim_core::model::pantograph::Lumped;
+use pcsim_core::study::frf::{fit, Quantity, Response};
 use rustfft::num_complex::Complex;
 
 fn chain(m: &[f64], k: &[f64], c: &[f64]) -> Lumped {
@@ -166,7 +166,7 @@ fn benchmark() -> Lumped {
 /// apparent mass.
 #[test]
 fn issue_51_a_fit_from_a_start_far_off_reaches_the_truth_and_a_mislabelled_file_fails() {
-    use pcsim_core::analysis::frf::{fit_with, FitSpec};
+    use pcsim_core::study::frf::{fit_with, FitSpec};
     let truth = benchmark();
     let f = Response::log_grid(0.5, 20.0, 60).unwrap();
     let mut measured = Response::of_model(&truth, Quantity::ApparentMass, &f).unwrap();
@@ -215,7 +215,7 @@ fn issue_51_a_fit_from_a_start_far_off_reaches_the_truth_and_a_mislabelled_file_
 /// A measurement longer than the fit takes is refused naming the limit, before any work.
 #[test]
 fn issue_51_a_measurement_of_too_many_frequencies_is_refused() {
-    use pcsim_core::analysis::frf::MAX_FREQUENCIES;
+    use pcsim_core::study::frf::MAX_FREQUENCIES;
     let f = Response::log_grid(0.1, 20.0, MAX_FREQUENCIES + 1).unwrap();
     let m = Response::of_model(&reference(), Quantity::Receptance, &f).unwrap();
     let e = fit(&reference(), &m).unwrap_err().to_string();

@@ -1,11 +1,11 @@
 //! Contact-wire irregularity, the window-length search and Monte Carlo (issue 13).
 
-use pcsim_core::analysis::montecarlo::{monte_carlo, Spread};
-use pcsim_core::analysis::window_length::{search, SearchSettings, Tolerances, WindowErrors};
 use pcsim_core::compile::Budget;
 use pcsim_core::input::case::IrregularityCase;
 use pcsim_core::model::irregularity::{psd_amplitudes, psd_shape, IrregularityProfile};
 use pcsim_core::solve::realtime::Coupling;
+use pcsim_core::study::montecarlo::{monte_carlo, Spread};
+use pcsim_core::study::window_search::{search, SearchSettings, Tolerances, WindowErrors};
 use pcsim_core::{presets, run_case, Case};
 
 fn psd(rms: f64, seed: u64) -> IrregularityCase {
@@ -363,7 +363,7 @@ fn the_real_time_window_sees_the_irregularity() {
     case.irregularity = vec![psd(0.004, 5)];
     let full = run_case(&case, &mut |_| true).unwrap();
     let fs = full.pantographs[0].stats.unwrap();
-    let w = pcsim_core::analysis::studies::run_window_sil(&case, 215.0).unwrap();
+    let w = pcsim_core::study::realtime::run_window_sil(&case, 215.0).unwrap();
     let ws = w.stats.unwrap();
     // The irregularity raises σ; the 215 m window follows the full model's (within 3 %), which
     // it could not do without the profile.

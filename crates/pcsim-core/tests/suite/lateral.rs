@@ -658,15 +658,15 @@ fn contact_exists_only_on_the_head() {
         beyond > 100 && touching > 100,
         "{beyond} beyond, {touching} touching"
     );
-    let errors = pcsim_core::analysis::report::run_errors(&off);
-    use pcsim_core::analysis::report::RunErrorKind;
+    let errors = pcsim_core::analysis::events::run_errors(&off);
+    use pcsim_core::analysis::events::RunErrorKind;
     assert!(
         errors
             .iter()
             .any(|e| e.kind == RunErrorKind::Dewirement && e.message.contains("dewirement")),
         "{errors:?}"
     );
-    assert!(pcsim_core::analysis::report::run_errors(&on).is_empty());
+    assert!(pcsim_core::analysis::events::run_errors(&on).is_empty());
     let (s_on, s_off) = (
         on.pantographs[0].stats.unwrap(),
         off.pantographs[0].stats.unwrap(),
@@ -894,8 +894,8 @@ fn an_undriven_messenger_torsion_leaves_the_model() {
 /// none of them. A sensitivity study bands them too.
 #[test]
 fn issue_51_studies_in_wind_report_the_lateral_statistics() {
-    use pcsim_core::analysis::montecarlo::{monte_carlo, stat_of, statistics_of, LATERAL_STATS};
     use pcsim_core::compile::Budget;
+    use pcsim_core::study::montecarlo::{monte_carlo, stat_of, statistics_of, LATERAL_STATS};
     let windy = crate::common::short_preset("stitched-2018-like-3d-crosswind", 8, 250.0);
     let r = monte_carlo(&windy, 2, Some(2), &Budget::default(), &|| {}).unwrap();
     let names = statistics_of(r.iter().map(|x| &x.output));
@@ -917,7 +917,7 @@ fn issue_51_studies_in_wind_report_the_lateral_statistics() {
         .iter()
         .any(|s| LATERAL_STATS.contains(s)));
     // The sensitivity's bands hold them too.
-    use pcsim_core::analysis::report::AllowedErrors;
+    use pcsim_core::analysis::events::AllowedErrors;
     use pcsim_core::analysis::sensitivity::{sensitivity, SensitivitySpec};
     let out = &r[0].output;
     let t = windy.catenary.contact_wire.tension_n;

@@ -6,7 +6,9 @@
 
 use std::path::Path;
 
-const LAYERS: &[&str] = &["model", "solve", "input", "compile", "analysis", "session"];
+const LAYERS: &[&str] = &[
+    "model", "solve", "input", "compile", "analysis", "session", "study",
+];
 
 fn sources(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
     for e in std::fs::read_dir(dir).unwrap() {

@@ -702,7 +702,7 @@ fn energy_balance_across_an_overlap() {
 /// range typed in is compared; a malformed one is refused naming its key.
 #[test]
 fn targets_files_and_the_2018_templates() {
-    use pcsim_core::analysis::validation::{compare, targets_file, ValidationPlan};
+    use pcsim_core::study::validate::{compare, targets_file, ValidationPlan};
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     for kind in ["simple", "stitched"] {
         let path = root.join(format!("data/targets-en50318-2018-{kind}-template.toml"));
@@ -751,7 +751,7 @@ fn targets_files_and_the_2018_templates() {
 /// preset, run on a case, says that the preset is not run: never silently ignored.
 #[test]
 fn issue_51_a_users_targets_run_on_a_users_case() {
-    use pcsim_core::analysis::validation::ValidationPlan;
+    use pcsim_core::study::validate::ValidationPlan;
     let mine = "[mine]\nsource = \"my own\"\n[mine.v250]\nspeed_kmh = 250\nmean = [100.0, 130.0]\n";
     let case = common::short_en50318(6, 200.0);
     let plan = ValidationPlan::from_targets_on(mine, "mine.toml", Some((case.clone(), "my.toml")))
@@ -896,7 +896,7 @@ fn extremes_inside(force_n: &[f64], position_m: &[f64], dt_s: f64, [a, b]: [f64;
 /// without overlaps. `docs/validation.md` has the table (180–400 m).
 #[test]
 fn the_real_time_window_crosses_the_overlaps_of_a_line() {
-    use pcsim_core::analysis::studies::window_study;
+    use pcsim_core::study::realtime::window_study;
     let case = presets::load("en50318-2018-like-simple").unwrap().0;
     let windows = [240.0, 400.0];
     let study = window_study(&case, &windows, Some(2), &mut |_| true).unwrap();
@@ -955,7 +955,7 @@ fn the_real_time_window_crosses_the_overlaps_of_a_line() {
 /// a shift: the same contact force statistics.
 #[test]
 fn the_window_on_a_line_of_equal_spans_runs_as_on_its_catenary() {
-    use pcsim_core::analysis::studies::run_window_sil;
+    use pcsim_core::study::realtime::run_window_sil;
     let case = common::short_en50318(12, 250.0);
     let c = &case.catenary;
     let line = with_line(

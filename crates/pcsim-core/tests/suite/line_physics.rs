@@ -626,7 +626,7 @@ fn issue_41_an_iced_window_at_rest_stays_at_rest_across_its_moves() {
 /// full iced model within the window's goals (mean < 1 %, σ < 3 %), as without ice.
 #[test]
 fn issue_41_the_window_under_ice_is_as_accurate_as_without() {
-    use pcsim_core::analysis::studies::run_window_sil;
+    use pcsim_core::study::realtime::run_window_sil;
     let bare = with_sections(common::short_en50318(20, 250.0));
     let mut iced = bare.clone();
     iced.catenary.ice = Some(ice(0.005));

@@ -10,17 +10,12 @@
 
 use pcsim_core::analysis::assess::{assess, AssessInput};
 use pcsim_core::analysis::compare::compare;
-use pcsim_core::analysis::design::{search, Design, Local};
 use pcsim_core::analysis::eva::{run_eva, EvaSettings};
-use pcsim_core::analysis::montecarlo::monte_carlo;
+use pcsim_core::analysis::events::AllowedErrors;
 use pcsim_core::analysis::record::{simulate_with, DropperOptions};
-use pcsim_core::analysis::report::AllowedErrors;
 use pcsim_core::analysis::report::RunSummary;
 use pcsim_core::analysis::sensitivity::{sensitivity, SensitivitySpec};
-use pcsim_core::analysis::studies::run_window_sil;
 use pcsim_core::analysis::sweep::check_seeds;
-use pcsim_core::analysis::sweeps::validation_runs;
-use pcsim_core::analysis::validation::ValidationPlan;
 use pcsim_core::analysis::verify::verify;
 use pcsim_core::compile::Budget;
 use pcsim_core::input::case::Case;
@@ -29,6 +24,11 @@ use pcsim_core::input::design::DesignSpec;
 use pcsim_core::input::measured::MeasuredForce;
 use pcsim_core::session::RealtimeSession;
 use pcsim_core::solve::realtime::Coupling;
+use pcsim_core::study::design::{search, Design, Local};
+use pcsim_core::study::montecarlo::monte_carlo;
+use pcsim_core::study::realtime::run_window_sil;
+use pcsim_core::study::sweeps::validation_runs;
+use pcsim_core::study::validate::ValidationPlan;
 use pcsim_core::zoo::geometries::{matrix_block, with_matrix_block};
 use pcsim_core::{run_case, CaseError, Setup, SimError};
 

@@ -139,7 +139,7 @@ proptest! {
     /// into a design whose every corner of the box gives a case, never a panic.
     #[test]
     fn mutated_design_specs_never_panic(ops in proptest::collection::vec(op(), 1..4)) {
-        use pcsim_core::analysis::design::Design;
+        use pcsim_core::study::design::Design;
         let mut text = include_str!("../../../../tests/design/swarm.toml").to_string();
         for o in &ops {
             text = apply(&text, o);

@@ -1,10 +1,10 @@
 //! The real-time window catenary: the state projection, SIL accuracy against the full model, and
 //! the HIL mode driven by a recorded full-model contact force.
 
-use pcsim_core::analysis::studies::run_window_sil;
 use pcsim_core::model::basis::SineBasis;
 use pcsim_core::presets;
 use pcsim_core::solve::realtime::{shift_projection, shift_projection_by_integrals, Coupling};
+use pcsim_core::study::realtime::run_window_sil;
 use pcsim_core::{run_case, Case};
 
 #[test]

@@ -5,7 +5,7 @@
 
 use crate::common;
 
-use pcsim_core::analysis::report::AllowedErrors;
+use pcsim_core::analysis::events::AllowedErrors;
 use pcsim_core::analysis::sensitivity::{run_case, sensitivity, study_runs, SensitivitySpec};
 use pcsim_core::analysis::verify::{statistic, STATISTICS};
 use pcsim_core::compile::Budget;

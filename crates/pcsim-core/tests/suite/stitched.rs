@@ -1,6 +1,6 @@
 //! The stitched presets: two pantographs on `stitched-2018-like` and the SYT calibration.
 
-use pcsim_core::analysis::validation::{compare, target_cases};
+use pcsim_core::study::validate::{compare, target_cases};
 use pcsim_core::{presets, run_case};
 
 /// Table 1 rows that pass today and must keep passing: (speed, pantograph, quantity).

@@ -211,10 +211,10 @@ fn issue_43_1_a_heads_strips_refuse_by_name() {
     .unwrap()
     .1;
     head.strips[1].mass_kg *= 1.1;
-    use pcsim_core::analysis::frf::{Quantity, Response};
+    use pcsim_core::study::frf::{Quantity, Response};
     let grid = Response::log_grid(0.5, 20.0, 30).unwrap();
     let measured = Response::of_model(&head, Quantity::Receptance, &grid).unwrap();
-    match pcsim_core::analysis::frf::fit(&head, &measured) {
+    match pcsim_core::study::frf::fit(&head, &measured) {
         Err(CaseError::Invalid { field, .. }) => assert_eq!(field, "pantographs.strips[1]"),
         other => panic!("{:?}", other.map(|_| ())),
     }
@@ -273,7 +273,7 @@ fn issue_43_1_the_real_time_window_carries_a_head_of_strips() {
 /// strips, each with the fitted design at its own place.
 #[test]
 fn issue_43_3_a_head_of_two_strips_is_fitted_within_its_uncertainty() {
-    use pcsim_core::analysis::frf::{fit, Quantity, Response};
+    use pcsim_core::study::frf::{fit, Quantity, Response};
     let two = with_strips(short(), &[(0.5, 0.25, 0.0), (0.5, -0.25, 0.0)]);
     let truth = pcsim_core::compile::lumped_pantograph(&two, None)
         .unwrap()

@@ -134,8 +134,8 @@ fn issue_42_1_the_verification_is_the_runs_made_by_hand() {
 /// find its value unconverged.
 #[test]
 fn issue_42_1_a_validations_verification_is_the_runs_made_by_hand() {
-    use pcsim_core::analysis::validation::{compare, validate};
     use pcsim_core::analysis::verify::{refined_case, statistic_of_quantity, stiff_contact_case};
+    use pcsim_core::study::validate::{compare, validate};
     let (plan, mut report, runs) = validate("en50318-2002", Some(2)).unwrap();
     plan.verify(&runs, &mut report, &Budget::default(), Some(2))
         .unwrap();

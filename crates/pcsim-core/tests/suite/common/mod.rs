@@ -35,7 +35,7 @@ pub fn same_statistics(a: &pcsim_core::RunOutput, b: &pcsim_core::RunOutput, tol
 
 /// `measured` with seeded noise: 2 % normal on the magnitude and 0.02 rad on the phase (a
 /// lab's frequency response, for the fits' checks).
-pub fn with_noise(measured: &mut pcsim_core::analysis::frf::Response, seed: u64) {
+pub fn with_noise(measured: &mut pcsim_core::study::frf::Response, seed: u64) {
     use rustfft::num_complex::Complex;
     let mut rng = pcsim_core::model::wind_field::SplitMix64::new(seed);
     // Normal deviates (Box–Muller) from the seeded stream.

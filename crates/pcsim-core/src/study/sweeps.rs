@@ -9,13 +9,13 @@
 use crate::analysis::eva::{run_eva, simulate_with_eva, EvaOutput, EvaRow, EvaSettings};
 use crate::analysis::record::{simulate, RunOutput};
 use crate::analysis::sweep::{parallel_map, Job};
-use crate::analysis::validation::{ValidationPlan, ValidationReport};
-use crate::analysis::window_length::{
-    full_stats, search_windows, EnergyCurves, SearchResult, SearchSettings, Tolerances,
-};
 use crate::compile::Budget;
 use crate::compile::Setup;
 use crate::error::{CaseError, SimError};
+use crate::study::validate::{ValidationPlan, ValidationReport};
+use crate::study::window_search::{
+    full_stats, search_windows, EnergyCurves, SearchResult, SearchSettings, Tolerances,
+};
 
 /// A sweep's error, with the case it belongs to.
 fn in_case(index: usize, what: &str, e: impl std::fmt::Display) -> SimError {
@@ -36,7 +36,7 @@ pub struct EvaCase {
     pub row: EvaRow,
 }
 
-/// EVA of every case of `jobs` (one shard of a grid, [`crate::analysis::specs::GridSpec::jobs`]) on up to `threads` threads
+/// EVA of every case of `jobs` (one shard of a grid, [`crate::study::specs::GridSpec::jobs`]) on up to `threads` threads
 /// (`None`: every core), within `budget`; `done` is called after each case (progress). The rows
 /// come in the order of `jobs`, the same bytes with any number of threads.
 pub fn eva_sweep(

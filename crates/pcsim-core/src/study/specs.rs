@@ -4,10 +4,10 @@
 //! check or a fingerprint of its own (OpenFAST's typed input per module, which drivers fill and
 //! never re-derive).
 //!
-//! - [`EvaSweepSpec`]: the EVA over speeds × tensions × dampings ([`crate::analysis::sweeps::eva_sweep`]);
+//! - [`EvaSweepSpec`]: the EVA over speeds × tensions × dampings ([`crate::study::sweeps::eva_sweep`]);
 //! - [`WindowSweepSpec`]: the accuracy-based window length over speeds × tensions
-//!   ([`crate::analysis::sweeps::window_sweep`]);
-//! - [`MonteCarloSpec`]: realisations of one case ([`crate::analysis::montecarlo`]);
+//!   ([`crate::study::sweeps::window_sweep`]);
+//! - [`MonteCarloSpec`]: realisations of one case ([`crate::study::montecarlo`]);
 //! - the design search's spec is [`crate::input::design::DesignSpec`] (a file of its own).
 //!
 //! Errors name the spec's field (`step_m`, `sigma_tol_pct`, …); a front end maps the name to its
@@ -16,15 +16,15 @@
 use std::fmt::Write as _;
 
 use crate::analysis::eva::EvaSettings;
-use crate::analysis::report::AllowedErrors;
+use crate::analysis::events::AllowedErrors;
 use crate::analysis::sweep::{damping_label, Grid, Job, Shard};
-use crate::analysis::sweeps::{eva_sweep, window_sweep, EvaCase, WindowCase};
-use crate::analysis::window_length::{SearchSettings, Tolerances};
 use crate::compile::Budget;
 use crate::error::{CaseError, SimError};
 use crate::fingerprint::fnv1a64_hex;
 use crate::input::case::Case;
 use crate::model::wire::Damping;
+use crate::study::sweeps::{eva_sweep, window_sweep, EvaCase, WindowCase};
+use crate::study::window_search::{SearchSettings, Tolerances};
 
 fn bad(field: &str, value: impl std::fmt::Display, reason: &str) -> CaseError {
     CaseError::Invalid {

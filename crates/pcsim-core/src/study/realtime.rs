@@ -136,9 +136,9 @@ pub struct WindowStudy {
 impl WindowStudy {
     /// Relative errors (%) of the window's mean, σ and maximum of the 0–20 Hz force against the
     /// full model, per window (`None` where a run did not cross the analysis section): the one
-    /// law of the window's accuracy, [`crate::analysis::window_length::WindowErrors::of`], the
+    /// law of the window's accuracy, [`crate::study::window_search::WindowErrors::of`], the
     /// window sweep's too.
-    pub fn errors_percent(&self) -> Vec<Option<crate::analysis::window_length::WindowErrors>> {
+    pub fn errors_percent(&self) -> Vec<Option<crate::study::window_search::WindowErrors>> {
         let Some(fs) = self.full.pantographs[0].stats else {
             return vec![None; self.windows.len()];
         };
@@ -146,7 +146,7 @@ impl WindowStudy {
             .iter()
             .map(|r| {
                 r.stats
-                    .map(|s| crate::analysis::window_length::WindowErrors::of(r.window_m, &s, &fs))
+                    .map(|s| crate::study::window_search::WindowErrors::of(r.window_m, &s, &fs))
             })
             .collect()
     }

@@ -25,9 +25,9 @@ use serde::Serialize;
 use crate::analysis::eva::{eva_by_fraction, eva_by_step, EvaOutput};
 use crate::analysis::record::RunOutput;
 use crate::analysis::stats::ContactStats;
-use crate::analysis::studies::run_window_sil;
 use crate::error::{CaseError, SimError};
 use crate::input::case::Case;
+use crate::study::realtime::run_window_sil;
 
 /// Tolerances on the window's 0–20 Hz force statistics against the full model's, %.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -321,7 +321,7 @@ pub fn full_stats(single: &Case, full: &RunOutput) -> Result<ContactStats, SimEr
 
 /// The accuracy-based length of one case ([`search`]) against the full model's statistics `fs`
 /// ([`full_stats`]): SIL windows of the one-pantograph case `single`, as the search asks
-/// ([`crate::analysis::sweeps::window_sweep`] runs the full model once for both).
+/// ([`crate::study::sweeps::window_sweep`] runs the full model once for both).
 pub fn search_windows(
     single: &Case,
     fs: &ContactStats,

@@ -1,0 +1,24 @@
+//! The studies: each one file that owns its spec (with its defaults and checks), its
+//! fingerprint, its jobs, its run, its typed output and the answer its report opens with
+//! (issue 52). The front ends (CLI, Python) fill a spec and call the study; they re-derive
+//! nothing.
+//!
+//! | file | the study |
+//! |---|---|
+//! | `montecarlo.rs` | realisations over seeds and their spread |
+//! | `specs.rs` | the sweeps' specs: grids, EVA, window, Monte Carlo |
+//! | `sweeps.rs` | the EVA sweep, the window sweep, the validation runs, as typed rows |
+//! | `realtime.rs` | the real-time window against the full model |
+//! | `window_search.rs` | the accuracy-based window length and the energy criteria's fit |
+//! | `validate.rs` | which cases, which targets, the validation table |
+//! | `design.rs` | the design search: an optimiser over case fields, the journal, the answer |
+//! | `frf.rs` | a pantograph's frequency response at the head, and a chain fitted to a measured one |
+
+pub mod design;
+pub mod frf;
+pub mod montecarlo;
+pub mod realtime;
+pub mod specs;
+pub mod sweeps;
+pub mod validate;
+pub mod window_search;
