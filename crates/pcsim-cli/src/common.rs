@@ -348,15 +348,6 @@ pub fn read_irregularity_csv(path: &Path) -> Result<pcsim_core::input::case::Irr
         .map_err(|e| anyhow::anyhow!("--irregularity: {e}"))
 }
 
-/// The flag that accepts an error-level event of `kind`.
-pub fn allow_flag(kind: pcsim_core::analysis::events::RunErrorKind) -> &'static str {
-    use pcsim_core::analysis::events::RunErrorKind;
-    match kind {
-        RunErrorKind::Dewirement => "--allow-dewirement",
-        RunErrorKind::ContactLoss => "--allow-contact-loss",
-    }
-}
-
 /// `x` with `digits` significant digits (`0.00123`, `4.66`, `1230`), for the terminal: a small
 /// value never prints as `0.00`.
 pub fn significant(x: f64, digits: usize) -> String {

@@ -3,9 +3,11 @@
 
 mod cmd;
 mod common;
+mod driver;
 mod output;
 mod plot;
 mod progress;
+mod report;
 mod svg_safe;
 mod sweep_dir;
 

@@ -80,8 +80,8 @@ pub fn read_manifest(dir: &Path) -> Result<Option<serde_json::Value>> {
 /// The manifest of a complete output directory: its kind, its files and the whole JSON.
 #[derive(Debug, Clone)]
 pub struct Manifest {
-    /// The kind of output (`run`, `eva`, `window`, `realtime`, `montecarlo`).
-    pub kind: String,
+    /// The kind of output: the study that wrote it.
+    pub kind: pcsim_core::study::StudyKind,
     /// The pcsim version that wrote it.
     pub version: String,
     /// The files of the directory, relative to it (the manifest excluded).
@@ -108,8 +108,9 @@ pub fn read_complete_manifest(dir: &Path) -> Result<Manifest> {
     }
     let kind = m["kind"]
         .as_str()
-        .with_context(|| format!("{}: {MANIFEST} has no `kind`", dir.display()))?
-        .to_string();
+        .with_context(|| format!("{}: {MANIFEST} has no `kind`", dir.display()))?;
+    let kind = pcsim_core::study::StudyKind::parse(kind)
+        .with_context(|| format!("{}: {MANIFEST}", dir.display()))?;
     let version = m["pcsim_version"].as_str().unwrap_or_default().to_string();
     let files: Vec<String> = m["files"]
         .as_array()

@@ -12,7 +12,7 @@ use crate::output::write_manifest;
 /// What a kind of sweep directory holds.
 pub struct SweepKind {
     /// The manifest's kind.
-    pub kind: &'static str,
+    pub kind: pcsim_core::study::StudyKind,
     /// The per-case CSV and its header.
     pub csv: &'static str,
     pub header: &'static str,
@@ -202,7 +202,7 @@ pub fn merge(k: &SweepKind, dirs: &[PathBuf], out: &Path, no_plot: bool) -> Resu
     crate::output::write_file(&partial.join(k.csv), csv)?;
     write_manifest(
         partial,
-        k.kind,
+        k.kind.name(),
         serde_json::json!({
             "fingerprint": first.fingerprint,
             "cases": first.cases,

@@ -57,7 +57,7 @@ pub fn run(a: AssessArgs) -> Result<i32> {
     }
     // A report made before is made again, with the assessment in it.
     if read_complete_manifest(&a.dir)?.lists("report.html") {
-        let p = crate::cmd::report::write(&a.dir)?;
+        let p = crate::report::write(&a.dir)?;
         println!("wrote {}", p.display());
     }
     Ok(if a.strict && !result.passes() { 1 } else { 0 })
@@ -66,7 +66,7 @@ pub fn run(a: AssessArgs) -> Result<i32> {
 /// What the run's `summary.json` gives the assessment.
 fn read_run(dir: &Path) -> Result<AssessInput> {
     let m = read_complete_manifest(dir)?;
-    if m.kind != "run" {
+    if m.kind != pcsim_core::study::StudyKind::Run {
         bail!(
             "{} holds a `{}` study, not a run: pcsim assess takes the directory of `pcsim run`",
             dir.display(),

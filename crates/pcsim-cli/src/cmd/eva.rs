@@ -183,7 +183,7 @@ fn print_rows(s: &EvaSettings, done: &[&EvaOutput], rows: &[&EvaRow]) {
 
 /// The eva sweep directory.
 pub const EVA: SweepKind = SweepKind {
-    kind: "eva",
+    kind: pcsim_core::study::StudyKind::Eva,
     csv: "eva.csv",
     header: EvaRow::HEADER,
     columns: COLUMNS,
@@ -283,13 +283,16 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
         }),
     )?;
     let files = if !a.no_plot && shard == Shard::ALL && !mine.is_empty() {
-        od.in_target(&crate::plot::redraw_kind(dir, "eva")?)
+        od.in_target(&crate::plot::redraw_kind(
+            dir,
+            pcsim_core::study::StudyKind::Eva,
+        )?)
     } else {
         Vec::new()
     };
     od.commit()?;
     if a.report && shard == Shard::ALL && !mine.is_empty() {
-        println!("report: {}", crate::cmd::report::write(&a.out)?.display());
+        println!("report: {}", crate::report::write(&a.out)?.display());
     }
     if mine.is_empty() {
         println!(

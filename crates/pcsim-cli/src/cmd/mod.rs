@@ -7,7 +7,6 @@ pub mod design;
 pub mod eva;
 pub mod fmu;
 pub mod hil;
-pub mod montecarlo;
 pub mod pantograph;
 pub mod plot;
 pub mod presets;

@@ -156,7 +156,10 @@ pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
     let files = if a.no_plot {
         Vec::new()
     } else {
-        od.in_target(&crate::plot::redraw_kind(dir, "realtime")?)
+        od.in_target(&crate::plot::redraw_kind(
+            dir,
+            pcsim_core::study::StudyKind::Realtime,
+        )?)
     };
     od.commit()?;
     println!(

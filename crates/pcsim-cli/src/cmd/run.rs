@@ -172,21 +172,32 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
         if a.dropper_forces {
             anyhow::bail!("--dropper-forces with --seeds {n}: the droppers' tensions are followed in one run, not gathered over realisations; run the realisation you want alone (its seeds are in montecarlo.csv) with --dropper-forces");
         }
-        return crate::cmd::montecarlo::run_seeds(
-            crate::cmd::montecarlo::Study {
-                case: &case,
-                case_text: &case_text,
-                overrides: &overrides,
-                spec: pcsim_core::study::specs::MonteCarloSpec {
-                    realisations: n,
-                    allowed: a.allowed(),
-                },
-                jobs: a.jobs,
+        // The case refused before anything is written, naming the flags that may have caused it.
+        crate::common::setup(&case, &overrides, ctx)?;
+        let flags: Vec<String> = overrides.iter().map(|o| o.flag.clone()).collect();
+        let study = pcsim_core::study::montecarlo::MonteCarloStudy {
+            case: case.clone(),
+            spec: pcsim_core::study::specs::MonteCarloSpec {
+                realisations: n,
+                allowed: a.allowed(),
             },
-            &a.out,
-            (a.plot || a.report, a.report),
+            overrides: flags.clone(),
+            budget: ctx.budget,
+            jobs: a.jobs,
+        };
+        crate::driver::drive(
+            &study,
+            crate::driver::Drive {
+                out: &a.out,
+                case_text: Some(&case_text),
+                plot: a.plot || a.report,
+                report: a.report,
+                manifest: serde_json::json!({ "realisations": n, "overrides": flags }),
+                unit: "realisations",
+            },
             ctx,
-        );
+        )?;
+        return Ok(0);
     }
     let od = crate::output::OutDir::begin(&a.out)?;
     let droppers = a
@@ -255,7 +266,10 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
     let plot = a.plot || a.report;
     let files = if plot {
         // From the files just written: exactly what `pcsim plot DIR` draws.
-        od.in_target(&crate::plot::redraw_kind(od.path(), "run")?)
+        od.in_target(&crate::plot::redraw_kind(
+            od.path(),
+            pcsim_core::study::StudyKind::Run,
+        )?)
     } else {
         Vec::new()
     };
@@ -264,7 +278,7 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
         crate::plot::report(&files);
     }
     if a.report {
-        let p = crate::cmd::report::write(&a.out)?;
+        let p = crate::report::write(&a.out)?;
         println!("report: {}", p.display());
     }
     print_run(&case, &out, &summary, wall);
@@ -449,17 +463,13 @@ fn refuse_errors(
 ) -> Result<()> {
     let errors = pcsim_core::analysis::events::run_errors(out);
     for e in errors.iter().filter(|e| allowed.allows(e.kind)) {
-        eprintln!(
-            "warning: {} (allowed by {})",
-            e.message,
-            crate::common::allow_flag(e.kind)
-        );
+        eprintln!("warning: {} (allowed by {})", e.message, e.kind.flag());
     }
     if let Some(e) = allowed.first_refused(&errors) {
         anyhow::bail!(
             "{} (the outputs are written; give {} to accept the run)",
             e.message,
-            crate::common::allow_flag(e.kind)
+            e.kind.flag()
         );
     }
     Ok(())

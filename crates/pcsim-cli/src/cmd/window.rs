@@ -111,7 +111,7 @@ const COLUMNS: &str = "length_m: the accuracy-based window length (empty: not re
 
 /// The window sweep directory.
 pub const WINDOW: SweepKind = SweepKind {
-    kind: "window",
+    kind: pcsim_core::study::StudyKind::Window,
     csv: "window.csv",
     header: HEADER,
     columns: COLUMNS,
@@ -233,7 +233,10 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
         }
     }
     let files = if !a.no_plot && shard == Shard::ALL {
-        od.in_target(&crate::plot::redraw_kind(dir, "window")?)
+        od.in_target(&crate::plot::redraw_kind(
+            dir,
+            pcsim_core::study::StudyKind::Window,
+        )?)
     } else {
         Vec::new()
     };
@@ -247,7 +250,7 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
         crate::plot::report(&files);
     }
     if a.report {
-        println!("report: {}", crate::cmd::report::write(&a.out)?.display());
+        println!("report: {}", crate::report::write(&a.out)?.display());
     }
     Ok(0)
 }

@@ -18,6 +18,8 @@ use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::Once;
 
+use pcsim_core::study::StudyKind;
+
 static FONT: Once = Once::new();
 
 /// Register the embedded DejaVu Sans font for the bitmap backend (no system fonts needed).
@@ -437,30 +439,26 @@ fn figure_with(stem: &Path, f: &Figure, y_max: Option<f64>) -> Result<Vec<PathBu
 pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
     let _lock = crate::output::Lock::take(dir)?;
     let m = crate::output::read_complete_manifest(dir)?;
-    let files = redraw_kind(dir, &m.kind)?;
+    let files = redraw_kind(dir, m.kind)?;
     crate::output::add_to_manifest(dir, &files)?;
     Ok(files)
 }
 
 /// Redraw the figures of a directory of `kind` from its files (a command's own staging
-/// directory, before it is committed).
-pub fn redraw_kind(dir: &Path, kind: &str) -> Result<Vec<PathBuf>> {
+/// directory, before it is committed): one arm per kind, matched exhaustively.
+pub fn redraw_kind(dir: &Path, kind: StudyKind) -> Result<Vec<PathBuf>> {
     match kind {
-        "run" => run::redraw(dir),
-        "eva" => eva::redraw(dir),
-        "realtime" => realtime::redraw(dir),
-        "montecarlo" => montecarlo::redraw(dir),
-        "window" => window::redraw(dir),
-        "compare" => compare::redraw(dir),
-        "design" => design::redraw(dir),
-        "pantograph-frf" | "pantograph-fit" => anyhow::bail!(
+        StudyKind::Run => run::redraw(dir),
+        StudyKind::Eva => eva::redraw(dir),
+        StudyKind::Realtime => realtime::redraw(dir),
+        StudyKind::MonteCarlo => montecarlo::redraw(dir),
+        StudyKind::Window => window::redraw(dir),
+        StudyKind::Compare => compare::redraw(dir),
+        StudyKind::Design => design::redraw(dir),
+        StudyKind::PantographFrf | StudyKind::PantographFit => anyhow::bail!(
             "{}: a pantograph's response and fit draw their figures when they are made; run `pcsim pantograph {}` again to redraw them",
             dir.display(),
-            kind.trim_start_matches("pantograph-")
-        ),
-        other => anyhow::bail!(
-            "{}: pcsim.json names kind `{other}`, which has no figures",
-            dir.display()
+            kind.name().trim_start_matches("pantograph-")
         ),
     }
 }

@@ -151,7 +151,7 @@ pub struct Row {
     pub note: String,
     /// With a verified run: the value refined and with the stiffer contact, and whether the
     /// verdict holds in both.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub verification: Option<RowCheck>,
 }
 
@@ -195,7 +195,7 @@ pub struct Assessment {
     pub run_errors: Vec<String>,
     /// With a verified run: the rows whose value is not converged, or whose verdict changes
     /// refined or with the stiffer contact, as sentences.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub not_established: Vec<String>,
 }
 

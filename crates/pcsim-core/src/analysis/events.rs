@@ -3,7 +3,7 @@
 //! (`report.rs` lists them in the summary; `sensitivity.rs` and Monte Carlo count them over their
 //! runs). Its own file so that neither of those imports the other.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::analysis::record::RunOutput;
 
@@ -12,8 +12,10 @@ use crate::analysis::record::RunOutput;
 /// contact that was measured (for scale, the TSI Energy's limit on the share of arcing is 0.2 %).
 pub const LOSS_OF_CONTACT_ERROR_PERCENT: f64 = 10.0;
 
-/// What kind of error-level event a run met (each front end may accept a kind on request).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// What kind of error-level event a run met (each front end may accept a kind on request);
+/// written as its [`RunErrorKind::name`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum RunErrorKind {
     /// The contact wire left a pantograph's head.
     Dewirement,
@@ -31,6 +33,15 @@ impl RunErrorKind {
         match self {
             RunErrorKind::Dewirement => "dewirement",
             RunErrorKind::ContactLoss => "contact_loss",
+        }
+    }
+
+    /// The command line's flag that accepts it (Python's keyword is the same without the
+    /// dashes, `allow_contact_loss=True`).
+    pub fn flag(self) -> &'static str {
+        match self {
+            RunErrorKind::Dewirement => "--allow-dewirement",
+            RunErrorKind::ContactLoss => "--allow-contact-loss",
         }
     }
 }
@@ -63,19 +74,16 @@ impl AllowedErrors {
 
 /// How often each kind of error-level event occurred over several runs (a Monte Carlo study's
 /// realisations): per kind, the indices of the runs that had it and the first run's message.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct EventCount {
-    /// The kind's name ([`RunErrorKind::name`]).
-    pub kind: &'static str,
+    /// The kind (written as its name, [`RunErrorKind::name`]).
+    pub kind: RunErrorKind,
     /// The runs (realisation indices) that had it.
     pub runs: Vec<usize>,
     /// The first such run's message.
     pub first_message: String,
     /// Whether the user accepted it by flag.
     pub allowed: bool,
-    #[serde(skip)]
-    /// Its kind.
-    pub of: RunErrorKind,
 }
 
 /// The events of several runs, counted per kind (kinds that did not occur are left out).
@@ -96,11 +104,10 @@ pub fn count_events(per_run: &[Vec<RunError>], allowed: AllowedErrors) -> Vec<Ev
                 .map(|e| e.message.clone())
                 .unwrap_or_default();
             Some(EventCount {
-                kind: k.name(),
+                kind: k,
                 runs,
                 first_message,
                 allowed: allowed.allows(k),
-                of: k,
             })
         })
         .collect()

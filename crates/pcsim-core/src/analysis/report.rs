@@ -35,13 +35,13 @@ pub struct PantographSummary {
     pub stats: Option<ContactStats>,
     /// The contact point across the head (lateral motion modelled): flags and the wear
     /// histogram.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lateral: Option<LateralStats>,
     /// Its passage through each overlap of a line (issue 21).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub overlaps: Vec<OverlapStats>,
     /// Each collector strip's own contact (issue 43; `stats` above are their sum's).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub strips: Vec<StripSummary>,
 }
 
@@ -64,22 +64,22 @@ pub struct RunSummary {
     /// Contact-wire tension used, N.
     pub contact_wire_tension_n: f64,
     /// The slowest contact wire's wave speed √(T/ρA) with its clamps and droppers in ρA, km/h.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contact_wire_wave_speed_kmh: Option<f64>,
     /// The train speed over that wave speed (EN 50119 asks below 0.7; `pcsim assess`).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub speed_ratio: Option<f64>,
     /// On a line of several tension lengths: the speed ratio of each tension length's contact
     /// wire, in track order (`speed_ratio` is the largest).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub speed_ratio_per_tension_length: Vec<f64>,
     /// Span length, m (none for a `[line]`: its supports are listed in `supports_m`).
     pub span_m: Option<f64>,
     /// The supports of a `[line]`, track positions, m (absent for a `[catenary]` of equal spans).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub supports_m: Vec<f64>,
     /// The overlaps of a `[line]`: first and last shared support of each, m.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub overlaps_m: Vec<[f64; 2]>,
     /// Simulated time, s.
     pub simulated_time_s: f64,
@@ -105,7 +105,7 @@ pub struct RunSummary {
     pub warnings: Vec<String>,
     /// Error-level events of the run ([`run_errors`]): a dewirement. The CLI's `run` exits
     /// non-zero when there is one, unless `--allow-dewirement` is given.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub errors: Vec<String>,
     /// What each pantograph's `max_uplift_at_support_mm` is measured from: the design's static
     /// position, or under ice or a mean wind the loaded static position.
@@ -113,26 +113,26 @@ pub struct RunSummary {
     /// Per pantograph: its statistics.
     pub pantographs: Vec<PantographSummary>,
     /// The crosswind (mean speed, spectrum, seed, turbulence intensity achieved).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wind: Option<WindReport>,
     /// The contact-wire irregularity's sources (kind, seed, RMS target and achieved).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub irregularity: Vec<IrregularityReport>,
     /// A curved track: radius, the head's offset on a canted curve, the chord's largest bow and
     /// the registrations' static (pull-off) forces.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub curve: Option<crate::model::lateral::CurveReport>,
     /// The coupled stability limit the time step was checked against: the highest frequency
     /// of the explicit system, the largest accepted Δt and the element that sets it.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stability: Option<crate::solve::CoupledLimit>,
     /// With `--verify`: each statistic beside the refined run's (twice the modes, half the step)
     /// and the stiffer contact's, and which are not converged to their tolerance.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub verification: Option<crate::analysis::verify::Verification>,
     /// With `--sensitivity`: each statistic's band over the case's ranged values and the values
     /// that move it most.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sensitivity: Option<crate::analysis::sensitivity::Sensitivity>,
 }
 

@@ -32,15 +32,15 @@ pub struct ContactStats {
     pub loss_of_contact_percent: f64,
     /// Largest distance of the contact point from the track's centre line over the analysis
     /// section, mm (lateral motion modelled).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_lateral_offset_mm: Option<f64>,
     /// Smallest margin from the contact point to the end of the head (`head_half_width_m −
     /// |lateral|`) over the analysis section, mm (lateral motion and a head width given).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min_head_margin_mm: Option<f64>,
     /// Largest lateral deflection of the contact wire from its still-air static position at the
     /// droppers and mid-spans of the analysis section over the run, mm (lateral motion).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_contact_wire_blowout_mm: Option<f64>,
 }
 

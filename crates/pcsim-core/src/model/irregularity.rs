@@ -76,19 +76,19 @@ pub struct PsdTable {
 }
 
 /// What the outputs say about one source.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct IrregularityReport {
     /// The source's kind (`table`, `psd`, `droppers`).
     pub kind: String,
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     /// Seed of a random source.
     pub seed: Option<u64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     /// RMS asked for, m.
     pub rms_target_m: Option<f64>,
     /// RMS of this source over the model, m.
     pub rms_achieved_m: f64,
-    #[serde(skip_serializing_if = "String::is_empty")]
+    #[serde(default, skip_serializing_if = "String::is_empty")]
     /// The file a table came from.
     pub source_file: String,
 }

@@ -5,6 +5,7 @@
 //!
 //! | file | the study |
 //! |---|---|
+//! | `contract.rs` | the contract every study fills: [`StudyKind`], [`Study`], [`Answer`], [`StudyFile`] |
 //! | `montecarlo.rs` | realisations over seeds and their spread |
 //! | `specs.rs` | the sweeps' specs: grids, EVA, window, Monte Carlo |
 //! | `sweeps.rs` | the EVA sweep, the window sweep, the validation runs, as typed rows |
@@ -14,6 +15,7 @@
 //! | `design.rs` | the design search: an optimiser over case fields, the journal, the answer |
 //! | `frf.rs` | a pantograph's frequency response at the head, and a chain fitted to a measured one |
 
+pub mod contract;
 pub mod design;
 pub mod frf;
 pub mod montecarlo;
@@ -22,3 +24,5 @@ pub mod specs;
 pub mod sweeps;
 pub mod validate;
 pub mod window_search;
+
+pub use contract::{Answer, Study, StudyFile, StudyKind};

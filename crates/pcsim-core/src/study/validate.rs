@@ -27,13 +27,13 @@ pub struct Row {
     /// Whether the value lies in the range.
     pub pass: bool,
     /// The seed paper's own value, where the targets give one.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub paper_value: Option<f64>,
     /// Whether the paper's value lies in the range.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub paper_pass: Option<bool>,
     /// With `--verify`: the row under the refined run and the stiffer contact.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub verification: Option<RowVerification>,
 }
 
@@ -50,7 +50,7 @@ pub struct RowVerification {
     pub stiff_contact_pass: bool,
     /// Whether the statistic is converged to its tolerance (none: a quantity the verification
     /// has no tolerance for: the contact-point range, the loss of contact).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub converged: Option<bool>,
     /// Whether the verdict stands: the refined run gives the same one and the value is not
     /// found unconverged (the model check is reported beside, never folded in).
@@ -63,13 +63,13 @@ pub struct CaseRows {
     /// Train speed, km/h.
     pub speed_kmh: f64,
     /// "leading" or "trailing" where the targets distinguish pantographs.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pantograph: Option<String>,
     /// One row per quantity.
     pub rows: Vec<Row>,
     /// Quantities the targets name without a range, with pcsim's value: not compared (a range
     /// is never invented).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub missing: Vec<Unchecked>,
 }
 
@@ -217,10 +217,10 @@ pub struct ValidationReport {
     pub cases: Vec<CaseRows>,
     /// With `--verify`: each run's verification (twice the modes and half the step; the
     /// contact twice as stiff), one per run of the plan.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub verification: Vec<crate::analysis::verify::Verification>,
     /// With `--verify`: the rows whose verdict the verification does not establish.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub not_established: Vec<String>,
 }
 

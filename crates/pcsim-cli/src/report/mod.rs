@@ -1,0 +1,1155 @@
+//! The report (`pcsim report DIR`, `--report`): one self-contained `report.html` of an
+//! output directory, its own module beside `plot/` (issue 52); a study's part is dispatched on
+//! its kind (`StudyKind`, matched exhaustively) and opens with its typed answer. A run's
+//! output directory (issue 22, item 1; runs first): the case with every value and its source,
+//! the run's statistics and warnings, the passages through the overlaps, the droppers, every
+//! figure inline (SVG, rebuilt from a whitelist: `svg_safe.rs`) with its caption, the versions
+//! and the command line. No script, no network: the page needs nothing but itself, and its
+//! Content-Security-Policy forbids scripts and every outside resource. A file changed after the
+//! run (its hash is no longer the manifest's) is said at the top of the page.
+
+use anyhow::{Context, Result};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use crate::output::{add_to_manifest, read_complete_manifest};
+use pcsim_core::study::montecarlo::{MonteCarloOutput, MonteCarloStudy};
+use pcsim_core::study::{Answer, Study, StudyKind};
+
+/// Escape text for HTML.
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// A number as a table shows it.
+fn num(v: &serde_json::Value) -> String {
+    match v {
+        serde_json::Value::Number(n) => match n.as_f64() {
+            Some(x) if x.fract() != 0.0 && x.abs() < 1e6 => format!("{x:.3}"),
+            _ => n.to_string(),
+        },
+        serde_json::Value::Null => "—".into(),
+        serde_json::Value::String(s) => s.clone(),
+        other => other.to_string(),
+    }
+}
+
+/// A table of `head` columns and `rows`.
+fn table(out: &mut String, caption: &str, head: &[&str], rows: &[Vec<String>]) {
+    let _ = write!(out, "<table><caption>{}</caption><thead><tr>", esc(caption));
+    for h in head {
+        let _ = write!(out, "<th>{}</th>", esc(h));
+    }
+    out.push_str("</tr></thead><tbody>");
+    for r in rows {
+        out.push_str("<tr>");
+        for c in r {
+            let _ = write!(out, "<td>{}</td>", esc(c));
+        }
+        out.push_str("</tr>");
+    }
+    out.push_str("</tbody></table>\n");
+}
+
+/// The caption of a figure, from its file's stem.
+fn caption(stem: &str) -> String {
+    if let Some(p) = stem.strip_prefix("contact_force_") {
+        format!("Contact force of the {p} pantograph along the track: raw and 0–20 Hz (min–max per pixel column); supports dashed, analysis section and overlaps shaded.")
+    } else if stem == "contact_height" {
+        "Contact-point height above the contact wire's design height at the supports, each pantograph.".into()
+    } else if let Some(p) = stem.strip_prefix("lateral_") {
+        format!("Lateral position of the contact point on the {p} pantograph's head.")
+    } else if let Some(p) = stem.strip_prefix("wear_") {
+        format!("Where the contact point runs on the {p} pantograph's strip.")
+    } else if stem == "eva_window_energy" {
+        "Window energy E(d_e) (Eq. 21) against the window length, with the two EVA criteria marked (the step criterion and 99 % of the total).".into()
+    } else if stem == "eva_length_vs_speed" {
+        "EVA length against speed by both criteria.".into()
+    } else if let Some(k) = stem.strip_prefix("eva_density_") {
+        format!(
+            "Vibration-energy density (Eq. 20) along the catenary, {}.",
+            k.replace('_', ", ")
+        )
+    } else if stem == "window_length" {
+        "The real-time window's length by accuracy against the full model, beside the energy-based lengths; values above the axis are named in the note.".into()
+    } else if stem.starts_with("window_errors") {
+        "The window's σ error against the full model, by window length.".into()
+    } else if let Some(k) = stem.strip_prefix("compare_") {
+        format!("The run beside the measurement: {k} (0–20 Hz, aligned).")
+    } else if stem == "design_progress" {
+        "The design search: the objective of each feasible design over the evaluations, and the best so far.".into()
+    } else if let Some(v) = stem.strip_prefix("design_force_") {
+        format!("Contact force at {v} km/h along the analysis section: the best design against the base design, each pantograph.")
+    } else if stem == "droppers" {
+        "Every dropper along the line: Miner's damage of the passage (or, without an S–N curve, its largest tension range); overlaps shaded.".into()
+    } else {
+        stem.replace('_', " ")
+    }
+}
+
+/// Write `report.html` into the run's directory `dir` and list it in the manifest.
+pub fn write(dir: &Path) -> Result<PathBuf> {
+    let m = read_complete_manifest(dir)?;
+    if m.kind != StudyKind::Run {
+        return write_study(dir, &m);
+    }
+    let summary_text = std::fs::read_to_string(dir.join("summary.json"))
+        .with_context(|| format!("cannot read {}", dir.join("summary.json").display()))?;
+    let summary: serde_json::Value =
+        serde_json::from_str(&summary_text).context("summary.json is not valid JSON")?;
+    let name = summary["case_name"].as_str().unwrap_or("run");
+    let mut h = String::new();
+    let _ = write!(
+        h,
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">{CSP}<title>pcsim report: {}</title>\n<style>{}</style></head><body>\n",
+        esc(name),
+        STYLE
+    );
+    let _ =
+        write!(
+        h,
+        "<h1>{} at {} km/h</h1>\n<p class=\"meta\">pcsim {} · kernels {} · <code>{}</code></p>\n",
+        esc(name),
+        num(&summary["speed_kmh"]),
+        esc(&m.version),
+        esc(summary["kernels"].as_str().unwrap_or("")),
+        esc(m.value["command"].as_str().unwrap_or("(command line not recorded)"))
+    );
+    edited_box(&mut h, dir, &m);
+    // The run's error-level events, above everything else.
+    let errors: Vec<String> = summary["errors"]
+        .as_array()
+        .map(|a| a.iter().map(num).collect())
+        .unwrap_or_default();
+    errors_box(&mut h, &errors);
+    warnings_section(&mut h, &summary);
+    // The answer first (issue 42, item 6): the statistics, the verdicts and their evidence;
+    // then the figures; then the tables of the set-up and the details.
+    let pans = summary["pantographs"]
+        .as_array()
+        .cloned()
+        .unwrap_or_default();
+    statistics_section(&mut h, &pans);
+    assessment(&mut h, dir, &summary_text)?;
+    verification_section(&mut h, &summary["verification"]);
+    sensitivity_section(&mut h, &summary["sensitivity"]);
+    figures(&mut h, dir, &m.files)?;
+    run_section(&mut h, &summary);
+    overlaps_section(&mut h, &pans);
+    droppers_section(&mut h, dir, &summary);
+    let overrides: Vec<String> = summary["overrides"]
+        .as_array()
+        .map(|a| a.iter().map(num).collect())
+        .unwrap_or_default();
+    provenance(&mut h, dir, &overrides)?;
+    finish(dir, h)
+}
+
+/// The run's warnings (above the answer: they qualify it).
+fn warnings_section(h: &mut String, summary: &serde_json::Value) {
+    let warnings: Vec<String> = summary["warnings"]
+        .as_array()
+        .map(|a| a.iter().map(num).collect())
+        .unwrap_or_default();
+    if warnings.is_empty() {
+        h.push_str("<p>No warnings.</p>\n");
+    } else {
+        h.push_str("<h3>Warnings</h3><ul>");
+        for w in &warnings {
+            let _ = write!(h, "<li>{}</li>", esc(w));
+        }
+        h.push_str("</ul>\n");
+    }
+}
+
+/// The run's set-up and counters.
+fn run_section(h: &mut String, summary: &serde_json::Value) {
+    // The run.
+    let mut rows = Vec::new();
+    for key in [
+        "simulated_time_s",
+        "analysis_section_m",
+        "modes_per_wire",
+        "dt_s",
+        "max_slack_droppers",
+        "steps_with_slack_percent",
+        "contact_wire_tension_n",
+    ] {
+        rows.push(vec![key.to_string(), num(&summary[key])]);
+    }
+    h.push_str("<h2>The run</h2>\n");
+    table(h, "Set-up and run", &["quantity", "value"], &rows);
+}
+
+/// The EN 50318 statistics, one column per pantograph.
+fn statistics_section(h: &mut String, pans: &[serde_json::Value]) {
+    // EN 50318 statistics, per pantograph.
+    h.push_str("<h2 id=\"answer\">EN 50318 statistics (0–20 Hz contact force over the analysis section)</h2>\n");
+    let mut keys: Vec<String> = Vec::new();
+    for p in pans {
+        if let Some(o) = p["stats"].as_object() {
+            for k in o.keys() {
+                if !keys.contains(k) {
+                    keys.push(k.clone());
+                }
+            }
+        }
+    }
+    // A column per pantograph, then one per collector strip of it (its own force's statistics;
+    // the pantograph's are their sum's).
+    let mut cols: Vec<(String, &serde_json::Value)> = Vec::new();
+    for p in pans {
+        let name = p["name"].as_str().unwrap_or("");
+        cols.push((name.to_string(), &p["stats"]));
+        for (k, st) in p["strips"].as_array().into_iter().flatten().enumerate() {
+            let along = st["along_m"].as_f64().unwrap_or(0.0);
+            cols.push((
+                format!("{name}, strip {} ({along:+.2} m)", k + 1),
+                &st["stats"],
+            ));
+        }
+    }
+    let mut head = vec!["quantity"];
+    head.extend(cols.iter().map(|(n, _)| n.as_str()));
+    let rows: Vec<Vec<String>> = keys
+        .iter()
+        .map(|k| {
+            std::iter::once(k.clone())
+                .chain(cols.iter().map(|(_, st)| num(&st[k])))
+                .collect()
+        })
+        .collect();
+    table(h, "Statistics per pantograph", &head, &rows);
+}
+
+/// The run's verification (`--verify`): each statistic beside its refined and stiff-contact
+/// values, the statistics not converged first.
+fn verification_section(h: &mut String, v: &serde_json::Value) {
+    if v.is_null() {
+        return;
+    }
+    h.push_str("<h2>Verification: the numbers against a refined run and a stiffer contact</h2>\n");
+    let _ = writeln!(
+        h,
+        "<p>Refined: {} modes per wire at Δt {} s (the run: {} at {} s). Model check: the contact {} N/m at Δt {} s (the run's {} N/m). A statistic is converged when the refinement moves it by no more than its tolerance.</p>",
+        num(&v["refined"]["modes_per_wire"]),
+        num(&v["refined"]["dt_s"]),
+        num(&v["run"]["modes_per_wire"]),
+        num(&v["run"]["dt_s"]),
+        num(&v["stiff_contact"]["contact_stiffness_n_per_m"]),
+        num(&v["stiff_contact"]["dt_s"]),
+        num(&v["run"]["contact_stiffness_n_per_m"]),
+    );
+    let not: Vec<String> = v["not_converged"]
+        .as_array()
+        .map(|a| a.iter().map(num).collect())
+        .unwrap_or_default();
+    if not.is_empty() {
+        h.push_str("<p>Every statistic is converged to its tolerance.</p>\n");
+    } else {
+        h.push_str(
+            "<div class=\"warn\"><p><strong>Not converged to their tolerance:</strong></p><ul>",
+        );
+        for n in &not {
+            let _ = write!(h, "<li>{}</li>", esc(n));
+        }
+        h.push_str("</ul></div>\n");
+    }
+    let mut rows = Vec::new();
+    for p in v["pantographs"].as_array().into_iter().flatten() {
+        for s in p["statistics"].as_array().into_iter().flatten() {
+            let pct = |k: &str| format!("{:+.2} %", s[k].as_f64().unwrap_or(f64::NAN));
+            rows.push(vec![
+                p["name"].as_str().unwrap_or("").into(),
+                format!(
+                    "{} [{}]",
+                    s["statistic"].as_str().unwrap_or(""),
+                    s["unit"].as_str().unwrap_or("")
+                ),
+                num(&s["value"]),
+                num(&s["refined"]),
+                pct("change_percent"),
+                format!("{} %", num(&s["tolerance_percent"])),
+                if s["converged"].as_bool() == Some(true) {
+                    "yes".into()
+                } else {
+                    "NO".into()
+                },
+                num(&s["stiff_contact"]),
+                pct("stiff_contact_change_percent"),
+            ]);
+        }
+    }
+    table(
+        h,
+        "Each statistic, refined and with the contact twice as stiff",
+        &[
+            "pantograph",
+            "statistic",
+            "value",
+            "refined",
+            "change",
+            "tolerance",
+            "converged",
+            "stiff contact",
+            "change",
+        ],
+        &rows,
+    );
+}
+
+/// The run's sensitivity (`--sensitivity`): each statistic's band over the case's ranged values
+/// and the values that move it most, the ranges with their reasons, and the runs not made.
+fn sensitivity_section(h: &mut String, s: &serde_json::Value) {
+    if s.is_null() {
+        return;
+    }
+    h.push_str("<h2>Sensitivity: the statistics over the case's ranged values</h2>\n");
+    let params = s["parameters"].as_array().cloned().unwrap_or_default();
+    let _ = writeln!(
+        h,
+        "<p>{} ranged values, each run at its low and its high end (the others at the case's values), then {} runs with all of them drawn at once (seed {}). The band is the smallest and largest value over the case's run and every run of the study; the figure <code>sensitivity_*.svg</code> shows what moves σ.</p>",
+        params.len(),
+        num(&s["spec"]["samples"]),
+        num(&s["spec"]["seed"]),
+    );
+    let lists = [
+        ("Runs that could not be made", &s["failed"]),
+        ("Runs with an error-level event", &s["events"]),
+        ("Not varied", &s["not_varied"]),
+    ];
+    for (what, list) in lists {
+        let items: Vec<String> = list
+            .as_array()
+            .map(|a| a.iter().map(num).collect())
+            .unwrap_or_default();
+        if !items.is_empty() {
+            let _ = write!(h, "<div class=\"warn\"><p><strong>{what}:</strong></p><ul>");
+            for n in &items {
+                let _ = write!(h, "<li>{}</li>", esc(n));
+            }
+            h.push_str("</ul></div>\n");
+        }
+    }
+    let mut rows = Vec::new();
+    for p in s["pantographs"].as_array().into_iter().flatten() {
+        for b in p["statistics"].as_array().into_iter().flatten() {
+            let movers: Vec<String> = b["movers"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .take(3)
+                .map(|m| {
+                    format!(
+                        "{} ({:+.3})",
+                        m["path"].as_str().unwrap_or(""),
+                        m["swing"].as_f64().unwrap_or(f64::NAN)
+                    )
+                })
+                .collect();
+            rows.push(vec![
+                p["name"].as_str().unwrap_or("").into(),
+                format!(
+                    "{} [{}]",
+                    b["statistic"].as_str().unwrap_or(""),
+                    b["unit"].as_str().unwrap_or("")
+                ),
+                num(&b["value"]),
+                num(&b["low"]),
+                num(&b["high"]),
+                movers.join("; "),
+            ]);
+        }
+    }
+    table(
+        h,
+        "Each statistic's band and the values that move it most (low end to high end)",
+        &[
+            "pantograph",
+            "statistic",
+            "value",
+            "band low",
+            "band high",
+            "moved most by",
+        ],
+        &rows,
+    );
+    let prow: Vec<Vec<String>> = params
+        .iter()
+        .map(|p| {
+            vec![
+                p["path"].as_str().unwrap_or("").into(),
+                num(&p["value"]),
+                format!("{} – {}", num(&p["low"]), num(&p["high"])),
+                num(&p["source"]),
+                num(&p["range_source"]),
+            ]
+        })
+        .collect();
+    table(
+        h,
+        "The ranged values",
+        &["value", "case", "range", "source", "why this range"],
+        &prow,
+    );
+}
+
+/// Each pantograph's passage through each overlap of a line.
+fn overlaps_section(h: &mut String, pans: &[serde_json::Value]) {
+    // Overlaps.
+    let mut orows = Vec::new();
+    for p in pans {
+        for o in p["overlaps"].as_array().into_iter().flatten() {
+            orows.push(vec![
+                p["name"].as_str().unwrap_or("").to_string(),
+                format!("{}–{}", num(&o["section_m"][0]), num(&o["section_m"][1])),
+                num(&o["max_force_n"]),
+                num(&o["min_force_n"]),
+                num(&o["loss_of_contact_percent"]),
+                match o["transfer_m"].as_array() {
+                    Some(t) if t.len() == 2 => format!("{}–{}", num(&t[0]), num(&t[1])),
+                    _ => "—".into(),
+                },
+                num(&o["min_clearance_mm"]),
+                num(&o["max_uplift_at_support_mm"]),
+            ]);
+        }
+    }
+    if !orows.is_empty() {
+        h.push_str("<h2>Passages through the overlaps</h2>\n");
+        table(
+            h,
+            "Each pantograph in each overlap",
+            &[
+                "pantograph",
+                "overlap [m]",
+                "max [N]",
+                "min [N]",
+                "loss [%]",
+                "transfer [m]",
+                "idle wire's clearance [mm]",
+                "uplift [mm]",
+            ],
+            &orows,
+        );
+    }
+}
+
+/// The ten worst droppers inside the analysis section (from droppers.csv, when written).
+fn droppers_section(h: &mut String, dir: &Path, summary: &serde_json::Value) {
+    // Droppers: the worst inside the analysis section, as the terminal lists them (outside it the
+    // pantographs start and stop: those droppers carry the run's transients, not a passage).
+    if let Ok(text) = std::fs::read_to_string(dir.join("droppers.csv")) {
+        let section = [
+            summary["analysis_section_m"][0]
+                .as_f64()
+                .unwrap_or(f64::NEG_INFINITY),
+            summary["analysis_section_m"][1]
+                .as_f64()
+                .unwrap_or(f64::INFINITY),
+        ];
+        let mut r = csv::Reader::from_reader(text.as_bytes());
+        let mut rows: Vec<Vec<String>> = r
+            .records()
+            .filter_map(|x| x.ok())
+            .map(|x| x.iter().map(str::to_owned).collect::<Vec<_>>())
+            .filter(|r| {
+                r.get(1)
+                    .and_then(|v| v.parse::<f64>().ok())
+                    .is_some_and(|x| x >= section[0] && x <= section[1])
+            })
+            .collect();
+        let key = |r: &Vec<String>| -> f64 {
+            r.get(9)
+                .and_then(|v| v.parse().ok())
+                .or_else(|| r.get(8).and_then(|v| v.parse().ok()))
+                .unwrap_or(0.0)
+        };
+        rows.sort_by(|a, b| key(b).total_cmp(&key(a)));
+        rows.truncate(10);
+        h.push_str("<h2>Droppers</h2>\n");
+        table(
+            h,
+            &format!(
+                "The ten worst droppers inside the analysis section {}–{} m (by damage, else by the largest tension range; every dropper in droppers.csv)",
+                num(&summary["analysis_section_m"][0]),
+                num(&summary["analysis_section_m"][1])
+            ),
+            &["#", "x [m]", "wire", "preload [N]", "min [N]", "max [N]", "slack steps", "cycles", "largest range [N]", "damage"],
+            &rows,
+        );
+    }
+}
+
+/// The page's Content-Security-Policy: no script, no outside resource of any kind; only its own
+/// inline style (and inline SVG, which is part of the page).
+const CSP: &str = "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; script-src 'none'; object-src 'none'; base-uri 'none'; form-action 'none'; style-src 'unsafe-inline'\">";
+
+/// Files changed after pcsim wrote them (their hashes differ from the manifest's), said at the top
+/// of the page: what the page shows of them is what they hold now, not what the run wrote.
+fn edited_box(h: &mut String, dir: &Path, m: &crate::output::Manifest) {
+    let edited = crate::output::edited_files(dir, m);
+    if edited.is_empty() {
+        return;
+    }
+    h.push_str("<section class=\"errors\" id=\"edited\"><h2>Files changed after the run</h2><ul>");
+    for f in &edited {
+        let _ = write!(h, "<li><code>{}</code></li>", esc(f));
+    }
+    h.push_str("</ul><p>Their bytes are no longer those pcsim wrote (the manifest records each file's hash): this page shows them as they are now, which is not what the run wrote. Run the case again for a report of it.</p></section>\n");
+}
+
+/// The error-level events of a run or a study (a dewirement, contact lost over the limit), in a
+/// box of their own at the top of the page: its numbers describe a run that is not acceptable as
+/// it is.
+fn errors_box(h: &mut String, errors: &[String]) {
+    if errors.is_empty() {
+        return;
+    }
+    h.push_str("<section class=\"errors\" id=\"errors\"><h2>Errors of the run</h2><ul>");
+    for e in errors {
+        let _ = write!(h, "<li>{}</li>", esc(e));
+    }
+    h.push_str("</ul><p>The statistics below come from this run; they describe it with these events, and the run is not accepted as it is.</p></section>\n");
+}
+
+/// The error-level events of a study's directory: a Monte Carlo study's answer's failures and
+/// warnings (its montecarlo.json read back through its type).
+fn study_errors(dir: &Path, kind: StudyKind) -> Result<Vec<String>> {
+    match kind {
+        StudyKind::MonteCarlo => {
+            let a =
+                MonteCarloStudy::answer(&typed::<MonteCarloOutput>(&dir.join("montecarlo.json"))?);
+            Ok(a.failures.into_iter().chain(a.warnings).collect())
+        }
+        StudyKind::Run
+        | StudyKind::Eva
+        | StudyKind::Window
+        | StudyKind::Realtime
+        | StudyKind::Compare
+        | StudyKind::Design
+        | StudyKind::PantographFrf
+        | StudyKind::PantographFit => Ok(Vec::new()),
+    }
+}
+
+/// An output file read back through the type that wrote it (the error names the file).
+fn typed<T: serde::de::DeserializeOwned>(p: &Path) -> Result<T> {
+    let text =
+        std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?;
+    serde_json::from_str(&text).with_context(|| format!("{} is not pcsim's output", p.display()))
+}
+
+/// A study's typed answer (its headline, its values, what it does not establish).
+fn answer_section(h: &mut String, a: &Answer) {
+    let _ = writeln!(h, "<h2 id=\"answer\">The answer: {}</h2>", esc(&a.headline));
+    let rows: Vec<Vec<String>> = (a.rows.iter())
+        .map(|(w, v)| vec![w.trim().to_string(), v.clone()])
+        .collect();
+    table(h, "the answer", &["", "value"], &rows);
+}
+
+/// The run against the acceptance criteria: the assessment `pcsim assess` wrote into the
+/// directory (with its supply system and the user's criteria), else the built-in criteria
+/// without a supply system (from `summary`, the run's summary.json as read).
+fn assessment(h: &mut String, dir: &Path, summary: &str) -> Result<()> {
+    use pcsim_core::analysis::assess::{assess, AssessInput, Assessment};
+    h.push_str("<h2>Acceptance criteria</h2>\n");
+    let path = dir.join("assessment.json");
+    let a: serde_json::Value = match std::fs::read_to_string(&path) {
+        Ok(text) => serde_json::from_str(&text)
+            .with_context(|| format!("{} is not valid JSON", path.display()))?,
+        Err(_) => {
+            let input = AssessInput::from_summary_json(summary)
+                .map_err(|e| anyhow::anyhow!("summary.json: {e}"))?;
+            let r: Assessment = assess(&input, &pcsim_core::input::criteria::builtin(), None);
+            h.push_str("<p>Assessed here with the built-in criteria and no supply system: <code>pcsim assess DIR --system …</code> assesses the criteria that depend on it, and adds your own with <code>--criteria</code>.</p>\n");
+            serde_json::to_value(&r)?
+        }
+    };
+    let _ = writeln!(
+        h,
+        "<p>Supply system: {}. A criterion whose limit pcsim cannot cite from a public text has no limit here: its row gives the run's value only, and the run is not accepted on it.</p>",
+        esc(a["system"].as_str().unwrap_or("not given"))
+    );
+    let rows: Vec<Vec<String>> = a["rows"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .map(|r| {
+            let verdict = match (r["verdict"].as_str(), r["deviation_percent"].as_f64()) {
+                (Some("deviation"), Some(d)) => format!("{d:+.1} % of the target"),
+                (Some(v), _) => v.replace('-', " "),
+                _ => "—".into(),
+            };
+            vec![
+                r["id"].as_str().unwrap_or("").into(),
+                r["pantograph"].as_str().unwrap_or("(run)").into(),
+                format!("{} {}", num(&r["value"]), r["unit"].as_str().unwrap_or("")),
+                if r["limit"].is_null() {
+                    "—".to_string()
+                } else {
+                    format!(
+                        "{} ({})",
+                        num(&r["limit"]),
+                        r["limit_formula"].as_str().unwrap_or("")
+                    )
+                },
+                verdict,
+                r["status"].as_str().unwrap_or("").into(),
+                r["clause"].as_str().unwrap_or("").into(),
+                r["source"].as_str().unwrap_or("").into(),
+            ]
+        })
+        .collect();
+    table(
+        h,
+        "Each criterion, per pantograph",
+        &[
+            "criterion",
+            "pantograph",
+            "value",
+            "limit",
+            "verdict",
+            "status",
+            "clause",
+            "source",
+        ],
+        &rows,
+    );
+    let skipped: Vec<String> = a["skipped"]
+        .as_array()
+        .map(|x| x.iter().map(num).collect())
+        .unwrap_or_default();
+    if !skipped.is_empty() {
+        h.push_str("<p>Not applied:</p><ul>");
+        for s in &skipped {
+            let _ = write!(h, "<li>{}</li>", esc(s));
+        }
+        h.push_str("</ul>\n");
+    }
+    let n_err = a["run_errors"].as_array().map_or(0, Vec::len);
+    let _ = writeln!(
+        h,
+        "<p><strong>{} met, {} not met, {} without a verdict{}.</strong></p>",
+        a["met"],
+        a["not_met"],
+        a["without_verdict"],
+        if n_err > 0 {
+            format!("; the run had {n_err} error-level event(s) (at the top of the page): it is not accepted")
+        } else {
+            String::new()
+        }
+    );
+    Ok(())
+}
+
+/// The case as given (`case.toml`), every value with its source; `overrides` are the flags that
+/// changed it for this run.
+fn provenance(h: &mut String, dir: &Path, overrides: &[String]) -> Result<()> {
+    h.push_str("<h2>The case: every value and its source</h2>\n");
+    let Ok(text) = std::fs::read_to_string(dir.join("case.toml")) else {
+        h.push_str("<p>This directory has no case.toml (made by an older pcsim, or by a command that does not write it): see the case file or preset it was made from.</p>\n");
+        return Ok(());
+    };
+    if let Ok(m) = crate::output::read_complete_manifest(dir) {
+        if crate::output::edited_files(dir, &m)
+            .iter()
+            .any(|f| f == "case.toml")
+        {
+            h.push_str("<p class=\"edited\"><strong>case.toml was changed after the run</strong> (its hash is not the manifest's): the table shows the file as it is now, not the case that was run.</p>\n");
+        }
+    }
+    let (case, prov) =
+        pcsim_core::Case::from_toml_str(&text).map_err(|e| anyhow::anyhow!("case.toml: {e}"))?;
+    let value: toml::Value =
+        toml::from_str(&case.to_toml_string()).context("the case does not write back as TOML")?;
+    let mut rows = Vec::new();
+    flatten("", &value, &mut rows);
+    let rows: Vec<Vec<String>> = rows
+        .into_iter()
+        .map(|(p, v)| {
+            let src = prov
+                .get(&p)
+                .cloned()
+                .unwrap_or_else(|| "— (no source given)".into());
+            vec![p, v, src]
+        })
+        .collect();
+    if !overrides.is_empty() {
+        let _ = writeln!(
+            h,
+            "<p>Overridden on the command line: {} (the table shows the case as given).</p>",
+            esc(&overrides.join(", "))
+        );
+    }
+    table(h, "Provenance", &["field", "value", "source"], &rows);
+    Ok(())
+}
+
+/// Close the page, write it and list it in the manifest.
+fn finish(dir: &Path, mut h: String) -> Result<PathBuf> {
+    h.push_str("</body></html>\n");
+    let path = dir.join("report.html");
+    // Through a temporary file and a rename: a full disk leaves the previous report (or none),
+    // never a truncated one, and no temporary file.
+    crate::output::write_file_atomic(&path, h)?;
+    add_to_manifest(dir, std::slice::from_ref(&path))?;
+    Ok(path)
+}
+
+/// Every SVG figure of the directory, inline, with its caption.
+fn figures(h: &mut String, dir: &Path, files: &[String]) -> Result<()> {
+    h.push_str("<h2>Figures</h2>\n");
+    let mut n_fig = 0;
+    for f in files.iter().filter(|f| f.ends_with(".svg")) {
+        let text = std::fs::read_to_string(dir.join(f))
+            .with_context(|| format!("cannot read {}", dir.join(f).display()))?;
+        // Never copied verbatim: rebuilt from the whitelist of drawing elements.
+        let svg = crate::svg_safe::sanitize(&text).with_context(|| f.clone())?;
+        let stem = f.trim_end_matches(".svg");
+        let _ = writeln!(
+            h,
+            "<figure id=\"{}\">{}<figcaption>{}</figcaption></figure>",
+            esc(stem),
+            svg,
+            esc(&caption(stem))
+        );
+        n_fig += 1;
+    }
+    if n_fig == 0 {
+        h.push_str("<p>No figures: the directory was written without them (<code>pcsim plot DIR</code> draws them).</p>\n");
+    }
+    Ok(())
+}
+
+/// The most rows of a study's table shown in the report (every row is in its CSV).
+const MAX_ROWS: usize = 200;
+
+/// The report of a study's directory (eva, window, realtime, Monte Carlo, compare): its manifest's
+/// description, each of its top-level tables, every figure.
+fn write_study(dir: &Path, m: &crate::output::Manifest) -> Result<PathBuf> {
+    let mut h = String::new();
+    let _ = write!(
+        h,
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">{CSP}<title>pcsim report: {} {}</title>\n<style>{}</style></head><body>\n",
+        esc(m.kind.name()),
+        esc(&dir.display().to_string()),
+        STYLE
+    );
+    let _ = write!(
+        h,
+        "<h1>pcsim {}: {}</h1>\n<p class=\"meta\">pcsim {} · <code>{}</code></p>\n",
+        esc(m.kind.name()),
+        esc(&dir.display().to_string()),
+        esc(&m.version),
+        esc(m.value["command"]
+            .as_str()
+            .unwrap_or("(command line not recorded)"))
+    );
+    edited_box(&mut h, dir, m);
+    errors_box(&mut h, &study_errors(dir, m.kind)?);
+    // The answer first (issue 42, item 6), then the figures, then the tables.
+    study_answer(&mut h, dir, m.kind)?;
+    figures(&mut h, dir, &m.files)?;
+    let described: Vec<Vec<String>> = m
+        .value
+        .as_object()
+        .map(|o| {
+            o.iter()
+                .filter(|(k, _)| {
+                    !matches!(k.as_str(), "files" | "complete" | "kind" | "pcsim_version")
+                })
+                .map(|(k, v)| vec![k.clone(), num(v)])
+                .collect()
+        })
+        .unwrap_or_default();
+    if !described.is_empty() {
+        table(
+            &mut h,
+            "What the directory holds",
+            &["item", "value"],
+            &described,
+        );
+    }
+    for f in m.files.iter().filter(|f| {
+        // A design's force traces are its figures' data, not a table to read.
+        f.ends_with(".csv")
+            && !f.contains('/')
+            && !(m.kind == StudyKind::Design && *f == "traces.csv")
+    }) {
+        let text = std::fs::read_to_string(dir.join(f))
+            .with_context(|| format!("cannot read {}", dir.join(f).display()))?;
+        // Parsed as CSV (a design's journal quotes fields with commas).
+        let mut r = csv::ReaderBuilder::new()
+            .flexible(true)
+            .from_reader(text.as_bytes());
+        let head: Vec<String> = r.headers()?.iter().map(String::from).collect();
+        let head: Vec<&str> = head.iter().map(String::as_str).collect();
+        let rows: Vec<Vec<String>> = r
+            .records()
+            .take(MAX_ROWS)
+            .map(|x| Ok(x?.iter().map(String::from).collect()))
+            .collect::<Result<_>>()?;
+        let total = text.lines().count().saturating_sub(1);
+        let cap = if total > MAX_ROWS {
+            format!("{f} (the first {MAX_ROWS} of {total} rows)")
+        } else {
+            f.clone()
+        };
+        let _ = writeln!(h, "<h2>{}</h2>", esc(f));
+        table(&mut h, &cap, &head, &rows);
+    }
+    // The study's base case: the grid's flags (speeds, tensions, …) vary it, as the command says.
+    provenance(&mut h, dir, &[])?;
+    finish(dir, h)
+}
+
+/// The columns `cols` (name, heading) of `dir/file`, each row's values as written (none when the
+/// file or a column is missing).
+fn csv_columns(dir: &Path, file: &str, cols: &[(&str, &str)]) -> Result<Option<Vec<Vec<String>>>> {
+    let p = dir.join(file);
+    if !p.exists() {
+        return Ok(None);
+    }
+    let mut r =
+        csv::Reader::from_path(&p).with_context(|| format!("cannot read {}", p.display()))?;
+    let head: Vec<String> = r.headers()?.iter().map(String::from).collect();
+    let Some(idx) = cols
+        .iter()
+        .map(|(c, _)| head.iter().position(|h| h == c))
+        .collect::<Option<Vec<usize>>>()
+    else {
+        return Ok(None);
+    };
+    let mut rows = Vec::new();
+    for rec in r.records().take(MAX_ROWS) {
+        let rec = rec?;
+        rows.push(
+            idx.iter()
+                .map(|&i| rec.get(i).unwrap_or("").to_string())
+                .collect(),
+        );
+    }
+    Ok(Some(rows))
+}
+
+/// A study's answer, first in its report (issue 42, item 6): the EVA per case, the window
+/// length, the real-time window against the full model, the run beside the measurement side by
+/// side, the Monte Carlo mean with its 95 % interval.
+fn study_answer(h: &mut String, dir: &Path, kind: StudyKind) -> Result<()> {
+    let (title, file, cols): (&str, &str, &[(&str, &str)]) = match kind {
+        StudyKind::Eva => (
+            "The answer: the effective vibration area of each case",
+            "eva.csv",
+            &[
+                ("speed_kmh", "km/h"),
+                ("tension_kn", "kN"),
+                ("damping", "damping"),
+                ("eva_step_m", "EVA, the paper's step criterion [m]"),
+                ("eva_fraction_m", "EVA, the fraction of the energy [m]"),
+                ("converged_energy_j", "converged energy [J]"),
+                ("total_energy_j", "whole model [J]"),
+            ],
+        ),
+        StudyKind::Window => (
+            "The answer: the shortest window that matches the full model",
+            "window.csv",
+            &[
+                ("speed_kmh", "km/h"),
+                ("tension_kn", "kN"),
+                ("damping", "damping"),
+                ("length_m", "window length [m]"),
+                ("mean_err_pct", "Δ mean [%]"),
+                ("sigma_err_pct", "Δ σ [%]"),
+                ("max_err_pct", "Δ max [%]"),
+                ("fine_checked_to_m", "every window checked up to [m]"),
+            ],
+        ),
+        StudyKind::Realtime => (
+            "The answer: the real-time window against the full model",
+            "realtime.csv",
+            &[
+                ("window_m", "window [m]"),
+                ("mean_n", "mean [N]"),
+                ("std_n", "σ [N]"),
+                ("mean_error_percent", "Δ mean [%]"),
+                ("std_error_percent", "Δ σ [%]"),
+                ("max_error_percent", "Δ max [%]"),
+                ("full_mean_n", "full model, this pantograph alone: mean [N]"),
+                ("full_std_n", "full model, this pantograph alone: σ [N]"),
+            ],
+        ),
+        StudyKind::Compare => (
+            "The answer: the run beside the measurement",
+            "compare_stats.csv",
+            &[
+                ("quantity", "quantity"),
+                ("run", "run"),
+                ("measured", "measured"),
+                ("difference", "difference"),
+            ],
+        ),
+        StudyKind::MonteCarlo => return montecarlo_answer(h, dir),
+        StudyKind::PantographFit => return fit_answer(h, dir),
+        StudyKind::Design => return design_section(h, dir),
+        StudyKind::Run => return Ok(()),
+        StudyKind::PantographFrf => (
+            "The answer: the pantograph's response at the head",
+            "frf.csv",
+            &[
+                ("frequency_hz", "frequency [Hz]"),
+                ("magnitude_kg", "apparent mass [kg]"),
+                ("phase_deg", "phase [°]"),
+            ],
+        ),
+    };
+    if let Some(rows) = csv_columns(dir, file, cols)? {
+        let _ = writeln!(h, "<h2 id=\"answer\">{}</h2>", esc(title));
+        let head: Vec<&str> = cols.iter().map(|(_, l)| *l).collect();
+        table(h, file, &head, &rows);
+    }
+    Ok(())
+}
+
+/// A JSON file of an output directory, parsed (the error names the file).
+fn json_file(p: &Path) -> Result<serde_json::Value> {
+    let text =
+        std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?;
+    serde_json::from_str(&text).with_context(|| format!("{} is not JSON", p.display()))
+}
+
+/// A pantograph fit's answer: each fitted value with its uncertainty and start, the residual
+/// (fit.json).
+fn fit_answer(h: &mut String, dir: &Path) -> Result<()> {
+    let p = dir.join("fit.json");
+    if !p.exists() {
+        return Ok(());
+    }
+    let v = json_file(&p)?;
+    let _ = writeln!(
+        h,
+        "<h2 id=\"answer\">The answer: the pantograph fitted to {} (residual {} RMS, from {} at the start)</h2>",
+        esc(v["source"].as_str().unwrap_or("")),
+        num(&v["residual_rms"]),
+        num(&v["start_residual_rms"])
+    );
+    let rows: Vec<Vec<String>> = v["parameters"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .map(|q| {
+            vec![
+                q["name"].as_str().unwrap_or("").to_string(),
+                num(&q["value"]),
+                num(&q["std"]),
+                num(&q["start"]),
+                if q["at_bound"].as_bool() == Some(true) {
+                    "at its bound".into()
+                } else {
+                    String::new()
+                },
+            ]
+        })
+        .collect();
+    table(
+        h,
+        "fit.json",
+        &["parameter", "fitted", "± (1 σ)", "start", ""],
+        &rows,
+    );
+    Ok(())
+}
+
+/// A Monte Carlo study's answer (montecarlo.json read back through its type): the answer the
+/// terminal gave, then each statistic's mean over the realisations with its 95 % confidence
+/// interval (Student's t), the spread and the extremes.
+fn montecarlo_answer(h: &mut String, dir: &Path) -> Result<()> {
+    let o: MonteCarloOutput = typed(&dir.join("montecarlo.json"))?;
+    answer_section(h, &MonteCarloStudy::answer(&o));
+    let opt = |x: Option<f64>| x.map_or("—".into(), |v| format!("{v}"));
+    let mut rows = Vec::new();
+    for (pan, stats) in &o.statistics {
+        for (name, s) in stats {
+            let Some(s) = s else { continue };
+            rows.push(vec![
+                pan.clone(),
+                name.clone(),
+                format!("{}", s.mean),
+                format!("{} – {}", opt(s.ci95_low), opt(s.ci95_high)),
+                opt(s.std),
+                format!("{} – {}", s.min, s.max),
+                s.n.to_string(),
+            ]);
+        }
+    }
+    table(
+        h,
+        "montecarlo.json",
+        &[
+            "pantograph",
+            "statistic",
+            "mean",
+            "95 % interval of the mean",
+            "σ over the realisations",
+            "min – max",
+            "n",
+        ],
+        &rows,
+    );
+    Ok(())
+}
+
+/// A design search's answer (its design.json, the core's `DesignResult::to_json`): the best
+/// design, the sensitivity, the constraints.
+fn design_section(h: &mut String, dir: &Path) -> Result<()> {
+    let p = dir.join("design.json");
+    let v = json_file(&p)?;
+    let _ = writeln!(h, "<h2 id=\"answer\">The answer</h2>");
+    // One row per element of a JSON list (none: no rows).
+    let rows_of = |list: &serde_json::Value, row: &dyn Fn(&serde_json::Value) -> Vec<String>| {
+        list.as_array()
+            .map_or(Vec::new(), |a| a.iter().map(row).collect::<Vec<_>>())
+    };
+    let as_text = |x: &serde_json::Value| x.as_str().unwrap_or("").to_string();
+    let paths: Vec<String> = v["variables"].as_array().map_or(Vec::new(), |a| {
+        a.iter().map(|x| as_text(&x["path"])).collect()
+    });
+    if v["answer"] == "infeasible" || v["best_evaluated"].is_null() {
+        let _ = writeln!(
+            h,
+            "<p><b>Infeasible</b>: none of the designs evaluated meets the constraints; there is no best design. The least violating: {}.</p>",
+            esc(&v["least_violating"]["violated"].to_string())
+        );
+        return Ok(());
+    }
+    let improved = !v["best"].is_null();
+    if !improved {
+        let _ = writeln!(
+            h,
+            "<p><b>No improvement found</b>: no design evaluated beats the base design (objective {}); the best evaluated (evaluation {}) has objective {}. No design is recommended: keep the base, or search a wider range or with more evaluations.</p>",
+            num(&v["base"]["objective"]),
+            num(&v["best_evaluated"]["index"]),
+            num(&v["best_evaluated"]["objective"]),
+        );
+    }
+    let best = &v["best_evaluated"];
+    let base = &v["base"];
+    let mut rows: Vec<Vec<String>> = paths
+        .iter()
+        .enumerate()
+        .map(|(k, p)| vec![p.clone(), num(&best["x"][k]), num(&base["x"][k])])
+        .collect();
+    rows.push(vec![
+        "objective".into(),
+        num(&best["objective"]),
+        num(&base["objective"]),
+    ]);
+    let base_feasible = base["violation"] == 0.0 && base["error"].is_null();
+    rows.push(vec![
+        "feasible".into(),
+        "yes".into(),
+        if base_feasible { "yes" } else { "no" }.into(),
+    ]);
+    table(
+        h,
+        &format!(
+            "The best design {}(evaluation {}; confirmation run {})",
+            if improved {
+                ""
+            } else {
+                "evaluated, not recommended "
+            },
+            num(&best["index"]),
+            if v["confirmation"]["same_as_search"] == true {
+                "equal to the search's"
+            } else {
+                "DIFFERENT from the search's"
+            }
+        ),
+        &["", "best", "base"],
+        &rows,
+    );
+    let sens = rows_of(&v["sensitivity"], &|s| {
+        vec![
+            as_text(&s["path"]),
+            num(&s["step"]),
+            num(&s["objective_below"]),
+            num(&s["objective_above"]),
+            s["at_bound"]
+                .as_str()
+                .map_or(String::new(), |b| format!("at its {b} bound")),
+        ]
+    });
+    table(
+        h,
+        "Sensitivity: the objective one step below and above the best design",
+        &[
+            "variable",
+            "step",
+            "objective below",
+            "objective above",
+            "note",
+        ],
+        &sens,
+    );
+    let cons = rows_of(&v["constraints"], &|c| {
+        let active = if c["active"] == true {
+            "active"
+        } else {
+            "inactive"
+        };
+        vec![
+            as_text(&c["name"]),
+            num(&c["value"]),
+            num(&c["limit"]),
+            num(&c["margin"]),
+            active.to_string(),
+        ]
+    });
+    if !cons.is_empty() {
+        table(
+            h,
+            "Constraints at the best design (active: violated one step away)",
+            &["constraint", "value", "limit", "margin", ""],
+            &cons,
+        );
+    }
+    Ok(())
+}
+
+/// Every leaf of a TOML value as (dotted path, value).
+fn flatten(prefix: &str, v: &toml::Value, out: &mut Vec<(String, String)>) {
+    match v {
+        toml::Value::Table(t) => {
+            for (k, x) in t {
+                let p = if prefix.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{prefix}.{k}")
+                };
+                flatten(&p, x, out);
+            }
+        }
+        toml::Value::Array(a) if a.iter().any(|x| x.is_table()) => {
+            for (i, x) in a.iter().enumerate() {
+                flatten(&format!("{prefix}[{i}]"), x, out);
+            }
+        }
+        other => out.push((prefix.to_string(), other.to_string())),
+    }
+}
+
+/// The page's own style (no external sheet).
+const STYLE: &str = "body{font-family:sans-serif;max-width:1250px;margin:2em auto;color:#222}\
+h1{font-size:1.6em}h2{margin-top:1.6em;border-bottom:1px solid #ccc}\
+.meta{color:#555}code{background:#f3f3f3;padding:0 .2em}\
+table{border-collapse:collapse;margin:.8em 0}caption{text-align:left;font-weight:bold;margin-bottom:.3em}\
+th,td{border:1px solid #bbb;padding:.2em .5em;font-size:.9em}th{background:#eee}\
+td:nth-child(n+2){font-variant-numeric:tabular-nums}\
+.errors{border:2px solid #b00;background:#fff0f0;padding:0 1em;margin:1em 0}.errors h2{color:#b00;border:none}\
+.warn{border:2px solid #b60;background:#fff8ec;padding:0 1em;margin:1em 0}\
+figure{margin:1.2em 0}figure svg{width:100%;height:auto}figcaption{color:#444;font-size:.9em}";
