@@ -10,17 +10,16 @@ use pyo3::types::{PyDict, PyList, PyTuple};
 
 use pcsim_core::analysis::eva::{EvaRow, EvaSettings};
 use pcsim_core::analysis::events::{run_errors, AllowedErrors, RunErrorKind};
-use pcsim_core::analysis::record::{simulate, RunOutput};
-use pcsim_core::analysis::report::{timeseries_columns, RunSummary};
+use pcsim_core::analysis::report::timeseries_columns;
 use pcsim_core::analysis::sweep::{parallel_map, Shard};
 use pcsim_core::compile::Budget;
 use pcsim_core::input::overrides::{with_overrides, OverrideValue};
+use pcsim_core::presets;
 use pcsim_core::session::{Coupling, RealtimeSession};
 use pcsim_core::study::specs::{EvaSweepSpec, GridSpec, WindowSweepSpec};
 use pcsim_core::study::sweeps::{run_quietly, validation_runs, WindowRow};
 use pcsim_core::study::validate::ValidationPlan;
 use pcsim_core::study::window_search::Tolerances;
-use pcsim_core::{presets, Setup};
 
 fn err(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(e.to_string())
@@ -210,22 +209,16 @@ fn to_py<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, PyAny>> {
     })
 }
 
-/// A run handed to Python: the summary as JSON text, the time-series columns, and the message
-/// of the first error-level event that `allowed` does not accept (None: the run is accepted;
-/// the Python half raises `RunEventError` with the result, as the CLI exits 2 with its outputs).
+/// A run handed to Python: its summary (the core's `RunSummary`, the CLI's summary.json), its
+/// time-series columns as numpy arrays, and the reason it is refused (an error-level event not
+/// accepted) if it is.
 fn hand_over<'py>(
     py: Python<'py>,
-    out: &RunOutput,
-    case: &pcsim_core::Case,
-    wall_s: f64,
-    warnings: Vec<String>,
+    o: &pcsim_core::study::run::RunStudyOutput,
     allowed: AllowedErrors,
-    evidence: Evidence,
 ) -> PyResult<Bound<'py, PyTuple>> {
-    let mut summary = RunSummary::new(case, out, wall_s, Vec::new(), warnings);
-    summary.verification = evidence.verification;
-    summary.sensitivity = evidence.sensitivity;
-    let json = serde_json::to_string(&summary).map_err(err)?;
+    let json = serde_json::to_string(&o.summary).map_err(err)?;
+    let out = o.run.as_ref().expect("a run just made");
     let cols = PyList::empty(py);
     for c in timeseries_columns(out) {
         cols.append((c.name, c.values.into_pyarray(py)))?;
@@ -251,28 +244,20 @@ fn hand_over<'py>(
     )
 }
 
-/// What `run(verify=…, sensitivity=…)` adds to a run's summary.
-#[derive(Default)]
-struct Evidence {
-    verification: Option<pcsim_core::analysis::verify::Verification>,
-    sensitivity: Option<pcsim_core::analysis::sensitivity::Sensitivity>,
-}
-
-fn run_core(case: &pcsim_core::Case) -> Result<(RunOutput, f64, Vec<String>), String> {
-    run_core_with(case, 1, &mut |_| true)
-}
-
-fn run_core_with(
-    case: &pcsim_core::Case,
-    threads: usize,
-    progress: &mut dyn FnMut(f64) -> bool,
-) -> Result<(RunOutput, f64, Vec<String>), String> {
-    let mut setup = Setup::from_case(case).map_err(|e| e.to_string())?;
-    setup.options.threads = threads;
-    let warnings = setup.warnings.iter().map(|w| w.0.clone()).collect();
-    let t0 = std::time::Instant::now();
-    let out = simulate(&setup, progress).map_err(|e| e.to_string())?;
-    Ok((out, t0.elapsed().as_secs_f64(), warnings))
+/// The core's run study of `case` on `threads` (the one orchestration of a run: the CLI's too).
+fn run_study(case: &pcsim_core::Case, threads: usize) -> pcsim_core::study::run::RunStudy {
+    pcsim_core::study::run::RunStudy {
+        case: case.clone(),
+        ranges: Vec::new(),
+        fixed: Vec::new(),
+        overrides: Vec::new(),
+        spec: pcsim_core::study::run::RunSpec {
+            threads,
+            ..Default::default()
+        },
+        budget: Default::default(),
+        jobs: None,
+    }
 }
 
 /// Run one case (the interpreter is released meanwhile): `(summary_json, [(column, array)])`.
@@ -299,20 +284,8 @@ fn run<'py>(
     allow_failed_runs: bool,
 ) -> PyResult<Bound<'py, PyTuple>> {
     use pcsim_core::analysis::sensitivity::SensitivitySpec;
+    use pcsim_core::study::Study;
     let d = SensitivitySpec::default();
-    let spec = SensitivitySpec {
-        samples: sensitivity_samples.unwrap_or(d.samples),
-        seed: sensitivity_seed.unwrap_or(d.seed),
-        max_runs: sensitivity_max_runs.unwrap_or(d.max_runs),
-        allow_failed_runs,
-    };
-    if sensitivity {
-        spec.check()
-            .map_err(|e| PyValueError::new_err(format!("sensitivity_samples: {e}")))?;
-        if case.ranges.is_empty() {
-            return Err(PyValueError::new_err("sensitivity=True: the case gives no value a range (mark one as `{ value = …, source = \"…\", range = [low, high], range_source = \"why\" }`)"));
-        }
-    }
     let allowed = AllowedErrors {
         dewirement: allow_dewirement,
         contact_loss: allow_contact_loss,
@@ -335,11 +308,35 @@ fn run<'py>(
         } else {
             threads
         };
-        let c = case.inner.clone();
+        // The core's run study, as the CLI's `pcsim run` fills it.
+        let mut study = run_study(&case.inner, threads);
+        study.ranges = case.ranges.clone();
+        study.fixed = case.fixed.clone();
+        study.spec.verify = verify;
+        study.spec.allowed = allowed;
+        study.spec.sensitivity = sensitivity.then_some(SensitivitySpec {
+            samples: sensitivity_samples.unwrap_or(d.samples),
+            seed: sensitivity_seed.unwrap_or(d.seed),
+            max_runs: sensitivity_max_runs.unwrap_or(d.max_runs),
+            allow_failed_runs,
+        });
+        // Refused by the keyword's name, as the CLI names its flag.
+        study
+            .check()
+            .map_err(|e| {
+                pcsim_core::study::specs::with_flags(
+                    e,
+                    &[
+                        ("sensitivity.samples", "sensitivity_samples"),
+                        ("sensitivity.max_runs", "sensitivity_max_runs"),
+                    ],
+                )
+            })
+            .map_err(err)?;
         let mut interrupted: Option<PyErr> = None;
         let res = py.detach(|| {
             let mut last = std::time::Instant::now();
-            run_core_with(&c, threads, &mut |_| {
+            study.run_with(&mut |_| {
                 if last.elapsed() < SIGNAL_EVERY {
                     return true;
                 }
@@ -356,39 +353,11 @@ fn run<'py>(
         if let Some(e) = interrupted {
             return Err(e);
         }
-        let (out, wall, warnings) = res.map_err(err)?;
-        let mut evidence = Evidence::default();
-        let c = &case.inner;
-        if verify {
-            evidence.verification = Some(
-                py.detach(|| {
-                    pcsim_core::analysis::verify::verify(c, &out, &Default::default(), None)
-                })
-                .map_err(err)?,
-            );
+        let o = res.map_err(err)?;
+        if let Some(s) = &o.summary.sensitivity {
+            s.check().map_err(err)?;
         }
-        if sensitivity {
-            evidence.sensitivity = Some(
-                py.detach(|| {
-                    pcsim_core::analysis::sensitivity::sensitivity(
-                        c,
-                        &out,
-                        &case.ranges,
-                        &case.fixed,
-                        &spec,
-                        allowed,
-                        &Default::default(),
-                        None,
-                        &|_, _| {},
-                    )
-                })
-                .map_err(err)?,
-            );
-            if let Some(s) = &evidence.sensitivity {
-                s.check().map_err(err)?;
-            }
-        }
-        hand_over(py, &out, &case.inner, wall, warnings, allowed, evidence)
+        hand_over(py, &o, allowed)
     })
 }
 
@@ -407,20 +376,11 @@ fn run_many<'py>(
         contact_loss: allow_contact_loss,
     };
     guarded(|| {
-        let inner: Vec<pcsim_core::Case> = cases.iter().map(|c| c.inner.clone()).collect();
-        let outs = py.detach(move || parallel_map(&inner, jobs, run_core));
+        let studies: Vec<_> = cases.iter().map(|c| run_study(&c.inner, 1)).collect();
+        let outs = py.detach(move || parallel_map(&studies, jobs, |s| s.run_with(&mut |_| true)));
         let list = PyList::empty(py);
-        for (o, c) in outs.into_iter().zip(&cases) {
-            let (out, wall, w) = o.map_err(err)?;
-            list.append(hand_over(
-                py,
-                &out,
-                &c.inner,
-                wall,
-                w,
-                allowed,
-                Evidence::default(),
-            )?)?;
+        for o in outs {
+            list.append(hand_over(py, &o.map_err(err)?, allowed)?)?;
         }
         Ok(list)
     })

@@ -4,9 +4,11 @@ use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
 
-use crate::common::{apply, case_name, shown, Ctx, Override};
-use crate::output::{write_run, Summary};
-use pcsim_core::analysis::record::RunOutput;
+use crate::common::{apply, Ctx, Override};
+use pcsim_core::analysis::fatigue::SnCurve;
+use pcsim_core::analysis::record::DropperOptions;
+use pcsim_core::analysis::sensitivity::SensitivitySpec;
+use pcsim_core::study::run::{RunSpec, RunStudy};
 
 #[derive(Args)]
 pub struct RunArgs {
@@ -106,16 +108,7 @@ impl RunArgs {
 pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
     let (base, case_text) =
         crate::common::load_case_with_text(a.case.as_ref(), a.preset.as_deref())?;
-    let mut overrides = Vec::new();
-    if let Some(v) = &a.speed {
-        overrides.push(Override::speed(v)?);
-    }
-    if let Some(t) = &a.tension {
-        overrides.push(Override::tension(t)?);
-    }
-    if let Some(dt) = &a.dt {
-        overrides.push(Override::dt(dt)?);
-    }
+    let overrides = a.overrides()?;
     let mut case = apply(&base, &overrides)?;
     if let Some(f) = &a.irregularity {
         case.irregularity
@@ -128,394 +121,149 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
         threads: crate::common::threads_flag(a.threads, true)?,
         ..*ctx
     };
-    if a.verify && a.seeds.is_some() {
-        anyhow::bail!(
-            "--verify with --seeds: verify one realisation (run it alone), not the spread of many"
-        );
+    a.refuse_conflicts()?;
+    let flags: Vec<String> = overrides.iter().map(|o| o.flag.clone()).collect();
+    if a.seeds.is_some() {
+        return seeds(&a, case, &case_text, &overrides, ctx);
     }
-    if a.sensitivity && a.seeds.is_some() {
-        anyhow::bail!(
-            "--sensitivity with --seeds: vary the ranged values of one realisation (run it alone), not the spread of many"
-        );
-    }
-    let sensitivity = a
-        .sensitivity
-        .then(|| -> Result<_> {
-            let spec = pcsim_core::analysis::sensitivity::SensitivitySpec {
+    let study = RunStudy {
+        ranges: if a.sensitivity {
+            pcsim_core::Case::from_toml_str_with_ranges(&case_text)?.2
+        } else {
+            Vec::new()
+        },
+        fixed: overrides.iter().map(|o| o.path.clone()).collect(),
+        overrides: flags.clone(),
+        spec: RunSpec {
+            verify: a.verify,
+            sensitivity: a.sensitivity.then_some(SensitivitySpec {
                 samples: a.sensitivity_samples,
                 seed: a.sensitivity_seed,
                 max_runs: a.sensitivity_max_runs,
                 allow_failed_runs: a.allow_failed_runs,
-            };
-            spec.check().map_err(|e| {
-                pcsim_core::study::specs::with_flags(
-                    e,
-                    &[
-                        ("sensitivity.samples", "--sensitivity-samples"),
-                        ("sensitivity.max_runs", "--sensitivity-max-runs"),
-                    ],
-                )
-            })?;
-            let ranges = pcsim_core::Case::from_toml_str_with_ranges(&case_text)?.2;
-            if ranges.is_empty() {
-                anyhow::bail!("--sensitivity: the case gives no value a range (mark one as `{{ value = …, source = \"…\", range = [low, high], range_source = \"why\" }}`)");
-            }
-            Ok((spec, ranges))
-        })
-        .transpose()?;
-    if a.seeds.is_some() && a.threads != 1 {
-        anyhow::bail!("--threads {} with --seeds: the realisations run in parallel by --jobs; give one or the other", a.threads);
-    }
-    // The output directory is locked before the work starts: a second writer is refused at once.
-    if a.seeds.is_some() {
-        let n = crate::common::seeds_flag(a.seeds, &case)?;
-        if a.dropper_forces {
-            anyhow::bail!("--dropper-forces with --seeds {n}: the droppers' tensions are followed in one run, not gathered over realisations; run the realisation you want alone (its seeds are in montecarlo.csv) with --dropper-forces");
-        }
-        // The case refused before anything is written, naming the flags that may have caused it.
-        crate::common::setup(&case, &overrides, ctx)?;
-        let flags: Vec<String> = overrides.iter().map(|o| o.flag.clone()).collect();
-        let study = pcsim_core::study::montecarlo::MonteCarloStudy {
-            case: case.clone(),
-            spec: pcsim_core::study::specs::MonteCarloSpec {
-                realisations: n,
-                allowed: a.allowed(),
-            },
-            overrides: flags.clone(),
-            budget: ctx.budget,
-            jobs: a.jobs,
-        };
-        crate::driver::drive(
-            &study,
-            crate::driver::Drive {
-                out: &a.out,
-                case_text: Some(&case_text),
-                plot: a.plot || a.report,
-                report: a.report,
-                manifest: serde_json::json!({ "realisations": n, "overrides": flags }),
-                unit: "realisations",
-            },
-            ctx,
-        )?;
-        return Ok(0);
-    }
-    let od = crate::output::OutDir::begin(&a.out)?;
-    let droppers = a
-        .dropper_forces
-        .then(|| pcsim_core::analysis::record::DropperOptions {
-            history: true,
-            history_limit: crate::output::DROPPER_HISTORY_LIMIT,
-            curve: case
-                .dropper_fatigue
-                .as_ref()
-                .map(pcsim_core::analysis::fatigue::SnCurve::from),
-        });
-    let (out, wall, warnings) =
-        crate::common::run_with_droppers(&case, &overrides, "run", ctx, false, droppers)?;
-    for w in pcsim_core::analysis::report::run_verdicts(&out) {
-        eprintln!("warning: {w}");
-    }
-    let flags = overrides.iter().map(|o| o.flag.clone()).collect();
-    let mut summary = Summary::new(&case, &out, wall, flags, warnings);
-    if a.verify {
-        let pb =
-            crate::progress::Progress::run("verify (refined and stiff-contact runs)", ctx.progress);
-        let v = pcsim_core::analysis::verify::verify(&case, &out, &ctx.budget, a.jobs)?;
-        pb.finish();
-        summary.verification = Some(v);
-    }
-    if let Some((spec, ranges)) = &sensitivity {
-        let fixed: Vec<String> = overrides.iter().map(|o| o.path.clone()).collect();
-        let n = spec.runs_for(ranges.iter().filter(|r| !fixed.contains(&r.path)).count());
-        let workers = pcsim_core::analysis::sweep::workers(a.jobs, n);
-        eprintln!(
-            "sensitivity: {n} runs (at most {}), about {:.0} s on {workers} workers at this run's speed",
-            spec.max_runs,
-            wall * n as f64 / workers as f64
-        );
-        let pb = crate::progress::Progress::new(
-            "sensitivity",
-            n as u64,
-            ctx.progress,
-            "sensitivity [{bar:40}] {pos}/{len} runs {elapsed_precise} eta {eta}",
-        );
-        let s = pcsim_core::analysis::sensitivity::sensitivity(
-            &case,
-            &out,
-            ranges,
-            &fixed,
-            spec,
-            a.allowed(),
-            &ctx.budget,
-            a.jobs,
-            &|k, _| pb.set(k as u64),
-        )
-        .map_err(|e| {
-            pcsim_core::study::specs::with_flags(
-                e,
-                &[("sensitivity.max_runs", "--sensitivity-max-runs")],
-            )
-        })?;
-        pb.finish();
-        summary.sensitivity = Some(s);
-    }
-    write_run(od.path(), &out, &summary)?;
-    let dropper_note = crate::output::write_droppers(od.path(), &out)?;
-    // The case as given (every value with its source), for the report.
-    crate::output::write_file(&od.path().join("case.toml"), &case_text)?;
-    let plot = a.plot || a.report;
-    let files = if plot {
-        // From the files just written: exactly what `pcsim plot DIR` draws.
-        od.in_target(&crate::plot::redraw_kind(
-            od.path(),
-            pcsim_core::study::StudyKind::Run,
-        )?)
-    } else {
-        Vec::new()
+            }),
+            allowed: a.allowed(),
+            droppers: a.dropper_forces.then(|| DropperOptions {
+                history: true,
+                history_limit: pcsim_core::study::run::DROPPER_HISTORY_LIMIT,
+                curve: case.dropper_fatigue.as_ref().map(SnCurve::from),
+            }),
+            threads: ctx.threads,
+        },
+        case,
+        budget: ctx.budget,
+        jobs: a.jobs,
     };
-    od.commit()?;
-    if plot {
-        crate::plot::report(&files);
-    }
-    if a.report {
-        let p = crate::report::write(&a.out)?;
-        println!("report: {}", p.display());
-    }
-    print_run(&case, &out, &summary, wall);
-    if let Some(v) = &summary.verification {
-        print_verification(v);
-    }
-    if let Some(s) = &summary.sensitivity {
-        print_sensitivity(s);
-    }
-    println!(
-        "wrote {} and {}",
-        shown(&a.out, "summary.json"),
-        shown(&a.out, "timeseries.csv")
-    );
-    if let Some(d) = &out.droppers {
-        print_droppers(d, out.analysis_m, &a.out);
-        if let Some(note) = dropper_note {
-            println!("  {note}");
+    // Refused by its flag's name before anything is written (and by the flags that may have
+    // caused it).
+    let with_flags = |e: anyhow::Error| {
+        if overrides.is_empty() {
+            e
+        } else {
+            e.context(format!("with {}", crate::common::override_note(&overrides)))
         }
-    }
-    // Error-level events: each kind is refused (exit 2) unless its flag accepts it.
-    refuse_errors(&out, a.allowed())?;
-    // A study that produced less than it was asked: refused (exit 2), its outputs written.
-    if let Some(s) = &summary.sensitivity {
-        s.check()
-            .map_err(|e| anyhow::anyhow!("{e} (the outputs are written)"))?;
-    }
+    };
+    pcsim_core::study::Study::check(&study)
+        .map_err(|e| pcsim_core::study::specs::with_flags(e, &[("sensitivity", "--sensitivity")]))
+        .map_err(|e| with_flags(e.into()))?;
+    let drive = crate::driver::Drive {
+        out: &a.out,
+        case_text: Some(&case_text),
+        plot: a.plot || a.report,
+        report: a.report,
+        manifest: serde_json::json!({ "overrides": flags }),
+        unit: "‰",
+    };
+    crate::driver::drive(&study, drive, ctx).map_err(with_flags)?;
     Ok(0)
 }
 
-/// The run on the terminal: its speed and cost, each pantograph's statistics (and lateral
-/// motion), the irregularity and the wind.
-fn print_run(case: &pcsim_core::Case, out: &RunOutput, summary: &Summary, wall: f64) {
-    println!(
-        "{} at {} km/h: {} s simulated in {:.2} s wall ({:.1}x real time), {} modes/wire",
-        case_name(case),
-        case.run.speed_kmh,
-        summary.simulated_time_s,
-        wall,
-        out.simulated_time_s() / wall,
-        out.n_modes
-    );
-    for p in &out.pantographs {
-        match &p.stats {
-            Some(s) => println!(
-                "  {:<10} Fm {:6.1} N  σ {:5.1} N  (0-5 Hz {:4.1}, 5-20 Hz {:4.1})  max {:6.1}  min {:6.1}  uplift@support {:5.1} mm  loss {:.2} %",
-                p.name, s.mean_n, s.std_n, s.std_0_5hz_n, s.std_5_20hz_n, s.actual_max_n, s.actual_min_n, s.max_uplift_at_support_mm, s.loss_of_contact_percent
-            ),
-            None => println!("  {:<10} did not cross the analysis section", p.name),
+impl RunArgs {
+    /// The flags that override a case value, each with its unit read.
+    fn overrides(&self) -> Result<Vec<Override>> {
+        let mut o = Vec::new();
+        if let Some(v) = &self.speed {
+            o.push(Override::speed(v)?);
         }
-        for (k, st) in p.strips.iter().enumerate() {
-            if let Some(s) = &st.stats {
-                println!(
-                    "  {:<10} strip {} ({:+.2} m): Fm {:6.1} N  σ {:5.1} N  max {:6.1}  min {:6.1}  loss {:.2} %",
-                    "", k + 1, st.along_m, s.mean_n, s.std_n, s.actual_max_n, s.actual_min_n, s.loss_of_contact_percent
-                );
-            }
+        if let Some(t) = &self.tension {
+            o.push(Override::tension(t)?);
         }
-        if let Some(s) = &p.stats {
-            if let (Some(lat), Some(bo)) = (s.max_lateral_offset_mm, s.max_contact_wire_blowout_mm)
-            {
-                let margin = s
-                    .min_head_margin_mm
-                    .map_or(String::new(), |m| format!("  head margin {m:.0} mm"));
-                println!(
-                    "  {:<10} lateral: max offset {lat:.0} mm{margin}  contact-wire blow-out {bo:.0} mm",
-                    ""
-                );
-            }
+        if let Some(dt) = &self.dt {
+            o.push(Override::dt(dt)?);
         }
+        Ok(o)
     }
-    for r in &out.irregularity {
-        println!(
-            "  irregularity {}{}: RMS {:.2} mm{}",
-            r.kind,
-            r.seed.map_or(String::new(), |s| format!(" (seed {s})")),
-            r.rms_achieved_m * 1e3,
-            r.rms_target_m
-                .map_or(String::new(), |t| format!(" (target {:.2} mm)", t * 1e3))
-        );
-    }
-    if let Some(w) = &out.wind {
-        println!(
-            "  wind {:.1} m/s at {} m, {} spectrum, seed {}, turbulence intensity {:.3} (target {:.3})",
-            w.mean_speed_m_s,
-            w.reference_height_m,
-            w.spectrum,
-            w.seed,
-            w.turbulence_intensity_achieved,
-            w.turbulence_intensity_target
-        );
-    }
-}
 
-/// The verification on the terminal: each statistic beside its refined and stiff-contact
-/// values, and the statistics not converged to their tolerance.
-pub fn print_verification(v: &pcsim_core::analysis::verify::Verification) {
-    println!(
-        "verification: refined {} modes/wire, Δt {} s; contact {} N/m (model check: every contact, a strip's own too, twice as stiff: {} N/m at Δt {} s)",
-        v.refined.modes_per_wire,
-        v.refined.dt_s,
-        v.run.contact_stiffness_n_per_m,
-        v.stiff_contact.contact_stiffness_n_per_m,
-        v.stiff_contact.dt_s
-    );
-    for p in &v.pantographs {
-        println!(
-            "  {:<10} {:<26} {:>10} {:>10} {:>8} {:>6}   {:>10} {:>8}",
-            p.name, "statistic", "value", "refined", "change", "tol", "stiff k", "change"
-        );
-        for s in &p.statistics {
-            println!(
-                "  {:<10} {:<26} {:>10.3} {:>10.3} {:>7.2}% {:>5}%{} {:>10.3} {:>7.2}%",
-                "",
-                format!("{} [{}]", s.statistic, s.unit),
-                s.value,
-                s.refined,
-                s.change_percent,
-                s.tolerance_percent,
-                if s.converged { " " } else { "!" },
-                s.stiff_contact,
-                s.stiff_contact_change_percent
+    /// Flags that cannot go together, refused by name before anything runs.
+    fn refuse_conflicts(&self) -> Result<()> {
+        if self.verify && self.seeds.is_some() {
+            anyhow::bail!(
+                "--verify with --seeds: verify one realisation (run it alone), not the spread of many"
             );
         }
-    }
-    if v.not_converged.is_empty() {
-        println!("  every statistic converged to its tolerance (! marks one that is not)");
-    }
-    for n in &v.not_converged {
-        println!("  NOT CONVERGED: {n}");
-    }
-}
-
-/// The sensitivity on the terminal: each statistic's band and the value that moves it most.
-pub fn print_sensitivity(s: &pcsim_core::analysis::sensitivity::Sensitivity) {
-    println!(
-        "sensitivity: {} ranged values, {} runs one at a time and {} sampled (seed {})",
-        s.parameters.len(),
-        2 * s.parameters.len(),
-        s.spec.samples,
-        s.spec.seed
-    );
-    for p in &s.pantographs {
-        println!(
-            "  {:<10} {:<26} {:>10} {:>21}   most moved by",
-            p.name, "statistic", "value", "band"
-        );
-        for b in &p.statistics {
-            let top = b
-                .movers
-                .first()
-                .map_or(String::from("-"), |m| match m.swing {
-                    Some(w) => format!("{} ({w:+.3} {})", m.path, b.unit),
-                    None => format!("{} (one end only: moved {:.3} {})", m.path, m.moved, b.unit),
-                });
-            println!(
-                "  {:<10} {:<26} {:>10.3} [{:>9.3}, {:>9.3}]   {top}",
-                "",
-                format!("{} [{}]", b.statistic, b.unit),
-                b.value,
-                b.low,
-                b.high
+        if self.sensitivity && self.seeds.is_some() {
+            anyhow::bail!(
+                "--sensitivity with --seeds: vary the ranged values of one realisation (run it alone), not the spread of many"
             );
         }
-    }
-    for n in &s.not_varied {
-        println!("  not varied: {n}");
-    }
-    for e in &s.events {
-        println!("  EVENT: {e}");
-    }
-    for f in &s.failed {
-        println!("  NOT RUN: {f}");
+        if self.seeds.is_some() && self.threads != 1 {
+            anyhow::bail!("--threads {} with --seeds: the realisations run in parallel by --jobs; give one or the other", self.threads);
+        }
+        if self.dropper_forces && self.seeds.is_some() {
+            anyhow::bail!("--dropper-forces with --seeds {}: the droppers' tensions are followed in one run, not gathered over realisations; run the realisation you want alone (its seeds are in montecarlo.csv) with --dropper-forces", self.seeds.unwrap_or(0));
+        }
+        let spec = SensitivitySpec {
+            samples: self.sensitivity_samples,
+            seed: self.sensitivity_seed,
+            max_runs: self.sensitivity_max_runs,
+            allow_failed_runs: self.allow_failed_runs,
+        };
+        spec.check().map_err(|e| {
+            pcsim_core::study::specs::with_flags(
+                e,
+                &[
+                    ("sensitivity.samples", "--sensitivity-samples"),
+                    ("sensitivity.max_runs", "--sensitivity-max-runs"),
+                ],
+            )
+        })?;
+        Ok(())
     }
 }
 
-/// A run's error-level events: a warning for those accepted by flag, an error (exit 2, the
-/// outputs written) for the first that is not.
-fn refuse_errors(
-    out: &RunOutput,
-    allowed: pcsim_core::analysis::events::AllowedErrors,
-) -> Result<()> {
-    let errors = pcsim_core::analysis::events::run_errors(out);
-    for e in errors.iter().filter(|e| allowed.allows(e.kind)) {
-        eprintln!("warning: {} (allowed by {})", e.message, e.kind.flag());
-    }
-    if let Some(e) = allowed.first_refused(&errors) {
-        anyhow::bail!(
-            "{} (the outputs are written; give {} to accept the run)",
-            e.message,
-            e.kind.flag()
-        );
-    }
-    Ok(())
-}
-
-/// The droppers inside the analysis section that suffer most: by Miner's damage when the case
-/// gives an S–N curve, else by their largest tension range. (Outside it the pantographs start
-/// and stop: those droppers carry the run's transients, not a passage.)
-fn print_droppers(
-    d: &pcsim_core::analysis::record::DropperRun,
-    section: [f64; 2],
-    out: &std::path::Path,
-) {
-    let mut worst: Vec<&pcsim_core::analysis::fatigue::DropperFatigue> = d
-        .droppers
-        .iter()
-        .filter(|f| f.x_m >= section[0] && f.x_m <= section[1])
-        .collect();
-    let key = |f: &pcsim_core::analysis::fatigue::DropperFatigue| f.damage.unwrap_or(f.max_range_n);
-    worst.sort_by(|a, b| key(b).total_cmp(&key(a)));
-    let by = if d.curve.is_some() {
-        "Miner's damage of this passage"
-    } else {
-        "largest tension range (no [dropper_fatigue] S–N curve in the case: no damage)"
+/// `--seeds N`: the Monte Carlo study of the case.
+fn seeds(
+    a: &RunArgs,
+    case: pcsim_core::Case,
+    case_text: &str,
+    overrides: &[Override],
+    ctx: &Ctx,
+) -> Result<i32> {
+    let n = crate::common::seeds_flag(a.seeds, &case)?;
+    // The case refused before anything is written, naming the flags that may have caused it.
+    crate::common::setup(&case, overrides, ctx)?;
+    let flags: Vec<String> = overrides.iter().map(|o| o.flag.clone()).collect();
+    let study = pcsim_core::study::montecarlo::MonteCarloStudy {
+        case,
+        spec: pcsim_core::study::specs::MonteCarloSpec {
+            realisations: n,
+            allowed: a.allowed(),
+        },
+        overrides: flags.clone(),
+        budget: ctx.budget,
+        jobs: a.jobs,
     };
-    println!(
-        "  droppers: {} followed; the worst inside the analysis section {section:?} m by {by}:",
-        d.droppers.len()
-    );
-    println!(
-        "  {:>9} {:<22} {:>8} {:>8} {:>8} {:>6} {:>7} {:>9} {:>10}",
-        "x [m]", "wire", "F0 [N]", "min [N]", "max [N]", "slack", "cycles", "ΔFmax [N]", "damage"
-    );
-    for f in worst.iter().take(10) {
-        println!(
-            "  {:>9.2} {:<22} {:>8.1} {:>8.1} {:>8.1} {:>6} {:>7} {:>9.1} {:>10}",
-            f.x_m,
-            f.wire,
-            f.preload_n,
-            f.min_n,
-            f.max_n,
-            f.slack_steps,
-            f.cycles,
-            f.max_range_n,
-            f.damage.map_or("—".to_string(), |v| format!("{v:.3e}"))
-        );
-    }
-    println!("  every dropper: {}", shown(out, "droppers.csv"));
+    crate::driver::drive(
+        &study,
+        crate::driver::Drive {
+            out: &a.out,
+            case_text: Some(case_text),
+            plot: a.plot || a.report,
+            report: a.report,
+            manifest: serde_json::json!({ "realisations": n, "overrides": flags }),
+            unit: "realisations",
+        },
+        ctx,
+    )?;
+    Ok(0)
 }

@@ -6,6 +6,7 @@
 //! | file | the study |
 //! |---|---|
 //! | `contract.rs` | the contract every study fills: [`StudyKind`], [`Study`], [`Answer`], [`StudyFile`] |
+//! | `run.rs`, `run_answer.rs` | one run with its evidence (verify, sensitivity, droppers), its files and its answer |
 //! | `montecarlo.rs` | realisations over seeds and their spread |
 //! | `specs.rs` | the sweeps' specs: grids, EVA, window, Monte Carlo |
 //! | `sweeps.rs` | the EVA sweep, the window sweep, the validation runs, as typed rows |
@@ -20,6 +21,8 @@ pub mod design;
 pub mod frf;
 pub mod montecarlo;
 pub mod realtime;
+pub mod run;
+pub mod run_answer;
 pub mod specs;
 pub mod sweeps;
 pub mod validate;
