@@ -53,6 +53,9 @@ enum Command {
     Validate(cmd::validate::ValidateArgs),
     /// List the embedded presets, or print one (`presets show NAME`).
     Presets(cmd::presets::PresetsArgs),
+    /// The JSON Schema of a case file (`schema case`, for an editor) or of an output
+    /// (`schema summary`, `schema montecarlo`).
+    Schema(cmd::schema::SchemaArgs),
     /// Benchmark: wall time against simulated time on one core.
     Bench(cmd::bench::BenchArgs),
     /// Redraw the plots of a finished run from its output directory.
@@ -146,6 +149,7 @@ fn main() {
         Command::Run(a) => cmd::run::run(a, &ctx),
         Command::Validate(a) => cmd::validate::validate(a, &ctx),
         Command::Presets(a) => cmd::presets::presets(a),
+        Command::Schema(a) => cmd::schema::schema_cmd(a),
         Command::Bench(a) => cmd::bench::bench(a, &ctx),
         Command::Plot(a) => cmd::plot::plot(a),
         Command::Eva(a) => cmd::eva::eva(a, &ctx),

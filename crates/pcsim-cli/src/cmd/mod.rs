@@ -13,5 +13,6 @@ pub mod presets;
 pub mod realtime;
 pub mod report;
 pub mod run;
+pub mod schema;
 pub mod validate;
 pub mod window;

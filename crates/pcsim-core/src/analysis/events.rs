@@ -14,7 +14,7 @@ pub const LOSS_OF_CONTACT_ERROR_PERCENT: f64 = 10.0;
 
 /// What kind of error-level event a run met (each front end may accept a kind on request);
 /// written as its [`RunErrorKind::name`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum RunErrorKind {
     /// The contact wire left a pantograph's head.
@@ -74,7 +74,7 @@ impl AllowedErrors {
 
 /// How often each kind of error-level event occurred over several runs (a Monte Carlo study's
 /// realisations): per kind, the indices of the runs that had it and the first run's message.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct EventCount {
     /// The kind (written as its name, [`RunErrorKind::name`]).
     pub kind: RunErrorKind,

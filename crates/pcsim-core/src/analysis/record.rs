@@ -109,7 +109,7 @@ pub struct RunOutput {
 
 /// What `max_uplift_at_support_mm` is measured from: the static position of the wires before
 /// any pantograph arrives.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum UpliftDatum {
     /// The design's static shape (no steady load).

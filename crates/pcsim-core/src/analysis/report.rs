@@ -26,7 +26,7 @@ pub fn case_name(case: &Case) -> String {
     }
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize, schemars::JsonSchema)]
 /// One pantograph in `summary.json`: its name, statistics and lateral flags.
 pub struct PantographSummary {
     /// The pantograph's name.
@@ -45,7 +45,7 @@ pub struct PantographSummary {
     pub strips: Vec<StripSummary>,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize, schemars::JsonSchema)]
 /// One collector strip in `summary.json`: its place on the head and its force's statistics.
 pub struct StripSummary {
     /// Where its contact point is ahead of the pantograph's position, m.
@@ -54,7 +54,7 @@ pub struct StripSummary {
     pub stats: Option<ContactStats>,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize, schemars::JsonSchema)]
 /// `summary.json` of a run: the case, the run's settings and statistics, the warnings and the verdicts. Built here for every front end.
 pub struct RunSummary {
     /// The case's name (`meta.name`).

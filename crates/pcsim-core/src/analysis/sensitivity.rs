@@ -30,7 +30,7 @@ pub const MAX_SAMPLES: usize = 1000;
 
 /// What the study varies and how (`Default`: 8 sampled runs, seed 1, at most 200 runs, no
 /// failed run accepted).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct SensitivitySpec {
     /// Runs with every ranged value drawn at once (0: one at a time only).
     pub samples: usize,
@@ -88,7 +88,7 @@ impl SensitivitySpec {
 }
 
 /// One run of the study: which values it set.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct StudyRun {
     /// `low`/`high` of one value (its path), or `sample k`.
     pub label: String,
@@ -97,7 +97,7 @@ pub struct StudyRun {
 }
 
 /// How much one ranged value moves one statistic (one at a time).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Mover {
     /// The value's path.
     pub path: String,
@@ -120,7 +120,7 @@ impl Mover {
 }
 
 /// One statistic's band.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct StatisticBand {
     /// Its name (as in `summary.json`'s `stats`).
     pub statistic: String,
@@ -137,7 +137,7 @@ pub struct StatisticBand {
 }
 
 /// One pantograph's bands.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct PantographBands {
     /// Its name.
     pub name: String,
@@ -146,7 +146,7 @@ pub struct PantographBands {
 }
 
 /// The study (`summary.json`'s `sensitivity`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Sensitivity {
     /// The spec (the sample's size and seed).
     pub spec: SensitivitySpec,

@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::filter::{bandpass_zero_phase, lowpass_zero_phase};
 
 /// Statistics of one pantograph's contact force over the analysis section.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct ContactStats {
     /// Mean of the 0–20 Hz force, N.
     pub mean_n: f64,
@@ -106,7 +106,7 @@ pub fn contact_stats(
 }
 
 /// What the contact point did across the head over the analysis section (issue 12).
-#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct LateralStats {
     /// Largest `|lateral|`, mm.
     pub max_lateral_offset_mm: f64,
@@ -125,7 +125,7 @@ pub struct LateralStats {
 }
 
 /// A histogram of the contact point's lateral position.
-#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct LateralHistogram {
     /// Left edge of the first bin, mm (from the head's centre: the track's centre line, moved
     /// toward a canted curve's centre; positive to the same side as positive stagger).
@@ -186,7 +186,7 @@ pub fn lateral_stats(
 /// One pantograph's passage through one overlap of a line (issue 21): the raw contact force
 /// (the sum over the wires) while the pantograph is between the overlap's first and last shared
 /// supports.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct OverlapStats {
     /// The overlap: its first and last shared support, track coordinates, m.
     pub section_m: [f64; 2],

@@ -127,7 +127,7 @@ pub fn scale(name: &str, x: f64, fm: f64) -> f64 {
 }
 
 /// One statistic of one pantograph, checked.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct StatisticCheck {
     /// Its name (as in `summary.json`'s `stats`).
     pub statistic: String,
@@ -150,7 +150,7 @@ pub struct StatisticCheck {
 }
 
 /// One pantograph's checks.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct PantographCheck {
     /// Its name.
     pub name: String,
@@ -159,7 +159,7 @@ pub struct PantographCheck {
 }
 
 /// What each run was.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Discretisation {
     /// Modes per wire.
     pub modes_per_wire: usize,
@@ -170,7 +170,7 @@ pub struct Discretisation {
 }
 
 /// The verification of a run (`summary.json`'s `verification`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Verification {
     /// The run's own discretisation.
     pub run: Discretisation,

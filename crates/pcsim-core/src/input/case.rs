@@ -23,7 +23,7 @@ pub use crate::model::wire::Damping;
 pub type Provenance = BTreeMap<String, String>;
 
 /// Top-level case.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Case {
     #[serde(default)]
@@ -57,7 +57,7 @@ pub struct Case {
 /// `N(Δσ) = sn_cycles (sn_stress_range_mpa / Δσ)^sn_slope`, and the cross-section that turns a
 /// tension range into a stress range (`analysis::fatigue`). pcsim has no default: each value
 /// needs its source (a test of the dropper wire, its maker's data).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DropperFatigueCase {
     /// The dropper wire's load-bearing cross-section, mm².
@@ -71,7 +71,7 @@ pub struct DropperFatigueCase {
 }
 
 /// Free-text description of a case.
-#[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Meta {
     #[serde(default)]
@@ -83,7 +83,7 @@ pub struct Meta {
 }
 
 /// The catenary: geometry, wires, point elements and damping.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CatenaryCase {
     /// Number of spans in the model (the model length is `spans × span_m`). With `[line]`:
@@ -121,7 +121,7 @@ pub struct CatenaryCase {
 
 /// A stitch wire at each support, modelled as the paper does (§2.1): spring-damping elements on
 /// the messenger at the stitch droppers, from which those droppers hang.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StitchCase {
     /// Length of the stitch wire, centred on the support.
@@ -141,7 +141,7 @@ pub struct StitchCase {
 }
 
 /// One wire's properties.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct WireCase {
     /// Mass per length, kg/m.
@@ -157,7 +157,7 @@ pub struct WireCase {
 }
 
 /// Droppers: positions within a span (same in every span) and properties.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DropperCase {
     /// Positions from the span's start, m.
@@ -178,7 +178,7 @@ pub struct DropperCase {
 }
 
 /// Messenger support: a spring-damper to ground at each mast.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SupportCase {
     /// Vertical stiffness, N/m.
@@ -189,7 +189,7 @@ pub struct SupportCase {
 }
 
 /// Steady (registration) arm: a lumped mass with a vertical spring at each mast.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ArmCase {
     /// Mass, kg.
@@ -208,7 +208,7 @@ fn yes() -> bool {
 }
 
 /// A pantograph, or a constant moving force (for analytic moving-load checks).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum PantographCase {
     /// N lumped masses, head first (Eq. 16). Spring/damper `i` joins mass `i` to mass `i+1`; the
@@ -270,7 +270,7 @@ pub enum PantographCase {
 
 /// A lumped pantograph's static uplift at each working height of its head (linear between the
 /// points, constant beyond the ends).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct UpliftByHeight {
     /// Heights of the head, m, increasing: from the contact wire's height at the supports
@@ -281,7 +281,7 @@ pub struct UpliftByHeight {
 }
 
 /// A collector strip of a lumped pantograph (`[[pantographs.strips]]`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StripCase {
     /// The strip's mass, kg.
@@ -329,7 +329,7 @@ impl PantographCase {
 }
 
 /// Pantograph–wire contact (Eq. 19).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ContactCase {
     /// Penalty stiffness of the contact (Eq. 19), N/m.
@@ -345,7 +345,7 @@ impl Default for ContactCase {
 }
 
 /// The run: speed, where the pantographs go, the analysis section and the discretisation.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RunCase {
     /// Train speed, km/h.
@@ -596,13 +596,22 @@ fn strip_sources(
         toml::Value::Table(t) => {
             // `{ value = …, source = "…" }`, or `{ value = … }` alone (a value without its source
             // yet; `note` may accompany either, `range` and `range_source` give its range).
-            let is_sourced = t.contains_key("value")
-                && t.keys().all(|k| {
-                    matches!(
+            // No field of a case is named `value`: a table with one is a sourced value, and a
+            // key beside it that a sourced value does not have is misspelt (`sorce`).
+            let is_sourced = t.contains_key("value");
+            if let Some(k) = t.keys().find(|k| {
+                is_sourced
+                    && !matches!(
                         k.as_str(),
                         "value" | "source" | "note" | "range" | "range_source"
                     )
-                });
+            }) {
+                return Err(inv(
+                    &format!("{path}.{k}"),
+                    "an unknown key",
+                    "a sourced value has the keys value, source, note, range and range_source",
+                ));
+            }
             if is_sourced {
                 ranges.extend(ranged_values(&path, t)?);
                 match t.get("source") {
@@ -645,7 +654,7 @@ fn strip_sources(
 /// A value of the case with the range it may take (issue 42, item 2): where it is, the value,
 /// the range's ends, the value's source and the range's reason. A list's range is given per
 /// element (`range = [[low, high], …]`) and gives one ranged value per element (`path[i]`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct RangedValue {
     /// The value's path in the case (`catenary.steady_arm.mass_kg`, `pantographs[0].masses_kg[1]`),
     /// in the field's unit.

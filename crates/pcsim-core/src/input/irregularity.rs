@@ -11,7 +11,7 @@ use crate::error::CaseError;
 pub use crate::model::irregularity::PsdTable;
 
 /// One source of irregularity (`[[irregularity]]`).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum IrregularityCase {
     /// A profile: deviation (m, upward positive) at positions (m, model coordinates, increasing),

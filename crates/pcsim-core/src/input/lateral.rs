@@ -6,7 +6,7 @@
 use serde::{Deserialize, Serialize};
 
 /// A modelled direction of motion, as the case file names it.
-#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq, PartialOrd, Ord, Hash, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Dof {
     /// Vertical motion (`y` of Eqs. 1–8).
@@ -29,7 +29,7 @@ pub fn is_vertical_only(dofs: &[Dof]) -> bool {
 
 /// Section data beyond the vertical ones (`catenary.<wire>.section`): what Eqs. 1–4 need for
 /// lateral and torsional motion, and the diameter for drag and ice.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SectionCase {
     /// Outer diameter (for a grooved contact wire: its height), m.
@@ -50,7 +50,7 @@ pub struct SectionCase {
 
 /// Drag, lift and moment coefficients over the angle of attack (per unit length, on the
 /// diameter: `F_D = ½ρ d C_D V²`, `F_L = ½ρ d C_L V²`, `M = ½ρ d² C_M V²`).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct AeroCase {
     /// Angles of attack, degrees, increasing (the relative wind's angle above horizontal).
@@ -98,7 +98,7 @@ impl AeroCase {
 }
 
 /// Stagger and lateral registration (`catenary.lateral`).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LateralCase {
     /// Stagger of the contact wire at the supports, alternating `+s, −s, …` from the first
@@ -192,7 +192,7 @@ impl LateralCase {
 
 /// Radial ice on the wires (`catenary.ice`): the static-load plus wind-on-iced-wire case of the
 /// design codes. The ice adds its mass and widens the wire for drag.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct IceCase {
     /// Density of the ice, kg/m³.
@@ -204,7 +204,7 @@ pub struct IceCase {
 }
 
 /// The mean-wind profile with height.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum WindProfile {
     /// `U(z) = U_ref ln(z/z0) / ln(z_ref/z0)`.
@@ -220,7 +220,7 @@ pub enum WindProfile {
 }
 
 /// The turbulence spectrum of the along-wind component.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Spectrum {
     /// Kaimal (IEC form): `f S/σ² = 4 y / (1 + 6 y)^{5/3}`, `y = f L/U`, with the Kaimal length
@@ -236,7 +236,7 @@ pub enum Spectrum {
 }
 
 /// Crosswind (`[wind]`).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct WindCase {
     /// Mean speed at the reference height, m/s.

@@ -27,7 +27,7 @@ use crate::input::case::{ArmCase, CatenaryCase, DropperCase, SupportCase, WireCa
 use serde::{Deserialize, Serialize};
 
 /// The line: its tension lengths in track order, and the overlaps between them.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LineCase {
     /// The tension lengths, in track order.
@@ -38,7 +38,7 @@ pub struct LineCase {
 }
 
 /// An overlap between two consecutive tension lengths.
-#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OverlapCase {
     /// Number of spans the two tension lengths share.
@@ -54,7 +54,7 @@ pub struct OverlapCase {
 }
 
 /// A run of equal spans.
-#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SpanRun {
     /// Number of spans in the run.
@@ -71,7 +71,7 @@ pub struct SpanRun {
 }
 
 /// One tension length.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TensionLengthCase {
     /// Span lengths one by one, m (or `span_runs`).

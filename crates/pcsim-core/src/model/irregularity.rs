@@ -66,7 +66,7 @@ impl IrregularitySource {
 }
 
 /// A PSD shape over wavelength.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PsdTable {
     /// Wavelengths, m (increasing).
@@ -76,7 +76,7 @@ pub struct PsdTable {
 }
 
 /// What the outputs say about one source.
-#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct IrregularityReport {
     /// The source's kind (`table`, `psd`, `droppers`).
     pub kind: String,

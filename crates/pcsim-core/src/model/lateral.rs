@@ -220,7 +220,7 @@ impl LateralGeometry {
 /// A curved track's report (`summary.json`, `curve`): the radius and cant, where the head
 /// stands, the chord's largest bow, and the static lateral force of the registrations on each
 /// wire (the pull-off: the tension's change of direction at each, closed form).
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct CurveReport {
     /// Radius, m, signed as the case gives it (positive: the centre on the side of positive
     /// stagger); on a line of several curves, the tightest.
@@ -364,7 +364,7 @@ impl LateralGeometry {
 
 /// One section of a curve: a run of spans on one radius, with one cant (issue 41: the contact
 /// point's lateral range on the head reported per curve).
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct CurveSection {
     /// Where it starts and ends along the track, m (supports).
     pub from_m: f64,
@@ -386,7 +386,7 @@ pub struct CurveSection {
 }
 
 /// Where a pantograph's contact point ran on its head through a curve's section.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct OnHead {
     /// The pantograph's name.
     pub pantograph: String,

@@ -29,7 +29,7 @@ use serde::{Deserialize, Serialize};
 pub const G: f64 = 9.81;
 
 /// Where the pre-sag parabola is zero.
-#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum PresagZero {
     /// `presag(ξ) = 4 s ξ (1 − ξ)` over the whole span.
@@ -40,7 +40,7 @@ pub enum PresagZero {
 }
 
 /// Design pre-sag of the contact wire (downward, m), at each dropper.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Presag {
     /// A parabola over the span with its mid-span sag.

@@ -78,7 +78,7 @@ pub struct WindLoad {
 }
 
 /// The wind's description in the outputs.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct WindReport {
     /// Mean speed at the reference height, m/s.
     pub mean_speed_m_s: f64,

@@ -14,7 +14,7 @@ use crate::model::basis::SineBasis;
 use crate::model::dof::Direction;
 
 /// Damping of the wires' own modes (paper §2.1 uses Rayleigh α = β = 0.02; README §2.2).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Damping {
     /// `C = αM + βK` on each wire's modal matrices.

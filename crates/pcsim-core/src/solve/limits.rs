@@ -29,7 +29,7 @@ impl StableStep {
 
 /// The highest frequency of the coupled explicit system and what limits it (reported in a run's
 /// `summary.json` as `stability`).
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct CoupledLimit {
     /// The highest circular frequency found, rad/s.
     pub omega_rad_s: f64,

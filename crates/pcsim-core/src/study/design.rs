@@ -160,7 +160,7 @@ pub enum StopReason {
 }
 
 /// One variable's sensitivity: the objective at ± its step from the best design.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Sensitivity {
     /// The variable's path.
     pub path: String,

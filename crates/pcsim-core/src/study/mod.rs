@@ -14,6 +14,7 @@
 //! | `window_search.rs` | the accuracy-based window length and the energy criteria's fit |
 //! | `validate.rs` | which cases, which targets, the validation table |
 //! | `design.rs` | the design search: an optimiser over case fields, the journal, the answer |
+//! | `schema.rs` | the JSON Schemas of a case file and of the outputs (`pcsim schema`) |
 //! | `frf.rs` | a pantograph's frequency response at the head, and a chain fitted to a measured one |
 
 pub mod contract;
@@ -23,6 +24,7 @@ pub mod montecarlo;
 pub mod realtime;
 pub mod run;
 pub mod run_answer;
+pub mod schema;
 pub mod specs;
 pub mod sweeps;
 pub mod validate;

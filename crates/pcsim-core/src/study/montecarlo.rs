@@ -20,7 +20,7 @@ use crate::study::{Answer, Study, StudyFile, StudyKind};
 
 /// Mean, standard deviation (N − 1) and a 95 % confidence interval of the mean (Student's t).
 /// With one realisation the spread is undefined (`None`, `null` in JSON), never 0.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Spread {
     /// Number of realisations.
     pub n: usize,
@@ -194,7 +194,7 @@ pub struct RealisationRow {
 
 /// What a Monte Carlo study gives (`montecarlo.json`, with the rows of `montecarlo.csv`),
 /// written and read back through this type.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct MonteCarloOutput {
     /// The case's name.
     pub case_name: String,

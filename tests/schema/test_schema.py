@@ -1,0 +1,126 @@
+"""`pcsim schema` (issue 52): the case file's JSON Schema validates every shipped preset and
+example case, a misspelt key or a wrong type fails it, and a run's summary.json and a Monte Carlo
+study's montecarlo.json validate against their schemas. The validator is an independent tool
+(python-jsonschema, from PyPI); TOML is read by Python's own tomllib.
+
+Run by .ci/run: PCSIM=target/release/pcsim target/py-venv/bin/python -m pytest -q tests/schema
+"""
+
+import json
+import os
+import pathlib
+import subprocess
+import tomllib
+
+import jsonschema
+import pytest
+
+PCSIM = os.environ.get("PCSIM", "pcsim")
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+def schema(name):
+    out = subprocess.run([PCSIM, "schema", name], check=True, capture_output=True, text=True)
+    s = json.loads(out.stdout)
+    jsonschema.validators.validator_for(s).check_schema(s)
+    return s
+
+
+def validator(name):
+    s = schema(name)
+    return jsonschema.validators.validator_for(s)(s)
+
+
+def shipped_cases():
+    files = sorted(ROOT.glob("presets/*.toml")) + sorted(ROOT.glob("examples/**/*.toml"))
+    return [f for f in files if "[catenary]" in f.read_text(encoding="utf-8")]
+
+
+CASE_FILES = shipped_cases()
+
+
+def test_every_preset_and_example_is_found():
+    presets = subprocess.run([PCSIM, "presets"], check=True, capture_output=True, text=True)
+    names = [line.split()[0] for line in presets.stdout.splitlines() if line.strip()]
+    shipped = {f.stem for f in CASE_FILES if f.parent.name == "presets"}
+    assert set(names) == shipped, (names, shipped)
+    assert len(CASE_FILES) > len(names)  # the examples too
+
+
+@pytest.mark.parametrize("path", CASE_FILES, ids=lambda p: str(p.relative_to(ROOT)))
+def test_every_shipped_case_validates(path):
+    validator("case").validate(tomllib.loads(path.read_text(encoding="utf-8")))
+
+
+def preset_text():
+    return (ROOT / "presets" / "en50318-2002.toml").read_text(encoding="utf-8")
+
+
+def errors(case_text):
+    return list(validator("case").iter_errors(tomllib.loads(case_text)))
+
+
+def test_a_misspelt_key_fails_the_schema_and_pcsim(tmp_path):
+    text = preset_text()
+    assert not errors(text)
+    for good, bad in [("tension_n", "tensoin_n"), ("[catenary.droppers]", "[catenary.dropers]"),
+                      ("source =", "sorce =")]:
+        wrong = text.replace(good, bad, 1)
+        assert wrong != text
+        assert errors(wrong), f"{bad} passed the schema"
+        # pcsim refuses the same file, by the key.
+        f = tmp_path / "wrong.toml"
+        f.write_text(wrong, encoding="utf-8")
+        r = subprocess.run([PCSIM, "run", str(f), "--quiet", "--out", str(tmp_path / "o")],
+                           capture_output=True, text=True)
+        assert r.returncode != 0
+        assert bad.strip("[]= ").split(".")[-1] in r.stderr, r.stderr
+
+
+def test_a_wrong_type_fails_the_schema():
+    text = preset_text()
+    wrong = text.replace("[run]", "[run]\nspeed_kmh_typo_free = 1", 1)
+    assert errors(wrong)
+    import re
+    wrong = re.sub(r"speed_kmh = [^\n]*", 'speed_kmh = "fast"', text, count=1)
+    assert wrong != text
+    assert errors(wrong)
+
+
+def short_case_text():
+    """en50318-2002 on 8 spans, its pantograph over the middle (the Python package's own case,
+    as TOML), with 2 mm of seeded irregularity (a random input for Monte Carlo)."""
+    import pcsim
+    case = pcsim.Case.preset("en50318-2002").with_overrides(
+        {"catenary.spans": 8, "run.start_m": 60.0, "run.end_m": 400.0,
+         "run.analysis_m": [120.0, 360.0]})
+    return case.to_toml() + """
+[[irregularity]]
+kind = "psd"
+rms_m = 0.002
+min_wavelength_m = 2.0
+max_wavelength_m = 60.0
+exponent = 2.0
+seed = 7
+"""
+
+
+def test_outputs_validate_against_their_schemas(tmp_path):
+    f = tmp_path / "case.toml"
+    f.write_text(short_case_text(), encoding="utf-8")
+    validator("case").validate(tomllib.loads(f.read_text(encoding="utf-8")))
+    r = subprocess.run([PCSIM, "run", str(f), "--quiet", "--out", str(tmp_path / "run")],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    summary = json.loads((tmp_path / "run" / "summary.json").read_text())
+    validator("summary").validate(summary)
+    broken = dict(summary, pantographs="none")
+    with pytest.raises(jsonschema.ValidationError):
+        validator("summary").validate(broken)
+    r = subprocess.run([PCSIM, "run", str(f), "--seeds", "2", "--quiet", "--out",
+                        str(tmp_path / "mc")], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    mc = json.loads((tmp_path / "mc" / "montecarlo.json").read_text())
+    validator("montecarlo").validate(mc)
+    with pytest.raises(jsonschema.ValidationError):
+        validator("montecarlo").validate({})
