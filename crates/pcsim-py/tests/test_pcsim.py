@@ -687,3 +687,41 @@ def test_issue_51_a_users_targets_run_on_a_users_case_as_the_cli(tmp_path):
     assert res["cases"][0]["rows"][0]["quantity"] == "mean"
     with pytest.raises(ValueError, match="mine.preset"):
         pcsim.validate(targets=str(targets))
+
+
+def _cli_defaults(command):
+    """Each flag's default from ``pcsim COMMAND --help`` (the flag's ``[default: X]``), the unit
+    suffix (``%``) dropped."""
+    import re
+    out = subprocess.run([PCSIM, command, "--help"], check=True, capture_output=True,
+                         text=True).stdout
+    found = {}
+    flag = None
+    for line in out.splitlines():
+        m = re.match(r"\s+--([a-z-]+)", line)
+        if m:
+            flag = m.group(1)
+        d = re.search(r"\[default: ([^\]]+)\]", line)
+        if d and flag:
+            found[flag] = d.group(1).rstrip("%")
+    return found
+
+
+def test_issue_52_python_defaults_are_the_clis_and_so_the_core_specs():
+    """Python's study defaults are the CLI's (which a unit test of the CLI ties to the core
+    specs' ``Default``): one set of defaults for every front end."""
+    import inspect
+    pairs = [
+        (pcsim.eva, "eva", {"step_m": "step", "tolerance_j": "tol", "fraction": "fraction"}),
+        (pcsim.window, "window", {"mean_tol_pct": "mean-tol", "sigma_tol_pct": "sigma-tol",
+                                  "max_tol_pct": "max-tol", "coarse_m": "coarse",
+                                  "resolution_m": "resolution"}),
+    ]
+    for fn, command, names in pairs:
+        cli = _cli_defaults(command)
+        sig = inspect.signature(fn).parameters
+        for py, flag in names.items():
+            assert sig[py].default == float(cli[flag]), (command, py, sig[py].default, cli[flag])
+    run = _cli_defaults("run")
+    res_doc = inspect.getdoc(pcsim.run)
+    assert f"({run['sensitivity-samples']})" in res_doc and f"({run['sensitivity-seed']})" in res_doc

@@ -197,6 +197,39 @@ fn noise_floor(med_ns: f64, steps: usize) {
     );
 }
 
+/// The real-time bench's table: each latency's median over the runs, with their spread, and the
+/// real-time factor (`runs`: per run, [median, p99, p99.99, max] of all steps, then median and max
+/// of the moving steps, µs).
+fn print_latencies(
+    header: &str,
+    runs: &[[f64; 6]],
+    n_moves: usize,
+    steps: usize,
+    dt: f64,
+    wall: f64,
+) {
+    println!("{header}");
+    let col = |i: usize| spread(&runs.iter().map(|r| r[i]).collect::<Vec<_>>());
+    let show = |name: &str, i: usize| {
+        let (m, lo, hi) = col(i);
+        println!("  {name:<22} {m:8.2} µs  (runs: {lo:.2} – {hi:.2})");
+    };
+    show("step, median", 0);
+    show("step, p99", 1);
+    show("step, p99.99", 2);
+    show("step, max", 3);
+    if n_moves > 0 {
+        show("moving step, median", 4);
+        show("moving step, max", 5);
+    }
+    noise_floor(col(0).0 * 1e3, steps);
+    println!(
+        "  real-time factor {:.0}x at the median ({} s simulated per run; last run {wall:.2} s wall)",
+        dt / (col(0).0 * 1e-6),
+        steps as f64 * dt
+    );
+}
+
 /// Step-latency distribution of the real-time window catenary on one core, each step under the
 /// whole step contract (`RealtimeSession::step`: input checks, save, step, soundness), as a rig
 /// pays it.
@@ -291,26 +324,6 @@ fn bench_realtime(a: &BenchArgs, ctx: &Ctx) -> Result<i32> {
             moves_before + rt.moves(),
         );
     }
-    println!("{header}");
-    let col = |i: usize| spread(&runs.iter().map(|r| r[i]).collect::<Vec<_>>());
-    let show = |name: &str, i: usize| {
-        let (m, lo, hi) = col(i);
-        println!("  {name:<22} {m:8.2} µs  (runs: {lo:.2} – {hi:.2})");
-    };
-    show("step, median", 0);
-    show("step, p99", 1);
-    show("step, p99.99", 2);
-    show("step, max", 3);
-    if n_moves > 0 {
-        show("moving step, median", 4);
-        show("moving step, max", 5);
-    }
-    noise_floor(col(0).0 * 1e3, steps);
-    let dt = case.run.dt_s;
-    println!(
-        "  real-time factor {:.0}x at the median ({} s simulated per run; last run {wall:.2} s wall)",
-        dt / (col(0).0 * 1e-6),
-        steps as f64 * dt
-    );
+    print_latencies(&header, &runs, n_moves, steps, case.run.dt_s, wall);
     Ok(0)
 }

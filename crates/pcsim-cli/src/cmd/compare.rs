@@ -37,15 +37,16 @@ pub struct CompareArgs {
     strict: bool,
 }
 
-pub fn compare(a: CompareArgs) -> Result<i32> {
-    let search_m = length("--search", &a.search)?;
-    let run = crate::plot::run::read_run(&a.run)
-        .with_context(|| format!("{} is not a run's output directory", a.run.display()))?;
-    let trace = match &a.pantograph {
+/// The run's trace of the pantograph named (none: the first).
+fn trace_of<'a>(
+    run: &'a crate::plot::run::PlotData,
+    pantograph: Option<&str>,
+) -> Result<&'a crate::plot::run::Trace> {
+    Ok(match pantograph {
         Some(name) => run
             .traces
             .iter()
-            .find(|t| &t.name == name)
+            .find(|t| t.name == name)
             .with_context(|| {
                 format!(
                     "--pantograph {name}: the run has {}",
@@ -57,7 +58,14 @@ pub fn compare(a: CompareArgs) -> Result<i32> {
                 )
             })?,
         None => run.traces.first().context("the run has no pantograph")?,
-    };
+    })
+}
+
+pub fn compare(a: CompareArgs) -> Result<i32> {
+    let search_m = length("--search", &a.search)?;
+    let run = crate::plot::run::read_run(&a.run)
+        .with_context(|| format!("{} is not a run's output directory", a.run.display()))?;
+    let trace = trace_of(&run, a.pantograph.as_deref())?;
     let text = crate::common::read_input(&a.measured)
         .with_context(|| format!("cannot read {}", a.measured.display()))?;
     let meas = MeasuredForce::from_csv(&text, &a.measured.display().to_string())?;

@@ -231,6 +231,29 @@ fn beside(out: &Path, suffix: &str) -> PathBuf {
     out.with_file_name(format!("{name}-{suffix}"))
 }
 
+/// The journal of an earlier run of the search (empty: a new journal with its header), and the
+/// journal open for appending.
+fn open_journal(journal_path: &Path, d: &Design) -> Result<(Vec<Evaluation>, std::fs::File)> {
+    let journal = read_journal(journal_path, d)?;
+    if !journal.is_empty() {
+        println!(
+            "resuming from {} evaluation(s) in {}",
+            journal.len(),
+            journal_path.display()
+        );
+    }
+    let mut file = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(journal_path)
+        .with_context(|| format!("cannot open the journal {}", journal_path.display()))?;
+    if journal.is_empty() {
+        file.set_len(0)?;
+        file.write_all(&csv_line(&d.journal_header())?)?;
+    }
+    Ok((journal, file))
+}
+
 pub fn design(a: DesignArgs, ctx: &Ctx) -> Result<i32> {
     crate::common::jobs_flag(a.jobs)?;
     let d = load(&a.spec, ctx)?;
@@ -248,23 +271,7 @@ pub fn design(a: DesignArgs, ctx: &Ctx) -> Result<i32> {
         std::fs::remove_file(&journal_path)
             .with_context(|| format!("cannot remove {}", journal_path.display()))?;
     }
-    let journal = read_journal(&journal_path, &d)?;
-    if !journal.is_empty() {
-        println!(
-            "resuming from {} evaluation(s) in {}",
-            journal.len(),
-            journal_path.display()
-        );
-    }
-    let mut file = std::fs::OpenOptions::new()
-        .create(true)
-        .append(true)
-        .open(&journal_path)
-        .with_context(|| format!("cannot open the journal {}", journal_path.display()))?;
-    if journal.is_empty() {
-        file.set_len(0)?;
-        file.write_all(&csv_line(&d.journal_header())?)?;
-    }
+    let (journal, mut file) = open_journal(&journal_path, &d)?;
     let b = &d.spec.budget;
     let pb = Progress::new(
         "design",
@@ -355,6 +362,42 @@ fn fmt(x: Option<f64>) -> String {
     x.map_or("—".into(), |x| format!("{x:.4}"))
 }
 
+/// The answer of a search without a best design: the base design is feasible (no improvement),
+/// or nothing is (the least violating design, or the first error).
+fn print_no_best(r: &DesignResult, names: &[&str]) {
+    let searched = r.evaluations.iter().filter(|e| e.phase == "search").count();
+    if let Some(b) = r.base.as_ref().filter(|b| b.feasible()) {
+        println!(
+            "NO IMPROVEMENT FOUND: none of the {searched} designs searched meets the constraints, the base design does (objective {}); no design is recommended and no best-case.toml is written.",
+            fmt(b.objective)
+        );
+        return;
+    }
+    println!(
+        "INFEASIBLE: none of the {searched} designs evaluated meets the constraints{}; there is no best design.",
+        match r.stop {
+            pcsim_core::study::design::StopReason::WallTime => " (the search stopped at its wall time: more time may find one)",
+            _ => "",
+        }
+    );
+    if let Some(li) = r.least_violating {
+        let e = &r.evaluations[li];
+        println!("  the least violating (evaluation {li}):");
+        for (n, x) in names.iter().zip(&e.x) {
+            println!("    {n} = {x}");
+        }
+        println!("    violated: {}", e.violated.join("; "));
+    } else {
+        println!(
+            "  every run failed; the first error: {}",
+            r.evaluations
+                .first()
+                .and_then(|e| e.error.clone())
+                .unwrap_or_default()
+        );
+    }
+}
+
 fn print(d: &Design, r: &DesignResult, wall: f64) {
     println!(
         "design search: {} evaluations asked ({} run now, the rest from the journal), stopped: {:?}, {:.1} s wall",
@@ -362,37 +405,7 @@ fn print(d: &Design, r: &DesignResult, wall: f64) {
     );
     let names: Vec<&str> = d.spec.variables.iter().map(|v| v.path.as_str()).collect();
     let Some(bi) = r.best else {
-        let searched = r.evaluations.iter().filter(|e| e.phase == "search").count();
-        if let Some(b) = r.base.as_ref().filter(|b| b.feasible()) {
-            println!(
-                "NO IMPROVEMENT FOUND: none of the {searched} designs searched meets the constraints, the base design does (objective {}); no design is recommended and no best-case.toml is written.",
-                fmt(b.objective)
-            );
-            return;
-        }
-        println!(
-            "INFEASIBLE: none of the {searched} designs evaluated meets the constraints{}; there is no best design.",
-            match r.stop {
-                pcsim_core::study::design::StopReason::WallTime => " (the search stopped at its wall time: more time may find one)",
-                _ => "",
-            }
-        );
-        if let Some(li) = r.least_violating {
-            let e = &r.evaluations[li];
-            println!("  the least violating (evaluation {li}):");
-            for (n, x) in names.iter().zip(&e.x) {
-                println!("    {n} = {x}");
-            }
-            println!("    violated: {}", e.violated.join("; "));
-        } else {
-            println!(
-                "  every run failed; the first error: {}",
-                r.evaluations
-                    .first()
-                    .and_then(|e| e.error.clone())
-                    .unwrap_or_default()
-            );
-        }
+        print_no_best(r, &names);
         return;
     };
     let e = &r.evaluations[bi];

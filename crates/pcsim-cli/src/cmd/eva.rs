@@ -44,13 +44,13 @@ pub struct EvaArgs {
     #[arg(long)]
     shard: Option<String>,
     /// Step Δd between window lengths, m.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = EvaSettings::default().step_m)]
     step: f64,
     /// Tolerance of the paper's criterion, J.
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(long, default_value_t = EvaSettings::default().tolerance_j)]
     tol: f64,
     /// Energy fraction of the step-independent criterion.
-    #[arg(long, default_value_t = 0.99)]
+    #[arg(long, default_value_t = EvaSettings::default().fraction)]
     fraction: f64,
     /// Largest window length, m (default: the model length).
     #[arg(long)]
@@ -202,12 +202,9 @@ pub const EVA: SweepKind = SweepKind {
     },
 };
 
-pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
-    if let Some(EvaSub::Merge { dirs, out, no_plot }) = a.sub {
-        return merge(&EVA, &dirs, &out, no_plot);
-    }
-    let (base, case_text) =
-        crate::common::load_case_with_text(a.case.as_ref(), a.preset.as_deref())?;
+/// The flags as the core's spec, which holds the defaults, the checks and the fingerprint; every
+/// grid point is checked up front, with the flags named on error.
+fn spec_of(a: &EvaArgs, base: &pcsim_core::Case, ctx: &Ctx) -> Result<(EvaSweepSpec, Shard)> {
     let dampings = a
         .damping
         .iter()
@@ -215,15 +212,13 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
         .collect::<Result<Vec<_>, _>>()?;
     let (speeds, tensions, shard) =
         crate::common::sweep_flags(&a.speed, &a.tension, a.jobs, a.shard.as_deref())?;
-    // Every grid point is checked up front, with the flags named on error.
-    let base = apply(&base, &[])?;
     // The flags become the core's spec, which holds the defaults, the checks and the fingerprint.
     let spec = EvaSweepSpec {
         grid: GridSpec {
             speeds_kmh: speeds,
             tensions_n: tensions,
             dampings,
-            seeds: crate::common::seeds_flag(a.seeds, &base)?,
+            seeds: crate::common::seeds_flag(a.seeds, base)?,
             shard,
         },
         settings: EvaSettings {
@@ -238,6 +233,17 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
     };
     spec.check()
         .map_err(|e| with_flags(e, &EvaSweepSpec::FLAGS))?;
+    Ok((spec, shard))
+}
+
+pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
+    if let Some(EvaSub::Merge { dirs, out, no_plot }) = a.sub {
+        return merge(&EVA, &dirs, &out, no_plot);
+    }
+    let (base, case_text) =
+        crate::common::load_case_with_text(a.case.as_ref(), a.preset.as_deref())?;
+    let base = apply(&base, &[])?;
+    let (spec, shard) = spec_of(&a, &base, ctx)?;
     let (jobs, mine) = spec
         .grid
         .jobs(&base)

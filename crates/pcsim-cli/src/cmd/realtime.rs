@@ -50,43 +50,20 @@ fn measured(case_name: &str, speed: f64) -> Option<(f64, f64)> {
     ))
 }
 
-pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
-    let (base, case_text) =
-        crate::common::load_case_with_text(a.case.as_ref(), a.preset.as_deref())?;
-    let mut overrides = Vec::new();
-    if let Some(v) = &a.speed {
-        overrides.push(Override::speed(v)?);
-    }
-    let case = crate::common::window_pantograph(apply(&base, &overrides)?, a.pantograph.as_deref());
-    let together = case.pantographs.len();
-    let case = pcsim_core::compile::window_case(&case)?;
-    let windows: Vec<f64> = a
-        .window
-        .iter()
-        .map(|w| length("--window", w))
-        .collect::<Result<_>>()?;
-    let s = setup(&case, &overrides, ctx)?;
-    for w in &s.warnings {
-        eprintln!("warning: {w}");
-    }
-    let dt = s.options.dt_s;
-    let od = crate::output::OutDir::begin(&a.out)?;
-    let dir = od.path();
-    // The case as given (every value with its source), for the report.
-    crate::output::write_file(&dir.join("case.toml"), &case_text)?;
-    let pb = Progress::run("full model", ctx.progress);
-    let study = window_study(&case, &windows, None, &mut |f| {
-        pb.set((f * 1000.0) as u64);
-        true
-    })?;
-    pb.finish();
+/// The terminal's table of each window's statistics and errors against the full model (and the
+/// paper's measurement, when it has one), returned as realtime.csv's text.
+fn print_table(
+    name: &str,
+    case: &pcsim_core::Case,
+    study: &pcsim_core::study::realtime::WindowStudy,
+    together: usize,
+) -> Result<String> {
     let full = &study.full;
     let runs = &study.windows;
     let fs = full.pantographs[0]
         .stats
         .context("the pantograph did not cross the analysis section")?;
-    let name = case_name(&case);
-    let reference = measured(&name, case.run.speed_kmh);
+    let reference = measured(name, case.run.speed_kmh);
     let cell = |v: Option<f64>| v.map(|x| format!("{x}")).unwrap_or_default();
     let mut table = String::from(crate::plot::realtime::HEADER);
     table.push('\n');
@@ -139,6 +116,42 @@ pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
             "measured", "", "", m, s
         );
     }
+    Ok(table)
+}
+
+pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
+    let (base, case_text) =
+        crate::common::load_case_with_text(a.case.as_ref(), a.preset.as_deref())?;
+    let mut overrides = Vec::new();
+    if let Some(v) = &a.speed {
+        overrides.push(Override::speed(v)?);
+    }
+    let case = crate::common::window_pantograph(apply(&base, &overrides)?, a.pantograph.as_deref());
+    let together = case.pantographs.len();
+    let case = pcsim_core::compile::window_case(&case)?;
+    let windows: Vec<f64> = a
+        .window
+        .iter()
+        .map(|w| length("--window", w))
+        .collect::<Result<_>>()?;
+    let s = setup(&case, &overrides, ctx)?;
+    for w in &s.warnings {
+        eprintln!("warning: {w}");
+    }
+    let dt = s.options.dt_s;
+    let od = crate::output::OutDir::begin(&a.out)?;
+    let dir = od.path();
+    // The case as given (every value with its source), for the report.
+    crate::output::write_file(&dir.join("case.toml"), &case_text)?;
+    let pb = Progress::run("full model", ctx.progress);
+    let study = window_study(&case, &windows, None, &mut |f| {
+        pb.set((f * 1000.0) as u64);
+        true
+    })?;
+    pb.finish();
+    let name = case_name(&case);
+    let table = print_table(&name, &case, &study, together)?;
+    let (full, runs) = (&study.full, &study.windows);
     write_file(&dir.join("realtime.csv"), table)?;
     // Time histories (0–20 Hz) of the full model and each window.
     let ts = filtered_histories(full, runs, dt);

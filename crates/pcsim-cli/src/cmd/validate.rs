@@ -120,47 +120,7 @@ pub fn validate(a: ValidateArgs, ctx: &Ctx) -> Result<i32> {
                 c.speed_kmh,
                 out.simulated_time_s()
             );
-            let paper = c.rows.iter().any(|r| r.paper_value.is_some());
-            if paper {
-                println!(
-                    "  {:<26} {:>8} {:>6}  {:>8} {:>6}  {:>14} unit",
-                    "quantity", "pcsim", "", "paper", "", "range"
-                );
-            } else {
-                println!(
-                    "  {:<26} {:>8} {:>6}  {:>14} unit",
-                    "quantity", "value", "result", "range"
-                );
-            }
-            for r in &c.rows {
-                let range = format!("[{}, {}]", r.range[0], r.range[1]);
-                match (r.paper_value, r.paper_pass) {
-                    (Some(pv), Some(pp)) => println!(
-                        "  {:<26} {:>8.1} {:>6}  {:>8.1} {:>6}  {:>14} {}",
-                        r.quantity,
-                        r.value,
-                        mark(r.pass),
-                        pv,
-                        mark(pp),
-                        range,
-                        r.unit
-                    ),
-                    _ => println!(
-                        "  {:<26} {:>8.1} {:>6}  {:>14} {}",
-                        r.quantity,
-                        r.value,
-                        mark(r.pass),
-                        range,
-                        r.unit
-                    ),
-                }
-            }
-            for u in &c.missing {
-                println!(
-                    "  {:<26} {:>8.1} {:>6}  {:>14} {}",
-                    u.quantity, u.value, "-", "no range given", u.unit
-                );
-            }
+            print_rows(c);
         }
         let missing: usize = report.cases.iter().map(|c| c.missing.len()).sum();
         if missing > 0 {
@@ -188,6 +148,51 @@ pub fn validate(a: ValidateArgs, ctx: &Ctx) -> Result<i32> {
         }
     }
     Ok(if a.strict && !report.all_pass { 1 } else { 0 })
+}
+
+/// A case's rows: the value (and the paper's, when the targets give it) against its range.
+fn print_rows(c: &pcsim_core::study::validate::CaseRows) {
+    let paper = c.rows.iter().any(|r| r.paper_value.is_some());
+    if paper {
+        println!(
+            "  {:<26} {:>8} {:>6}  {:>8} {:>6}  {:>14} unit",
+            "quantity", "pcsim", "", "paper", "", "range"
+        );
+    } else {
+        println!(
+            "  {:<26} {:>8} {:>6}  {:>14} unit",
+            "quantity", "value", "result", "range"
+        );
+    }
+    for r in &c.rows {
+        let range = format!("[{}, {}]", r.range[0], r.range[1]);
+        match (r.paper_value, r.paper_pass) {
+            (Some(pv), Some(pp)) => println!(
+                "  {:<26} {:>8.1} {:>6}  {:>8.1} {:>6}  {:>14} {}",
+                r.quantity,
+                r.value,
+                mark(r.pass),
+                pv,
+                mark(pp),
+                range,
+                r.unit
+            ),
+            _ => println!(
+                "  {:<26} {:>8.1} {:>6}  {:>14} {}",
+                r.quantity,
+                r.value,
+                mark(r.pass),
+                range,
+                r.unit
+            ),
+        }
+    }
+    for u in &c.missing {
+        println!(
+            "  {:<26} {:>8.1} {:>6}  {:>14} {}",
+            u.quantity, u.value, "-", "no range given", u.unit
+        );
+    }
 }
 
 /// The rows under the verification: each value refined and with the stiffer contact, with

@@ -123,23 +123,18 @@ fn stem(job_index: usize, speed: f64, tension_kn: f64) -> String {
 }
 
 /// A percentage flag (`3%` or `3`); its range is the core's to check (`Tolerances::check`).
-fn pct(flag: &str, s: &str) -> Result<f64> {
+pub(crate) fn pct(flag: &str, s: &str) -> Result<f64> {
     let t = s.trim().trim_end_matches('%').trim();
     t.parse()
         .map_err(|_| anyhow::anyhow!("{flag} `{s}`: give a percentage, e.g. 3% or 3"))
 }
 
-fn metres(flag: &str, s: &str) -> Result<f64> {
+pub(crate) fn metres(flag: &str, s: &str) -> Result<f64> {
     crate::common::length(flag, s)
 }
 
-pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
-    if let Some(WindowSub::Merge { dirs, out, no_plot }) = a.sub {
-        return merge(&WINDOW, &dirs, &out, no_plot);
-    }
-    let (base, case_text) =
-        crate::common::load_case_with_text(a.case.as_ref(), a.preset.as_deref())?;
-    let base = crate::common::window_pantograph(apply(&base, &[])?, a.pantograph.as_deref());
+/// The flags as the core's spec, which holds the defaults, the checks and the fingerprint.
+fn spec_of(a: &WindowArgs, base: &pcsim_core::Case) -> Result<(WindowSweepSpec, Shard)> {
     let (speeds, tensions, shard) =
         crate::common::sweep_flags(&a.speed, &a.tension, a.jobs, a.shard.as_deref())?;
     // The flags become the core's spec, which holds the defaults, the checks and the fingerprint.
@@ -149,7 +144,7 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
             speeds_kmh: speeds,
             tensions_n: tensions,
             dampings: Vec::new(),
-            seeds: crate::common::seeds_flag(a.seeds, &base)?,
+            seeds: crate::common::seeds_flag(a.seeds, base)?,
             shard,
         },
         tolerances: Tolerances {
@@ -170,8 +165,19 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
         resolution_m: metres("--resolution", &a.resolution)?,
         coarse_only: a.coarse_only,
     };
-    spec.check(&base)
+    spec.check(base)
         .map_err(|e| with_flags(e, &WindowSweepSpec::FLAGS))?;
+    Ok((spec, shard))
+}
+
+pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
+    if let Some(WindowSub::Merge { dirs, out, no_plot }) = a.sub {
+        return merge(&WINDOW, &dirs, &out, no_plot);
+    }
+    let (base, case_text) =
+        crate::common::load_case_with_text(a.case.as_ref(), a.preset.as_deref())?;
+    let base = crate::common::window_pantograph(apply(&base, &[])?, a.pantograph.as_deref());
+    let (spec, shard) = spec_of(&a, &base)?;
     let search = spec.search(&base);
     let tol = spec.tolerances;
     let (jobs, mine) = spec.jobs(&base).context("in the window sweep")?;

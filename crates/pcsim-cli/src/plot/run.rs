@@ -3,6 +3,7 @@
 //! (`summary.json`, `timeseries.csv`), so `--plot` and `pcsim plot DIR` draw the same.
 
 use anyhow::{anyhow, bail, Context, Result};
+use pcsim_core::analysis::report::RunSummary;
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
@@ -601,8 +602,8 @@ pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
     Ok(files)
 }
 
-/// A finished run's `summary.json`.
-fn read_summary(dir: &Path) -> Result<serde_json::Value> {
+/// A finished run's `summary.json`, read back through the type that wrote it.
+fn read_summary(dir: &Path) -> Result<RunSummary> {
     let sp = dir.join("summary.json");
     serde_json::from_str(&std::fs::read_to_string(&sp).with_context(|| {
         format!(
@@ -611,7 +612,7 @@ fn read_summary(dir: &Path) -> Result<serde_json::Value> {
             dir.display()
         )
     })?)
-    .with_context(|| format!("{} is not valid JSON", sp.display()))
+    .with_context(|| format!("{} is not a run's summary", sp.display()))
 }
 
 /// Read a finished run's `summary.json` and `timeseries.csv` back into plot data.
@@ -620,7 +621,7 @@ pub fn read_run(dir: &Path) -> Result<PlotData> {
 }
 
 /// [`read_run`] with the run's summary already read.
-fn read_run_with(dir: &Path, summary: &serde_json::Value) -> Result<PlotData> {
+fn read_run_with(dir: &Path, summary: &RunSummary) -> Result<PlotData> {
     let tp = dir.join("timeseries.csv");
     let mut rdr =
         csv::Reader::from_path(&tp).with_context(|| format!("cannot read {}", tp.display()))?;
@@ -726,29 +727,17 @@ fn read_run_with(dir: &Path, summary: &serde_json::Value) -> Result<PlotData> {
 }
 
 /// Each pantograph's head and working range and wear histogram, from the run's summary.
-fn heads_from_summary(traces: &mut [Trace], summary: &serde_json::Value) {
-    for (t, p) in traces.iter_mut().zip(
-        summary["pantographs"]
-            .as_array()
-            .map(|a| a.as_slice())
-            .unwrap_or(&[]),
-    ) {
-        let l = &p["lateral"];
-        if l.is_object() {
-            t.head_half_width_m = l["head_half_width_m"].as_f64();
-            t.working_half_width_m = l["working_half_width_m"].as_f64();
-            let h = &l["histogram"];
-            if let (Some(from), Some(bin), Some(counts)) = (
-                h["from_mm"].as_f64(),
-                h["bin_mm"].as_f64(),
-                h["counts"].as_array(),
-            ) {
-                t.histogram = Some((
-                    from,
-                    bin,
-                    counts.iter().filter_map(|c| c.as_f64()).collect(),
-                ));
-            }
+fn heads_from_summary(traces: &mut [Trace], summary: &RunSummary) {
+    for (t, p) in traces.iter_mut().zip(&summary.pantographs) {
+        if let Some(l) = &p.lateral {
+            t.head_half_width_m = l.head_half_width_m;
+            t.working_half_width_m = l.working_half_width_m;
+            let h = &l.histogram;
+            t.histogram = Some((
+                h.from_mm,
+                h.bin_mm,
+                h.counts.iter().map(|&c| c as f64).collect(),
+            ));
         }
     }
 }
@@ -798,29 +787,15 @@ fn drop_non_finite(t: &mut Trace, tp: &Path) {
 }
 
 /// The plot data of a run: its summary's description and the traces read.
-fn plot_data(summary: &serde_json::Value, traces: Vec<Trace>) -> PlotData {
-    let a = &summary["analysis_section_m"];
+fn plot_data(summary: &RunSummary, traces: Vec<Trace>) -> PlotData {
     PlotData {
-        case_name: summary["case_name"].as_str().unwrap_or("run").to_string(),
-        speed_kmh: summary["speed_kmh"].as_f64().unwrap_or(0.0),
-        span_m: summary["span_m"].as_f64().filter(|s| *s > 0.0),
-        supports_m: summary["supports_m"].as_array().map_or(Vec::new(), |a| {
-            a.iter().filter_map(|v| v.as_f64()).collect()
-        }),
-        overlaps_m: summary["overlaps_m"].as_array().map_or(Vec::new(), |a| {
-            a.iter()
-                .filter_map(|o| Some([o.get(0)?.as_f64()?, o.get(1)?.as_f64()?]))
-                .collect()
-        }),
-        analysis_m: [a[0].as_f64().unwrap_or(0.0), a[1].as_f64().unwrap_or(0.0)],
-        overrides: summary["overrides"]
-            .as_array()
-            .map(|o| {
-                o.iter()
-                    .filter_map(|v| v.as_str().map(String::from))
-                    .collect()
-            })
-            .unwrap_or_default(),
+        case_name: summary.case_name.clone(),
+        speed_kmh: summary.speed_kmh,
+        span_m: summary.span_m.filter(|s| *s > 0.0),
+        supports_m: summary.supports_m.clone(),
+        overlaps_m: summary.overlaps_m.clone(),
+        analysis_m: summary.analysis_section_m,
+        overrides: summary.overrides.clone(),
         traces,
     }
 }

@@ -1,9 +1,11 @@
 //! The sensitivity figure of a run with `--sensitivity` (issue 42, item 2): per pantograph, the
 //! ranged values that move the contact force's standard deviation most, each a bar from the
 //! statistic with the value at its low end to the statistic at its high end, the case's own
-//! value a vertical line (a "tornado" chart). Drawn from `summary.json`'s `sensitivity`.
+//! value a vertical line (a "tornado" chart). Drawn from `summary.json`'s `sensitivity`, read
+//! back through the core's `RunSummary`.
 
 use anyhow::{anyhow, Context, Result};
+use pcsim_core::analysis::report::RunSummary;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -73,38 +75,29 @@ fn chart<DB: DrawingBackend>(
 }
 
 /// The figures of `summary` (a run's `summary.json`) into `dir`: none without a sensitivity.
-pub fn draw(dir: &Path, summary: &serde_json::Value) -> Result<Vec<PathBuf>> {
+pub fn draw(dir: &Path, summary: &RunSummary) -> Result<Vec<PathBuf>> {
     register_font();
-    let s = &summary["sensitivity"];
     let mut files = Vec::new();
-    for p in s["pantographs"].as_array().into_iter().flatten() {
-        let name = p["name"].as_str().unwrap_or("");
-        let Some(band) = p["statistics"]
-            .as_array()
-            .into_iter()
-            .flatten()
-            .find(|b| b["statistic"] == "std_n")
-        else {
+    let Some(s) = &summary.sensitivity else {
+        return Ok(files);
+    };
+    for p in &s.pantographs {
+        let name = p.name.as_str();
+        let Some(band) = p.statistics.iter().find(|b| b.statistic == "std_n") else {
             continue;
         };
-        let f = |v: &serde_json::Value| v.as_f64().unwrap_or(f64::NAN);
-        let bars: Vec<Bar> = band["movers"]
-            .as_array()
-            .into_iter()
-            .flatten()
-            .take(MOST)
-            .map(|m| Bar {
-                path: m["path"].as_str().unwrap_or("").into(),
-                at_low: f(&m["at_low"]),
-                at_high: f(&m["at_high"]),
+        let bars: Vec<Bar> = (band.movers.iter().take(MOST))
+            .filter_map(|m| {
+                Some(Bar {
+                    path: m.path.clone(),
+                    at_low: m.at_low.filter(|v| v.is_finite())?,
+                    at_high: m.at_high.filter(|v| v.is_finite())?,
+                })
             })
-            .filter(|b| b.at_low.is_finite() && b.at_high.is_finite())
             .collect();
         let title = format!(
             "{}: what moves σ of {name} (band {:.2}–{:.2} N over every run)",
-            summary["case_name"].as_str().unwrap_or(""),
-            f(&band["low"]),
-            f(&band["high"])
+            summary.case_name, band.low, band.high
         );
         let size = (1400, 120 + 48 * bars.len().max(1) as u32);
         let stem = dir.join(format!("sensitivity_{}", safe(name)));
@@ -112,7 +105,7 @@ pub fn draw(dir: &Path, summary: &serde_json::Value) -> Result<Vec<PathBuf>> {
         chart(
             SVGBackend::new(&svg, size).into_drawing_area(),
             &title,
-            f(&band["value"]),
+            band.value,
             &bars,
         )
         .with_context(|| format!("drawing {}", svg.display()))?;
@@ -120,7 +113,7 @@ pub fn draw(dir: &Path, summary: &serde_json::Value) -> Result<Vec<PathBuf>> {
         chart(
             BitMapBackend::new(&png, size).into_drawing_area(),
             &title,
-            f(&band["value"]),
+            band.value,
             &bars,
         )
         .with_context(|| format!("drawing {}", png.display()))?;

@@ -1003,17 +1003,68 @@ fn montecarlo_answer(h: &mut String, dir: &Path) -> Result<()> {
     Ok(())
 }
 
+/// A design's sensitivity (the objective a step below and above the best design) and its
+/// constraints' status, from design.json.
+fn design_sensitivity_and_constraints(h: &mut String, v: &serde_json::Value) {
+    // One row per element of a JSON list (none: no rows).
+    let rows_of = |list: &serde_json::Value, row: &dyn Fn(&serde_json::Value) -> Vec<String>| {
+        list.as_array()
+            .map_or(Vec::new(), |a| a.iter().map(row).collect::<Vec<_>>())
+    };
+    let as_text = |x: &serde_json::Value| x.as_str().unwrap_or("").to_string();
+    let sens = rows_of(&v["sensitivity"], &|s| {
+        vec![
+            as_text(&s["path"]),
+            num(&s["step"]),
+            num(&s["objective_below"]),
+            num(&s["objective_above"]),
+            s["at_bound"]
+                .as_str()
+                .map_or(String::new(), |b| format!("at its {b} bound")),
+        ]
+    });
+    table(
+        h,
+        "Sensitivity: the objective one step below and above the best design",
+        &[
+            "variable",
+            "step",
+            "objective below",
+            "objective above",
+            "note",
+        ],
+        &sens,
+    );
+    let cons = rows_of(&v["constraints"], &|c| {
+        let active = if c["active"] == true {
+            "active"
+        } else {
+            "inactive"
+        };
+        vec![
+            as_text(&c["name"]),
+            num(&c["value"]),
+            num(&c["limit"]),
+            num(&c["margin"]),
+            active.to_string(),
+        ]
+    });
+    if !cons.is_empty() {
+        table(
+            h,
+            "Constraints at the best design (active: violated one step away)",
+            &["constraint", "value", "limit", "margin", ""],
+            &cons,
+        );
+    }
+}
+
 /// A design search's answer (its design.json, the core's `DesignResult::to_json`): the best
 /// design, the sensitivity, the constraints.
 fn design_section(h: &mut String, dir: &Path) -> Result<()> {
     let p = dir.join("design.json");
     let v = json_file(&p)?;
     let _ = writeln!(h, "<h2 id=\"answer\">The answer</h2>");
-    // One row per element of a JSON list (none: no rows).
-    let rows_of = |list: &serde_json::Value, row: &dyn Fn(&serde_json::Value) -> Vec<String>| {
-        list.as_array()
-            .map_or(Vec::new(), |a| a.iter().map(row).collect::<Vec<_>>())
-    };
     let as_text = |x: &serde_json::Value| x.as_str().unwrap_or("").to_string();
     let paths: Vec<String> = v["variables"].as_array().map_or(Vec::new(), |a| {
         a.iter().map(|x| as_text(&x["path"])).collect()
@@ -1073,51 +1124,7 @@ fn design_section(h: &mut String, dir: &Path) -> Result<()> {
         &["", "best", "base"],
         &rows,
     );
-    let sens = rows_of(&v["sensitivity"], &|s| {
-        vec![
-            as_text(&s["path"]),
-            num(&s["step"]),
-            num(&s["objective_below"]),
-            num(&s["objective_above"]),
-            s["at_bound"]
-                .as_str()
-                .map_or(String::new(), |b| format!("at its {b} bound")),
-        ]
-    });
-    table(
-        h,
-        "Sensitivity: the objective one step below and above the best design",
-        &[
-            "variable",
-            "step",
-            "objective below",
-            "objective above",
-            "note",
-        ],
-        &sens,
-    );
-    let cons = rows_of(&v["constraints"], &|c| {
-        let active = if c["active"] == true {
-            "active"
-        } else {
-            "inactive"
-        };
-        vec![
-            as_text(&c["name"]),
-            num(&c["value"]),
-            num(&c["limit"]),
-            num(&c["margin"]),
-            active.to_string(),
-        ]
-    });
-    if !cons.is_empty() {
-        table(
-            h,
-            "Constraints at the best design (active: violated one step away)",
-            &["constraint", "value", "limit", "margin", ""],
-            &cons,
-        );
-    }
+    design_sensitivity_and_constraints(h, &v);
     Ok(())
 }
 

@@ -1,18 +1,18 @@
 //! The integration tests of pcsim-cli, one binary (one build and one link for all): each
-//! module is one former test file, named as before (`cargo test -p pcsim-cli --test suite NAME::`).
+//! module is one topic, named by what it tests (`cargo test -p pcsim-cli --test suite NAME::`).
 
 mod byte_golden;
+mod case_files;
 mod cli;
 mod common;
 mod design;
-mod everywhere;
+mod errors_downstream;
 mod evidence;
 mod fuzz_run;
-mod hardening;
-mod loud;
 mod matrix;
+mod output_transactions;
+mod physics_errors;
 mod preset_golden;
 mod realtime_golden;
-mod trust;
-mod trust3;
+mod refusals;
 mod window_checks;

@@ -268,6 +268,37 @@ fn stat(s: &ContactStats, q: Quantity) -> Option<f64> {
     }
 }
 
+/// Why criterion `c` does not apply to a run at `v` km/h on `system` (`None`: it applies): a
+/// criterion of other supply systems, or of the system when none is given, or of other speeds.
+fn not_applicable(c: &Criterion, system: Option<System>, v: f64) -> Option<String> {
+    if !c.systems.is_empty() {
+        match system {
+            None => {
+                return Some(format!(
+                    "{}: applies to {} only, and the supply system was not given (--system)",
+                    c.id,
+                    c.systems
+                        .iter()
+                        .map(|s| s.name())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ))
+            }
+            Some(s) if !c.systems.contains(&s) => {
+                return Some(format!("{}: does not apply to {}", c.id, s.name()))
+            }
+            _ => {}
+        }
+    }
+    match c.speed_kmh {
+        Some([lo, hi]) if !(v > lo && v <= hi) => Some(format!(
+            "{}: applies above {lo} and up to {hi} km/h, not at {v} km/h",
+            c.id
+        )),
+        _ => None,
+    }
+}
+
 /// The run `input` against `criteria` for the supply system `system` (none: the criteria that
 /// depend on the system are skipped, and said so). The verdict of each row: `max` is met at or
 /// below the limit, `min` at or above it, a `target` within its tolerance (without one, the
@@ -277,35 +308,9 @@ pub fn assess(input: &AssessInput, criteria: &[Criterion], system: Option<System
     let mut rows = Vec::new();
     let mut skipped = Vec::new();
     for c in criteria {
-        if !c.systems.is_empty() {
-            match system {
-                None => {
-                    skipped.push(format!(
-                        "{}: applies to {} only, and the supply system was not given (--system)",
-                        c.id,
-                        c.systems
-                            .iter()
-                            .map(|s| s.name())
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ));
-                    continue;
-                }
-                Some(s) if !c.systems.contains(&s) => {
-                    skipped.push(format!("{}: does not apply to {}", c.id, s.name()));
-                    continue;
-                }
-                _ => {}
-            }
-        }
-        if let Some([lo, hi]) = c.speed_kmh {
-            if !(v > lo && v <= hi) {
-                skipped.push(format!(
-                    "{}: applies above {lo} and up to {hi} km/h, not at {v} km/h",
-                    c.id
-                ));
-                continue;
-            }
+        if let Some(why) = not_applicable(c, system, v) {
+            skipped.push(why);
+            continue;
         }
         if c.quantity.per_run() {
             rows.push(row(c, None, input.speed_ratio, v, &|_| None));

@@ -109,7 +109,9 @@ pub struct RunOutput {
 
 /// What `max_uplift_at_support_mm` is measured from: the static position of the wires before
 /// any pantograph arrives.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum UpliftDatum {
     /// The design's static shape (no steady load).
@@ -290,93 +292,99 @@ impl Recorder {
         cm.monitor(ws, k) - self.datum.get(k).copied().unwrap_or(0.0)
     }
 
-    /// The statistics and traces of the recorded run.
-    pub fn finish(mut self, cm: &CompiledModel, rs: RunStatistics) -> RunOutput {
+    /// Pantograph `p`'s traces and statistics (its strips', its lateral offset on the head, its
+    /// overlaps), its records taken out of the recorder.
+    fn pantograph_trace(&mut self, cm: &CompiledModel, p: usize) -> PantographTrace {
         let m = cm.model();
         let dt = self.dt_s;
         let fs = 1.0 / dt;
-        let pantographs = (0..m.pantographs.len())
-            .map(|p| {
-                let filtered = lowpass_zero_phase(&self.force[p], fs, CUTOFF_HZ);
-                let mut stats = contact_stats(
-                    &self.force[p],
+        let filtered = lowpass_zero_phase(&self.force[p], fs, CUTOFF_HZ);
+        let mut stats = contact_stats(
+            &self.force[p],
+            &self.pos[p],
+            &self.height[p],
+            dt,
+            self.analysis_m,
+            self.uplift[p],
+        );
+        let pan = &m.pantographs[p];
+        let overlaps = std::mem::take(&mut self.overlaps[p])
+            .into_iter()
+            .filter_map(|o| o.finish(&self.pos[p], &self.idle_gap[p]))
+            .collect();
+        let lateral = if self.lateral[p].is_empty() {
+            None
+        } else {
+            // On the head: from its centre, which a canted curve moves off the
+            // track's centre line.
+            let origin = m.track_origin_m;
+            let on_head: Vec<f64> = (self.lateral[p].iter().zip(&self.pos[p]))
+                .map(|(z, &x)| {
+                    z - m
+                        .lateral
+                        .as_ref()
+                        .map_or(0.0, |l| l.head_offset_at(x + origin))
+                })
+                .collect();
+            lateral_stats(
+                &on_head,
+                &self.pos[p],
+                self.analysis_m,
+                pan.head_half_width_m,
+                pan.working_half_width_m,
+            )
+        };
+        if let (Some(s), Some(l)) = (stats.as_mut(), lateral.as_ref()) {
+            s.max_lateral_offset_mm = Some(l.max_lateral_offset_mm);
+            s.min_head_margin_mm = l.min_head_margin_mm;
+            s.max_contact_wire_blowout_mm = Some(self.blowout * 1e3);
+        }
+        // Each strip's force and statistics, on the pantograph's positions and heights.
+        let strips = (pan.strips().iter())
+            .zip(std::mem::take(&mut self.strip_force[p]))
+            .map(|(st, force_n)| StripTrace {
+                along_m: st.along_m,
+                stats: contact_stats(
+                    &force_n,
                     &self.pos[p],
                     &self.height[p],
                     dt,
                     self.analysis_m,
                     self.uplift[p],
-                );
-                let pan = &m.pantographs[p];
-                let overlaps = std::mem::take(&mut self.overlaps[p])
-                    .into_iter()
-                    .filter_map(|o| o.finish(&self.pos[p], &self.idle_gap[p]))
-                    .collect();
-                let lateral = if self.lateral[p].is_empty() {
-                    None
-                } else {
-                    // On the head: from its centre, which a canted curve moves off the
-                    // track's centre line.
-                    let origin = m.track_origin_m;
-                    let on_head: Vec<f64> = (self.lateral[p].iter().zip(&self.pos[p]))
-                        .map(|(z, &x)| {
-                            z - m
-                                .lateral
-                                .as_ref()
-                                .map_or(0.0, |l| l.head_offset_at(x + origin))
-                        })
-                        .collect();
-                    lateral_stats(
-                        &on_head,
-                        &self.pos[p],
-                        self.analysis_m,
-                        pan.head_half_width_m,
-                        pan.working_half_width_m,
-                    )
-                };
-                if let (Some(s), Some(l)) = (stats.as_mut(), lateral.as_ref()) {
-                    s.max_lateral_offset_mm = Some(l.max_lateral_offset_mm);
-                    s.min_head_margin_mm = l.min_head_margin_mm;
-                    s.max_contact_wire_blowout_mm = Some(self.blowout * 1e3);
-                }
-                // Each strip's force and statistics, on the pantograph's positions and heights.
-                let strips = (pan.strips().iter())
-                    .zip(std::mem::take(&mut self.strip_force[p]))
-                    .map(|(st, force_n)| StripTrace {
-                        along_m: st.along_m,
-                        stats: contact_stats(
-                            &force_n,
-                            &self.pos[p],
-                            &self.height[p],
-                            dt,
-                            self.analysis_m,
-                            self.uplift[p],
-                        ),
-                        force_n,
-                    })
-                    .collect();
-                PantographTrace {
-                    name: pan.name.clone(),
-                    position_m: std::mem::take(&mut self.pos[p]),
-                    force_n: std::mem::take(&mut self.force[p]),
-                    force_filtered_n: filtered,
-                    wire_height_m: std::mem::take(&mut self.height[p]),
-                    max_uplift_at_support_m: self.uplift[p],
-                    stats,
-                    lateral_m: std::mem::take(&mut self.lateral[p]),
-                    twist_rad: std::mem::take(&mut self.twist[p]),
-                    head_half_width_m: pan.head_half_width_m,
-                    lateral,
-                    wire_forces: (self.wire_points[p].iter())
-                        .zip(std::mem::take(&mut self.wire_force[p]))
-                        .map(|(ks, f)| {
-                            let mi = cm.contact_points(p)[ks[0]];
-                            (m.wires[cm.moving_wire(mi)].name.clone(), f)
-                        })
-                        .collect(),
-                    overlaps,
-                    strips,
-                }
+                ),
+                force_n,
             })
+            .collect();
+        PantographTrace {
+            name: pan.name.clone(),
+            position_m: std::mem::take(&mut self.pos[p]),
+            force_n: std::mem::take(&mut self.force[p]),
+            force_filtered_n: filtered,
+            wire_height_m: std::mem::take(&mut self.height[p]),
+            max_uplift_at_support_m: self.uplift[p],
+            stats,
+            lateral_m: std::mem::take(&mut self.lateral[p]),
+            twist_rad: std::mem::take(&mut self.twist[p]),
+            head_half_width_m: pan.head_half_width_m,
+            lateral,
+            wire_forces: (self.wire_points[p].iter())
+                .zip(std::mem::take(&mut self.wire_force[p]))
+                .map(|(ks, f)| {
+                    let mi = cm.contact_points(p)[ks[0]];
+                    (m.wires[cm.moving_wire(mi)].name.clone(), f)
+                })
+                .collect(),
+            overlaps,
+            strips,
+        }
+    }
+
+    /// The statistics and traces of the recorded run.
+    pub fn finish(mut self, cm: &CompiledModel, rs: RunStatistics) -> RunOutput {
+        let m = cm.model();
+        let dt = self.dt_s;
+        let pantographs = (0..m.pantographs.len())
+            .map(|p| self.pantograph_trace(cm, p))
             .collect();
         let mut out = RunOutput {
             speed_m_s: cm.speed_m_s(),

@@ -153,6 +153,47 @@ fn run_duration_s(case: &Case) -> f64 {
     (case.run.end_m - (case.run.start_m - max_off)) / case.speed_m_s().max(1e-9)
 }
 
+/// The spectrum of the wind's turbulence (`u_c`: the mean speed at the contact wire, m/s).
+fn spectrum_model(wd: &crate::input::lateral::WindCase, u_c: f64) -> Option<SpectrumModel> {
+    match wd.spectrum {
+        Spectrum::Kaimal { integral_length_m } => Some(SpectrumModel::Kaimal {
+            integral_length_m,
+            mean_m_s: u_c,
+        }),
+        Spectrum::Davenport => Some(SpectrumModel::Davenport {
+            reference_m_s: wd.mean_speed_m_s,
+        }),
+        Spectrum::None => None,
+    }
+}
+
+/// The wind's turbulent field on the grid `xs` over `duration` s (a calm one without turbulence):
+/// `sigma` its standard deviation, `u_c` the mean speed at the contact wire's height, m/s.
+fn turbulent_field(
+    wd: &crate::input::lateral::WindCase,
+    xs: &[f64],
+    spectrum: Option<SpectrumModel>,
+    sigma: f64,
+    u_c: f64,
+    duration: f64,
+) -> WindField {
+    match spectrum {
+        Some(sp) if sigma > 0.0 => WindField::generate(
+            xs,
+            &FieldSpec {
+                spectrum: sp,
+                sigma_m_s: sigma,
+                mean_m_s: u_c.max(0.1),
+                coherence_decay: wd.coherence_decay,
+            },
+            wd.dt_s,
+            duration,
+            wd.seed,
+        ),
+        _ => WindField::calm(xs, wd.dt_s),
+    }
+}
+
 /// The crosswind of a case on the model's wires (each tension length's messenger and contact
 /// wire: wire `2k + i`, on its own diameters and coefficients where a tension length overrides
 /// its wires): the mean wind at each wire's height, the aerodynamic coefficients, the
@@ -251,31 +292,8 @@ fn wind_load(
         &profile,
     );
     let duration = run_duration_s(case) + 2.0 * wd.dt_s;
-    let spectrum = match wd.spectrum {
-        Spectrum::Kaimal { integral_length_m } => Some(SpectrumModel::Kaimal {
-            integral_length_m,
-            mean_m_s: u_c,
-        }),
-        Spectrum::Davenport => Some(SpectrumModel::Davenport {
-            reference_m_s: wd.mean_speed_m_s,
-        }),
-        Spectrum::None => None,
-    };
-    let field = match spectrum {
-        Some(sp) if sigma > 0.0 => WindField::generate(
-            &xs,
-            &FieldSpec {
-                spectrum: sp,
-                sigma_m_s: sigma,
-                mean_m_s: u_c.max(0.1),
-                coherence_decay: wd.coherence_decay,
-            },
-            wd.dt_s,
-            duration,
-            wd.seed,
-        ),
-        _ => WindField::calm(&xs, wd.dt_s),
-    };
+    let spectrum = spectrum_model(wd, u_c);
+    let field = turbulent_field(wd, &xs, spectrum, sigma, u_c, duration);
     let achieved = field.std_over(duration) / wd.mean_speed_m_s.max(1e-12);
     Some(WindLoad {
         air_density_kg_m3: rho,
@@ -1029,11 +1047,9 @@ struct Placed {
     span_m: Option<f64>,
 }
 
-/// The droppers and supports of `case` from its static shape; an error when the messenger would
-/// sag onto the contact wire.
-fn place(case: &Case) -> Result<Placed, CaseError> {
-    let c = &case.catenary;
-    let too_short = |field: String, value: String, i: usize, len: f64| CaseError::Invalid {
+/// A dropper shorter than 5 cm (or not finite): the static messenger sags onto the contact wire.
+fn too_short(field: String, value: String, i: usize, len: f64) -> CaseError {
+    CaseError::Invalid {
         field,
         value,
         reason: format!(
@@ -1041,74 +1057,85 @@ fn place(case: &Case) -> Result<Placed, CaseError> {
             i + 1,
             len
         ),
-    };
-    if let Some(line) = &case.line {
-        let starts = line.starts_m();
-        let mut tls = Vec::new();
-        let mut statics = Vec::new();
-        // The sampler's periodic path needs the points to repeat every span: every span of
-        // every tension length of one length with one dropper layout (heights do not matter:
-        // they move no point).
-        let mut repeats = true;
-        let mut first_span: Option<SpanLayout> = None;
-        for (k, t) in line.tension_lengths.iter().enumerate() {
-            let ck = t.catenary(c);
-            let mut d = tension_length_design(&ck, t);
-            d.start_m = starts[k];
-            let ns = d.spans.len();
-            // The overlaps' out-of-running wires rise toward their anchors.
-            if let Some(o) = k.checked_sub(1).and_then(|j| line.overlaps.get(j)) {
-                d.contact_height_m[0] += o.rise_m;
-            }
-            if let Some(o) = line.overlaps.get(k) {
-                d.contact_height_m[ns] += o.rise_m;
-            }
-            let st = TensionLengthStatics::solve(&d);
-            for (i, h) in st.droppers.iter().enumerate() {
-                if !h.length_m.is_finite() || h.length_m <= 0.05 {
-                    return Err(too_short(
-                        format!("line.tension_lengths[{k}].encumbrance_m[{}]", h.span),
-                        d.encumbrance_m[h.span].to_string(),
-                        i,
-                        h.length_m,
-                    ));
-                }
-            }
-            let first = &d.spans[0];
-            let reference = first_span.get_or_insert_with(|| first.clone());
-            repeats = repeats
-                && d.spans.iter().all(|s| {
-                    s.length_m == reference.length_m && s.dropper_x_m == reference.dropper_x_m
-                });
-            let stiffness = |len: f64| dropper_stiffness(&ck, len);
-            tls.push(PlacedTl {
-                start_m: starts[k],
-                length_m: st.supports_m[ns] - st.supports_m[0],
-                hangers: st
-                    .droppers
-                    .iter()
-                    .map(|h| Hanger {
-                        x_m: h.x_m,
-                        length_m: h.length_m,
-                        preload_n: h.force_contact_n,
-                        stiffness_n_per_m: stiffness(h.length_m),
-                        stitch: h.stitch,
-                    })
-                    .collect(),
-                interior_supports_m: st.supports_m[1..ns].to_vec(),
-                supports_m: st.supports_m.clone(),
-                first_support: line.first_support(k),
-                arm_force_n: st.arm_force_n[1..ns].to_vec(),
-                catenary: ck,
-            });
-            statics.push(st);
+    }
+}
+
+/// [`place`] on a `[line]`: each tension length's statics, droppers and supports.
+fn place_line(c: &CatenaryCase, line: &crate::input::case::LineCase) -> Result<Placed, CaseError> {
+    let starts = line.starts_m();
+    let mut tls = Vec::new();
+    let mut statics = Vec::new();
+    // The sampler's periodic path needs the points to repeat every span: every span of
+    // every tension length of one length with one dropper layout (heights do not matter:
+    // they move no point).
+    let mut repeats = true;
+    let mut first_span: Option<SpanLayout> = None;
+    for (k, t) in line.tension_lengths.iter().enumerate() {
+        let ck = t.catenary(c);
+        let mut d = tension_length_design(&ck, t);
+        d.start_m = starts[k];
+        let ns = d.spans.len();
+        // The overlaps' out-of-running wires rise toward their anchors.
+        if let Some(o) = k.checked_sub(1).and_then(|j| line.overlaps.get(j)) {
+            d.contact_height_m[0] += o.rise_m;
         }
-        return Ok(Placed {
-            tls,
-            supports_m: line.supports_m(),
-            shape: StaticShape::Line(Box::new(LineStatics::new(statics))),
-            span_m: first_span.filter(|_| repeats).map(|s| s.length_m),
+        if let Some(o) = line.overlaps.get(k) {
+            d.contact_height_m[ns] += o.rise_m;
+        }
+        let st = TensionLengthStatics::solve(&d);
+        for (i, h) in st.droppers.iter().enumerate() {
+            if !h.length_m.is_finite() || h.length_m <= 0.05 {
+                return Err(too_short(
+                    format!("line.tension_lengths[{k}].encumbrance_m[{}]", h.span),
+                    d.encumbrance_m[h.span].to_string(),
+                    i,
+                    h.length_m,
+                ));
+            }
+        }
+        let first = &d.spans[0];
+        let reference = first_span.get_or_insert_with(|| first.clone());
+        repeats = repeats
+            && d.spans.iter().all(|s| {
+                s.length_m == reference.length_m && s.dropper_x_m == reference.dropper_x_m
+            });
+        let stiffness = |len: f64| dropper_stiffness(&ck, len);
+        tls.push(PlacedTl {
+            start_m: starts[k],
+            length_m: st.supports_m[ns] - st.supports_m[0],
+            hangers: st
+                .droppers
+                .iter()
+                .map(|h| Hanger {
+                    x_m: h.x_m,
+                    length_m: h.length_m,
+                    preload_n: h.force_contact_n,
+                    stiffness_n_per_m: stiffness(h.length_m),
+                    stitch: h.stitch,
+                })
+                .collect(),
+            interior_supports_m: st.supports_m[1..ns].to_vec(),
+            supports_m: st.supports_m.clone(),
+            first_support: line.first_support(k),
+            arm_force_n: st.arm_force_n[1..ns].to_vec(),
+            catenary: ck,
         });
+        statics.push(st);
+    }
+    Ok(Placed {
+        tls,
+        supports_m: line.supports_m(),
+        shape: StaticShape::Line(Box::new(LineStatics::new(statics))),
+        span_m: first_span.filter(|_| repeats).map(|s| s.length_m),
+    })
+}
+
+/// The droppers and supports of `case` from its static shape; an error when the messenger would
+/// sag onto the contact wire.
+fn place(case: &Case) -> Result<Placed, CaseError> {
+    let c = &case.catenary;
+    if let Some(line) = &case.line {
+        return place_line(c, line);
     }
     let stat = StaticSolution::solve(&static_design(c));
     for (i, len) in stat.dropper_length_m.iter().enumerate() {

@@ -42,30 +42,7 @@ impl MeasuredForce {
                 "a measured record needs the header `position_m,force_n` and its rows",
             ));
         };
-        let cols: Vec<String> = header
-            .split(',')
-            .map(|c| c.trim().trim_matches('"').to_ascii_lowercase())
-            .collect();
-        if cols != ["position_m", "force_n"] {
-            let why = if cols.iter().any(|c| c.parse::<f64>().is_ok()) {
-                "the first line must be the header `position_m,force_n`".to_string()
-            } else if let Some(c) = cols
-                .iter()
-                .find(|c| c.starts_with("position") && c.as_str() != "position_m")
-            {
-                format!("column `{c}`: positions are read in metres, as `position_m` (convert km × 1000)")
-            } else if let Some(c) = cols
-                .iter()
-                .find(|c| c.starts_with("force") && c.as_str() != "force_n")
-            {
-                format!(
-                    "column `{c}`: forces are read in newtons, as `force_n` (convert kN × 1000)"
-                )
-            } else {
-                "the header must be `position_m,force_n` (metres, newtons; two columns)".to_string()
-            };
-            return Err(inv(source, format!("header `{}`", header.trim()), &why));
-        }
+        check_header(header, source)?;
         // The file's line of each row (1-based), for the errors.
         let (mut x, mut f, mut at) = (Vec::new(), Vec::new(), Vec::new());
         for (i, line) in lines {
@@ -133,6 +110,35 @@ impl MeasuredForce {
             spacing_m: spacing,
         })
     }
+}
+
+/// Refuse a header other than `position_m,force_n`, saying which column's unit is wrong.
+fn check_header(header: &str, source: &str) -> Result<(), CaseError> {
+    let cols: Vec<String> = header
+        .split(',')
+        .map(|c| c.trim().trim_matches('"').to_ascii_lowercase())
+        .collect();
+    if cols != ["position_m", "force_n"] {
+        let why = if cols.iter().any(|c| c.parse::<f64>().is_ok()) {
+            "the first line must be the header `position_m,force_n`".to_string()
+        } else if let Some(c) = cols
+            .iter()
+            .find(|c| c.starts_with("position") && c.as_str() != "position_m")
+        {
+            format!(
+                "column `{c}`: positions are read in metres, as `position_m` (convert km × 1000)"
+            )
+        } else if let Some(c) = cols
+            .iter()
+            .find(|c| c.starts_with("force") && c.as_str() != "force_n")
+        {
+            format!("column `{c}`: forces are read in newtons, as `force_n` (convert kN × 1000)")
+        } else {
+            "the header must be `position_m,force_n` (metres, newtons; two columns)".to_string()
+        };
+        return Err(inv(source, format!("header `{}`", header.trim()), &why));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

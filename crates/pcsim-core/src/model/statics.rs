@@ -312,6 +312,24 @@ pub fn presag_values(presag: &Presag, span_m: f64, d: &[f64]) -> Vec<f64> {
     }
 }
 
+/// Each dropper's stitch wire, if it has one: its stiffness (N/m) and the mass of its node at
+/// the messenger (kg: the clamp and half the wire).
+fn stitch_at_droppers(c: &StaticDesign) -> Vec<Option<(f64, f64)>> {
+    let d = &c.dropper_x_m;
+    (0..c.dropper_x_m.len())
+        .map(|i| {
+            c.stitch
+                .as_ref()
+                .filter(|st| st.droppers.contains(&i))
+                .map(|st| {
+                    let dist = d[i].min(c.span_m - d[i]);
+                    let k = stitch_stiffness(st.tension_n, st.length_m, dist);
+                    (k, st.clamp_mass_kg + 0.5 * st.mass_per_m_kg * st.length_m)
+                })
+        })
+        .collect()
+}
+
 impl StaticSolution {
     /// Solve the static shape of the catenary of `c`.
     pub fn solve(c: &StaticDesign) -> Self {
@@ -343,19 +361,7 @@ impl StaticSolution {
             .collect();
         let arm = if hold { nf[0] } else { 0.0 };
 
-        // Stitch elements.
-        let stitch: Vec<Option<(f64, f64)>> = (0..nd)
-            .map(|i| {
-                c.stitch
-                    .as_ref()
-                    .filter(|st| st.droppers.contains(&i))
-                    .map(|st| {
-                        let dist = d[i].min(s - d[i]);
-                        let k = stitch_stiffness(st.tension_n, st.length_m, dist);
-                        (k, st.clamp_mass_kg + 0.5 * st.mass_per_m_kg * st.length_m)
-                    })
-            })
-            .collect();
+        let stitch = stitch_at_droppers(c);
 
         // Messenger: iterate on dropper lengths (their weight loads the messenger).
         let wm = c.messenger_mass_per_m_kg * G;

@@ -340,6 +340,30 @@ pub struct CompiledModel {
     pub(crate) max_deviation_m: f64,
 }
 
+/// Each pantograph's first moving point, and its vertical contact points when it has two or more
+/// (a head of collector strips; one contact point needs no list).
+#[allow(clippy::type_complexity)]
+fn pantograph_points(np: usize, moving: &[MovingPoint]) -> (Vec<Option<usize>>, Vec<Vec<usize>>) {
+    let mut pan_point = vec![None; np];
+    for (m, mp) in moving.iter().enumerate() {
+        if pan_point[mp.pantograph].is_none() {
+            pan_point[mp.pantograph] = Some(m);
+        }
+    }
+    let mut pan_points = vec![Vec::new(); np];
+    for (m, mp) in moving.iter().enumerate() {
+        if mp.dir == Direction::Vertical {
+            pan_points[mp.pantograph].push(m);
+        }
+    }
+    for pts in &mut pan_points {
+        if pts.len() < 2 {
+            pts.clear();
+        }
+    }
+    (pan_point, pan_points)
+}
+
 impl CompiledModel {
     /// Resolve every attachment of `model` and plan its point groups, for a run at
     /// `plan`'s speed with the kernels of `isa`, in named steps: collect the points, lay out the
@@ -353,23 +377,7 @@ impl CompiledModel {
         let sl = SlotLayout::new(&model, &points, isa);
         let el = resolve_elements(&model, &points, &sl)?;
         let np = model.pantographs.len();
-        let mut pan_point = vec![None; np];
-        for (m, mp) in el.moving.iter().enumerate() {
-            if pan_point[mp.pantograph].is_none() {
-                pan_point[mp.pantograph] = Some(m);
-            }
-        }
-        let mut pan_points = vec![Vec::new(); np];
-        for (m, mp) in el.moving.iter().enumerate() {
-            if mp.dir == Direction::Vertical {
-                pan_points[mp.pantograph].push(m);
-            }
-        }
-        for pts in &mut pan_points {
-            if pts.len() < 2 {
-                pts.clear();
-            }
-        }
+        let (pan_point, pan_points) = pantograph_points(np, &el.moving);
         let pan_lateral = lateral_probes(&model, &el.moving);
         let wire_slots = |at: &[Attach]| -> (Vec<usize>, Vec<f64>) {
             at.iter()

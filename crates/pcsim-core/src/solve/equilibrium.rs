@@ -27,6 +27,7 @@
 use crate::error::{CaseError, ModelQuantity};
 use crate::solve::compiled::{refused, CompiledModel};
 use crate::solve::implicit::ImplicitScratch;
+use crate::solve::Workspace;
 
 pub use crate::solve::compiled::StaticStart;
 
@@ -43,6 +44,28 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 
 fn norm(a: &[f64]) -> f64 {
     dot(a, a).sqrt()
+}
+
+/// The preconditioner's diagonal at zero deviation, where the residual is `r`: the modal
+/// stiffness, and each node's own stiffness (nodes attach to wires only, never to another node,
+/// so one probe of all the nodes at once gives each diagonal).
+fn preconditioner_diagonal(cm: &CompiledModel, ws: &mut Workspace, r: &[f64]) -> Vec<f64> {
+    let nm = cm.model.layout.len;
+    let n = r.len();
+    let mut diag = vec![0.0; n];
+    diag[..nm].copy_from_slice(&cm.k_true);
+    if n > nm {
+        let mut xp = vec![0.0; n];
+        let mut rp = vec![0.0; n];
+        for v in &mut xp[nm..] {
+            *v = FD_STEP;
+        }
+        cm.static_residual(&xp, ws, &mut rp);
+        for j in nm..n {
+            diag[j] = (r[j] - rp[j]) / FD_STEP;
+        }
+    }
+    diag
 }
 
 /// The static start state of `cm` under its steady loads, or `None` when it has none (the
@@ -63,21 +86,7 @@ pub fn static_start(cm: &CompiledModel) -> Result<Option<StaticStart>, CaseError
     if load == 0.0 {
         return Ok(None);
     }
-    // Preconditioner: the modal stiffness, and each node's own stiffness (nodes attach to wires
-    // only, never to another node, so one probe of all the nodes at once gives each diagonal).
-    let mut diag = vec![0.0; n];
-    diag[..nm].copy_from_slice(&cm.k_true);
-    if nn > 0 {
-        let mut xp = x.clone();
-        let mut rp = vec![0.0; n];
-        for v in &mut xp[nm..] {
-            *v = FD_STEP;
-        }
-        cm.static_residual(&xp, &mut ws, &mut rp);
-        for j in nm..n {
-            diag[j] = (r[j] - rp[j]) / FD_STEP;
-        }
-    }
+    let diag = preconditioner_diagonal(cm, &mut ws, &r);
     let precond = |res: &[f64], z: &mut [f64]| {
         for ((zi, ri), di) in z.iter_mut().zip(res).zip(&diag) {
             *zi = if *di > 0.0 { ri / di } else { 0.0 };

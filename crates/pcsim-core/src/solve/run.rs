@@ -19,7 +19,9 @@ use crate::solve::workspace::Workspace;
 
 /// What a run loop counted: the solver's statistics, snapshot-tested on the zoo so that a silent
 /// change of the algorithm shows in review.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, serde::Deserialize, schemars::JsonSchema)]
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 pub struct RunStatistics {
     /// Time steps taken.
     pub steps: u64,

@@ -291,6 +291,39 @@ impl SamplerScratch {
     }
 }
 
+/// The points `xs` grouped by their offset in the span (`span_m` long, `n_spans` of them, offsets
+/// equal within `tol`): each offset with its points (index in `xs`, span index).
+#[allow(clippy::type_complexity)]
+fn offsets_in_span(
+    xs: &[f64],
+    span_m: f64,
+    n_spans: usize,
+    tol: f64,
+) -> Vec<(f64, Vec<(usize, usize)>)> {
+    let (s, ns) = (span_m, n_spans);
+    let mut offsets: Vec<(f64, Vec<(usize, usize)>)> = Vec::new();
+    for (j, &x) in xs.iter().enumerate() {
+        let mut sidx = (x / s).floor();
+        let mut d = x - sidx * s;
+        if d > s - tol {
+            d -= s;
+            sidx += 1.0;
+        }
+        if d.abs() < tol {
+            d = 0.0;
+        }
+        let sidx = sidx as usize;
+        if sidx >= ns {
+            continue;
+        }
+        match offsets.iter_mut().find(|(od, _)| (od - d).abs() < tol) {
+            Some((_, m)) => m.push((j, sidx)),
+            None => offsets.push((d, vec![(j, sidx)])),
+        }
+    }
+    offsets
+}
+
 impl PointSampler {
     /// Build a sampler for points `xs` on `basis`. `span_m` enables the periodic path when the
     /// model length is a whole number of spans; pass `None` for dense rows only.
@@ -309,26 +342,7 @@ impl PointSampler {
         if let (Some(ns), Some(s)) = (n_spans, span_m) {
             period = 2 * ns;
             let tol = 1e-9 * l.max(1.0);
-            let mut offsets: Vec<(f64, Vec<(usize, usize)>)> = Vec::new();
-            for (j, &x) in xs.iter().enumerate() {
-                let mut sidx = (x / s).floor();
-                let mut d = x - sidx * s;
-                if d > s - tol {
-                    d -= s;
-                    sidx += 1.0;
-                }
-                if d.abs() < tol {
-                    d = 0.0;
-                }
-                let sidx = sidx as usize;
-                if sidx >= ns {
-                    continue;
-                }
-                match offsets.iter_mut().find(|(od, _)| (od - d).abs() < tol) {
-                    Some((_, m)) => m.push((j, sidx)),
-                    None => offsets.push((d, vec![(j, sidx)])),
-                }
-            }
+            let mut offsets = offsets_in_span(xs, s, ns, tol);
             offsets.retain(|(_, m)| m.len() >= MIN_GROUP);
             // Order as primary, then its mirror (offset S − d) if present.
             let mut taken = vec![false; offsets.len()];

@@ -1121,6 +1121,34 @@ fn least_violating(evaluations: &[Evaluation]) -> Option<usize> {
         .map(|e| e.index)
 }
 
+/// The sensitivity: ± a step of each variable from the best design `best` (none: no runs),
+/// journaled so that a resumed search finds them in the journal too. Each planned point in the
+/// search's unit coordinates, `None` where the step would leave the variable's range.
+fn sensitivity_runs(
+    problem: &Problem<'_>,
+    best: Option<usize>,
+) -> Result<Vec<Option<Vec<f64>>>, CaseError> {
+    let mut plan: Vec<Option<Vec<f64>>> = Vec::new();
+    if let Some(bi) = best {
+        let design = problem.design;
+        let bx = problem.book.lock().expect("book").evaluations[bi].x.clone();
+        for (k, v) in design.spec.variables.iter().enumerate() {
+            for dir in [-1.0, 1.0] {
+                let mut x = bx.clone();
+                x[k] = (bx[k] + dir * v.sensitivity_step()).clamp(v.min, v.max);
+                plan.push((x[k] != bx[k]).then(|| design.u_of(&x)));
+            }
+        }
+        let refs: Vec<&Vec<f64>> = plan.iter().flatten().collect();
+        if !refs.is_empty() {
+            problem
+                .costs(&refs, "sensitivity")
+                .map_err(|e| invalid("design search", "sensitivity", e.to_string()))?;
+        }
+    }
+    Ok(plan)
+}
+
 /// Run the design search: the optimiser within the budget, then the best design's confirmation,
 /// the base design, the sensitivity and the constraints' status.
 ///
@@ -1177,25 +1205,7 @@ pub fn search(
             .map(|e| e.index)
     };
     let interrupted = stop == StopReason::Interrupted;
-    // The sensitivity: ± a step of each variable from the best design (journaled, so that a
-    // resumed search finds them in the journal too).
-    let mut plan: Vec<Option<Vec<f64>>> = Vec::new();
-    if let (Some(bi), false) = (best, interrupted) {
-        let bx = problem.book.lock().expect("book").evaluations[bi].x.clone();
-        for (k, v) in design.spec.variables.iter().enumerate() {
-            for dir in [-1.0, 1.0] {
-                let mut x = bx.clone();
-                x[k] = (bx[k] + dir * v.sensitivity_step()).clamp(v.min, v.max);
-                plan.push((x[k] != bx[k]).then(|| design.u_of(&x)));
-            }
-        }
-        let refs: Vec<&Vec<f64>> = plan.iter().flatten().collect();
-        if !refs.is_empty() {
-            problem
-                .costs(&refs, "sensitivity")
-                .map_err(|e| invalid("design search", "sensitivity", e.to_string()))?;
-        }
-    }
+    let plan = sensitivity_runs(&problem, best.filter(|_| !interrupted))?;
     let book = problem.book.into_inner().expect("book");
     let evaluations = book.evaluations;
     let neighbours: Vec<Option<usize>> = plan

@@ -628,6 +628,36 @@ fn levenberg_marquardt(p: &mut Problem<'_>, u0: &[f64]) -> (Vec<f64>, f64) {
     (u, cost)
 }
 
+/// `JᵀJ` of the residuals at the parameters `x` (`n_res` residuals; `J` in the logarithms of the
+/// parameters, by central differences), row-major: the fit's covariance is its inverse.
+fn normal_matrix(start: &Lumped, x: &[f64], measured: &Response, n_res: usize) -> Vec<f64> {
+    let np = x.len();
+    let h: f64 = 1e-6;
+    let mut jac = vec![vec![0.0; np]; n_res];
+    for j in 0..np {
+        let mut up = x.to_vec();
+        let mut dn = x.to_vec();
+        up[j] *= h.exp();
+        dn[j] *= (-h).exp();
+        let (ru, rd) = (
+            residuals(&with_params(start, &up), measured),
+            residuals(&with_params(start, &dn), measured),
+        );
+        for i in 0..n_res {
+            jac[i][j] = (ru[i] - rd[i]) / (2.0 * h);
+        }
+    }
+    let mut jtj = vec![0.0; np * np];
+    for row in &jac {
+        for a in 0..np {
+            for b in 0..np {
+                jtj[a * np + b] += row[a] * row[b];
+            }
+        }
+    }
+    jtj
+}
+
 /// Fit the chain of `start` with the default settings ([`fit_with`]).
 pub fn fit(start: &Lumped, measured: &Response) -> Result<Fit, CaseError> {
     fit_with(start, measured, &FitSpec::default(), &mut |_, _| {})
@@ -715,30 +745,7 @@ pub fn fit_with(
     let r = residuals(&fitted, measured);
     let dof = (r.len() as f64 - np as f64).max(1.0);
     let s2 = r.iter().map(|v| v * v).sum::<f64>() / dof;
-    // The Jacobian in the logarithms of the parameters, by central differences.
-    let h: f64 = 1e-6;
-    let mut jac = vec![vec![0.0; np]; r.len()];
-    for j in 0..np {
-        let mut up = x.clone();
-        let mut dn = x.clone();
-        up[j] *= h.exp();
-        dn[j] *= (-h).exp();
-        let (ru, rd) = (
-            residuals(&with_params(start, &up), measured),
-            residuals(&with_params(start, &dn), measured),
-        );
-        for i in 0..r.len() {
-            jac[i][j] = (ru[i] - rd[i]) / (2.0 * h);
-        }
-    }
-    let mut jtj = vec![0.0; np * np];
-    for row in &jac {
-        for a in 0..np {
-            for b in 0..np {
-                jtj[a * np + b] += row[a] * row[b];
-            }
-        }
-    }
+    let jtj = normal_matrix(start, &x, measured, r.len());
     let cov = crate::linalg::invert_small(&jtj, np);
     let names = names(start);
     let parameters = (0..np)

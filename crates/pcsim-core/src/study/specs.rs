@@ -197,11 +197,7 @@ impl Default for WindowSweepSpec {
     fn default() -> Self {
         WindowSweepSpec {
             grid: GridSpec::default(),
-            tolerances: Tolerances {
-                mean_pct: 1.0,
-                sigma_pct: 3.0,
-                max_pct: 5.0,
-            },
+            tolerances: Tolerances::default(),
             min_window_m: None,
             max_window_m: 400.0,
             coarse_m: 20.0,

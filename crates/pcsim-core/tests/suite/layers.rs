@@ -222,3 +222,33 @@ fn analysis_reads_the_compiled_model_not_the_stepper() {
         );
     }
 }
+
+/// Issue 52: no production function over 100 lines, in every crate of the workspace: the
+/// threshold is clippy.toml's, and each crate root denies the lint outside its tests (CI runs
+/// clippy with `-D warnings`; a crate added without the guard fails here).
+#[test]
+fn every_crate_denies_functions_over_100_lines() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let clippy = std::fs::read_to_string(root.join("clippy.toml")).unwrap();
+    assert!(
+        clippy
+            .lines()
+            .any(|l| l.replace(' ', "") == "too-many-lines-threshold=100"),
+        "clippy.toml: {clippy}"
+    );
+    let mut crates = 0;
+    for e in std::fs::read_dir(root.join("crates")).unwrap() {
+        let dir = e.unwrap().path();
+        let lib = dir.join("src/lib.rs");
+        let main = dir.join("src/main.rs");
+        let root_file = if lib.exists() { lib } else { main };
+        let text = std::fs::read_to_string(&root_file).unwrap();
+        assert!(
+            text.contains("#![cfg_attr(not(test), deny(clippy::too_many_lines))]"),
+            "{} does not deny functions over 100 lines",
+            root_file.display()
+        );
+        crates += 1;
+    }
+    assert!(crates >= 5, "{crates} crates");
+}

@@ -91,51 +91,7 @@ pub(super) fn lateral_sections(case: &Case, w: &mut Vec<Warning>) -> Result<(), 
             _ => {}
         }
         match &s.aero {
-            Some(a) => {
-                let n = a.attack_deg.len();
-                if n < 2 {
-                    return Err(inv(
-                        &f("aero.attack_deg"),
-                        format!("{n} angles"),
-                        "need at least two angles",
-                    ));
-                }
-                for i in 1..n {
-                    if a.attack_deg[i] <= a.attack_deg[i - 1] {
-                        return Err(inv(
-                            &f(&format!("aero.attack_deg[{i}]")),
-                            a.attack_deg[i],
-                            "angles must increase",
-                        ));
-                    }
-                }
-                if a.attack_deg[0] > 0.0 || a.attack_deg[n - 1] < 0.0 {
-                    return Err(inv(
-                        &f("aero.attack_deg"),
-                        format!("{:?}", a.attack_deg),
-                        "the table must include 0° (the mean wind is horizontal)",
-                    ));
-                }
-                for (k, v) in [("drag", &a.drag), ("lift", &a.lift), ("moment", &a.moment)] {
-                    if v.len() != n {
-                        return Err(inv(
-                            &f(&format!("aero.{k}")),
-                            format!("{} values", v.len()),
-                            &format!("need one value per angle ({n})"),
-                        ));
-                    }
-                    for (i, x) in v.iter().enumerate() {
-                        check_bound(w, &f(&format!("aero.{k}[{i}]")), *x, &bounds::COEFF)?;
-                    }
-                }
-                if a.at(0.0).0 <= 0.0 {
-                    return Err(inv(
-                        &f("aero.drag"),
-                        a.at(0.0).0,
-                        "the drag coefficient at 0° must be positive",
-                    ));
-                }
-            }
+            Some(a) => aero(a, &f, w)?,
             None if case.wind.is_some() => {
                 return Err(inv(
                     &f("aero"),
@@ -145,6 +101,59 @@ pub(super) fn lateral_sections(case: &Case, w: &mut Vec<Warning>) -> Result<(), 
             }
             None => {}
         }
+    }
+    Ok(())
+}
+
+/// A wire's aerodynamic table (`section.aero`): increasing angles through 0°, one coefficient
+/// per angle of each kind, a positive drag at 0°. `f` names a field of the section.
+fn aero(
+    a: &crate::input::lateral::AeroCase,
+    f: &dyn Fn(&str) -> String,
+    w: &mut Vec<Warning>,
+) -> Result<(), CaseError> {
+    let n = a.attack_deg.len();
+    if n < 2 {
+        return Err(inv(
+            &f("aero.attack_deg"),
+            format!("{n} angles"),
+            "need at least two angles",
+        ));
+    }
+    for i in 1..n {
+        if a.attack_deg[i] <= a.attack_deg[i - 1] {
+            return Err(inv(
+                &f(&format!("aero.attack_deg[{i}]")),
+                a.attack_deg[i],
+                "angles must increase",
+            ));
+        }
+    }
+    if a.attack_deg[0] > 0.0 || a.attack_deg[n - 1] < 0.0 {
+        return Err(inv(
+            &f("aero.attack_deg"),
+            format!("{:?}", a.attack_deg),
+            "the table must include 0° (the mean wind is horizontal)",
+        ));
+    }
+    for (k, v) in [("drag", &a.drag), ("lift", &a.lift), ("moment", &a.moment)] {
+        if v.len() != n {
+            return Err(inv(
+                &f(&format!("aero.{k}")),
+                format!("{} values", v.len()),
+                &format!("need one value per angle ({n})"),
+            ));
+        }
+        for (i, x) in v.iter().enumerate() {
+            check_bound(w, &f(&format!("aero.{k}[{i}]")), *x, &bounds::COEFF)?;
+        }
+    }
+    if a.at(0.0).0 <= 0.0 {
+        return Err(inv(
+            &f("aero.drag"),
+            a.at(0.0).0,
+            "the drag coefficient at 0° must be positive",
+        ));
     }
     Ok(())
 }
@@ -212,45 +221,7 @@ pub(super) fn lateral_geometry(case: &Case, w: &mut Vec<Warning>) -> Result<(), 
                     ))
                 }
             }
-            let f = |k: &str| format!("catenary.lateral.{k}");
-            check_bound(
-                w,
-                &f("steady_arm_stiffness_n_per_m"),
-                l.steady_arm_stiffness_n_per_m,
-                &bounds::LAT_STIFF,
-            )?;
-            check_bound(w, &f("steady_arm_mass_kg"), l.steady_arm_mass_kg, &bounds::ARM_MASS)?;
-            check_bound(
-                w,
-                &f("messenger_support_stiffness_n_per_m"),
-                l.messenger_support_stiffness_n_per_m,
-                &bounds::LAT_STIFF,
-            )?;
-            for (k, v) in [
-                ("dropper_clamp_eccentricity_m", l.dropper_clamp_eccentricity_m),
-                (
-                    "steady_arm_clamp_eccentricity_m",
-                    l.steady_arm_clamp_eccentricity_m,
-                ),
-                (
-                    "contact_point_eccentricity_m",
-                    l.contact_point_eccentricity_m,
-                ),
-            ] {
-                check_bound(w, &f(k), v, &bounds::ECC)?;
-            }
-            check_bound(
-                w,
-                &f("steady_arm_torsional_stiffness_nm_per_rad"),
-                l.steady_arm_torsional_stiffness_nm_per_rad,
-                &bounds::TORS_STIFF,
-            )?;
-            check_bound(
-                w,
-                &f("contact_wire_height_m"),
-                l.contact_wire_height_m,
-                &bounds::WIRE_HEIGHT,
-            )?;
+            registration(l, w)?;
         }
         None if lateral => {
             return Err(inv(
@@ -261,6 +232,59 @@ pub(super) fn lateral_geometry(case: &Case, w: &mut Vec<Warning>) -> Result<(), 
         }
         None => {}
     }
+    Ok(())
+}
+
+/// The lateral registration's stiffnesses, masses, eccentricities and contact-wire height, each
+/// within its bounds.
+fn registration(l: &LateralCase, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let f = |k: &str| format!("catenary.lateral.{k}");
+    check_bound(
+        w,
+        &f("steady_arm_stiffness_n_per_m"),
+        l.steady_arm_stiffness_n_per_m,
+        &bounds::LAT_STIFF,
+    )?;
+    check_bound(
+        w,
+        &f("steady_arm_mass_kg"),
+        l.steady_arm_mass_kg,
+        &bounds::ARM_MASS,
+    )?;
+    check_bound(
+        w,
+        &f("messenger_support_stiffness_n_per_m"),
+        l.messenger_support_stiffness_n_per_m,
+        &bounds::LAT_STIFF,
+    )?;
+    for (k, v) in [
+        (
+            "dropper_clamp_eccentricity_m",
+            l.dropper_clamp_eccentricity_m,
+        ),
+        (
+            "steady_arm_clamp_eccentricity_m",
+            l.steady_arm_clamp_eccentricity_m,
+        ),
+        (
+            "contact_point_eccentricity_m",
+            l.contact_point_eccentricity_m,
+        ),
+    ] {
+        check_bound(w, &f(k), v, &bounds::ECC)?;
+    }
+    check_bound(
+        w,
+        &f("steady_arm_torsional_stiffness_nm_per_rad"),
+        l.steady_arm_torsional_stiffness_nm_per_rad,
+        &bounds::TORS_STIFF,
+    )?;
+    check_bound(
+        w,
+        &f("contact_wire_height_m"),
+        l.contact_wire_height_m,
+        &bounds::WIRE_HEIGHT,
+    )?;
     Ok(())
 }
 

@@ -40,60 +40,8 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
             ),
         ));
     }
-    for (k, o) in line.overlaps.iter().enumerate() {
-        let f = |key: &str| format!("line.overlaps[{k}].{key}");
-        let (a, b) = (
-            line.tension_lengths[k].span_lengths_m(),
-            line.tension_lengths[k + 1].span_lengths_m(),
-        );
-        if o.spans == 0 || o.spans > a.len() || o.spans > b.len() {
-            return Err(inv(
-                &f("spans"),
-                o.spans,
-                &format!(
-                    "an overlap shares 1 to min({}, {}) spans (the two tension lengths' spans)",
-                    a.len(),
-                    b.len()
-                ),
-            ));
-        }
-        for i in 0..o.spans {
-            let (la, lb) = (a[a.len() - o.spans + i], b[i]);
-            if (la - lb).abs() > 1e-3 {
-                return Err(inv(
-                    &f("spans"),
-                    o.spans,
-                    &format!(
-                        "shared span {} is {la} m in tension length {k} but {lb} m in tension length {}: an overlap's spans are the same spans",
-                        i + 1,
-                        k + 1
-                    ),
-                ));
-            }
-        }
-        check_bound(w, &f("rise_m"), o.rise_m, &bounds::OVERLAP_RISE)?;
-        check_bound(
-            w,
-            &f("separation_m"),
-            o.separation_m,
-            &bounds::OVERLAP_SEPARATION,
-        )?;
-        if k + 1 < line.overlaps.len() {
-            let next = &line.overlaps[k + 1];
-            if o.spans + next.spans > b.len() {
-                return Err(inv(
-                    &f("spans"),
-                    o.spans,
-                    &format!(
-                        "tension length {} has {} spans: its two overlaps ({} and {} spans) may not meet",
-                        k + 1,
-                        b.len(),
-                        o.spans,
-                        next.spans
-                    ),
-                ));
-            }
-        }
+    for k in 0..line.overlaps.len() {
+        overlap(line, k, w)?;
     }
     if c.spans != line.n_spans() {
         return Err(inv(
@@ -107,6 +55,66 @@ pub(super) fn line(case: &Case, w: &mut Vec<Warning>) -> Result<(), CaseError> {
         ));
     }
     working_gradients(line, w)
+}
+
+/// Overlap `k` of a line: its shared spans are the same spans in both tension lengths, its
+/// rise and separation in range, and it does not meet the next overlap.
+fn overlap(line: &LineCase, k: usize, w: &mut Vec<Warning>) -> Result<(), CaseError> {
+    let o = &line.overlaps[k];
+    let f = |key: &str| format!("line.overlaps[{k}].{key}");
+    let (a, b) = (
+        line.tension_lengths[k].span_lengths_m(),
+        line.tension_lengths[k + 1].span_lengths_m(),
+    );
+    if o.spans == 0 || o.spans > a.len() || o.spans > b.len() {
+        return Err(inv(
+            &f("spans"),
+            o.spans,
+            &format!(
+                "an overlap shares 1 to min({}, {}) spans (the two tension lengths' spans)",
+                a.len(),
+                b.len()
+            ),
+        ));
+    }
+    for i in 0..o.spans {
+        let (la, lb) = (a[a.len() - o.spans + i], b[i]);
+        if (la - lb).abs() > 1e-3 {
+            return Err(inv(
+                &f("spans"),
+                o.spans,
+                &format!(
+                    "shared span {} is {la} m in tension length {k} but {lb} m in tension length {}: an overlap's spans are the same spans",
+                    i + 1,
+                    k + 1
+                ),
+            ));
+        }
+    }
+    check_bound(w, &f("rise_m"), o.rise_m, &bounds::OVERLAP_RISE)?;
+    check_bound(
+        w,
+        &f("separation_m"),
+        o.separation_m,
+        &bounds::OVERLAP_SEPARATION,
+    )?;
+    if k + 1 < line.overlaps.len() {
+        let next = &line.overlaps[k + 1];
+        if o.spans + next.spans > b.len() {
+            return Err(inv(
+                &f("spans"),
+                o.spans,
+                &format!(
+                    "tension length {} has {} spans: its two overlaps ({} and {} spans) may not meet",
+                    k + 1,
+                    b.len(),
+                    o.spans,
+                    next.spans
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// What a line carries beyond the vertical model: lateral and torsional motion (checked in
@@ -519,6 +527,16 @@ fn line_lateral(case: &Case, line: &LineCase, w: &mut Vec<Warning>) -> Result<()
         }
         curves.push(c);
     }
+    overlaps_on_one_track(line, &curves)
+}
+
+/// An overlap's shared spans lie on one track: one curve in both tension lengths (`curves`: each
+/// tension length's (radius, cant) per span). An overlap list that does not fit the tension
+/// lengths is refused after this, by count and by span: only the overlaps that fit are compared.
+fn overlaps_on_one_track(
+    line: &LineCase,
+    curves: &[Vec<(Option<f64>, f64)>],
+) -> Result<(), CaseError> {
     // An overlap's shared spans lie on one track: one curve in both tension lengths.
     // (An overlap list that does not fit the tension lengths is refused after this, by count
     // and by span: only the overlaps that fit are compared here.)

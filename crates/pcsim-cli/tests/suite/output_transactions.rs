@@ -672,7 +672,7 @@ fn issue_19_4_a_case_without_contact_is_refused_by_the_studies_and_flagged_by_ru
             ],
         );
     }
-    // Issue 20 made the loss an error-level event (exit 2, `loud.rs`); accepted, the run still
+    // Issue 20 made the loss an error-level event (exit 2, `physics_errors.rs`); accepted, the run still
     // says that it never touched.
     let o = pcsim()
         .arg("run")

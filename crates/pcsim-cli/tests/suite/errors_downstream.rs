@@ -10,7 +10,7 @@ use crate::common;
 use common::{ok, pcsim, refused, stderr, stdout};
 
 fn scratch(name: &str) -> PathBuf {
-    common::scratch("trust3", name)
+    common::scratch("errors_downstream", name)
 }
 
 /// Short SYT (8 spans) with a 5 mm PSD irregularity of waves down to 2 m: the pantograph loses
