@@ -319,6 +319,14 @@ const STUDIES: &[(&str, &[&str], &[&str])] = &[
         &["assess", "RUN", "--system", "ac"],
         &["assessment.json", "assessment.csv"],
     ),
+    // The reports, last (each writes into the study it reports on): a run with its droppers
+    // and assessment, --verify, --sensitivity, a design, a fit (written before the report read
+    // them back through their types).
+    ("report-run", &["report", "RUN"], &["report.html"]),
+    ("report-verify", &["report", "REPORT"], &["report.html"]),
+    ("report-sensitivity", &["report", "REPORT"], &["report.html"]),
+    ("report-design", &["report", "REPORT"], &["report.html"]),
+    ("report-fit", &["report", "REPORT"], &["report.html"]),
 ];
 
 /// A study's output text with what changes from run to run taken out: the lines with a
@@ -343,9 +351,13 @@ fn every_studys_outputs_are_the_bytes_they_were() {
     std::fs::create_dir_all(&dir).unwrap();
     study_inputs(&dir);
     let ex = root().join("examples");
-    let subst = |a: &str, out: &Path| -> String {
+    let subst = |a: &str, out: &Path, name: &str| -> String {
         match a {
             "OUT" => out.display().to_string(),
+            "REPORT" => dir
+                .join(format!("out-{}", name.trim_start_matches("report-")))
+                .display()
+                .to_string(),
             "RUN" => dir.join("out-run").display().to_string(),
             "B55" => dir.join("out-b55").display().to_string(),
             "FITDATA" => ex
@@ -363,10 +375,10 @@ fn every_studys_outputs_are_the_bytes_they_were() {
     let mut found = serde_json::Map::new();
     for (name, args, files) in STUDIES {
         let out = dir.join(format!("out-{name}"));
-        let argv: Vec<String> = args.iter().map(|a| subst(a, &out)).collect();
+        let argv: Vec<String> = args.iter().map(|a| subst(a, &out, name)).collect();
         let mut c = Command::new(env!("CARGO_BIN_EXE_pcsim"));
         c.args(&argv).current_dir(&dir).env("PCSIM_PORTABLE", "1");
-        if !matches!(args[0], "validate" | "assess") {
+        if !matches!(args[0], "validate" | "assess" | "report") {
             c.arg("--quiet");
         }
         let o = c.output().unwrap();
@@ -380,9 +392,11 @@ fn every_studys_outputs_are_the_bytes_they_were() {
             let text = if *f == "stdout" {
                 String::from_utf8(o.stdout.clone()).unwrap()
             } else {
-                // assess writes beside the run it assesses.
+                // assess and the report write into the study they read.
                 let from = if *name == "assess" {
                     dir.join("out-run")
+                } else if let Some(study) = name.strip_prefix("report-") {
+                    dir.join(format!("out-{study}"))
                 } else {
                     out.clone()
                 };
