@@ -13,6 +13,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::output::{add_to_manifest, read_complete_manifest};
+use pcsim_core::analysis::report::{PantographSummary, RunSummary};
+use pcsim_core::analysis::sensitivity::Sensitivity;
+use pcsim_core::analysis::verify::Verification;
 use pcsim_core::study::montecarlo::{MonteCarloOutput, MonteCarloStudy};
 use pcsim_core::study::{Answer, Study, StudyKind};
 
@@ -98,9 +101,10 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
     }
     let summary_text = std::fs::read_to_string(dir.join("summary.json"))
         .with_context(|| format!("cannot read {}", dir.join("summary.json").display()))?;
-    let summary: serde_json::Value =
-        serde_json::from_str(&summary_text).context("summary.json is not valid JSON")?;
-    let name = summary["case_name"].as_str().unwrap_or("run");
+    // Read back through the type that wrote it (issue 52: no lookup by key).
+    let summary: RunSummary =
+        serde_json::from_str(&summary_text).context("summary.json is not a run's summary")?;
+    let name = summary.case_name.as_str();
     let mut h = String::new();
     let _ = write!(
         h,
@@ -113,52 +117,46 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         h,
         "<h1>{} at {} km/h</h1>\n<p class=\"meta\">pcsim {} · kernels {} · <code>{}</code></p>\n",
         esc(name),
-        num(&summary["speed_kmh"]),
+        n(&summary.speed_kmh),
         esc(&m.version),
-        esc(summary["kernels"].as_str().unwrap_or("")),
+        esc(&summary.kernels),
         esc(m.value["command"].as_str().unwrap_or("(command line not recorded)"))
     );
     edited_box(&mut h, dir, &m);
     // The run's error-level events, above everything else.
-    let errors: Vec<String> = summary["errors"]
-        .as_array()
-        .map(|a| a.iter().map(num).collect())
-        .unwrap_or_default();
-    errors_box(&mut h, &errors);
-    warnings_section(&mut h, &summary);
+    errors_box(&mut h, &summary.errors);
+    warnings_section(&mut h, &summary.warnings);
     // The answer first (issue 42, item 6): the statistics, the verdicts and their evidence;
     // then the figures; then the tables of the set-up and the details.
-    let pans = summary["pantographs"]
-        .as_array()
-        .cloned()
-        .unwrap_or_default();
-    statistics_section(&mut h, &pans);
+    statistics_section(&mut h, &summary.pantographs);
     assessment(&mut h, dir, &summary_text)?;
-    verification_section(&mut h, &summary["verification"]);
-    sensitivity_section(&mut h, &summary["sensitivity"]);
+    if let Some(v) = &summary.verification {
+        verification_section(&mut h, v);
+    }
+    if let Some(s) = &summary.sensitivity {
+        sensitivity_section(&mut h, s);
+    }
     figures(&mut h, dir, &m.files)?;
     run_section(&mut h, &summary);
-    overlaps_section(&mut h, &pans);
-    droppers_section(&mut h, dir, &summary);
-    let overrides: Vec<String> = summary["overrides"]
-        .as_array()
-        .map(|a| a.iter().map(num).collect())
-        .unwrap_or_default();
-    provenance(&mut h, dir, &overrides)?;
+    overlaps_section(&mut h, &summary.pantographs);
+    droppers_section(&mut h, dir, summary.analysis_section_m);
+    provenance(&mut h, dir, &summary.overrides)?;
     finish(dir, h)
 }
 
+/// A typed value as a table shows it ([`num`] of its JSON form: the bytes the report gave when it
+/// read summary.json by key).
+fn n<T: serde::Serialize + ?Sized>(x: &T) -> String {
+    num(&serde_json::to_value(x).unwrap_or_default())
+}
+
 /// The run's warnings (above the answer: they qualify it).
-fn warnings_section(h: &mut String, summary: &serde_json::Value) {
-    let warnings: Vec<String> = summary["warnings"]
-        .as_array()
-        .map(|a| a.iter().map(num).collect())
-        .unwrap_or_default();
+fn warnings_section(h: &mut String, warnings: &[String]) {
     if warnings.is_empty() {
         h.push_str("<p>No warnings.</p>\n");
     } else {
         h.push_str("<h3>Warnings</h3><ul>");
-        for w in &warnings {
+        for w in warnings {
             let _ = write!(h, "<li>{}</li>", esc(w));
         }
         h.push_str("</ul>\n");
@@ -166,59 +164,65 @@ fn warnings_section(h: &mut String, summary: &serde_json::Value) {
 }
 
 /// The run's set-up and counters.
-fn run_section(h: &mut String, summary: &serde_json::Value) {
-    // The run.
-    let mut rows = Vec::new();
-    for key in [
-        "simulated_time_s",
-        "analysis_section_m",
-        "modes_per_wire",
-        "dt_s",
-        "max_slack_droppers",
-        "steps_with_slack_percent",
-        "contact_wire_tension_n",
-    ] {
-        rows.push(vec![key.to_string(), num(&summary[key])]);
-    }
+fn run_section(h: &mut String, s: &RunSummary) {
+    let rows = vec![
+        vec!["simulated_time_s".to_string(), n(&s.simulated_time_s)],
+        vec!["analysis_section_m".to_string(), n(&s.analysis_section_m)],
+        vec!["modes_per_wire".to_string(), n(&s.modes_per_wire)],
+        vec!["dt_s".to_string(), n(&s.dt_s)],
+        vec!["max_slack_droppers".to_string(), n(&s.max_slack_droppers)],
+        vec![
+            "steps_with_slack_percent".to_string(),
+            n(&s.steps_with_slack_percent),
+        ],
+        vec![
+            "contact_wire_tension_n".to_string(),
+            n(&s.contact_wire_tension_n),
+        ],
+    ];
     h.push_str("<h2>The run</h2>\n");
     table(h, "Set-up and run", &["quantity", "value"], &rows);
 }
 
 /// The EN 50318 statistics, one column per pantograph.
-fn statistics_section(h: &mut String, pans: &[serde_json::Value]) {
-    // EN 50318 statistics, per pantograph.
+fn statistics_section(h: &mut String, pans: &[PantographSummary]) {
     h.push_str("<h2 id=\"answer\">EN 50318 statistics (0–20 Hz contact force over the analysis section)</h2>\n");
-    let mut keys: Vec<String> = Vec::new();
-    for p in pans {
-        if let Some(o) = p["stats"].as_object() {
-            for k in o.keys() {
-                if !keys.contains(k) {
-                    keys.push(k.clone());
-                }
-            }
-        }
-    }
+    // Each statistic's row, in the order of the type's fields as written.
+    let as_map = |st: &Option<pcsim_core::analysis::stats::ContactStats>| match st
+        .as_ref()
+        .map(serde_json::to_value)
+    {
+        Some(Ok(serde_json::Value::Object(o))) => o,
+        _ => serde_json::Map::new(),
+    };
     // A column per pantograph, then one per collector strip of it (its own force's statistics;
     // the pantograph's are their sum's).
-    let mut cols: Vec<(String, &serde_json::Value)> = Vec::new();
+    let mut cols: Vec<(String, serde_json::Map<String, serde_json::Value>)> = Vec::new();
     for p in pans {
-        let name = p["name"].as_str().unwrap_or("");
-        cols.push((name.to_string(), &p["stats"]));
-        for (k, st) in p["strips"].as_array().into_iter().flatten().enumerate() {
-            let along = st["along_m"].as_f64().unwrap_or(0.0);
+        cols.push((p.name.clone(), as_map(&p.stats)));
+        for (k, st) in p.strips.iter().enumerate() {
             cols.push((
-                format!("{name}, strip {} ({along:+.2} m)", k + 1),
-                &st["stats"],
+                format!("{}, strip {} ({:+.2} m)", p.name, k + 1, st.along_m),
+                as_map(&st.stats),
             ));
+        }
+    }
+    let mut keys: Vec<String> = Vec::new();
+    for p in pans {
+        for k in as_map(&p.stats).keys() {
+            if !keys.contains(k) {
+                keys.push(k.clone());
+            }
         }
     }
     let mut head = vec!["quantity"];
     head.extend(cols.iter().map(|(n, _)| n.as_str()));
+    let null = serde_json::Value::Null;
     let rows: Vec<Vec<String>> = keys
         .iter()
         .map(|k| {
             std::iter::once(k.clone())
-                .chain(cols.iter().map(|(_, st)| num(&st[k])))
+                .chain(cols.iter().map(|(_, st)| num(st.get(k).unwrap_or(&null))))
                 .collect()
         })
         .collect();
@@ -227,59 +231,44 @@ fn statistics_section(h: &mut String, pans: &[serde_json::Value]) {
 
 /// The run's verification (`--verify`): each statistic beside its refined and stiff-contact
 /// values, the statistics not converged first.
-fn verification_section(h: &mut String, v: &serde_json::Value) {
-    if v.is_null() {
-        return;
-    }
+fn verification_section(h: &mut String, v: &Verification) {
     h.push_str("<h2>Verification: the numbers against a refined run and a stiffer contact</h2>\n");
     let _ = writeln!(
         h,
         "<p>Refined: {} modes per wire at Δt {} s (the run: {} at {} s). Model check: the contact {} N/m at Δt {} s (the run's {} N/m). A statistic is converged when the refinement moves it by no more than its tolerance.</p>",
-        num(&v["refined"]["modes_per_wire"]),
-        num(&v["refined"]["dt_s"]),
-        num(&v["run"]["modes_per_wire"]),
-        num(&v["run"]["dt_s"]),
-        num(&v["stiff_contact"]["contact_stiffness_n_per_m"]),
-        num(&v["stiff_contact"]["dt_s"]),
-        num(&v["run"]["contact_stiffness_n_per_m"]),
+        n(&v.refined.modes_per_wire),
+        n(&v.refined.dt_s),
+        n(&v.run.modes_per_wire),
+        n(&v.run.dt_s),
+        n(&v.stiff_contact.contact_stiffness_n_per_m),
+        n(&v.stiff_contact.dt_s),
+        n(&v.run.contact_stiffness_n_per_m),
     );
-    let not: Vec<String> = v["not_converged"]
-        .as_array()
-        .map(|a| a.iter().map(num).collect())
-        .unwrap_or_default();
-    if not.is_empty() {
+    if v.not_converged.is_empty() {
         h.push_str("<p>Every statistic is converged to its tolerance.</p>\n");
     } else {
         h.push_str(
             "<div class=\"warn\"><p><strong>Not converged to their tolerance:</strong></p><ul>",
         );
-        for n in &not {
-            let _ = write!(h, "<li>{}</li>", esc(n));
+        for x in &v.not_converged {
+            let _ = write!(h, "<li>{}</li>", esc(x));
         }
         h.push_str("</ul></div>\n");
     }
     let mut rows = Vec::new();
-    for p in v["pantographs"].as_array().into_iter().flatten() {
-        for s in p["statistics"].as_array().into_iter().flatten() {
-            let pct = |k: &str| format!("{:+.2} %", s[k].as_f64().unwrap_or(f64::NAN));
+    for p in &v.pantographs {
+        for s in &p.statistics {
+            let pct = |x: f64| format!("{x:+.2} %");
             rows.push(vec![
-                p["name"].as_str().unwrap_or("").into(),
-                format!(
-                    "{} [{}]",
-                    s["statistic"].as_str().unwrap_or(""),
-                    s["unit"].as_str().unwrap_or("")
-                ),
-                num(&s["value"]),
-                num(&s["refined"]),
-                pct("change_percent"),
-                format!("{} %", num(&s["tolerance_percent"])),
-                if s["converged"].as_bool() == Some(true) {
-                    "yes".into()
-                } else {
-                    "NO".into()
-                },
-                num(&s["stiff_contact"]),
-                pct("stiff_contact_change_percent"),
+                p.name.clone(),
+                format!("{} [{}]", s.statistic, s.unit),
+                n(&s.value),
+                n(&s.refined),
+                pct(s.change_percent),
+                format!("{} %", n(&s.tolerance_percent)),
+                if s.converged { "yes" } else { "NO" }.into(),
+                n(&s.stiff_contact),
+                pct(s.stiff_contact_change_percent),
             ]);
         }
     }
@@ -303,63 +292,41 @@ fn verification_section(h: &mut String, v: &serde_json::Value) {
 
 /// The run's sensitivity (`--sensitivity`): each statistic's band over the case's ranged values
 /// and the values that move it most, the ranges with their reasons, and the runs not made.
-fn sensitivity_section(h: &mut String, s: &serde_json::Value) {
-    if s.is_null() {
-        return;
-    }
+fn sensitivity_section(h: &mut String, s: &Sensitivity) {
     h.push_str("<h2>Sensitivity: the statistics over the case's ranged values</h2>\n");
-    let params = s["parameters"].as_array().cloned().unwrap_or_default();
     let _ = writeln!(
         h,
         "<p>{} ranged values, each run at its low and its high end (the others at the case's values), then {} runs with all of them drawn at once (seed {}). The band is the smallest and largest value over the case's run and every run of the study; the figure <code>sensitivity_*.svg</code> shows what moves σ.</p>",
-        params.len(),
-        num(&s["spec"]["samples"]),
-        num(&s["spec"]["seed"]),
+        s.parameters.len(),
+        n(&s.spec.samples),
+        n(&s.spec.seed),
     );
     let lists = [
-        ("Runs that could not be made", &s["failed"]),
-        ("Runs with an error-level event", &s["events"]),
-        ("Not varied", &s["not_varied"]),
+        ("Runs that could not be made", &s.failed),
+        ("Runs with an error-level event", &s.events),
+        ("Not varied", &s.not_varied),
     ];
-    for (what, list) in lists {
-        let items: Vec<String> = list
-            .as_array()
-            .map(|a| a.iter().map(num).collect())
-            .unwrap_or_default();
+    for (what, items) in lists {
         if !items.is_empty() {
             let _ = write!(h, "<div class=\"warn\"><p><strong>{what}:</strong></p><ul>");
-            for n in &items {
-                let _ = write!(h, "<li>{}</li>", esc(n));
+            for x in items {
+                let _ = write!(h, "<li>{}</li>", esc(x));
             }
             h.push_str("</ul></div>\n");
         }
     }
     let mut rows = Vec::new();
-    for p in s["pantographs"].as_array().into_iter().flatten() {
-        for b in p["statistics"].as_array().into_iter().flatten() {
-            let movers: Vec<String> = b["movers"]
-                .as_array()
-                .into_iter()
-                .flatten()
-                .take(3)
-                .map(|m| {
-                    format!(
-                        "{} ({:+.3})",
-                        m["path"].as_str().unwrap_or(""),
-                        m["swing"].as_f64().unwrap_or(f64::NAN)
-                    )
-                })
+    for p in &s.pantographs {
+        for b in &p.statistics {
+            let movers: Vec<String> = (b.movers.iter().take(3))
+                .map(|m| format!("{} ({:+.3})", m.path, m.swing.unwrap_or(f64::NAN)))
                 .collect();
             rows.push(vec![
-                p["name"].as_str().unwrap_or("").into(),
-                format!(
-                    "{} [{}]",
-                    b["statistic"].as_str().unwrap_or(""),
-                    b["unit"].as_str().unwrap_or("")
-                ),
-                num(&b["value"]),
-                num(&b["low"]),
-                num(&b["high"]),
+                p.name.clone(),
+                format!("{} [{}]", b.statistic, b.unit),
+                n(&b.value),
+                n(&b.low),
+                n(&b.high),
                 movers.join("; "),
             ]);
         }
@@ -377,15 +344,14 @@ fn sensitivity_section(h: &mut String, s: &serde_json::Value) {
         ],
         &rows,
     );
-    let prow: Vec<Vec<String>> = params
-        .iter()
+    let prow: Vec<Vec<String>> = (s.parameters.iter())
         .map(|p| {
             vec![
-                p["path"].as_str().unwrap_or("").into(),
-                num(&p["value"]),
-                format!("{} – {}", num(&p["low"]), num(&p["high"])),
-                num(&p["source"]),
-                num(&p["range_source"]),
+                p.path.clone(),
+                n(&p.value),
+                format!("{} – {}", n(&p.low), n(&p.high)),
+                n(&p.source),
+                n(&p.range_source),
             ]
         })
         .collect();
@@ -398,23 +364,22 @@ fn sensitivity_section(h: &mut String, s: &serde_json::Value) {
 }
 
 /// Each pantograph's passage through each overlap of a line.
-fn overlaps_section(h: &mut String, pans: &[serde_json::Value]) {
-    // Overlaps.
+fn overlaps_section(h: &mut String, pans: &[PantographSummary]) {
     let mut orows = Vec::new();
     for p in pans {
-        for o in p["overlaps"].as_array().into_iter().flatten() {
+        for o in &p.overlaps {
             orows.push(vec![
-                p["name"].as_str().unwrap_or("").to_string(),
-                format!("{}–{}", num(&o["section_m"][0]), num(&o["section_m"][1])),
-                num(&o["max_force_n"]),
-                num(&o["min_force_n"]),
-                num(&o["loss_of_contact_percent"]),
-                match o["transfer_m"].as_array() {
-                    Some(t) if t.len() == 2 => format!("{}–{}", num(&t[0]), num(&t[1])),
-                    _ => "—".into(),
+                p.name.clone(),
+                format!("{}–{}", n(&o.section_m[0]), n(&o.section_m[1])),
+                n(&o.max_force_n),
+                n(&o.min_force_n),
+                n(&o.loss_of_contact_percent),
+                match o.transfer_m {
+                    Some([a, b]) => format!("{}–{}", n(&a), n(&b)),
+                    None => "—".into(),
                 },
-                num(&o["min_clearance_mm"]),
-                num(&o["max_uplift_at_support_mm"]),
+                n(&o.min_clearance_mm),
+                n(&o.max_uplift_at_support_mm),
             ]);
         }
     }
@@ -438,19 +403,12 @@ fn overlaps_section(h: &mut String, pans: &[serde_json::Value]) {
     }
 }
 
-/// The ten worst droppers inside the analysis section (from droppers.csv, when written).
-fn droppers_section(h: &mut String, dir: &Path, summary: &serde_json::Value) {
+/// The ten worst droppers inside the analysis section `section` (from droppers.csv, when
+/// written).
+fn droppers_section(h: &mut String, dir: &Path, section: [f64; 2]) {
     // Droppers: the worst inside the analysis section, as the terminal lists them (outside it the
     // pantographs start and stop: those droppers carry the run's transients, not a passage).
     if let Ok(text) = std::fs::read_to_string(dir.join("droppers.csv")) {
-        let section = [
-            summary["analysis_section_m"][0]
-                .as_f64()
-                .unwrap_or(f64::NEG_INFINITY),
-            summary["analysis_section_m"][1]
-                .as_f64()
-                .unwrap_or(f64::INFINITY),
-        ];
         let mut r = csv::Reader::from_reader(text.as_bytes());
         let mut rows: Vec<Vec<String>> = r
             .records()
@@ -475,8 +433,8 @@ fn droppers_section(h: &mut String, dir: &Path, summary: &serde_json::Value) {
             h,
             &format!(
                 "The ten worst droppers inside the analysis section {}–{} m (by damage, else by the largest tension range; every dropper in droppers.csv)",
-                num(&summary["analysis_section_m"][0]),
-                num(&summary["analysis_section_m"][1])
+                n(&section[0]),
+                n(&section[1])
             ),
             &["#", "x [m]", "wire", "preload [N]", "min [N]", "max [N]", "slack steps", "cycles", "largest range [N]", "damage"],
             &rows,

@@ -324,7 +324,11 @@ const STUDIES: &[(&str, &[&str], &[&str])] = &[
     // them back through their types).
     ("report-run", &["report", "RUN"], &["report.html"]),
     ("report-verify", &["report", "REPORT"], &["report.html"]),
-    ("report-sensitivity", &["report", "REPORT"], &["report.html"]),
+    (
+        "report-sensitivity",
+        &["report", "REPORT"],
+        &["report.html"],
+    ),
     ("report-design", &["report", "REPORT"], &["report.html"]),
     ("report-fit", &["report", "REPORT"], &["report.html"]),
 ];
