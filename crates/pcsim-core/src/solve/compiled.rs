@@ -238,7 +238,7 @@ fn index_of(pts: &mut Vec<f64>, x: f64) -> usize {
 }
 
 /// The static start state under the steady loads and how it was found
-/// (`equilibrium.rs`'s `static_start`, set by `Integrator::new` in `stability.rs`).
+/// (`equilibrium.rs`'s `static_start`, set by `Integrator::new` in `construct.rs`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct StaticStart {
     /// Modal coordinates (by the layout).

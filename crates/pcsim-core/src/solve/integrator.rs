@@ -420,7 +420,7 @@ fn strips_at_rest(
 
 impl Integrator {
     /// The integrator with the coupled limit its Δt was checked against, on `threads` threads
-    /// ([`Integrator::new`], in `stability.rs` beside the check).
+    /// ([`Integrator::new`], in `construct.rs`).
     pub(crate) fn with_limit(mut self, limit: CoupledLimit, threads: usize) -> Self {
         self.limit = Some(limit);
         self.parts = self.partition(threads);

@@ -14,11 +14,13 @@
 //! | `equilibrium.rs` | the static start state under the steady loads (mean crosswind, ice): Newton on the compiled residual |
 //! | `integrator.rs` | the stepper: the Δt operators, the step (Eq. 18) in eight named stages |
 //! | `stability.rs` | Δt against the local limits and the coupled system's highest frequency (power iteration) |
+//! | `construct.rs` | `Integrator::new`: compile, static start, the stability proof, the Δt operators |
 //! | `run.rs` | the run loop with observers, blow-up checks, run statistics |
 //! | `team.rs` | one run on several threads: the step's per-group work in parts, a spinning fork–join team |
 //! | `realtime.rs` | the moving-window catenary for HIL |
 
 pub mod compiled;
+pub mod construct;
 pub mod equilibrium;
 pub mod implicit;
 pub mod integrator;

@@ -33,7 +33,7 @@ use crate::model::pantograph::PantographKind;
 use crate::model::Model;
 use crate::solve::compiled::{contact_stiffness, refused, CompiledModel};
 use crate::solve::integrator::Integrator;
-use crate::solve::plan::{Options, Plan};
+use crate::solve::plan::Plan;
 use crate::solve::state::State;
 use crate::solve::workspace::Workspace;
 
@@ -62,21 +62,6 @@ const MIN_ITERATIONS: usize = 60;
 const TOLERANCE: f64 = 1e-5;
 
 pub use crate::solve::limits::{CoupledLimit, StableStep};
-
-impl Integrator {
-    /// Precompute everything a step needs: compile the model (and solve its static start under
-    /// the steady loads, [`crate::solve::equilibrium`]), check that the time step is stable for
-    /// its explicit parts, local and coupled ([`check_stability`]), and build the Δt operators
-    /// on that proof. (Here, beside the check it relies on: the integrator itself knows only the
-    /// proof's type, so the two files import one way.)
-    pub fn new(model: Model, plan: &Plan, options: Options) -> Result<Self, CaseError> {
-        let mut cm = CompiledModel::new(model, plan, options.isa)?;
-        cm.initial = crate::solve::equilibrium::static_start(&cm)?;
-        let stable = check_stability(&cm, plan, options.dt_s)?;
-        Integrator::from_compiled(cm, plan, stable.dt_s())
-            .map(|integ| integ.with_limit(stable.limit().clone(), options.threads))
-    }
-}
 
 /// Check `dt` against the local limits and the coupled limit of the compiled model: the proof
 /// that an integrator at `dt` is stable, or an error naming the time step (or the stiff part), the

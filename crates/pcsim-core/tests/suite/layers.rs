@@ -252,3 +252,29 @@ fn every_crate_denies_functions_over_100_lines() {
     }
     assert!(crates >= 5, "{crates} crates");
 }
+
+/// Issue 52: no circle inside `solve/` between the stepper and its stability proof: the
+/// integrator knows only the proof's type, the stability check probes through an integrator,
+/// and the constructor that needs both lives in `construct.rs`.
+#[test]
+fn the_integrator_and_its_stability_check_import_one_way() {
+    let solve = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/solve");
+    let read = |f: &str| std::fs::read_to_string(solve.join(f)).unwrap();
+    // A doc link is no import: the `use` lines and the code's calls are what count.
+    let uses = |text: &str, pat: &str| {
+        text.lines()
+            .any(|l| l.trim_start().starts_with("use ") && l.contains(pat))
+    };
+    let integrator = read("integrator.rs");
+    for pat in ["solve::stability", "solve::construct"] {
+        assert!(!uses(&integrator, pat), "integrator.rs imports `{pat}`");
+    }
+    assert!(!integrator.contains("check_stability("));
+    let stability = read("stability.rs");
+    assert!(!uses(&stability, "solve::construct"));
+    assert!(
+        !stability.contains("pub fn new("),
+        "Integrator::new is in construct.rs"
+    );
+    assert!(read("construct.rs").contains("pub fn new("));
+}
