@@ -358,3 +358,35 @@ pub fn write_montecarlo(dir: &Path, csv: &str, group: &[&str], values: &[&str]) 
     }
     crate::output::write_file(&dir.join("montecarlo.csv"), out)
 }
+
+/// A sweep's output directory begun (locked, staged) with the case as given (every value with
+/// its source, for the report), and its progress over `cases` cases: the start every sweep
+/// command shares (`eva`, `window`).
+pub fn begin(
+    out: &Path,
+    case_text: &str,
+    kind: &str,
+    cases: usize,
+    ctx: &crate::common::Ctx,
+) -> Result<(crate::output::OutDir, crate::progress::Progress)> {
+    let od = crate::output::OutDir::begin(out)?;
+    crate::output::write_file(&od.path().join("case.toml"), case_text)?;
+    let pb = crate::progress::Progress::new(
+        kind,
+        cases as u64,
+        ctx.progress,
+        &format!("{kind} [{{bar:40}}] {{pos}}/{{len}} cases {{elapsed_precise}} eta {{eta}}"),
+    );
+    Ok((od, pb))
+}
+
+/// A sweep's rows as CSV text: the header, then a line per row.
+pub fn rows_csv(header: &str, rows: impl IntoIterator<Item = String>) -> String {
+    let mut csv = String::from(header);
+    csv.push('\n');
+    for r in rows {
+        csv.push_str(&r);
+        csv.push('\n');
+    }
+    csv
+}

@@ -11,7 +11,6 @@ use std::path::{Path, PathBuf};
 
 use crate::common::{apply, shown, Ctx, Override};
 use crate::output::{write_file, write_manifest};
-use crate::progress::Progress;
 use crate::sweep_dir::{merge, SweepKind};
 
 #[derive(Args)]
@@ -249,16 +248,8 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
         .jobs(&base)
         .with_context(|| grid_note(&a.speed, &a.tension))?;
     let fingerprint = spec.fingerprint(&base);
-    let od = crate::output::OutDir::begin(&a.out)?;
+    let (od, pb) = crate::sweep_dir::begin(&a.out, &case_text, "eva", mine.len(), ctx)?;
     let dir = od.path();
-    // The case as given (every value with its source), for the report.
-    write_file(&dir.join("case.toml"), &case_text)?;
-    let pb = Progress::new(
-        "eva",
-        mine.len() as u64,
-        ctx.progress,
-        "eva [{bar:40}] {pos}/{len} cases {elapsed_precise} eta {eta}",
-    );
     let results = spec.run(&mine, &ctx.budget, a.jobs, &|| pb.inc());
     pb.finish();
     let results = results?;
@@ -267,12 +258,7 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
     }
     let done: Vec<&EvaOutput> = results.iter().map(|c| &c.output).collect();
     let rows: Vec<&EvaRow> = results.iter().map(|c| &c.row).collect();
-    let mut csv = String::from(EvaRow::HEADER);
-    csv.push('\n');
-    for r in &rows {
-        csv.push_str(&r.to_csv());
-        csv.push('\n');
-    }
+    let csv = crate::sweep_dir::rows_csv(EvaRow::HEADER, rows.iter().map(|r| r.to_csv()));
     write_file(&dir.join("eva.csv"), &csv)?;
     if shard == Shard::ALL {
         (EVA.finish)(dir)?;

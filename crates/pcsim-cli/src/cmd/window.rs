@@ -13,7 +13,6 @@ use std::path::{Path, PathBuf};
 
 use crate::common::{apply, shown, Ctx};
 use crate::output::{write_file, write_manifest};
-use crate::progress::Progress;
 use crate::sweep_dir::{merge, write_montecarlo, SweepKind};
 
 #[derive(Args)]
@@ -182,18 +181,10 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
     let tol = spec.tolerances;
     let (jobs, mine) = spec.jobs(&base).context("in the window sweep")?;
     let fingerprint = spec.fingerprint(&base)?;
-    let od = crate::output::OutDir::begin(&a.out)?;
+    let (od, pb) = crate::sweep_dir::begin(&a.out, &case_text, "window", mine.len(), ctx)?;
     let dir = od.path();
-    // The case as given (every value with its source), for the report.
-    write_file(&dir.join("case.toml"), &case_text)?;
     std::fs::create_dir_all(dir.join("cases"))
         .with_context(|| format!("cannot create {}", dir.join("cases").display()))?;
-    let pb = Progress::new(
-        "window",
-        mine.len() as u64,
-        ctx.progress,
-        "window [{bar:40}] {pos}/{len} cases {elapsed_precise} eta {eta}",
-    );
     let results = spec.run(&base, &mine, &ctx.budget, a.jobs, &|| pb.inc());
     pb.finish();
     let results = results?;
@@ -201,12 +192,7 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
         write_case_files(dir, c)?;
     }
     let rows: Vec<&WindowRow> = results.iter().map(|c| &c.row).collect();
-    let mut csv = String::from(HEADER);
-    csv.push('\n');
-    for r in &rows {
-        csv.push_str(&r.to_csv());
-        csv.push('\n');
-    }
+    let csv = crate::sweep_dir::rows_csv(HEADER, rows.iter().map(|r| r.to_csv()));
     write_file(&dir.join("window.csv"), &csv)?;
     write_manifest(
         dir,
