@@ -395,25 +395,12 @@ pub extern "C" fn fmi3GetFMUState(c: Fmi3Instance, s: *mut Fmi3State) -> Fmi3Sta
 
 #[no_mangle]
 pub extern "C" fn fmi3SetFMUState(c: Fmi3Instance, s: Fmi3State) -> Fmi3Status {
-    with(c, |k| {
-        let p = k.own_state(s)?;
-        // SAFETY: `own_state` returned `p` only because it is a state this component handed out and has not freed: a live `Box<FmuState>`.
-        ok(k.inst.set_state(unsafe { &*p }))
-    })
+    with(c, |k| ok(k.set_state_from(s)))
 }
 
 #[no_mangle]
 pub extern "C" fn fmi3FreeFMUState(c: Fmi3Instance, s: *mut Fmi3State) -> Fmi3Status {
-    with(c, |k| {
-        if s.is_null() {
-            return Err((Status::Error, "NULL state pointer".into()));
-        }
-        // SAFETY: `s` is non-NULL (checked) and points to the host's state variable (the standard's `fmi*FMUState*`), readable and writable for the call.
-        k.free_state(unsafe { *s })?;
-        // SAFETY: as above: `s` is the host's non-NULL state variable.
-        unsafe { *s = std::ptr::null_mut() };
-        Ok(Status::Ok)
-    })
+    with(c, |k| ok(k.free_state_at(s)))
 }
 
 #[no_mangle]
@@ -442,11 +429,7 @@ pub extern "C" fn fmi3DeserializeFMUState(
     n: usize,
     s: *mut Fmi3State,
 ) -> Fmi3Status {
-    with(c, |k| {
-        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
-        let bytes = unsafe { slice(b, n)? };
-        ok(k.deserialize_state(bytes, s))
-    })
+    with(c, |k| ok(k.deserialize_from(b, n, s)))
 }
 
 #[no_mangle]

@@ -162,6 +162,35 @@ impl Component {
         Ok(s as *mut FmuState)
     }
 
+    /// Set the instance to state `s`, one handed out and not freed (both ABIs).
+    pub fn set_state_from(&mut self, s: *mut c_void) -> Res {
+        let p = self.own_state(s)?;
+        // SAFETY: `own_state` returned `p` only because it is a state this component handed out
+        // and has not freed: a live `Box<FmuState>`.
+        self.inst.set_state(unsafe { &*p })
+    }
+
+    /// Free the state in the host's state variable `s` and set the variable to NULL (both ABIs:
+    /// `fmi2FreeFMUstate`, `fmi3FreeFMUState`).
+    pub fn free_state_at(&mut self, s: *mut *mut c_void) -> Res {
+        if s.is_null() {
+            return Err((Status::Error, "NULL state pointer".into()));
+        }
+        // SAFETY: `s` is non-NULL (checked) and points to the host's state variable (the
+        // standard's `fmi*FMUState*`), readable and writable for the call.
+        self.free_state(unsafe { *s })?;
+        // SAFETY: as above: `s` is the host's non-NULL state variable.
+        unsafe { *s = std::ptr::null_mut() };
+        Ok(())
+    }
+
+    /// De-serialise the host's `n` bytes at `b` into its state variable `s` (both ABIs).
+    pub fn deserialize_from(&mut self, b: *const u8, n: usize, s: *mut *mut c_void) -> Res {
+        // SAFETY: the host passes `n` bytes, valid for the call (FMI); NULL is refused.
+        let bytes = unsafe { slice(b, n)? };
+        self.deserialize_state(bytes, s)
+    }
+
     /// Hand a new state to the host.
     pub fn hand_out(&mut self, st: FmuState) -> *mut c_void {
         let p = Box::into_raw(Box::new(st));
