@@ -40,6 +40,37 @@ fn same_count(nvr: usize, nvalues: usize) -> Res<()> {
     Ok(())
 }
 
+/// A getter's body over the host's arrays: the same count of references and values, neither
+/// NULL, then `f` on the instance, the references and the values to fill.
+fn getter<T>(
+    c: Fmi3Instance,
+    (vr, nvr): (*const Fmi3Vr, usize),
+    (values, nvalues): (*mut T, usize),
+    f: impl FnOnce(&mut Component, &[Fmi3Vr], &mut [T]) -> Res,
+) -> Fmi3Status {
+    with(c, |k| {
+        same_count(nvr, nvalues)?;
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
+        let (vr, values) = unsafe { (slice(vr, nvr)?, slice_mut(values, nvalues)?) };
+        ok(f(k, vr, values))
+    })
+}
+
+/// A setter's body over the host's arrays: as [`getter`], the values read.
+fn setter<T>(
+    c: Fmi3Instance,
+    (vr, nvr): (*const Fmi3Vr, usize),
+    (values, nvalues): (*const T, usize),
+    f: impl FnOnce(&mut Component, &[Fmi3Vr], &[T]) -> Res,
+) -> Fmi3Status {
+    with(c, |k| {
+        same_count(nvr, nvalues)?;
+        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
+        let (vr, values) = unsafe { (slice(vr, nvr)?, slice(values, nvalues)?) };
+        ok(f(k, vr, values))
+    })
+}
+
 #[no_mangle]
 pub extern "C" fn fmi3GetVersion() -> *const c_char {
     c"3.0".as_ptr()
@@ -183,10 +214,7 @@ pub extern "C" fn fmi3GetFloat64(
     values: *mut f64,
     nvalues: usize,
 ) -> Fmi3Status {
-    with(c, |k| {
-        same_count(nvr, nvalues)?;
-        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
-        let (vr, values) = unsafe { (slice(vr, nvr)?, slice_mut(values, nvalues)?) };
+    getter(c, (vr, nvr), (values, nvalues), |k, vr, values| {
         for (v, out) in vr.iter().zip(values.iter_mut()) {
             *out = if *v == crate::vars::VR_TIME {
                 k.inst.time()
@@ -194,7 +222,7 @@ pub extern "C" fn fmi3GetFloat64(
                 k.inst.get_real(*v)?
             };
         }
-        Ok(Status::Ok)
+        Ok(())
     })
 }
 
@@ -206,11 +234,8 @@ pub extern "C" fn fmi3SetFloat64(
     values: *const f64,
     nvalues: usize,
 ) -> Fmi3Status {
-    with(c, |k| {
-        same_count(nvr, nvalues)?;
-        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
-        let (vr, values) = unsafe { (slice(vr, nvr)?, slice(values, nvalues)?) };
-        ok(k.set_reals(vr, values))
+    setter(c, (vr, nvr), (values, nvalues), |k, vr, values| {
+        k.set_reals(vr, values)
     })
 }
 
@@ -222,14 +247,11 @@ pub extern "C" fn fmi3GetBoolean(
     values: *mut bool,
     nvalues: usize,
 ) -> Fmi3Status {
-    with(c, |k| {
-        same_count(nvr, nvalues)?;
-        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
-        let (vr, values) = unsafe { (slice(vr, nvr)?, slice_mut(values, nvalues)?) };
+    getter(c, (vr, nvr), (values, nvalues), |k, vr, values| {
         for (v, out) in vr.iter().zip(values.iter_mut()) {
             *out = k.inst.get_boolean(*v)?;
         }
-        Ok(Status::Ok)
+        Ok(())
     })
 }
 
@@ -241,14 +263,11 @@ pub extern "C" fn fmi3SetBoolean(
     values: *const bool,
     nvalues: usize,
 ) -> Fmi3Status {
-    with(c, |k| {
-        same_count(nvr, nvalues)?;
-        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
-        let (vr, values) = unsafe { (slice(vr, nvr)?, slice(values, nvalues)?) };
+    setter(c, (vr, nvr), (values, nvalues), |k, vr, values| {
         for (v, x) in vr.iter().zip(values) {
             k.inst.set_boolean(*v, *x)?;
         }
-        Ok(Status::Ok)
+        Ok(())
     })
 }
 
@@ -260,11 +279,8 @@ pub extern "C" fn fmi3GetString(
     values: *mut Fmi3String,
     nvalues: usize,
 ) -> Fmi3Status {
-    with(c, |k| {
-        same_count(nvr, nvalues)?;
-        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
-        let (vr, values) = unsafe { (slice(vr, nvr)?, slice_mut(values, nvalues)?) };
-        ok(k.get_strings(vr, values))
+    getter(c, (vr, nvr), (values, nvalues), |k, vr, values| {
+        k.get_strings(vr, values)
     })
 }
 
@@ -276,13 +292,10 @@ pub extern "C" fn fmi3SetString(
     values: *const Fmi3String,
     nvalues: usize,
 ) -> Fmi3Status {
-    with(c, |k| {
-        same_count(nvr, nvalues)?;
-        // SAFETY: the host passes `n` values per array, valid for the call (FMI); NULL is refused.
-        let (vr, values) = unsafe { (slice(vr, nvr)?, slice(values, nvalues)?) };
+    setter(c, (vr, nvr), (values, nvalues), |k, vr, values| {
         // SAFETY: each value is a NUL-terminated string valid for the call (FMI 3.0); NULL is
         // refused by `host_str`.
-        ok(unsafe { k.set_strings(vr, values) })
+        unsafe { k.set_strings(vr, values) }
     })
 }
 
