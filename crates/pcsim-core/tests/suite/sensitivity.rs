@@ -181,7 +181,7 @@ fn issue_42_2_the_sensitivity_is_the_runs_made_by_hand() {
         let b = band_of
             .statistics
             .iter()
-            .find(|b| b.statistic == name)
+            .find(|b| b.statistic == *name)
             .unwrap();
         assert_eq!(b.value, statistic(&base, name).unwrap());
         let mut all = vec![b.value];
