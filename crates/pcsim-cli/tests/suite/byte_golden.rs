@@ -334,14 +334,16 @@ const STUDIES: &[(&str, &[&str], &[&str])] = &[
 ];
 
 /// A study's output text with what changes from run to run taken out: the lines with a
-/// wall-clock time, the scratch folder's path and the executable's (a report shows the command
-/// line, whose first word is where the clone was built).
+/// wall-clock time, the scratch folder's path, the executable's and the clone's (a report shows
+/// the command line, whose first word is where the clone was built, and a fit's report names
+/// the measured file under the clone's examples/).
 fn normalised(text: &str, dir: &Path) -> Vec<u8> {
     text.split_inclusive('\n')
         .filter(|l| !l.contains("\"wall_time_s\"") && !l.contains("wall time"))
         .collect::<String>()
         .replace(env!("CARGO_BIN_EXE_pcsim"), "PCSIM")
         .replace(&dir.display().to_string(), "DIR")
+        .replace(&root().display().to_string(), "ROOT")
         .into_bytes()
 }
 
