@@ -1,6 +1,7 @@
 """`pcsim schema` (issue 52): the case file's JSON Schema validates every shipped preset and
-example case, a misspelt key or a wrong type fails it, and a run's summary.json and a Monte Carlo
-study's montecarlo.json validate against their schemas. The validator is an independent tool
+example case, a misspelt key or a wrong type fails it, and a run's summary.json, a Monte Carlo
+study's montecarlo.json, an assessment's assessment.json, a design's design.json and a fit's
+fit.json validate against their schemas (and a wrong value fails each). The validator is an independent tool
 (python-jsonschema, from PyPI); TOML is read by Python's own tomllib.
 
 Run by .ci/run: PCSIM=target/release/pcsim target/py-venv/bin/python -m pytest -q tests/schema
@@ -124,3 +125,40 @@ def test_outputs_validate_against_their_schemas(tmp_path):
     validator("montecarlo").validate(mc)
     with pytest.raises(jsonschema.ValidationError):
         validator("montecarlo").validate({})
+
+
+def test_assessment_design_and_fit_validate_against_their_schemas(tmp_path):
+    f = tmp_path / "case.toml"
+    f.write_text(short_case_text(), encoding="utf-8")
+    run = tmp_path / "run"
+    r = subprocess.run([PCSIM, "run", str(f), "--quiet", "--out", str(run)],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    r = subprocess.run([PCSIM, "assess", str(run), "--system", "ac"],
+                       capture_output=True, text=True)
+    assert r.returncode in (0, 1), r.stderr
+    a = json.loads((run / "assessment.json").read_text())
+    validator("assessment").validate(a)
+    with pytest.raises(jsonschema.ValidationError):
+        validator("assessment").validate(dict(a, rows=[dict(a["rows"][0], verdict="fine")]))
+
+    ex = ROOT / "examples" / "pantograph"
+    r = subprocess.run([PCSIM, "pantograph", "fit", str(ex / "measured-apparent-mass.csv"),
+                        str(ex / "start-25-percent-off.toml"), "--quiet", "--out",
+                        str(tmp_path / "fit")], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    fit = json.loads((tmp_path / "fit" / "fit.json").read_text())
+    validator("fit").validate(fit)
+    with pytest.raises(jsonschema.ValidationError):
+        validator("fit").validate(dict(fit, residual_rms="small"))
+
+    spec = tmp_path / "spec.toml"
+    spec.write_text((ROOT / "tests" / "design" / "swarm.toml").read_text(encoding="utf-8"),
+                    encoding="utf-8")
+    r = subprocess.run([PCSIM, "design", str(spec), "--quiet", "--no-plot", "--out",
+                        str(tmp_path / "design")], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    d = json.loads((tmp_path / "design" / "design.json").read_text())
+    validator("design").validate(d)
+    with pytest.raises(jsonschema.ValidationError):
+        validator("design").validate(dict(d, stop="bored"))

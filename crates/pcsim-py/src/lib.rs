@@ -643,7 +643,7 @@ fn pantograph_fit(
             })
             .map_err(err)?;
         Ok((
-            serde_json::to_string(&r).map_err(err)?,
+            serde_json::to_string(&r.record).map_err(err)?,
             r.case_block(&name, label),
         ))
     })

@@ -102,7 +102,7 @@ fn print(r: &Assessment) {
     println!(
         "assessment at {} km/h, supply system {}",
         r.speed_kmh,
-        r.system.unwrap_or("not given (--system)")
+        r.system.as_deref().unwrap_or("not given (--system)")
     );
     for e in &r.run_errors {
         println!("  ERROR of the run: {e}");

@@ -472,7 +472,7 @@ fn print(d: &Design, r: &DesignResult, wall: f64) {
         {
             println!("    a step away is better: the search has not converged in this variable (give it more evaluations)");
         }
-        if let Some(b) = s.at_bound {
+        if let Some(b) = &s.at_bound {
             println!("    at its {b} bound: the optimum may lie beyond the range searched");
         }
     }

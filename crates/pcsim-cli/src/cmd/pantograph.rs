@@ -247,7 +247,7 @@ fn fit_cmd(a: FitArgs, ctx: &crate::common::Ctx) -> Result<i32> {
     let od = OutDir::begin(&a.which.out)?;
     write_file(
         &od.path().join("fit.json"),
-        serde_json::to_string_pretty(&r)? + "\n",
+        serde_json::to_string_pretty(&r.record)? + "\n",
     )?;
     if failure.is_none() {
         let block = r.case_block(&name, &label);
@@ -269,11 +269,11 @@ fn fit_cmd(a: FitArgs, ctx: &crate::common::Ctx) -> Result<i32> {
     od.commit()?;
     println!(
         "pantograph {name} fitted to {label}: residual {:.2} % RMS (from {:.2} % at the start), {} evaluations",
-        100.0 * r.residual_rms,
-        100.0 * r.start_residual_rms,
-        r.evaluations
+        100.0 * r.record.residual_rms,
+        100.0 * r.record.start_residual_rms,
+        r.record.evaluations
     );
-    for q in &r.parameters {
+    for q in &r.record.parameters {
         println!(
             "  {:<22} {:>12.5} ± {:<10.3} (start {}){}",
             q.name,

@@ -16,6 +16,7 @@ use crate::output::{add_to_manifest, read_complete_manifest};
 use pcsim_core::analysis::report::{PantographSummary, RunSummary};
 use pcsim_core::analysis::sensitivity::Sensitivity;
 use pcsim_core::analysis::verify::Verification;
+use pcsim_core::study::design::DesignRecord;
 use pcsim_core::study::montecarlo::{MonteCarloOutput, MonteCarloStudy};
 use pcsim_core::study::{Answer, Study, StudyKind};
 
@@ -38,6 +39,12 @@ fn num(v: &serde_json::Value) -> String {
         serde_json::Value::String(s) => s.clone(),
         other => other.to_string(),
     }
+}
+
+/// A number of a typed output as a table shows it (none, or not finite: "—"), the same text
+/// as [`num`] gives the number written to JSON.
+fn numf(x: Option<f64>) -> String {
+    num(&serde_json::json!(x))
 }
 
 /// A table of `head` columns and `rows`.
@@ -517,52 +524,22 @@ fn assessment(h: &mut String, dir: &Path, summary: &str) -> Result<()> {
     use pcsim_core::analysis::assess::{assess, AssessInput, Assessment};
     h.push_str("<h2>Acceptance criteria</h2>\n");
     let path = dir.join("assessment.json");
-    let a: serde_json::Value = match std::fs::read_to_string(&path) {
+    let a: Assessment = match std::fs::read_to_string(&path) {
         Ok(text) => serde_json::from_str(&text)
-            .with_context(|| format!("{} is not valid JSON", path.display()))?,
+            .with_context(|| format!("{} is not an assessment pcsim wrote", path.display()))?,
         Err(_) => {
             let input = AssessInput::from_summary_json(summary)
                 .map_err(|e| anyhow::anyhow!("summary.json: {e}"))?;
-            let r: Assessment = assess(&input, &pcsim_core::input::criteria::builtin(), None);
             h.push_str("<p>Assessed here with the built-in criteria and no supply system: <code>pcsim assess DIR --system …</code> assesses the criteria that depend on it, and adds your own with <code>--criteria</code>.</p>\n");
-            serde_json::to_value(&r)?
+            assess(&input, &pcsim_core::input::criteria::builtin(), None)
         }
     };
     let _ = writeln!(
         h,
         "<p>Supply system: {}. A criterion whose limit pcsim cannot cite from a public text has no limit here: its row gives the run's value only, and the run is not accepted on it.</p>",
-        esc(a["system"].as_str().unwrap_or("not given"))
+        esc(a.system.as_deref().unwrap_or("not given"))
     );
-    let rows: Vec<Vec<String>> = a["rows"]
-        .as_array()
-        .into_iter()
-        .flatten()
-        .map(|r| {
-            let verdict = match (r["verdict"].as_str(), r["deviation_percent"].as_f64()) {
-                (Some("deviation"), Some(d)) => format!("{d:+.1} % of the target"),
-                (Some(v), _) => v.replace('-', " "),
-                _ => "—".into(),
-            };
-            vec![
-                r["id"].as_str().unwrap_or("").into(),
-                r["pantograph"].as_str().unwrap_or("(run)").into(),
-                format!("{} {}", num(&r["value"]), r["unit"].as_str().unwrap_or("")),
-                if r["limit"].is_null() {
-                    "—".to_string()
-                } else {
-                    format!(
-                        "{} ({})",
-                        num(&r["limit"]),
-                        r["limit_formula"].as_str().unwrap_or("")
-                    )
-                },
-                verdict,
-                r["status"].as_str().unwrap_or("").into(),
-                r["clause"].as_str().unwrap_or("").into(),
-                r["source"].as_str().unwrap_or("").into(),
-            ]
-        })
-        .collect();
+    let rows: Vec<Vec<String>> = a.rows.iter().map(assessment_row).collect();
     table(
         h,
         "Each criterion, per pantograph",
@@ -578,24 +555,20 @@ fn assessment(h: &mut String, dir: &Path, summary: &str) -> Result<()> {
         ],
         &rows,
     );
-    let skipped: Vec<String> = a["skipped"]
-        .as_array()
-        .map(|x| x.iter().map(num).collect())
-        .unwrap_or_default();
-    if !skipped.is_empty() {
+    if !a.skipped.is_empty() {
         h.push_str("<p>Not applied:</p><ul>");
-        for s in &skipped {
+        for s in &a.skipped {
             let _ = write!(h, "<li>{}</li>", esc(s));
         }
         h.push_str("</ul>\n");
     }
-    let n_err = a["run_errors"].as_array().map_or(0, Vec::len);
+    let n_err = a.run_errors.len();
     let _ = writeln!(
         h,
         "<p><strong>{} met, {} not met, {} without a verdict{}.</strong></p>",
-        a["met"],
-        a["not_met"],
-        a["without_verdict"],
+        a.met,
+        a.not_met,
+        a.without_verdict,
         if n_err > 0 {
             format!("; the run had {n_err} error-level event(s) (at the top of the page): it is not accepted")
         } else {
@@ -603,6 +576,28 @@ fn assessment(h: &mut String, dir: &Path, summary: &str) -> Result<()> {
         }
     );
     Ok(())
+}
+
+/// One assessment row as the report's table shows it.
+fn assessment_row(r: &pcsim_core::analysis::assess::Row) -> Vec<String> {
+    use pcsim_core::analysis::assess::Verdict;
+    let verdict = match (r.verdict, r.deviation_percent) {
+        (Verdict::Deviation, Some(d)) => format!("{d:+.1} % of the target"),
+        (v, _) => num(&serde_json::json!(v)).replace('-', " "),
+    };
+    vec![
+        r.id.clone(),
+        r.pantograph.clone().unwrap_or_else(|| "(run)".into()),
+        format!("{} {}", numf(r.value), r.unit),
+        match r.limit {
+            None => "—".to_string(),
+            Some(l) => format!("{} ({})", numf(Some(l)), r.limit_formula),
+        },
+        verdict,
+        r.status.clone(),
+        r.clause.clone(),
+        r.source.clone(),
+    ]
 }
 
 /// The case as given (`case.toml`), every value with its source; `overrides` are the flags that
@@ -873,13 +868,6 @@ fn study_answer(h: &mut String, dir: &Path, kind: StudyKind) -> Result<()> {
     Ok(())
 }
 
-/// A JSON file of an output directory, parsed (the error names the file).
-fn json_file(p: &Path) -> Result<serde_json::Value> {
-    let text =
-        std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?;
-    serde_json::from_str(&text).with_context(|| format!("{} is not JSON", p.display()))
-}
-
 /// A pantograph fit's answer: each fitted value with its uncertainty and start, the residual
 /// (fit.json).
 fn fit_answer(h: &mut String, dir: &Path) -> Result<()> {
@@ -887,25 +875,22 @@ fn fit_answer(h: &mut String, dir: &Path) -> Result<()> {
     if !p.exists() {
         return Ok(());
     }
-    let v = json_file(&p)?;
+    let v: pcsim_core::study::frf::FitRecord = typed(&p)?;
     let _ = writeln!(
         h,
         "<h2 id=\"answer\">The answer: the pantograph fitted to {} (residual {} RMS, from {} at the start)</h2>",
-        esc(v["source"].as_str().unwrap_or("")),
-        num(&v["residual_rms"]),
-        num(&v["start_residual_rms"])
+        esc(&v.source),
+        numf(Some(v.residual_rms)),
+        numf(Some(v.start_residual_rms))
     );
-    let rows: Vec<Vec<String>> = v["parameters"]
-        .as_array()
-        .into_iter()
-        .flatten()
+    let rows: Vec<Vec<String>> = (v.parameters.iter())
         .map(|q| {
             vec![
-                q["name"].as_str().unwrap_or("").to_string(),
-                num(&q["value"]),
-                num(&q["std"]),
-                num(&q["start"]),
-                if q["at_bound"].as_bool() == Some(true) {
+                q.name.clone(),
+                numf(Some(q.value)),
+                numf(Some(q.std)),
+                numf(Some(q.start)),
+                if q.at_bound {
                     "at its bound".into()
                 } else {
                     String::new()
@@ -963,24 +948,18 @@ fn montecarlo_answer(h: &mut String, dir: &Path) -> Result<()> {
 
 /// A design's sensitivity (the objective a step below and above the best design) and its
 /// constraints' status, from design.json.
-fn design_sensitivity_and_constraints(h: &mut String, v: &serde_json::Value) {
-    // One row per element of a JSON list (none: no rows).
-    let rows_of = |list: &serde_json::Value, row: &dyn Fn(&serde_json::Value) -> Vec<String>| {
-        list.as_array()
-            .map_or(Vec::new(), |a| a.iter().map(row).collect::<Vec<_>>())
-    };
-    let as_text = |x: &serde_json::Value| x.as_str().unwrap_or("").to_string();
-    let sens = rows_of(&v["sensitivity"], &|s| {
-        vec![
-            as_text(&s["path"]),
-            num(&s["step"]),
-            num(&s["objective_below"]),
-            num(&s["objective_above"]),
-            s["at_bound"]
-                .as_str()
-                .map_or(String::new(), |b| format!("at its {b} bound")),
-        ]
-    });
+fn design_sensitivity_and_constraints(h: &mut String, v: &DesignRecord) {
+    let sens: Vec<Vec<String>> = (v.sensitivity.iter())
+        .map(|s| {
+            vec![
+                s.path.clone(),
+                numf(Some(s.step)),
+                numf(s.objective_below),
+                numf(s.objective_above),
+                (s.at_bound.as_ref()).map_or(String::new(), |b| format!("at its {b} bound")),
+            ]
+        })
+        .collect();
     table(
         h,
         "Sensitivity: the objective one step below and above the best design",
@@ -993,20 +972,17 @@ fn design_sensitivity_and_constraints(h: &mut String, v: &serde_json::Value) {
         ],
         &sens,
     );
-    let cons = rows_of(&v["constraints"], &|c| {
-        let active = if c["active"] == true {
-            "active"
-        } else {
-            "inactive"
-        };
-        vec![
-            as_text(&c["name"]),
-            num(&c["value"]),
-            num(&c["limit"]),
-            num(&c["margin"]),
-            active.to_string(),
-        ]
-    });
+    let cons: Vec<Vec<String>> = (v.constraints.iter())
+        .map(|c| {
+            vec![
+                c.name.clone(),
+                numf(c.value),
+                numf(c.limit),
+                numf(c.margin),
+                if c.active { "active" } else { "inactive" }.to_string(),
+            ]
+        })
+        .collect();
     if !cons.is_empty() {
         table(
             h,
@@ -1017,47 +993,45 @@ fn design_sensitivity_and_constraints(h: &mut String, v: &serde_json::Value) {
     }
 }
 
-/// A design search's answer (its design.json, the core's `DesignResult::to_json`): the best
-/// design, the sensitivity, the constraints.
+/// A design search's answer (its design.json, the core's `DesignRecord`): the best design, the
+/// sensitivity, the constraints.
 fn design_section(h: &mut String, dir: &Path) -> Result<()> {
-    let p = dir.join("design.json");
-    let v = json_file(&p)?;
+    let v: DesignRecord = typed(&dir.join("design.json"))?;
     let _ = writeln!(h, "<h2 id=\"answer\">The answer</h2>");
-    let as_text = |x: &serde_json::Value| x.as_str().unwrap_or("").to_string();
-    let paths: Vec<String> = v["variables"].as_array().map_or(Vec::new(), |a| {
-        a.iter().map(|x| as_text(&x["path"])).collect()
-    });
-    if v["answer"] == "infeasible" || v["best_evaluated"].is_null() {
-        let _ = writeln!(
-            h,
-            "<p><b>Infeasible</b>: none of the designs evaluated meets the constraints; there is no best design. The least violating: {}.</p>",
-            esc(&v["least_violating"]["violated"].to_string())
-        );
-        return Ok(());
-    }
-    let improved = !v["best"].is_null();
+    let best = match &v.best_evaluated {
+        Some(b) if v.answer != "infeasible" => b,
+        _ => {
+            let _ = writeln!(
+                h,
+                "<p><b>Infeasible</b>: none of the designs evaluated meets the constraints; there is no best design. The least violating: {}.</p>",
+                esc(&serde_json::json!(v.least_violating.as_ref().map(|e| &e.violated)).to_string())
+            );
+            return Ok(());
+        }
+    };
+    let base = v.base.as_ref();
+    let base_objective = numf(base.and_then(|b| b.objective));
+    let improved = v.best.is_some();
     if !improved {
         let _ = writeln!(
             h,
-            "<p><b>No improvement found</b>: no design evaluated beats the base design (objective {}); the best evaluated (evaluation {}) has objective {}. No design is recommended: keep the base, or search a wider range or with more evaluations.</p>",
-            num(&v["base"]["objective"]),
-            num(&v["best_evaluated"]["index"]),
-            num(&v["best_evaluated"]["objective"]),
+            "<p><b>No improvement found</b>: no design evaluated beats the base design (objective {base_objective}); the best evaluated (evaluation {}) has objective {}. No design is recommended: keep the base, or search a wider range or with more evaluations.</p>",
+            best.index,
+            numf(best.objective),
         );
     }
-    let best = &v["best_evaluated"];
-    let base = &v["base"];
-    let mut rows: Vec<Vec<String>> = paths
-        .iter()
-        .enumerate()
-        .map(|(k, p)| vec![p.clone(), num(&best["x"][k]), num(&base["x"][k])])
+    let mut rows: Vec<Vec<String>> = (v.variables.iter().enumerate())
+        .map(|(k, p)| {
+            let base_x = base.and_then(|b| b.x.get(k).copied());
+            vec![p.path.clone(), numf(best.x.get(k).copied()), numf(base_x)]
+        })
         .collect();
     rows.push(vec![
         "objective".into(),
-        num(&best["objective"]),
-        num(&base["objective"]),
+        numf(best.objective),
+        base_objective,
     ]);
-    let base_feasible = base["violation"] == 0.0 && base["error"].is_null();
+    let base_feasible = base.is_some_and(|b| b.violation == 0.0 && b.error.is_none());
     rows.push(vec![
         "feasible".into(),
         "yes".into(),
@@ -1072,8 +1046,8 @@ fn design_section(h: &mut String, dir: &Path) -> Result<()> {
             } else {
                 "evaluated, not recommended "
             },
-            num(&best["index"]),
-            if v["confirmation"]["same_as_search"] == true {
+            best.index,
+            if v.confirmation.as_ref().is_some_and(|c| c.same_as_search) {
                 "equal to the search's"
             } else {
                 "DIFFERENT from the search's"

@@ -89,7 +89,7 @@ impl AssessInput {
 }
 
 /// A row's verdict.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Verdict {
     /// Within the limit.
@@ -119,7 +119,7 @@ impl Verdict {
 }
 
 /// One criterion applied to one pantograph (or to the run).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Row {
     /// The criterion's id.
     pub id: String,
@@ -156,7 +156,7 @@ pub struct Row {
 }
 
 /// A row's value under the run's verification (`pcsim run --verify`).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct RowCheck {
     /// The refined run's value (twice the modes, half the step).
     pub refined: f64,
@@ -173,11 +173,11 @@ pub struct RowCheck {
 }
 
 /// A run's assessment.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Assessment {
     /// The supply system it was assessed for (none: not given, so the criteria that depend on
     /// it are left out and named in `skipped`).
-    pub system: Option<&'static str>,
+    pub system: Option<String>,
     /// Train speed, km/h.
     pub speed_kmh: f64,
     /// One row per criterion and pantograph.
@@ -386,7 +386,7 @@ pub fn assess(input: &AssessInput, criteria: &[Criterion], system: Option<System
         .collect();
     Assessment {
         not_established,
-        system: system.map(System::name),
+        system: system.map(|s| s.name().to_string()),
         speed_kmh: v,
         met,
         not_met,

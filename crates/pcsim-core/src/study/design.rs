@@ -32,7 +32,7 @@ use argmin::core::{CostFunction, Error as ArgminError, Executor, State, Terminat
 use argmin::solver::neldermead::NelderMead;
 use argmin::solver::particleswarm::ParticleSwarm;
 use rand_xoshiro::rand_core::SeedableRng;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::analysis::assess::{assess, AssessInput, Verdict};
 use crate::analysis::record::{simulate, RunOutput};
@@ -114,7 +114,7 @@ pub struct Design {
 }
 
 /// One design's evaluation: its values, what its runs gave, and its cost.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Evaluation {
     /// Its index: the order in which the search first asked for it.
     pub index: usize,
@@ -146,7 +146,7 @@ impl Evaluation {
 }
 
 /// Why a search stopped.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum StopReason {
     /// The budget's evaluations were spent.
@@ -160,7 +160,7 @@ pub enum StopReason {
 }
 
 /// One variable's sensitivity: the objective at ± its step from the best design.
-#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Sensitivity {
     /// The variable's path.
     pub path: String,
@@ -170,7 +170,7 @@ pub struct Sensitivity {
     pub value: f64,
     /// `min` or `max` when the best design sits at that bound: the optimum may lie beyond the
     /// range searched.
-    pub at_bound: Option<&'static str>,
+    pub at_bound: Option<String>,
     /// The value below (none: the best sits at its lower bound).
     pub below: Option<f64>,
     /// The objective there, and whether that design is feasible.
@@ -186,7 +186,7 @@ pub struct Sensitivity {
 }
 
 /// One constraint at one speed, at the best design.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct ConstraintStatus {
     /// `label@speed`, or `acceptance:ID[pantograph]@speed`.
     pub name: String,
@@ -198,6 +198,70 @@ pub struct ConstraintStatus {
     pub margin: Option<f64>,
     /// Violated by a design one sensitivity step away.
     pub active: bool,
+}
+
+/// A design search as `design.json` holds it (and Python's `design()` returns; `pcsim schema
+/// design`): written and read back through this type. No wall time, so the same search gives
+/// the same bytes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct DesignRecord {
+    /// `improved`, `no improvement found`, `interrupted` or `infeasible`
+    /// ([`DesignResult::answer`]).
+    pub answer: String,
+    /// The search's fingerprint (its journal's).
+    pub fingerprint: String,
+    /// The optimiser (`particle-swarm`, `nelder-mead`).
+    pub method: String,
+    /// The optimiser's seed.
+    pub seed: u64,
+    /// Evaluations asked by the optimiser.
+    pub evaluations_asked: usize,
+    /// Why the search stopped.
+    pub stop: StopReason,
+    /// The design variables, in the spec's order.
+    pub variables: Vec<VariableRecord>,
+    /// The speeds, km/h.
+    pub speeds_kmh: Vec<f64>,
+    /// The statistics read per speed, in the order of [`Evaluation::values`].
+    pub columns: Vec<String>,
+    /// A feasible design was found (the best, or the base).
+    pub feasible: bool,
+    /// The design handed over (none: nothing beat the base, or nothing is feasible).
+    pub best: Option<Evaluation>,
+    /// The search's best feasible evaluation, recommended or not.
+    pub best_evaluated: Option<Evaluation>,
+    /// No feasible design: the least violating evaluation.
+    pub least_violating: Option<Evaluation>,
+    /// The base design's evaluation.
+    pub base: Option<Evaluation>,
+    /// The best design run again.
+    pub confirmation: Option<Confirmation>,
+    /// Each variable's sensitivity at the best design.
+    pub sensitivity: Vec<Sensitivity>,
+    /// Each constraint at the best design.
+    pub constraints: Vec<ConstraintStatus>,
+}
+
+/// A design variable's range as design.json gives it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct VariableRecord {
+    /// The case field, as an override path.
+    pub path: String,
+    /// Lower bound, in the field's unit.
+    pub min: f64,
+    /// Upper bound, in the field's unit.
+    pub max: f64,
+    /// A whole number.
+    pub integer: bool,
+}
+
+/// The best design's confirmation run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct Confirmation {
+    /// Its evaluation.
+    pub evaluation: Evaluation,
+    /// Whether its statistics equal the search's evaluation of the same design.
+    pub same_as_search: bool,
 }
 
 /// The search's answer.
@@ -1081,9 +1145,9 @@ fn sensitivities(
             step: v.sensitivity_step(),
             value: bx[k],
             at_bound: if bx[k] <= v.min {
-                Some("min")
+                Some("min".into())
             } else if bx[k] >= v.max {
-                Some("max")
+                Some("max".into())
             } else {
                 None
             },
@@ -1307,29 +1371,44 @@ impl DesignResult {
     }
 
     /// The answer as every front end writes it (the CLI's design.json, Python's
-    /// `pcsim.design(...)`): no wall time, so the same search gives the same bytes.
-    pub fn to_json(&self, d: &Design) -> serde_json::Value {
-        use serde_json::json;
+    /// `pcsim.design(...)`).
+    pub fn record(&self, d: &Design) -> DesignRecord {
         let best = self.best.map(|i| &self.evaluations[i]);
-        json!({
-            "answer": self.answer(),
-            "fingerprint": d.fingerprint(),
-            "method": d.spec.budget.method.name(),
-            "seed": d.spec.budget.seed,
-            "evaluations_asked": self.asked,
-            "stop": self.stop,
-            "variables": d.spec.variables.iter().map(|v| json!({"path": v.path, "min": v.min, "max": v.max, "integer": v.integer})).collect::<Vec<_>>(),
-            "speeds_kmh": d.spec.speeds.iter().map(|s| s.kmh).collect::<Vec<_>>(),
-            "columns": d.needs.iter().map(|n| n.label()).collect::<Vec<_>>(),
-            "feasible": best.is_some() || self.base.as_ref().is_some_and(|b| b.feasible()),
-            "best": self.recommended.map(|i| &self.evaluations[i]),
-            "best_evaluated": best,
-            "least_violating": self.least_violating.map(|i| &self.evaluations[i]),
-            "base": self.base,
-            "confirmation": self.confirmation.as_ref().map(|(e, same)| json!({"evaluation": e, "same_as_search": same})),
-            "sensitivity": self.sensitivity,
-            "constraints": self.constraints,
-        })
+        let at = |i: Option<usize>| i.map(|i| self.evaluations[i].clone());
+        DesignRecord {
+            answer: self.answer().into(),
+            fingerprint: d.fingerprint().to_string(),
+            method: d.spec.budget.method.name().into(),
+            seed: d.spec.budget.seed,
+            evaluations_asked: self.asked,
+            stop: self.stop,
+            variables: (d.spec.variables.iter())
+                .map(|v| VariableRecord {
+                    path: v.path.clone(),
+                    min: v.min,
+                    max: v.max,
+                    integer: v.integer,
+                })
+                .collect(),
+            speeds_kmh: d.spec.speeds.iter().map(|s| s.kmh).collect(),
+            columns: d.needs.iter().map(|n| n.label()).collect(),
+            feasible: best.is_some() || self.base.as_ref().is_some_and(Evaluation::feasible),
+            best: at(self.recommended),
+            best_evaluated: best.cloned(),
+            least_violating: at(self.least_violating),
+            base: self.base.clone(),
+            confirmation: (self.confirmation.as_ref()).map(|(e, same)| Confirmation {
+                evaluation: e.clone(),
+                same_as_search: *same,
+            }),
+            sensitivity: self.sensitivity.clone(),
+            constraints: self.constraints.clone(),
+        }
+    }
+
+    /// [`Self::record`] as JSON, its keys sorted (the bytes design.json has always had).
+    pub fn to_json(&self, d: &Design) -> serde_json::Value {
+        serde_json::to_value(self.record(d)).expect("a design record is JSON")
     }
 }
 

@@ -13,7 +13,7 @@
 //! ([`Fit::check`]), never a block to paste.
 
 use rustfft::num_complex::Complex;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::error::CaseError;
 use crate::input::bounds::inv;
@@ -245,7 +245,7 @@ impl Response {
 }
 
 /// One fitted parameter.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Fitted {
     /// Its name in the case (`masses_kg[0]`, `stiffness_n_per_m[1]`, `damping_ns_per_m[0]`).
     pub name: String,
@@ -259,12 +259,19 @@ pub struct Fitted {
     pub at_bound: bool,
 }
 
-/// A fit's answer.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+/// A fit's answer: the fitted pantograph and its record.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Fit {
     /// The fitted pantograph (its uplift and aerodynamic force the starting one's).
-    #[serde(skip)]
     pub pantograph: Lumped,
+    /// What `fit.json` holds (written and read back through this type).
+    pub record: FitRecord,
+}
+
+/// A fit as `fit.json` holds it (`pcsim schema fit`): each fitted value with its uncertainty,
+/// the residual, the settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct FitRecord {
     /// Each parameter.
     pub parameters: Vec<Fitted>,
     /// RMS of the relative complex misfit over the frequencies.
@@ -288,10 +295,10 @@ impl Fit {
     /// measurement fits well read as the other quantity (an apparent mass under a receptance
     /// header, or the reverse: a common slip), that.
     pub fn check(&self, start: &Lumped, measured: &Response) -> Result<(), CaseError> {
-        if self.converged {
+        if self.record.converged {
             return Ok(());
         }
-        let at_bound: Vec<&str> = (self.parameters.iter())
+        let at_bound: Vec<&str> = (self.record.parameters.iter())
             .filter(|p| p.at_bound)
             .map(|p| p.name.as_str())
             .collect();
@@ -305,26 +312,26 @@ impl Fit {
         };
         let quick = FitSpec {
             starts: 2,
-            ..self.spec
+            ..self.record.spec
         };
         let hint = match fit_with(start, &swapped, &quick, &mut |_, _| {}) {
-            Ok(f) if f.converged => format!(
+            Ok(f) if f.record.converged => format!(
                 "; read as {} ({}) it fits at {:.2} % RMS: is the header's unit right?",
                 match other {
                     Quantity::Receptance => "a receptance",
                     Quantity::ApparentMass => "an apparent mass",
                 },
                 other.column(),
-                100.0 * f.residual_rms
+                100.0 * f.record.residual_rms
             ),
             _ => String::new(),
         };
         Err(inv(
-            &format!("{}: fit", self.source),
-            format!("residual {:.2} % RMS", 100.0 * self.residual_rms),
+            &format!("{}: fit", self.record.source),
+            format!("residual {:.2} % RMS", 100.0 * self.record.residual_rms),
             &format!(
                 "above the {:.1} % accepted (fit.max_residual_rms): the chain does not describe this measurement{}{}; no case block is written",
-                100.0 * self.spec.max_residual_rms,
+                100.0 * self.record.spec.max_residual_rms,
                 if at_bound.is_empty() {
                     String::new()
                 } else {
@@ -341,7 +348,7 @@ impl Fit {
     pub fn case_block(&self, name: &str, label: &str) -> String {
         let source = format!(
             "fitted by pcsim pantograph fit to {label} (residual {:.2} % RMS; uncertainties in fit.json)",
-            100.0 * self.residual_rms
+            100.0 * self.record.residual_rms
         )
         .replace('"', "'");
         let list = |v: &[f64]| {
@@ -473,7 +480,7 @@ fn residuals(p: &Lumped, m: &Response) -> Vec<f64> {
 }
 
 /// The fit's settings (`Default`: 8 starts, seed 1, a residual of at most 10 % RMS).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct FitSpec {
     /// Starts of the least-squares method: the case's values, then `starts − 1` points drawn
     /// uniformly (on the logarithms) inside the bounds; the best end is the answer.
@@ -766,12 +773,14 @@ pub fn fit_with(
     let residual_rms = rms(sum_sq(&r));
     Ok(Fit {
         pantograph: fitted,
-        parameters,
-        residual_rms,
-        start_residual_rms: rms(start_cost),
-        evaluations: problem.count,
-        source: measured.source.clone(),
-        spec: *spec,
-        converged: residual_rms <= spec.max_residual_rms,
+        record: FitRecord {
+            parameters,
+            residual_rms,
+            start_residual_rms: rms(start_cost),
+            evaluations: problem.count,
+            source: measured.source.clone(),
+            spec: *spec,
+            converged: residual_rms <= spec.max_residual_rms,
+        },
     })
 }

@@ -1,6 +1,7 @@
 //! The JSON Schemas of a case file and of the studies' outputs (`pcsim schema`, issue 52): an
 //! editor (taplo, VS Code's Even Better TOML) completes and checks a case with the first, a
-//! downstream tool parses `summary.json` or `montecarlo.json` with the others, without guessing.
+//! downstream tool parses `summary.json`, `montecarlo.json`, `assessment.json`, `design.json` or
+//! `fit.json` with the others, without guessing.
 //!
 //! The schemas are derived from the very types that read a case and write an output (serde and
 //! schemars read the same attributes), so they cannot drift from the code. A case's value may be
@@ -14,6 +15,9 @@ pub const SCHEMAS: &[(&str, &str)] = &[
     ("case", "a case file (TOML), every value plain or sourced"),
     ("summary", "a run's summary.json"),
     ("montecarlo", "a Monte Carlo study's montecarlo.json"),
+    ("assessment", "an assessment's assessment.json (pcsim assess)"),
+    ("design", "a design search's design.json"),
+    ("fit", "a pantograph fit's fit.json"),
 ];
 
 /// The schema named `name` (one of [`SCHEMAS`]), or `None`.
@@ -22,6 +26,9 @@ pub fn schema(name: &str) -> Option<Value> {
         "case" => Some(case_schema()),
         "summary" => Some(output_schema::<crate::analysis::report::RunSummary>()),
         "montecarlo" => Some(output_schema::<crate::study::montecarlo::MonteCarloOutput>()),
+        "assessment" => Some(output_schema::<crate::analysis::assess::Assessment>()),
+        "design" => Some(output_schema::<crate::study::design::DesignRecord>()),
+        "fit" => Some(output_schema::<crate::study::frf::FitRecord>()),
         _ => None,
     }
 }

@@ -71,10 +71,10 @@ fn issue_43_3_a_fit_recovers_known_parameters_within_its_uncertainty() {
     let r = fit(&start, &measured).unwrap();
     let truth_x = [7.2, 15.0, 4200.0, 50.0, 10.0, 90.0];
     assert!(
-        r.residual_rms < 0.05 && r.residual_rms < r.start_residual_rms / 3.0,
+        r.record.residual_rms < 0.05 && r.record.residual_rms < r.record.start_residual_rms / 3.0,
         "{r:?}"
     );
-    for (p, t) in r.parameters.iter().zip(truth_x) {
+    for (p, t) in r.record.parameters.iter().zip(truth_x) {
         assert!(!p.at_bound && p.std.is_finite() && p.std > 0.0, "{p:?}");
         assert!(
             (p.value - t).abs() <= 3.0 * p.std,
@@ -87,7 +87,7 @@ fn issue_43_3_a_fit_recovers_known_parameters_within_its_uncertainty() {
     // Without noise the fit is exact to the optimiser's tolerance.
     let clean = Response::of_model(&truth, Quantity::Receptance, &f).unwrap();
     let r = fit(&start, &clean).unwrap();
-    for (p, t) in r.parameters.iter().zip(truth_x) {
+    for (p, t) in r.record.parameters.iter().zip(truth_x) {
         assert!(
             (p.value - t).abs() <= 1e-3 * t,
             "{}: {} against {t}",
@@ -183,10 +183,10 @@ fn issue_51_a_fit_from_a_start_far_off_reaches_the_truth_and_a_mislabelled_file_
     })
     .unwrap();
     assert_eq!(seen.last(), Some(&(8, 8)), "progress per start");
-    assert!(r.converged && r.check(&start, &measured).is_ok(), "{r:?}");
-    assert!(r.residual_rms < 0.04, "residual {}", r.residual_rms);
+    assert!(r.record.converged && r.check(&start, &measured).is_ok(), "{r:?}");
+    assert!(r.record.residual_rms < 0.04, "residual {}", r.record.residual_rms);
     let t = [7.5, 9.0, 6.0, 7000.0, 15500.0, 160.0, 45.0, 0.1, 100.0];
-    for (p, t) in r.parameters.iter().zip(t) {
+    for (p, t) in r.record.parameters.iter().zip(t) {
         if p.name == "damping_ns_per_m[1]" {
             continue;
         }
@@ -204,7 +204,7 @@ fn issue_51_a_fit_from_a_start_far_off_reaches_the_truth_and_a_mislabelled_file_
         .replace("magnitude_kg", "magnitude_m_per_n");
     let wrong = Response::from_csv(&text, "mislabelled.csv").unwrap();
     let r = fit_with(&start, &wrong, &FitSpec::default(), &mut |_, _| {}).unwrap();
-    assert!(!r.converged && r.residual_rms > 0.5, "{}", r.residual_rms);
+    assert!(!r.record.converged && r.record.residual_rms > 0.5, "{}", r.record.residual_rms);
     let e = r.check(&start, &wrong).unwrap_err().to_string();
     assert!(
         e.contains("mislabelled.csv") && e.contains("residual") && e.contains("magnitude_kg"),

@@ -294,9 +294,9 @@ fn issue_43_3_a_head_of_two_strips_is_fitted_within_its_uncertainty() {
     }
     let r = fit(&start, &measured).unwrap();
     let want = [15.0, 50.0, 90.0, 3.6, 2100.0, 5.0];
-    assert_eq!(r.parameters.len(), want.len());
-    assert_eq!(r.parameters[3].name, "strips[*].mass_kg");
-    for (p, t) in r.parameters.iter().zip(want) {
+    assert_eq!(r.record.parameters.len(), want.len());
+    assert_eq!(r.record.parameters[3].name, "strips[*].mass_kg");
+    for (p, t) in r.record.parameters.iter().zip(want) {
         assert!(!p.at_bound && p.std.is_finite() && p.std > 0.0, "{p:?}");
         assert!(
             (p.value - t).abs() <= 3.0 * p.std,
