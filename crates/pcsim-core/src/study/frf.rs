@@ -670,19 +670,12 @@ pub fn fit(start: &Lumped, measured: &Response) -> Result<Fit, CaseError> {
     fit_with(start, measured, &FitSpec::default(), &mut |_, _| {})
 }
 
-/// Fit the chain of `start` (its number of masses, its values as the first start and the centre
-/// of the bounds) to `measured`: bounded Levenberg–Marquardt on the logarithms of the
-/// parameters from `spec.starts` starts (the case's values, then seeded draws inside the
-/// bounds), the best end taken. `progress(k, n)` is called as start `k` of `n` ends. The
-/// answer's [`Fit::converged`] says whether its residual is within `spec.max_residual_rms`;
-/// [`Fit::check`] turns a fit that is not into an error.
-pub fn fit_with(
-    start: &Lumped,
-    measured: &Response,
-    spec: &FitSpec,
-    progress: &mut dyn FnMut(usize, usize),
-) -> Result<Fit, CaseError> {
-    spec.check()?;
+/// The fit's starting values (the chain's parameters), refusing a start or a measurement the
+/// fit cannot take: strips unlike each other, a value not positive, too few or too many
+/// frequencies.
+fn fit_start(start: &Lumped, measured: &Response) -> Result<Vec<f64>, CaseError> {
+    let x0 = params(start);
+    let np = x0.len();
     if let Some(s) = start
         .strips
         .iter()
@@ -694,8 +687,6 @@ pub fn fit_with(
             "the fit takes a head's strips alike (one mass, spring and damper for all): the response at the head, a force shared by the strips, cannot tell unequal strips apart",
         ));
     }
-    let x0 = params(start);
-    let np = x0.len();
     if let Some(i) = x0.iter().position(|&v| !(v.is_finite() && v > 0.0)) {
         return Err(inv(
             &format!("pantographs.{}", names(start)[i]),
@@ -717,6 +708,24 @@ pub fn fit_with(
             &format!("at most {MAX_FREQUENCIES} (each start evaluates the chain about 60 × 2 × {np} times at every frequency): thin the record, a chain of {np} parameters needs a few hundred"),
         ));
     }
+    Ok(x0)
+}
+
+/// Fit the chain of `start` (its number of masses, its values as the first start and the centre
+/// of the bounds) to `measured`: bounded Levenberg–Marquardt on the logarithms of the
+/// parameters from `spec.starts` starts (the case's values, then seeded draws inside the
+/// bounds), the best end taken. `progress(k, n)` is called as start `k` of `n` ends. The
+/// answer's [`Fit::converged`] says whether its residual is within `spec.max_residual_rms`;
+/// [`Fit::check`] turns a fit that is not into an error.
+pub fn fit_with(
+    start: &Lumped,
+    measured: &Response,
+    spec: &FitSpec,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Fit, CaseError> {
+    spec.check()?;
+    let x0 = fit_start(start, measured)?;
+    let np = x0.len();
     let mut problem = Problem {
         start,
         measured,
