@@ -1,7 +1,7 @@
 """`pcsim schema` (issue 52): the case file's JSON Schema validates every shipped preset and
 example case, a misspelt key or a wrong type fails it, and a run's summary.json, a Monte Carlo
-study's montecarlo.json, an assessment's assessment.json, a design's design.json and a fit's
-fit.json validate against their schemas (and a wrong value fails each). The validator is an independent tool
+study's montecarlo.json, an assessment's assessment.json, a design's design.json, a fit's
+fit.json and each directory's pcsim.json validate against their schemas (and a wrong value fails each). The validator is an independent tool
 (python-jsonschema, from PyPI); TOML is read by Python's own tomllib.
 
 Run by .ci/run: PCSIM=target/release/pcsim target/py-venv/bin/python -m pytest -q tests/schema
@@ -162,3 +162,11 @@ def test_assessment_design_and_fit_validate_against_their_schemas(tmp_path):
     validator("design").validate(d)
     with pytest.raises(jsonschema.ValidationError):
         validator("design").validate(dict(d, stop="bored"))
+
+    # Each directory's manifest, complete, with its files and their hashes.
+    for out in ["run", "fit", "design"]:
+        m = json.loads((tmp_path / out / "pcsim.json").read_text())
+        assert m["complete"] is True and m["files"], m
+        validator("manifest").validate(m)
+    with pytest.raises(jsonschema.ValidationError):
+        validator("manifest").validate(dict(m, shard="x"))

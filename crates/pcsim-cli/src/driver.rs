@@ -24,7 +24,7 @@ pub struct Drive<'a> {
     /// Write `report.html` (implies the figures).
     pub report: bool,
     /// The manifest's own fields beside its kind (a sweep's fingerprint, the flags given).
-    pub manifest: serde_json::Value,
+    pub manifest: crate::output::StudyManifest,
     /// What a unit of work is called on the progress line (`realisations`).
     pub unit: &'a str,
 }

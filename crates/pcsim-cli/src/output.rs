@@ -17,6 +17,8 @@
 use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
 
+pub use pcsim_core::study::manifest::{ManifestRecord, StudyManifest};
+
 /// The manifest of an output directory.
 pub const MANIFEST: &str = "pcsim.json";
 
@@ -41,40 +43,44 @@ pub fn write_file_atomic(path: &Path, bytes: impl AsRef<[u8]>) -> Result<()> {
     })
 }
 
-/// Write the manifest of a directory being written: `{"kind": …, "pcsim_version": …,
-/// "complete": false}` plus `extra`. [`OutDir::commit`] completes it.
-pub fn write_manifest(dir: &Path, kind: &str, extra: serde_json::Value) -> Result<()> {
-    let mut m = serde_json::json!({
-        "kind": kind,
-        "pcsim_version": env!("CARGO_PKG_VERSION"),
-        "complete": false,
-        "command": std::env::args().collect::<Vec<_>>().join(" "),
-    });
-    if let (Some(o), serde_json::Value::Object(e)) = (m.as_object_mut(), extra) {
-        o.extend(e);
-    }
-    write_file(
-        &dir.join(MANIFEST),
-        serde_json::to_string_pretty(&m)? + "\n",
-    )
+/// Write the manifest of a directory being written: its `kind`, the pcsim version, the command
+/// line, `complete: false`, and what the study adds. [`OutDir::commit`] completes it.
+pub fn write_manifest(dir: &Path, kind: &str, study: StudyManifest) -> Result<()> {
+    let m = ManifestRecord {
+        kind: kind.to_string(),
+        pcsim_version: env!("CARGO_PKG_VERSION").to_string(),
+        complete: false,
+        command: std::env::args().collect::<Vec<_>>().join(" "),
+        files: None,
+        hashes: None,
+        study,
+    };
+    write_file(&dir.join(MANIFEST), manifest_text(&m)?)
+}
+
+/// A manifest as written: pretty JSON, its keys sorted.
+fn manifest_text(m: &ManifestRecord) -> Result<String> {
+    Ok(serde_json::to_string_pretty(&serde_json::to_value(m)?)? + "\n")
 }
 
 /// The largest manifest read, bytes (a manifest lists a sweep's files: a few hundred kB at most).
 pub const MAX_MANIFEST_BYTES: u64 = 16 << 20;
 
 /// Read the manifest of a directory as it is, complete or not (`None` when it has none).
-pub fn read_manifest(dir: &Path) -> Result<Option<serde_json::Value>> {
+pub fn read_manifest(dir: &Path) -> Result<Option<ManifestRecord>> {
     let path = dir.join(MANIFEST);
     if !path.exists() {
         return Ok(None);
     }
     let text = crate::common::read_text_limited(&path, MAX_MANIFEST_BYTES, "a manifest")?;
-    Ok(Some(serde_json::from_str(&text).with_context(|| {
-        format!("{} is not valid JSON", path.display())
-    })?))
+    let v: serde_json::Value = serde_json::from_str(&text)
+        .with_context(|| format!("{} is not valid JSON", path.display()))?;
+    ManifestRecord::from_value(v)
+        .map(Some)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
 }
 
-/// The manifest of a complete output directory: its kind, its files and the whole JSON.
+/// The manifest of a complete output directory: its kind, its files and the whole record.
 #[derive(Debug, Clone)]
 pub struct Manifest {
     /// The kind of output: the study that wrote it.
@@ -84,7 +90,7 @@ pub struct Manifest {
     /// The files of the directory, relative to it (the manifest excluded).
     pub files: Vec<String>,
     /// The whole manifest.
-    pub value: serde_json::Value,
+    pub record: ManifestRecord,
 }
 
 /// Read the manifest of a complete output directory, refusing a directory without one, an
@@ -97,31 +103,22 @@ pub fn read_complete_manifest(dir: &Path) -> Result<Manifest> {
             dir.display()
         )
     })?;
-    if m["complete"] != serde_json::Value::Bool(true) {
+    if !m.complete {
         bail!(
             "{} is not complete ({MANIFEST} does not say \"complete\": true): its run was interrupted, failed, or is still being written",
             dir.display()
         );
     }
-    let kind = m["kind"]
-        .as_str()
-        .with_context(|| format!("{}: {MANIFEST} has no `kind`", dir.display()))?;
-    let kind = pcsim_core::study::StudyKind::parse(kind)
+    if m.kind.is_empty() {
+        bail!("{}: {MANIFEST} has no `kind`", dir.display());
+    }
+    let kind = pcsim_core::study::StudyKind::parse(&m.kind)
         .with_context(|| format!("{}: {MANIFEST}", dir.display()))?;
-    let version = m["pcsim_version"].as_str().unwrap_or_default().to_string();
-    let files: Vec<String> = m["files"]
-        .as_array()
-        .with_context(|| format!("{}: {MANIFEST} has no list of `files`", dir.display()))?
-        .iter()
-        .map(|f| {
-            f.as_str().map(str::to_string).with_context(|| {
-                format!(
-                    "{}: {MANIFEST} lists a file that is not a name",
-                    dir.display()
-                )
-            })
-        })
-        .collect::<Result<_>>()?;
+    let version = m.pcsim_version.clone();
+    let files: Vec<String> = m
+        .files
+        .clone()
+        .with_context(|| format!("{}: {MANIFEST} has no list of `files`", dir.display()))?;
     // Figures are derived from the data files and may be redrawn (`pcsim plot`); every other
     // listed file must be there.
     for f in files.iter().filter(|f| !is_figure(f)) {
@@ -136,7 +133,7 @@ pub fn read_complete_manifest(dir: &Path) -> Result<Manifest> {
         kind,
         version,
         files,
-        value: m,
+        record: m,
     })
 }
 
@@ -198,20 +195,17 @@ pub fn file_hash(path: &Path) -> Result<String> {
     Ok(format!("{h:016x}"))
 }
 
-/// The key of the manifest's file hashes.
-const HASHES: &str = "fnv1a64";
-
 /// The files of a complete directory whose bytes are no longer those the manifest recorded
 /// (edited, replaced or truncated after pcsim wrote them), or are missing; files written before
 /// the manifest recorded hashes are not judged.
 pub fn edited_files(dir: &Path, m: &Manifest) -> Vec<String> {
-    let Some(h) = m.value[HASHES].as_object() else {
+    let Some(h) = &m.record.hashes else {
         return Vec::new();
     };
     let mut out: Vec<String> = h
         .iter()
         .filter(|(f, want)| {
-            *f != "report.html" && file_hash(&dir.join(f)).ok().as_deref() != want.as_str()
+            *f != "report.html" && file_hash(&dir.join(f)).ok().as_deref() != Some(want.as_str())
         })
         .map(|(f, _)| f.clone())
         .collect();
@@ -225,19 +219,14 @@ pub fn complete_manifest(dir: &Path) -> Result<()> {
     let mut m = read_manifest(dir)?
         .with_context(|| format!("{}: no {MANIFEST} to complete", dir.display()))?;
     let files = files_under(dir)?;
-    let mut hashes = serde_json::Map::new();
+    let mut hashes = std::collections::BTreeMap::new();
     for f in &files {
-        hashes.insert(f.clone(), file_hash(&dir.join(f))?.into());
+        hashes.insert(f.clone(), file_hash(&dir.join(f))?);
     }
-    if let Some(o) = m.as_object_mut() {
-        o.insert("files".into(), serde_json::json!(files));
-        o.insert(HASHES.into(), serde_json::Value::Object(hashes));
-        o.insert("complete".into(), serde_json::Value::Bool(true));
-    }
-    write_file_atomic(
-        &dir.join(MANIFEST),
-        serde_json::to_string_pretty(&m)? + "\n",
-    )
+    m.files = Some(files);
+    m.hashes = Some(hashes);
+    m.complete = true;
+    write_file_atomic(&dir.join(MANIFEST), manifest_text(&m)?)
 }
 
 /// Add `figures` (paths under `dir`) to the file list of the complete manifest of `dir` (after
@@ -246,29 +235,20 @@ pub fn complete_manifest(dir: &Path) -> Result<()> {
 pub fn add_to_manifest(dir: &Path, figures: &[PathBuf]) -> Result<()> {
     let m = read_complete_manifest(dir)?;
     let mut files = m.files;
-    let mut v = m.value;
-    let mut hashes = v[HASHES].as_object().cloned();
+    let mut record = m.record;
     for f in figures {
         let rel = f.strip_prefix(dir).unwrap_or(f);
         let rel = rel.to_string_lossy().replace('\\', "/");
-        if let Some(h) = hashes.as_mut() {
-            h.insert(rel.clone(), file_hash(&dir.join(&rel))?.into());
+        if let Some(h) = record.hashes.as_mut() {
+            h.insert(rel.clone(), file_hash(&dir.join(&rel))?);
         }
         if !files.contains(&rel) {
             files.push(rel);
         }
     }
     files.sort();
-    if let Some(o) = v.as_object_mut() {
-        o.insert("files".into(), serde_json::json!(files));
-        if let Some(h) = hashes {
-            o.insert(HASHES.into(), serde_json::Value::Object(h));
-        }
-    }
-    write_file_atomic(
-        &dir.join(MANIFEST),
-        serde_json::to_string_pretty(&v)? + "\n",
-    )
+    record.files = Some(files);
+    write_file_atomic(&dir.join(MANIFEST), manifest_text(&record)?)
 }
 
 /// The lock of an output directory: a file beside it holding the writer's pid, made with
@@ -392,12 +372,8 @@ fn check_replaceable(target: &Path) -> Result<()> {
             target.display()
         )
     })?;
-    if let Some(listed) = m["files"].as_array() {
-        let listed: Vec<&str> = listed.iter().filter_map(|f| f.as_str()).collect();
-        let foreign: Vec<&String> = present
-            .iter()
-            .filter(|f| !listed.contains(&f.as_str()))
-            .collect();
+    if let Some(listed) = &m.files {
+        let foreign: Vec<&String> = present.iter().filter(|f| !listed.contains(f)).collect();
         if !foreign.is_empty() {
             bail!(
                 "--out {} holds files that pcsim did not write ({}): they would be deleted when the new output replaces it; move them, or choose another --out",

@@ -62,41 +62,28 @@ fn read_shard(k: &SweepKind, d: &Path) -> Result<ShardDir> {
             env!("CARGO_PKG_VERSION")
         );
     }
-    let v = &m.value;
-    let num = |v: &serde_json::Value, what: &str| -> Result<usize> {
-        v.as_u64()
-            .and_then(|x| usize::try_from(x).ok())
-            .with_context(|| format!("{}: pcsim.json `{what}` is {v}, not a count", d.display()))
-    };
-    let shard_v = v["shard"]
-        .as_array()
-        .filter(|a| a.len() == 2)
-        .with_context(|| {
-            format!(
-                "{}: pcsim.json `shard` is {}, not [I, N]",
-                d.display(),
-                v["shard"]
-            )
-        })?;
-    let (si, sn) = (num(&shard_v[0], "shard[0]")?, num(&shard_v[1], "shard[1]")?);
+    let v = &m.record.study;
+    let [si, sn] = v
+        .shard
+        .with_context(|| format!("{}: pcsim.json has no `shard` [I, N]", d.display()))?;
     if sn == 0 || si >= sn {
         bail!(
             "{}: pcsim.json `shard` is [{si}, {sn}]: need 0 ≤ I < N",
             d.display()
         );
     }
-    let cases = num(&v["cases"], "cases")?;
+    let cases = v
+        .cases
+        .with_context(|| format!("{}: pcsim.json has no count of `cases`", d.display()))?;
     if sn > MAX_SHARDS || cases > MAX_CASES {
         bail!(
             "{}: pcsim.json says {cases} cases in {sn} shards: more than a sweep can hold ({MAX_CASES} cases, {MAX_SHARDS} shards)",
             d.display()
         );
     }
-    let fingerprint = v["fingerprint"]
-        .as_str()
+    let fingerprint = (v.fingerprint.clone())
         .filter(|f| !f.is_empty())
-        .with_context(|| format!("{}: pcsim.json has no `fingerprint`", d.display()))?
-        .to_string();
+        .with_context(|| format!("{}: pcsim.json has no `fingerprint`", d.display()))?;
     if !m.lists(k.csv) {
         bail!("{}: pcsim.json does not list {}", d.display(), k.csv);
     }
@@ -203,14 +190,15 @@ pub fn merge(k: &SweepKind, dirs: &[PathBuf], out: &Path, no_plot: bool) -> Resu
     write_manifest(
         partial,
         k.kind.name(),
-        serde_json::json!({
-            "fingerprint": first.fingerprint,
-            "cases": first.cases,
-            "shard": [0, 1],
-            "merged_from_shards": n,
-            "cases_in_shard": rows.iter().map(|r| r.0).collect::<Vec<_>>(),
-            "columns": k.columns,
-        }),
+        crate::output::StudyManifest {
+            fingerprint: Some(first.fingerprint.clone()),
+            cases: Some(first.cases),
+            shard: Some([0, 1]),
+            merged_from_shards: Some(n),
+            cases_in_shard: Some(rows.iter().map(|r| r.0).collect()),
+            columns: Some(k.columns.to_string()),
+            ..Default::default()
+        },
     )?;
     (k.finish)(partial).with_context(|| format!("merging into {}", out.display()))?;
     if !no_plot {

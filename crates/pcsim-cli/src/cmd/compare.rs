@@ -98,15 +98,16 @@ pub fn compare(a: CompareArgs) -> Result<i32> {
     write_manifest(
         od.path(),
         "compare",
-        serde_json::json!({
-            "run": a.run.display().to_string(),
-            "measured": a.measured.display().to_string(),
-            "pantograph": trace.name,
-            "case": run.case_name,
-            "speed_kmh": run.speed_kmh,
-            "correlation": c.correlation,
-            "warnings": c.warnings,
-        }),
+        crate::output::StudyManifest {
+            run: Some(a.run.display().to_string()),
+            measured: Some(a.measured.display().to_string()),
+            pantograph: Some(trace.name.clone()),
+            case: Some(run.case_name.clone()),
+            speed_kmh: Some(run.speed_kmh),
+            correlation: Some(c.correlation),
+            warnings: Some(c.warnings.clone()),
+            ..Default::default()
+        },
     )?;
     let files = if a.no_plot {
         Vec::new()

@@ -6,7 +6,6 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use serde_json::json;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -254,6 +253,38 @@ fn open_journal(journal_path: &Path, d: &Design) -> Result<(Vec<Evaluation>, std
     Ok((journal, file))
 }
 
+/// The search's directory: its outputs, its case and spec, its figures and its manifest.
+fn write_directory(
+    a: &DesignArgs,
+    d: &Design,
+    result: &DesignResult,
+    journal_path: &Path,
+    out: &Path,
+) -> Result<Vec<PathBuf>> {
+    write_outputs(out, d, result, journal_path)?;
+    write_file(&out.join("case.toml"), base_text(&a.spec, d)?)?;
+    std::fs::copy(&a.spec, out.join("spec.toml"))
+        .with_context(|| format!("cannot copy {}", a.spec.display()))?;
+    let mut files = Vec::new();
+    if !a.no_plot {
+        files = crate::plot::design::redraw(out)?;
+    }
+    write_manifest(
+        out,
+        "design",
+        crate::output::StudyManifest {
+            fingerprint: Some(d.fingerprint().to_string()),
+            figures: Some(
+                (files.iter().filter_map(|f| f.file_name()))
+                    .map(|f| f.to_string_lossy().to_string())
+                    .collect(),
+            ),
+            ..Default::default()
+        },
+    )?;
+    Ok(files)
+}
+
 pub fn design(a: DesignArgs, ctx: &Ctx) -> Result<i32> {
     crate::common::jobs_flag(a.jobs)?;
     let d = load(&a.spec, ctx)?;
@@ -323,20 +354,7 @@ pub fn design(a: DesignArgs, ctx: &Ctx) -> Result<i32> {
     }
     let wall = t0.elapsed().as_secs_f64();
     print(&d, &result, wall);
-    let out = od.path();
-    write_outputs(out, &d, &result, &journal_path)?;
-    write_file(&out.join("case.toml"), base_text(&a.spec, &d)?)?;
-    std::fs::copy(&a.spec, out.join("spec.toml"))
-        .with_context(|| format!("cannot copy {}", a.spec.display()))?;
-    let mut files = Vec::new();
-    if !a.no_plot {
-        files = crate::plot::design::redraw(out)?;
-    }
-    write_manifest(
-        out,
-        "design",
-        json!({ "fingerprint": d.fingerprint(), "figures": files.iter().filter_map(|f| f.file_name()).map(|f| f.to_string_lossy().to_string()).collect::<Vec<_>>() }),
-    )?;
+    let files = write_directory(&a, &d, &result, &journal_path, od.path())?;
     let shown = od.in_target(&files);
     od.commit()?;
     let unconfirmed = result.confirmation_error(&d);

@@ -266,13 +266,14 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
     write_manifest(
         dir,
         "eva",
-        serde_json::json!({
-            "fingerprint": fingerprint,
-            "cases": jobs.len(),
-            "shard": [shard.index, shard.count],
-            "cases_in_shard": mine.iter().map(|j| j.index).collect::<Vec<_>>(),
-            "columns": COLUMNS,
-        }),
+        crate::output::StudyManifest {
+            fingerprint: Some(fingerprint.clone()),
+            cases: Some(jobs.len()),
+            shard: Some([shard.index, shard.count]),
+            cases_in_shard: Some(mine.iter().map(|j| j.index).collect()),
+            columns: Some(COLUMNS.to_string()),
+            ..Default::default()
+        },
     )?;
     let files = if !a.no_plot && shard == Shard::ALL && !mine.is_empty() {
         od.in_target(&crate::plot::redraw_kind(

@@ -174,7 +174,10 @@ fn frf(a: FrfArgs) -> Result<i32> {
     write_manifest(
         od.path(),
         "pantograph-frf",
-        serde_json::json!({ "pantograph": name }),
+        crate::output::StudyManifest {
+            pantograph: Some(name.clone()),
+            ..Default::default()
+        },
     )?;
     let figs = figures(od.path(), "frf", &format!("pantograph {name}"), &[&r])?;
     let shown = od.in_target(&figs);
@@ -258,7 +261,11 @@ fn fit_cmd(a: FitArgs, ctx: &crate::common::Ctx) -> Result<i32> {
     write_manifest(
         od.path(),
         "pantograph-fit",
-        serde_json::json!({ "pantograph": name, "measured": a.measured.display().to_string() }),
+        crate::output::StudyManifest {
+            pantograph: Some(name.clone()),
+            measured: Some(a.measured.display().to_string()),
+            ..Default::default()
+        },
     )?;
     figures(
         od.path(),

@@ -159,12 +159,13 @@ pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
     crate::output::write_manifest(
         dir,
         "realtime",
-        serde_json::json!({
-            "case_name": name,
-            "speed_kmh": case.run.speed_kmh,
-            "analysis_m": case.run.analysis_m,
-            "overrides": overrides.iter().map(|o| o.flag.clone()).collect::<Vec<_>>(),
-        }),
+        crate::output::StudyManifest {
+            case_name: Some(name.clone()),
+            speed_kmh: Some(case.run.speed_kmh),
+            analysis_m: Some(case.run.analysis_m),
+            overrides: Some(overrides.iter().map(|o| o.flag.clone()).collect()),
+            ..Default::default()
+        },
     )?;
     let files = if a.no_plot {
         Vec::new()

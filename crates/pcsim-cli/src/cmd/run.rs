@@ -171,7 +171,10 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
         case_text: Some(&case_text),
         plot: a.plot || a.report,
         report: a.report,
-        manifest: serde_json::json!({ "overrides": flags }),
+        manifest: crate::output::StudyManifest {
+            overrides: Some(flags),
+            ..Default::default()
+        },
         unit: "‰",
     };
     crate::driver::drive(&study, drive, ctx).map_err(with_flags)?;
@@ -260,7 +263,11 @@ fn seeds(
             case_text: Some(case_text),
             plot: a.plot || a.report,
             report: a.report,
-            manifest: serde_json::json!({ "realisations": n, "overrides": flags }),
+            manifest: crate::output::StudyManifest {
+                realisations: Some(n),
+                overrides: Some(flags),
+                ..Default::default()
+            },
             unit: "realisations",
         },
         ctx,

@@ -197,15 +197,16 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
     write_manifest(
         dir,
         "window",
-        serde_json::json!({
-            "fingerprint": fingerprint,
-            "cases": jobs.len(),
-            "shard": [shard.index, shard.count],
-            "cases_in_shard": mine.iter().map(|j| j.index).collect::<Vec<_>>(),
-            "columns": COLUMNS,
-            "tolerances_pct": tol,
-            "search_m": search,
-        }),
+        crate::output::StudyManifest {
+            fingerprint: Some(fingerprint.clone()),
+            cases: Some(jobs.len()),
+            shard: Some([shard.index, shard.count]),
+            cases_in_shard: Some(mine.iter().map(|j| j.index).collect()),
+            columns: Some(COLUMNS.to_string()),
+            tolerances_pct: Some(tol),
+            search_m: Some(search),
+            ..Default::default()
+        },
     )?;
     print_rows(&rows, &tol, &search);
     if shard == Shard::ALL {

@@ -92,8 +92,8 @@ pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
     let m = crate::output::read_complete_manifest(dir)?;
     let title = format!(
         "{} ({} pantograph)",
-        m.value["case"].as_str().unwrap_or("run"),
-        m.value["pantograph"].as_str().unwrap_or("")
+        m.record.study.case.as_deref().unwrap_or("run"),
+        m.record.study.pantograph.as_deref().unwrap_or("")
     );
     draw(dir, &title)
 }

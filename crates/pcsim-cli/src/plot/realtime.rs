@@ -38,15 +38,10 @@ fn parse_csv(path: &Path) -> Result<Table> {
 
 /// Redraw the window study's figures.
 pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
-    let manifest = crate::output::read_manifest(dir)?.unwrap_or_default();
-    let name = manifest["case_name"].as_str().unwrap_or("case").to_string();
-    let speed = manifest["speed_kmh"].as_f64().unwrap_or(0.0);
-    let sec = [
-        manifest["analysis_m"][0]
-            .as_f64()
-            .unwrap_or(f64::NEG_INFINITY),
-        manifest["analysis_m"][1].as_f64().unwrap_or(f64::INFINITY),
-    ];
+    let m = crate::output::read_manifest(dir)?.unwrap_or_default().study;
+    let name = m.case_name.unwrap_or_else(|| "case".into());
+    let speed = m.speed_kmh.unwrap_or(0.0);
+    let sec = m.analysis_m.unwrap_or([f64::NEG_INFINITY, f64::INFINITY]);
     let (h, rows) = parse_csv(&dir.join("realtime.csv"))?;
     if h.join(",") != HEADER {
         bail!(

@@ -57,7 +57,8 @@ pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
         .filter(|r| r.seed == "0")
         .collect();
     let tol = crate::output::read_manifest(dir)?
-        .and_then(|m| m["tolerances_pct"]["sigma_pct"].as_f64())
+        .and_then(|m| m.study.tolerances_pct)
+        .map(|t| t.sigma_pct)
         .unwrap_or(3.0);
     let mut tensions: Vec<f64> = rows.iter().map(|r| r.tension).collect();
     tensions.sort_by(f64::total_cmp);

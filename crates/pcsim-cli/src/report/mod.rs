@@ -28,6 +28,13 @@ fn esc(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
+/// The command line that wrote a directory, as its manifest recorded it.
+fn command(m: &crate::output::Manifest) -> &str {
+    Some(m.record.command.as_str())
+        .filter(|c| !c.is_empty())
+        .unwrap_or("(command line not recorded)")
+}
+
 /// A number as a table shows it.
 fn num(v: &serde_json::Value) -> String {
     match v {
@@ -127,7 +134,7 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         n(&summary.speed_kmh),
         esc(&m.version),
         esc(&summary.kernels),
-        esc(m.value["command"].as_str().unwrap_or("(command line not recorded)"))
+        esc(command(&m))
     );
     edited_box(&mut h, dir, &m);
     // The run's error-level events, above everything else.
@@ -699,17 +706,16 @@ fn write_study(dir: &Path, m: &crate::output::Manifest) -> Result<PathBuf> {
         esc(m.kind.name()),
         esc(&dir.display().to_string()),
         esc(&m.version),
-        esc(m.value["command"]
-            .as_str()
-            .unwrap_or("(command line not recorded)"))
+        esc(command(m))
     );
     edited_box(&mut h, dir, m);
     errors_box(&mut h, &study_errors(dir, m.kind)?);
     // The answer first (issue 42, item 6), then the figures, then the tables.
     study_answer(&mut h, dir, m.kind)?;
     figures(&mut h, dir, &m.files)?;
-    let described: Vec<Vec<String>> = m
-        .value
+    // The manifest's record as written, each entry a row.
+    let record = serde_json::to_value(&m.record)?;
+    let described: Vec<Vec<String>> = record
         .as_object()
         .map(|o| {
             o.iter()

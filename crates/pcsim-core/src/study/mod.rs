@@ -14,10 +14,12 @@
 //! | `window_search.rs` | the accuracy-based window length and the energy criteria's fit |
 //! | `validate.rs` | which cases, which targets, the validation table |
 //! | `design.rs` | the design search: an optimiser over case fields, the journal, the answer |
+//! | `manifest.rs` | what an output directory's manifest holds (written and read through one type) |
 //! | `schema.rs` | the JSON Schemas of a case file and of the outputs (`pcsim schema`) |
 //! | `frf.rs` | a pantograph's frequency response at the head, and a chain fitted to a measured one |
 
 pub mod contract;
+pub mod manifest;
 pub mod design;
 pub mod frf;
 pub mod montecarlo;

@@ -18,6 +18,7 @@ pub const SCHEMAS: &[(&str, &str)] = &[
     ("assessment", "an assessment's assessment.json (pcsim assess)"),
     ("design", "a design search's design.json"),
     ("fit", "a pantograph fit's fit.json"),
+    ("manifest", "an output directory's manifest, pcsim.json"),
 ];
 
 /// The schema named `name` (one of [`SCHEMAS`]), or `None`.
@@ -29,6 +30,7 @@ pub fn schema(name: &str) -> Option<Value> {
         "assessment" => Some(output_schema::<crate::analysis::assess::Assessment>()),
         "design" => Some(output_schema::<crate::study::design::DesignRecord>()),
         "fit" => Some(output_schema::<crate::study::frf::FitRecord>()),
+        "manifest" => Some(output_schema::<crate::study::manifest::ManifestRecord>()),
         _ => None,
     }
 }

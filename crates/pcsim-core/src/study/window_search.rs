@@ -20,7 +20,7 @@
 
 use std::collections::BTreeMap;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::analysis::eva::{eva_by_fraction, eva_by_step, EvaOutput};
 use crate::analysis::record::RunOutput;
@@ -30,7 +30,7 @@ use crate::input::case::Case;
 use crate::study::realtime::run_window_sil;
 
 /// Tolerances on the window's 0–20 Hz force statistics against the full model's, %.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Tolerances {
     /// Tolerance on the mean force, %.
     pub mean_pct: f64,
@@ -95,7 +95,7 @@ impl WindowErrors {
 
 /// The lattice of the search: windows `min + k · resolution` up to `max`, the coarse ones every
 /// `coarse` metres.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct SearchSettings {
     /// Shortest window searched, m.
     pub min_m: f64,
