@@ -37,17 +37,16 @@
 //! modal diagonal, the torsional flow, the implicit corrections, the pantographs' chains) and
 //! steps in eight named stages.
 
-use crate::error::{CaseError, ModelQuantity};
+use crate::error::CaseError;
 use crate::model::dof::Direction;
 use crate::model::elements::{Io, Weight};
-use crate::model::pantograph::{ChainOperators, PantographKind};
+use crate::model::pantograph::ChainOperators;
 use crate::model::Model;
-use crate::solve::compiled::{
-    contact_stiffness, contact_stiffness_on, invalid, refused, CompiledModel,
-};
+use crate::solve::compiled::{invalid, CompiledModel};
 use crate::solve::implicit::{ImplicitPoints, ImplicitScratch};
 use crate::solve::kernels::{self, Isa};
 use crate::solve::limits::CoupledLimit;
+use crate::solve::pantographs;
 use crate::solve::plan::Plan;
 use crate::solve::sampler::SamplerScratch;
 use crate::solve::state::State;
@@ -287,137 +286,6 @@ fn implicit_terms(
     Ok(implicit)
 }
 
-/// Each pantograph's chain operators (Eq. 16) at Δt, and the chains' static equilibrium against
-/// the static wire at the start.
-fn pantograph_chains(
-    cm: &CompiledModel,
-    plan: &Plan,
-    dt: f64,
-) -> Result<(Vec<Option<ChainOperators>>, Vec<f64>), CaseError> {
-    let model = &cm.model;
-    // Pantographs.
-    let np = model.pantographs.len();
-    let mut chains = Vec::with_capacity(np);
-    let mut initial_py = Vec::new();
-    for (p, pan) in model.pantographs.iter().enumerate() {
-        match &pan.kind {
-            PantographKind::Lumped(l) => {
-                let ops = l.operators(dt, plan.speed_kmh).ok_or_else(|| {
-                    refused(
-                        ModelQuantity::PantographMasses(p),
-                        format!("{:?}", l.masses_kg),
-                        "the pantograph's mass matrix M + Δt/2 C is singular".into(),
-                    )
-                })?;
-                let x = plan.start_m - pan.offset_m + plan.speed_m_s * 0.0;
-                let no_equilibrium = || no_static_equilibrium(p, l);
-                if !l.strips.is_empty() {
-                    let y = strips_at_rest(cm, p, l, &ops, x).ok_or_else(no_equilibrium)?;
-                    initial_py.extend(y);
-                    chains.push(Some(ops));
-                    continue;
-                }
-                let (kn, h) = match cm.pan_point[p] {
-                    Some(m) if cm.pan_points[p].is_empty() => {
-                        (contact_stiffness(model, p), cm.start_height(m, x))
-                    }
-                    // Several contact wires: the head rests on the lowest of those present
-                    // at the start, and on every other at that height (their penalty
-                    // springs in parallel).
-                    Some(_) => {
-                        let present: Vec<(usize, f64)> = cm.pan_points[p]
-                            .iter()
-                            .filter(|&&k| cm.moving[k].covers(x))
-                            .map(|&k| (k, cm.start_height(k, x)))
-                            .collect();
-                        let low = present
-                            .iter()
-                            .map(|&(_, h)| h)
-                            .fold(f64::INFINITY, f64::min);
-                        let kn: f64 = present
-                            .iter()
-                            .filter(|&&(_, h)| h <= low + 1e-9)
-                            .map(|&(k, _)| contact_stiffness_on(model, p, Some(cm.moving[k].wire)))
-                            .sum();
-                        if low.is_finite() {
-                            (kn, low)
-                        } else {
-                            (contact_stiffness(model, p), 0.0)
-                        }
-                    }
-                    None => (contact_stiffness(model, p), 0.0),
-                };
-                let y = ops.static_equilibrium(kn, h).ok_or_else(no_equilibrium)?;
-                initial_py.extend(y);
-                chains.push(Some(ops));
-            }
-            _ => chains.push(None),
-        }
-    }
-    Ok((chains, initial_py))
-}
-
-/// Why pantograph `p` has no static equilibrium, in the model's terms: with a static force that
-/// depends on the head's height, a table steeper than the chain's springs (the fixed point on
-/// the head's height diverges: the table's steepest slope is named); else a spring of zero
-/// stiffness.
-fn no_static_equilibrium(p: usize, l: &crate::model::pantograph::Lumped) -> CaseError {
-    match &l.uplift_by_height {
-        Some(t) => {
-            let steepest = (t.height_m.windows(2).zip(t.uplift_n.windows(2)))
-                .map(|(h, f)| ((f[1] - f[0]) / (h[1] - h[0])).abs())
-                .fold(0.0, f64::max);
-            let series = 1.0
-                / (l.stiffness_n_per_m.iter())
-                    .filter(|k| **k > 0.0)
-                    .map(|k| 1.0 / k)
-                    .sum::<f64>();
-            refused(
-                ModelQuantity::PantographUpliftTable(p),
-                format!("a slope of {steepest:.4e} N/m"),
-                format!(
-                    "the pantograph has no static equilibrium on the wire: its static force changes with the head's height by up to {steepest:.4e} N per metre, against springs of {series:.4e} N/m in series, so the head's height found for one force asks another; a frame's force varies by a few newtons over its working range"
-                ),
-            )
-        }
-        None => refused(
-            ModelQuantity::PantographStiffness(p, None),
-            format!("{:?}", l.stiffness_n_per_m),
-            "the pantograph has no static equilibrium (a spring of zero stiffness?)".into(),
-        ),
-    }
-}
-
-/// The static equilibrium of pantograph `p`'s head of strips at position `x` on the static
-/// wire: each strip on the lowest wire present under its own contact point (on every wire at
-/// that height, their penalty springs in parallel), [`ChainOperators::static_equilibrium_strips`].
-fn strips_at_rest(
-    cm: &CompiledModel,
-    p: usize,
-    l: &crate::model::pantograph::Lumped,
-    ops: &ChainOperators,
-    x: f64,
-) -> Option<Vec<f64>> {
-    let ns = l.strips.len();
-    let (mut kn, mut h) = (vec![0.0; ns], vec![0.0; ns]);
-    for (s, strip) in l.strips.iter().enumerate() {
-        let xs = x + strip.along_m;
-        let head = cm.head_base[p] + s;
-        let present: Vec<f64> = (cm.moving.iter().enumerate())
-            .filter(|(_, mp)| mp.head == head && mp.dir == Direction::Vertical && mp.covers(xs))
-            .map(|(k, _)| cm.start_height(k, xs))
-            .collect();
-        let low = present.iter().copied().fold(f64::INFINITY, f64::min);
-        if low.is_finite() {
-            h[s] = low;
-            let at_low = present.iter().filter(|&&hh| hh <= low + 1e-9).count();
-            kn[s] = at_low as f64 * strip.contact_stiffness_n_per_m;
-        }
-    }
-    let offsets: Vec<f64> = l.strips.iter().map(|s| s.height_offset_m).collect();
-    ops.static_equilibrium_strips(&kn, &h, &offsets)
-}
-
 impl Integrator {
     /// The integrator with the coupled limit its Δt was checked against, on `threads` threads
     /// ([`Integrator::new`], in `construct.rs`).
@@ -443,7 +311,7 @@ impl Integrator {
     ) -> Result<Self, CaseError> {
         let modal = ModalOps::new(&cm, dt);
         let implicit = implicit_terms(&cm, dt, &modal.d_eff)?;
-        let (chains, initial_py) = pantograph_chains(&cm, plan, dt)?;
+        let (chains, initial_py) = pantographs::chains_at_rest(&cm, plan, dt)?;
         let ModalOps {
             k,
             c,
@@ -944,7 +812,7 @@ impl Integrator {
     fn moving_points(&self, st: &mut State, ws: &mut Workspace) {
         self.moving_heights(st, ws);
         self.moving_lateral(st, ws);
-        self.pantograph_loads(st, ws);
+        pantographs::heads_and_loads(&self.cm, st, ws);
         self.contact_forces(st, ws);
         self.contact_samples(ws);
     }
@@ -1016,41 +884,6 @@ impl Integrator {
             ws.off_head[slot] = m.pantographs[p]
                 .head_half_width_m
                 .is_some_and(|hw| on_head.abs() > hw);
-        }
-    }
-
-    /// Each pantograph's head displacement and the loads it prescribes (a moving force's, a
-    /// rig's measured force).
-    #[inline(always)]
-    fn pantograph_loads(&self, st: &State, ws: &mut Workspace) {
-        let m = &self.cm.model;
-        for (p, pan) in m.pantographs.iter().enumerate() {
-            let h = self.cm.head_u0 + self.cm.head_base[p];
-            match &pan.kind {
-                PantographKind::Lumped(l) if l.strips.is_empty() => {
-                    ws.u[h] = st.pantographs.u[self.cm.pan_off[p]];
-                }
-                // Each strip's running face: the strip's height and its offset.
-                PantographKind::Lumped(l) => {
-                    let o = self.cm.pan_off[p];
-                    for (s, strip) in l.strips.iter().enumerate() {
-                        ws.u[h + s] = st.pantographs.u[o + s] + strip.height_offset_m;
-                    }
-                }
-                _ => ws.u[h] = 0.0,
-            }
-            let np = m.pantographs.len();
-            ws.loads[np + p] = match pan.kind {
-                PantographKind::MovingForce {
-                    lateral_force_n, ..
-                } => lateral_force_n,
-                _ => 0.0,
-            };
-            ws.loads[p] = match pan.kind {
-                PantographKind::MovingForce { force_n, .. } => force_n,
-                PantographKind::External => ws.external[p].force_n,
-                PantographKind::Lumped(_) => 0.0,
-            };
         }
     }
 
@@ -1186,22 +1019,7 @@ impl Integrator {
                 };
             }
             if let Some(ops) = &self.chains[p] {
-                let r = self.cm.pantograph_dofs(p);
-                let n = ops.n;
-                // The wire's force on each contact head (its strips, or its one head).
-                let h0 = self.cm.head_u0 + self.cm.head_base[p];
-                let f_head = &ws.f[h0..h0 + ops.frame.max(1)];
-                let pd = &mut st.pantographs;
-                ops.accelerations(
-                    &pd.u[r.clone()],
-                    &pd.v[r.clone()],
-                    f_head,
-                    &mut ws.prhs[..n],
-                    &mut pd.a[r.clone()],
-                );
-                for i in r {
-                    pd.v[i] += h * pd.a[i];
-                }
+                pantographs::half_kick(ops, &self.cm, p, h, st, ws);
             }
         }
     }

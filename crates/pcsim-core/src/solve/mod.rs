@@ -13,6 +13,7 @@
 //! | `compiled.rs` | the compiled model: slots, point groups, moving points, monitors, probes, the energy view (no Δt) |
 //! | `equilibrium.rs` | the static start state under the steady loads (mean crosswind, ice): Newton on the compiled residual |
 //! | `integrator.rs` | the stepper: the Δt operators, the step (Eq. 18) in eight named stages |
+//! | `pantographs.rs` | the solver's side of a pantograph: its chain's operators and rest, its heads, its prescribed loads, its half kick, its limits on Δt |
 //! | `stability.rs` | Δt against the local limits and the coupled system's highest frequency (power iteration) |
 //! | `construct.rs` | `Integrator::new`: compile, static start, the stability proof, the Δt operators |
 //! | `run.rs` | the run loop with observers, blow-up checks, run statistics |
@@ -27,6 +28,7 @@ pub mod integrator;
 pub mod kernels;
 pub mod limits;
 pub mod nufft;
+pub mod pantographs;
 pub mod plan;
 pub mod realtime;
 pub mod run;

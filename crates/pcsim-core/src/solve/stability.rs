@@ -29,9 +29,8 @@
 use crate::error::{CaseError, ModelQuantity};
 use crate::model::dof::Direction;
 use crate::model::elements::{Attach, Io, Weight};
-use crate::model::pantograph::PantographKind;
 use crate::model::Model;
-use crate::solve::compiled::{contact_stiffness, refused, CompiledModel};
+use crate::solve::compiled::{refused, CompiledModel};
 use crate::solve::integrator::Integrator;
 use crate::solve::plan::Plan;
 use crate::solve::state::State;
@@ -118,34 +117,7 @@ pub fn check_local(model: &Model, dt: f64) -> Result<(), CaseError> {
         }
     }
     // Penalty contacts and pantograph springs.
-    for (p, pan) in model.pantographs.iter().enumerate() {
-        if let PantographKind::Lumped(l) = &pan.kind {
-            strips_within_step(p, l, dt, limit)?;
-            let kn = contact_stiffness(model, p);
-            let m0 = l.masses_kg[0];
-            if l.strips.is_empty() && (kn / m0).sqrt() * dt > 1.0 {
-                return Err(refused(
-                    ModelQuantity::ContactStiffness,
-                    kn,
-                    format!(
-                        "too stiff for Δt = {dt} s with a {m0} kg head: need √(k/m)·Δt < 1, i.e. Δt < {:.2e} s",
-                        (m0 / kn).sqrt()
-                    ),
-                ));
-            }
-            for j in 0..l.masses_kg.len() {
-                let m_inv = 1.0 / l.masses_kg[j] + l.masses_kg.get(j + 1).map_or(0.0, |m| 1.0 / m);
-                if (l.stiffness_n_per_m[j] * m_inv).sqrt() * dt > limit {
-                    return Err(refused(
-                        ModelQuantity::PantographStiffness(p, Some(j)),
-                        l.stiffness_n_per_m[j],
-                        format!("too stiff for Δt = {dt} s (explicit stability)"),
-                    ));
-                }
-            }
-        }
-    }
-    Ok(())
+    crate::solve::pantographs::within_step(model, dt, limit)
 }
 
 /// A lower bound of the coupled system's highest `ω²`, from the model alone, before the power
@@ -414,11 +386,10 @@ fn apply(
         out.push((Part::Element { e, instance: best }, total));
     }
     // The pantographs' own springs.
-    for (p, pan) in m.pantographs.iter().enumerate() {
-        if let PantographKind::Lumped(l) = &pan.kind {
-            let r = cm.pantograph_dofs(p);
-            let xs = &x[nm + nn + r.start..nm + nn + r.end];
-            let (_, spring, _) = l.energy_all(xs, &vec![0.0; xs.len()], 0.0);
+    for p in 0..m.pantographs.len() {
+        let r = cm.pantograph_dofs(p);
+        let xs = &x[nm + nn + r.start..nm + nn + r.end];
+        if let Some(spring) = crate::solve::pantographs::spring_energy(m, p, xs) {
             out.push((Part::Pantograph(p), spring));
         }
     }
@@ -490,36 +461,3 @@ fn describe(cm: &CompiledModel, shares: Vec<(Part, f64)>) -> String {
     }
 }
 
-/// A head of collector strips against the step: each strip's own contact on its mass
-/// (`√(k_c/m)·Δt < 1`, as a head's) and its suspension between it and the frame.
-fn strips_within_step(
-    p: usize,
-    l: &crate::model::pantograph::Lumped,
-    dt: f64,
-    limit: f64,
-) -> Result<(), CaseError> {
-    let frame = l.masses_kg[0];
-    for (s, st) in l.strips.iter().enumerate() {
-        let kn = st.contact_stiffness_n_per_m;
-        if (kn / st.mass_kg).sqrt() * dt > 1.0 {
-            return Err(refused(
-                ModelQuantity::StripStiffness(p, s, true),
-                kn,
-                format!(
-                    "too stiff for Δt = {dt} s with a {} kg strip: need √(k/m)·Δt < 1, i.e. Δt < {:.2e} s",
-                    st.mass_kg,
-                    (st.mass_kg / kn).sqrt()
-                ),
-            ));
-        }
-        let m_inv = 1.0 / st.mass_kg + 1.0 / frame;
-        if (st.stiffness_n_per_m * m_inv).sqrt() * dt > limit {
-            return Err(refused(
-                ModelQuantity::StripStiffness(p, s, false),
-                st.stiffness_n_per_m,
-                format!("too stiff for Δt = {dt} s (explicit stability)"),
-            ));
-        }
-    }
-    Ok(())
-}

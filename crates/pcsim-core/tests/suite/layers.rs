@@ -278,3 +278,30 @@ fn the_integrator_and_its_stability_check_import_one_way() {
     );
     assert!(read("construct.rs").contains("pub fn new("));
 }
+
+/// Issue 52, item 5: the pantograph is behind one interface, as a point element is. The
+/// stepper and the stability check match no pantograph kind and read no part of one (a chain's
+/// masses, its strips, its height table): `solve/pantographs.rs` does, beside
+/// `model/pantograph.rs`, so a new kind of pantograph adds no code to either.
+#[test]
+fn the_stepper_and_the_stability_check_match_no_pantograph_kind() {
+    let solve = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/solve");
+    let read = |f: &str| std::fs::read_to_string(solve.join(f)).unwrap();
+    for file in ["integrator.rs", "stability.rs"] {
+        let text = read(file);
+        for pat in [
+            "PantographKind",
+            "Lumped",
+            "strips",
+            "uplift_by_height",
+            "masses_kg",
+            "stiffness_n_per_m",
+        ] {
+            assert!(!text.contains(pat), "{file} reads `{pat}` of a pantograph");
+        }
+    }
+    let own = read("pantographs.rs");
+    for f in ["chains_at_rest", "heads_and_loads", "half_kick", "within_step"] {
+        assert!(own.contains(&format!("pub(crate) fn {f}(")), "{f}");
+    }
+}
