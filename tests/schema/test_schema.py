@@ -1,7 +1,7 @@
 """`pcsim schema` (issue 52): the case file's JSON Schema validates every shipped preset and
 example case, a misspelt key or a wrong type fails it, and a run's summary.json, a Monte Carlo
 study's montecarlo.json, an assessment's assessment.json, a design's design.json, a fit's
-fit.json and each directory's pcsim.json validate against their schemas (and a wrong value fails each). The validator is an independent tool
+fit.json, a comparison's compare.json and each directory's pcsim.json validate against their schemas (and a wrong value fails each). The validator is an independent tool
 (python-jsonschema, from PyPI); TOML is read by Python's own tomllib.
 
 Run by .ci/run: PCSIM=target/release/pcsim target/py-venv/bin/python -m pytest -q tests/schema
@@ -163,8 +163,21 @@ def test_assessment_design_and_fit_validate_against_their_schemas(tmp_path):
     with pytest.raises(jsonschema.ValidationError):
         validator("design").validate(dict(d, stop="bored"))
 
+    b55 = tmp_path / "b55"
+    r = subprocess.run([PCSIM, "run", "--preset", "benchmark-55m", "--quiet", "--out", str(b55)],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    r = subprocess.run([PCSIM, "compare", str(b55), str(ROOT / "examples" / "compare" / "measured.csv"),
+                        "--search", "30m", "--no-plot", "--out", str(tmp_path / "compare")],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    c = json.loads((tmp_path / "compare" / "compare.json").read_text())
+    validator("compare").validate(c)
+    with pytest.raises(jsonschema.ValidationError):
+        validator("compare").validate(dict(c, comparison=dict(c["comparison"], shift_samples=0.5)))
+
     # Each directory's manifest, complete, with its files and their hashes.
-    for out in ["run", "fit", "design"]:
+    for out in ["run", "fit", "design", "compare"]:
         m = json.loads((tmp_path / out / "pcsim.json").read_text())
         assert m["complete"] is True and m["files"], m
         validator("manifest").validate(m)

@@ -160,7 +160,7 @@ fn main() {
         Command::Fmu(a) => cmd::fmu::fmu(a),
         Command::Hil(a) => cmd::hil::hil(a, &ctx),
         Command::Window(a) => cmd::window::window(a, &ctx),
-        Command::Compare(a) => cmd::compare::compare(a),
+        Command::Compare(a) => cmd::compare::compare(a, &ctx),
         Command::Report(a) => cmd::report::report(a),
         Command::Assess(a) => cmd::assess::run(a),
         Command::Design(a) => cmd::design::design(a, &ctx),

@@ -378,3 +378,22 @@ pub fn rows_csv(header: &str, rows: impl IntoIterator<Item = String>) -> String 
     }
     csv
 }
+
+/// A sweep shard's manifest entries: its fingerprint, the cases of the whole sweep, its shard
+/// `[I, N]` and its cases, and what its columns mean (a study adds its own to it).
+pub fn shard_manifest(
+    fingerprint: &str,
+    cases: usize,
+    shard: pcsim_core::analysis::sweep::Shard,
+    cases_in_shard: Vec<usize>,
+    columns: &str,
+) -> crate::output::StudyManifest {
+    crate::output::StudyManifest {
+        fingerprint: Some(fingerprint.to_string()),
+        cases: Some(cases),
+        shard: Some([shard.index, shard.count]),
+        cases_in_shard: Some(cases_in_shard),
+        columns: Some(columns.to_string()),
+        ..Default::default()
+    }
+}

@@ -266,14 +266,13 @@ pub fn eva(a: EvaArgs, ctx: &Ctx) -> Result<i32> {
     write_manifest(
         dir,
         "eva",
-        crate::output::StudyManifest {
-            fingerprint: Some(fingerprint.clone()),
-            cases: Some(jobs.len()),
-            shard: Some([shard.index, shard.count]),
-            cases_in_shard: Some(mine.iter().map(|j| j.index).collect()),
-            columns: Some(COLUMNS.to_string()),
-            ..Default::default()
-        },
+        crate::sweep_dir::shard_manifest(
+            &fingerprint,
+            jobs.len(),
+            shard,
+            mine.iter().map(|j| j.index).collect(),
+            COLUMNS,
+        ),
     )?;
     let files = if !a.no_plot && shard == Shard::ALL && !mine.is_empty() {
         od.in_target(&crate::plot::redraw_kind(

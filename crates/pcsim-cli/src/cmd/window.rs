@@ -198,14 +198,15 @@ pub fn window(a: WindowArgs, ctx: &Ctx) -> Result<i32> {
         dir,
         "window",
         crate::output::StudyManifest {
-            fingerprint: Some(fingerprint.clone()),
-            cases: Some(jobs.len()),
-            shard: Some([shard.index, shard.count]),
-            cases_in_shard: Some(mine.iter().map(|j| j.index).collect()),
-            columns: Some(COLUMNS.to_string()),
             tolerances_pct: Some(tol),
             search_m: Some(search),
-            ..Default::default()
+            ..crate::sweep_dir::shard_manifest(
+                &fingerprint,
+                jobs.len(),
+                shard,
+                mine.iter().map(|j| j.index).collect(),
+                COLUMNS,
+            )
         },
     )?;
     print_rows(&rows, &tol, &search);

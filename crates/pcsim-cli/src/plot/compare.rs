@@ -89,11 +89,12 @@ pub fn draw(dir: &Path, title: &str) -> Result<Vec<PathBuf>> {
 
 /// Redraw a comparison's figures from its files.
 pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
-    let m = crate::output::read_complete_manifest(dir)?;
+    // The manifest as it is (complete, or being written: the driver draws before it commits).
+    let m = crate::output::read_manifest(dir)?.unwrap_or_default().study;
     let title = format!(
         "{} ({} pantograph)",
-        m.record.study.case.as_deref().unwrap_or("run"),
-        m.record.study.pantograph.as_deref().unwrap_or("")
+        m.case.as_deref().unwrap_or("run"),
+        m.pantograph.as_deref().unwrap_or("")
     );
     draw(dir, &title)
 }

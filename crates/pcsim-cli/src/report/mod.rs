@@ -16,6 +16,7 @@ use crate::output::{add_to_manifest, read_complete_manifest};
 use pcsim_core::analysis::report::{PantographSummary, RunSummary};
 use pcsim_core::analysis::sensitivity::Sensitivity;
 use pcsim_core::analysis::verify::Verification;
+use pcsim_core::study::compare::{CompareOutput, CompareStudy};
 use pcsim_core::study::design::DesignRecord;
 use pcsim_core::study::montecarlo::{MonteCarloOutput, MonteCarloStudy};
 use pcsim_core::study::{Answer, Study, StudyKind};
@@ -126,8 +127,7 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
         esc(name),
         STYLE
     );
-    let _ =
-        write!(
+    let _ = write!(
         h,
         "<h1>{} at {} km/h</h1>\n<p class=\"meta\">pcsim {} · kernels {} · <code>{}</code></p>\n",
         esc(name),
@@ -497,6 +497,10 @@ fn study_errors(dir: &Path, kind: StudyKind) -> Result<Vec<String>> {
                 MonteCarloStudy::answer(&typed::<MonteCarloOutput>(&dir.join("montecarlo.json"))?);
             Ok(a.failures.into_iter().chain(a.warnings).collect())
         }
+        // A doubtful alignment (compare.json read back through its type; none before it).
+        StudyKind::Compare if dir.join("compare.json").is_file() => {
+            Ok(CompareStudy::answer(&typed::<CompareOutput>(&dir.join("compare.json"))?).warnings)
+        }
         StudyKind::Run
         | StudyKind::Eva
         | StudyKind::Window
@@ -842,6 +846,14 @@ fn study_answer(h: &mut String, dir: &Path, kind: StudyKind) -> Result<()> {
                 ("full_std_n", "full model, this pantograph alone: σ [N]"),
             ],
         ),
+        StudyKind::Compare if dir.join("compare.json").is_file() => {
+            answer_section(
+                h,
+                &CompareStudy::answer(&typed::<CompareOutput>(&dir.join("compare.json"))?),
+            );
+            return Ok(());
+        }
+        // A comparison written before compare.json: its table.
         StudyKind::Compare => (
             "The answer: the run beside the measurement",
             "compare_stats.csv",

@@ -466,7 +466,7 @@ fn issue_39_7_compare_says_when_it_cannot_align_and_never_gives_nan() {
     let stats = std::fs::read_to_string(d.join("z/compare_stats.csv")).unwrap();
     assert!(stats.contains("warning,,\"the best correlation"), "{stats}");
     assert_eq!(
-        json(&d.join("z/pcsim.json"))["warnings"]
+        json(&d.join("z/compare.json"))["comparison"]["warnings"]
             .as_array()
             .unwrap()
             .len(),

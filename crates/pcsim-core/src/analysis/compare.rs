@@ -16,7 +16,9 @@ use crate::input::bounds::inv;
 use crate::input::measured::MeasuredForce;
 
 /// The statistics of one record over the section (0–20 Hz force unless named otherwise), N.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 pub struct ForceStats {
     /// Mean.
     pub mean_n: f64,
@@ -78,7 +80,7 @@ impl ForceStats {
 }
 
 /// What `compare` found.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct Comparison {
     /// The shift found: measured position `x` is simulated position `x + shift`, m.
     pub shift_m: f64,
@@ -250,7 +252,7 @@ pub fn compare(
 
 /// The comparison's inputs: a run's record, a finite search range, a measurement fine enough for
 /// the 0–20 Hz filter at the speed, and a search whose work is bounded ([`MAX_SEARCH_WORK`]).
-fn check_inputs(
+pub(crate) fn check_inputs(
     (sim_x, sim_f): (&[f64], &[f64]),
     meas: &MeasuredForce,
     speed_m_s: f64,

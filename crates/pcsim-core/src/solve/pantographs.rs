@@ -244,12 +244,7 @@ pub(crate) fn within_step(model: &Model, dt: f64, limit: f64) -> Result<(), Case
 
 /// A head of collector strips against the step: each strip's own contact on its mass
 /// (`√(k_c/m)·Δt < 1`, as a head's) and its suspension between it and the frame.
-fn strips_within_step(
-    p: usize,
-    l: &Lumped,
-    dt: f64,
-    limit: f64,
-) -> Result<(), CaseError> {
+fn strips_within_step(p: usize, l: &Lumped, dt: f64, limit: f64) -> Result<(), CaseError> {
     let frame = l.masses_kg[0];
     for (s, st) in l.strips.iter().enumerate() {
         let kn = st.contact_stiffness_n_per_m;

@@ -460,4 +460,3 @@ fn describe(cm: &CompiledModel, shares: Vec<(Part, f64)>) -> String {
         ),
     }
 }
-

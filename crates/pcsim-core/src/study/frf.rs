@@ -715,7 +715,7 @@ fn fit_start(start: &Lumped, measured: &Response) -> Result<Vec<f64>, CaseError>
 /// of the bounds) to `measured`: bounded Levenberg–Marquardt on the logarithms of the
 /// parameters from `spec.starts` starts (the case's values, then seeded draws inside the
 /// bounds), the best end taken. `progress(k, n)` is called as start `k` of `n` ends. The
-/// answer's [`Fit::converged`] says whether its residual is within `spec.max_residual_rms`;
+/// answer's [`FitRecord::converged`] says whether its residual is within `spec.max_residual_rms`;
 /// [`Fit::check`] turns a fit that is not into an error.
 pub fn fit_with(
     start: &Lumped,

@@ -12,7 +12,7 @@ use crate::study::window_search::{SearchSettings, Tolerances};
 
 /// A manifest. Every field has a default, so that a manifest missing a field reads (and the
 /// reader says which is missing) and a wrong field is told by its key
-/// ([`ManifestRecord::field_error`]).
+/// ([`ManifestRecord::from_value`]).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default)]
 pub struct ManifestRecord {
@@ -88,12 +88,6 @@ pub struct StudyManifest {
     /// The analysis section, m.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub analysis_m: Option<[f64; 2]>,
-    /// A comparison's correlation of the measured and simulated forces.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub correlation: Option<f64>,
-    /// A comparison's warnings.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub warnings: Option<Vec<String>>,
     /// The flags that overrode the case.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub overrides: Option<Vec<String>>,

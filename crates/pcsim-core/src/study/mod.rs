@@ -7,6 +7,7 @@
 //! |---|---|
 //! | `contract.rs` | the contract every study fills: [`StudyKind`], [`Study`], [`Answer`], [`StudyFile`] |
 //! | `run.rs`, `run_answer.rs` | one run with its evidence (verify, sensitivity, droppers), its files and its answer |
+//! | `compare.rs` | a run beside a recording car's measured force: the tables, compare.json, the answer |
 //! | `montecarlo.rs` | realisations over seeds and their spread |
 //! | `specs.rs` | the sweeps' specs: grids, EVA, window, Monte Carlo |
 //! | `sweeps.rs` | the EVA sweep, the window sweep, the validation runs, as typed rows |
@@ -18,10 +19,11 @@
 //! | `schema.rs` | the JSON Schemas of a case file and of the outputs (`pcsim schema`) |
 //! | `frf.rs` | a pantograph's frequency response at the head, and a chain fitted to a measured one |
 
+pub mod compare;
 pub mod contract;
-pub mod manifest;
 pub mod design;
 pub mod frf;
+pub mod manifest;
 pub mod montecarlo;
 pub mod realtime;
 pub mod run;

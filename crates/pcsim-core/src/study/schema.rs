@@ -1,7 +1,7 @@
 //! The JSON Schemas of a case file and of the studies' outputs (`pcsim schema`, issue 52): an
 //! editor (taplo, VS Code's Even Better TOML) completes and checks a case with the first, a
-//! downstream tool parses `summary.json`, `montecarlo.json`, `assessment.json`, `design.json` or
-//! `fit.json` with the others, without guessing.
+//! downstream tool parses `summary.json`, `montecarlo.json`, `assessment.json`, `design.json`,
+//! `fit.json`, `compare.json` or `pcsim.json` with the others, without guessing.
 //!
 //! The schemas are derived from the very types that read a case and write an output (serde and
 //! schemars read the same attributes), so they cannot drift from the code. A case's value may be
@@ -15,9 +15,13 @@ pub const SCHEMAS: &[(&str, &str)] = &[
     ("case", "a case file (TOML), every value plain or sourced"),
     ("summary", "a run's summary.json"),
     ("montecarlo", "a Monte Carlo study's montecarlo.json"),
-    ("assessment", "an assessment's assessment.json (pcsim assess)"),
+    (
+        "assessment",
+        "an assessment's assessment.json (pcsim assess)",
+    ),
     ("design", "a design search's design.json"),
     ("fit", "a pantograph fit's fit.json"),
+    ("compare", "a comparison's compare.json"),
     ("manifest", "an output directory's manifest, pcsim.json"),
 ];
 
@@ -30,6 +34,7 @@ pub fn schema(name: &str) -> Option<Value> {
         "assessment" => Some(output_schema::<crate::analysis::assess::Assessment>()),
         "design" => Some(output_schema::<crate::study::design::DesignRecord>()),
         "fit" => Some(output_schema::<crate::study::frf::FitRecord>()),
+        "compare" => Some(output_schema::<crate::study::compare::CompareOutput>()),
         "manifest" => Some(output_schema::<crate::study::manifest::ManifestRecord>()),
         _ => None,
     }

@@ -183,8 +183,15 @@ fn issue_51_a_fit_from_a_start_far_off_reaches_the_truth_and_a_mislabelled_file_
     })
     .unwrap();
     assert_eq!(seen.last(), Some(&(8, 8)), "progress per start");
-    assert!(r.record.converged && r.check(&start, &measured).is_ok(), "{r:?}");
-    assert!(r.record.residual_rms < 0.04, "residual {}", r.record.residual_rms);
+    assert!(
+        r.record.converged && r.check(&start, &measured).is_ok(),
+        "{r:?}"
+    );
+    assert!(
+        r.record.residual_rms < 0.04,
+        "residual {}",
+        r.record.residual_rms
+    );
     let t = [7.5, 9.0, 6.0, 7000.0, 15500.0, 160.0, 45.0, 0.1, 100.0];
     for (p, t) in r.record.parameters.iter().zip(t) {
         if p.name == "damping_ns_per_m[1]" {
@@ -204,7 +211,11 @@ fn issue_51_a_fit_from_a_start_far_off_reaches_the_truth_and_a_mislabelled_file_
         .replace("magnitude_kg", "magnitude_m_per_n");
     let wrong = Response::from_csv(&text, "mislabelled.csv").unwrap();
     let r = fit_with(&start, &wrong, &FitSpec::default(), &mut |_, _| {}).unwrap();
-    assert!(!r.record.converged && r.record.residual_rms > 0.5, "{}", r.record.residual_rms);
+    assert!(
+        !r.record.converged && r.record.residual_rms > 0.5,
+        "{}",
+        r.record.residual_rms
+    );
     let e = r.check(&start, &wrong).unwrap_err().to_string();
     assert!(
         e.contains("mislabelled.csv") && e.contains("residual") && e.contains("magnitude_kg"),

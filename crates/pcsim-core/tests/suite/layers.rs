@@ -301,7 +301,12 @@ fn the_stepper_and_the_stability_check_match_no_pantograph_kind() {
         }
     }
     let own = read("pantographs.rs");
-    for f in ["chains_at_rest", "heads_and_loads", "half_kick", "within_step"] {
+    for f in [
+        "chains_at_rest",
+        "heads_and_loads",
+        "half_kick",
+        "within_step",
+    ] {
         assert!(own.contains(&format!("pub(crate) fn {f}(")), "{f}");
     }
 }
