@@ -201,6 +201,7 @@ mod spec_defaults {
         assert_eq!(num("eva", "step"), e.step_m);
         assert_eq!(num("eva", "tol"), e.tolerance_j);
         assert_eq!(num("eva", "fraction"), e.fraction);
+        assert_eq!(num("eva", "span_positions"), e.span_positions as f64);
         let w = pcsim_core::study::specs::WindowSweepSpec::default();
         let pct = |arg: &str| crate::cmd::window::pct(arg, &default_of("window", arg)).unwrap();
         assert_eq!(pct("mean_tol"), w.tolerances.mean_pct);

@@ -57,6 +57,10 @@ pub struct EvaArgs {
     /// Snapshot position of the leading pantograph, m (default: mid-model).
     #[arg(long)]
     snapshot_at: Option<f64>,
+    /// Positions across the snapshot's span at which the EVA is taken too (eva.csv's band,
+    /// `*_span_min_m`, `*_span_max_m`; 0: none).
+    #[arg(long, value_name = "N", default_value_t = EvaSettings::default().span_positions)]
+    span_positions: usize,
     /// No figures.
     #[arg(long)]
     no_plot: bool,
@@ -86,7 +90,7 @@ enum EvaSub {
 }
 
 /// What the columns of `eva.csv` mean (written into the manifest).
-const COLUMNS: &str = "lengths in m, energies in J; an EVA column is empty where its criterion was not reached within the largest window; *_max_m and *_mean_m are the EVA of the maximum over the passage and of the time average";
+const COLUMNS: &str = "lengths in m, energies in J; an EVA column is empty where its criterion was not reached within the largest window; *_max_m and *_mean_m are the EVA of the maximum over the passage and of the time average; *_span_min_m and *_span_max_m the smallest and largest snapshot EVA over the snapshot's span (eva.span_positions positions from its first support)";
 
 fn case_stem(job: &Job) -> String {
     format!(
@@ -151,28 +155,49 @@ fn grid_note(speed: &[String], tension: &[String]) -> String {
 
 /// The rows on the terminal.
 fn print_rows(s: &EvaSettings, done: &[&EvaOutput], rows: &[&EvaRow]) {
+    let span = done.first().map_or(String::new(), |d| {
+        match (d.span_positions_m.first(), d.span_positions_m.last()) {
+            (Some(a), Some(b)) => format!(
+                "; over the span, the snapshot at {} positions from {a:.1} to {b:.1} m",
+                d.span_positions_m.len()
+            ),
+            _ => String::new(),
+        }
+    });
     println!(
-        "EVA (Δd = {} m, tolerance {} J, fraction {}), snapshot at {} m; window energies in J",
+        "EVA (Δd = {} m, tolerance {} J, fraction {}), snapshot at {} m{span}; window energies in J",
         s.step_m,
         s.tolerance_j,
         s.fraction,
         done.first().map(|d| d.snapshot_at_m).unwrap_or(0.0)
     );
     println!(
-        "{:>6} {:>8} {:<22} {:>12} {:>12} {:>14} {:>12}",
-        "km/h", "kN", "damping", "EVA step [m]", "EVA 99% [m]", "converged [J]", "total [J]"
+        "{:>6} {:>8} {:<22} {:>12} {:>17} {:>12} {:>14} {:>12}",
+        "km/h",
+        "kN",
+        "damping",
+        "EVA step [m]",
+        "over the span [m]",
+        "EVA 99% [m]",
+        "converged [J]",
+        "total [J]"
     );
     for r in rows {
         let f = |v: Option<f64>| {
             v.map(|x| format!("{x:.1}"))
                 .unwrap_or_else(|| "not reached".into())
         };
+        let band = match (r.eva_step_span_min_m, r.eva_step_span_max_m) {
+            (Some(a), Some(b)) => format!("{a:.1}–{b:.1}"),
+            _ => "—".into(),
+        };
         println!(
-            "{:>6} {:>8} {:<22} {:>12} {:>12} {:>14} {:>12.3}",
+            "{:>6} {:>8} {:<22} {:>12} {:>17} {:>12} {:>14} {:>12.3}",
             r.speed_kmh,
             r.tension_kn,
             r.damping,
             f(r.eva_step_m),
+            band,
             f(r.eva_fraction_m),
             f(r.converged_energy_j),
             r.total_energy_j
@@ -226,6 +251,7 @@ fn spec_of(a: &EvaArgs, base: &pcsim_core::Case, ctx: &Ctx) -> Result<(EvaSweepS
             tolerance_j: a.tol,
             fraction: a.fraction,
             snapshot_at_m: a.snapshot_at,
+            span_positions: a.span_positions,
             budget: ctx.budget,
             ..EvaSettings::default()
         },

@@ -67,6 +67,10 @@ pub struct EvaSettings {
     pub snapshot_at_m: Option<f64>,
     /// Interval between samples for the maximum and the time average, s.
     pub sample_every_s: f64,
+    /// Positions across the snapshot's span at which the EVA is taken as well (issue 53, item
+    /// 4: a snapshot's EVA depends on where in the span it is taken; 0: none), evenly spaced
+    /// from the span's first support.
+    pub span_positions: usize,
     /// Grid intervals per mode for the density.
     pub points_per_mode: usize,
     /// Memory limit of the energy arrays.
@@ -82,6 +86,7 @@ impl Default for EvaSettings {
             fraction: 0.99,
             snapshot_at_m: None,
             sample_every_s: 0.1,
+            span_positions: 8,
             points_per_mode: 4,
             budget: Budget::default(),
         }
@@ -192,6 +197,30 @@ pub struct EvaOutput {
     pub snapshot_at_m: f64,
     /// Energy samples taken over the passage (for the max and mean views).
     pub samples: usize,
+    /// Positions across the snapshot's span at which the EVA was taken too, m
+    /// ([`EvaSettings::span_positions`]).
+    pub span_positions_m: Vec<f64>,
+    /// The EVA by the step criterion at each of them (none: not reached, or not passed).
+    pub span_eva_step_m: Vec<Option<f64>>,
+    /// The EVA by the fraction criterion at each of them.
+    pub span_eva_fraction_m: Vec<Option<f64>>,
+}
+
+/// The positions across the span holding `x` (from its first support, the support at `x`
+/// included) at which the EVA is taken as well: `n` evenly spaced (none for `n = 0`, or a
+/// model without supports or span).
+fn span_positions(model: &crate::model::Model, x: f64, n: usize) -> Vec<f64> {
+    if n == 0 {
+        return Vec::new();
+    }
+    let span = (model.supports_m.windows(2))
+        .find(|w| w[0] <= x && x < w[1])
+        .map(|w| (w[0], w[1]))
+        .or_else(|| model.span_m.map(|l| (x, x + l)));
+    let Some((a, b)) = span else {
+        return Vec::new();
+    };
+    (0..n).map(|k| a + (b - a) * k as f64 / n as f64).collect()
 }
 
 /// The energy sampler: an observer that evaluates the energy density around the leading
@@ -213,6 +242,10 @@ struct EnergySampler<'a> {
     step: usize,
     prev_x: f64,
     snapshot: Option<EnergyView>,
+    /// The positions across the snapshot's span, and the EVA by each criterion at each
+    /// (none: not passed yet).
+    span_x: Vec<f64>,
+    span_eva: Vec<Option<(Option<f64>, Option<f64>)>>,
     max_d: Vec<f64>,
     sum_d: Vec<f64>,
     max_w: Vec<f64>,
@@ -287,7 +320,11 @@ impl Observer for EnergySampler<'_> {
         let snap_now = self.snapshot.is_none() && self.prev_x < self.snap_x && xp >= self.snap_x;
         let in_passage =
             xp >= self.analysis[0] && xp <= self.analysis[1] && self.step % self.every == 0;
-        if snap_now || in_passage {
+        let prev_x = self.prev_x;
+        let passes = |x: f64| prev_x < x && xp >= x;
+        let span_now =
+            (self.span_x.iter().zip(&self.span_eva)).any(|(&x, e)| e.is_none() && passes(x));
+        if snap_now || in_passage || span_now {
             let reference = match &self.datum {
                 Datum::Design => None,
                 Datum::Static(s0) => Some(&**s0),
@@ -306,6 +343,14 @@ impl Observer for EnergySampler<'_> {
                     &self.d,
                     self.s,
                 ));
+            }
+            for (&x, e) in self.span_x.iter().zip(&mut self.span_eva) {
+                if e.is_none() && passes(x) {
+                    *e = Some((
+                        eva_by_step(&self.d, &w, self.s.tolerance_j),
+                        eva_by_fraction(&self.d, &w, total, self.s.fraction),
+                    ));
+                }
             }
             if in_passage {
                 let rel = self.relative(xp);
@@ -327,8 +372,10 @@ impl Observer for EnergySampler<'_> {
     }
 
     fn finished(&self) -> bool {
-        // The pantograph moves forward: past the section, no sample is taken again.
-        self.snapshot.is_some() && self.prev_x > self.analysis[1]
+        // The pantograph moves forward: past the section and the span, no sample is taken again.
+        self.snapshot.is_some()
+            && self.prev_x > self.analysis[1]
+            && self.span_x.last().is_none_or(|&x| self.prev_x >= x)
     }
 }
 
@@ -365,6 +412,8 @@ impl<'a> EnergySampler<'a> {
         let n_xi = (2 * half + 1) as usize;
         let nd = (max_window / s.step_m).floor() as usize;
         let d: Vec<f64> = (1..=nd).map(|i| i as f64 * s.step_m).collect();
+        let snap_x = s.snapshot_at_m.unwrap_or(0.5 * l);
+        let span_x = span_positions(&setup.model, snap_x, s.span_positions);
         Ok(EnergySampler {
             s,
             datum: Datum::of(setup, integ, st)?,
@@ -372,7 +421,9 @@ impl<'a> EnergySampler<'a> {
             grids,
             dx,
             half,
-            snap_x: s.snapshot_at_m.unwrap_or(0.5 * l),
+            snap_x,
+            span_eva: vec![None; span_x.len()],
+            span_x,
             every: ((s.sample_every_s / dt).round() as usize).max(1),
             analysis: setup.plan.analysis_m,
             step: 0,
@@ -407,6 +458,9 @@ impl<'a> EnergySampler<'a> {
         let mean_d: Vec<f64> = self.sum_d.iter().map(|v| v / ns).collect();
         let mean_w: Vec<f64> = self.sum_w.iter().map(|v| v / ns).collect();
         let d = self.d;
+        let (span_eva_step_m, span_eva_fraction_m) = (self.span_eva.iter())
+            .map(|e| e.unwrap_or((None, None)))
+            .unzip();
         Ok(EvaOutput {
             max: EnergyView::new(self.max_d, self.max_w, self.max_total, &d, s),
             mean: EnergyView::new(mean_d, mean_w, self.sum_total / ns, &d, s),
@@ -416,6 +470,9 @@ impl<'a> EnergySampler<'a> {
             window_m: d,
             snapshot_at_m: snap_x,
             samples: self.samples,
+            span_positions_m: self.span_x,
+            span_eva_step_m,
+            span_eva_fraction_m,
         })
     }
 }
@@ -495,11 +552,26 @@ pub struct EvaRow {
     pub eva_fraction_mean_m: Option<f64>,
     /// Seed offset of the realisation (Monte Carlo over the case's random inputs; 0 for one).
     pub seed_offset: u64,
+    /// The smallest EVA by the step criterion over the snapshot's span
+    /// ([`EvaSettings::span_positions`] positions), m.
+    pub eva_step_span_min_m: Option<f64>,
+    /// The largest, m.
+    pub eva_step_span_max_m: Option<f64>,
+    /// The smallest EVA by the fraction criterion over the span, m.
+    pub eva_fraction_span_min_m: Option<f64>,
+    /// The largest, m.
+    pub eva_fraction_span_max_m: Option<f64>,
+}
+
+/// The smallest and the largest of the values given (none: no value).
+fn spread(v: &[Option<f64>]) -> (Option<f64>, Option<f64>) {
+    let given = || v.iter().flatten().copied();
+    (given().reduce(f64::min), given().reduce(f64::max))
 }
 
 impl EvaRow {
     /// The CSV header of `eva.csv`.
-    pub const HEADER: &'static str = "index,speed_kmh,tension_kn,damping,step_m,tolerance_j,fraction,eva_step_m,eva_fraction_m,converged_energy_j,total_energy_j,eva_step_max_m,eva_fraction_max_m,eva_step_mean_m,eva_fraction_mean_m,seed_offset";
+    pub const HEADER: &'static str = "index,speed_kmh,tension_kn,damping,step_m,tolerance_j,fraction,eva_step_m,eva_fraction_m,converged_energy_j,total_energy_j,eva_step_max_m,eva_fraction_max_m,eva_step_mean_m,eva_fraction_mean_m,seed_offset,eva_step_span_min_m,eva_step_span_max_m,eva_fraction_span_min_m,eva_fraction_span_max_m";
 
     /// The row of case `index` of a sweep.
     pub fn new(
@@ -510,6 +582,8 @@ impl EvaRow {
         o: &EvaOutput,
     ) -> Self {
         let s = &o.settings;
+        let (step_lo, step_hi) = spread(&o.span_eva_step_m);
+        let (fraction_lo, fraction_hi) = spread(&o.span_eva_fraction_m);
         EvaRow {
             index,
             speed_kmh,
@@ -527,6 +601,10 @@ impl EvaRow {
             eva_step_mean_m: o.mean.eva_step_m,
             eva_fraction_mean_m: o.mean.eva_fraction_m,
             seed_offset: 0,
+            eva_step_span_min_m: step_lo,
+            eva_step_span_max_m: step_hi,
+            eva_fraction_span_min_m: fraction_lo,
+            eva_fraction_span_max_m: fraction_hi,
         }
     }
 
@@ -535,7 +613,7 @@ impl EvaRow {
     pub fn to_csv(&self) -> String {
         let opt = |v: Option<f64>| v.map(|x| format!("{x:.3}")).unwrap_or_default();
         format!(
-            "{},{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{},{},{},{},{},{}",
             self.index,
             self.speed_kmh,
             self.tension_kn,
@@ -554,6 +632,10 @@ impl EvaRow {
             opt(self.eva_step_mean_m),
             opt(self.eva_fraction_mean_m),
             self.seed_offset,
+            opt(self.eva_step_span_min_m),
+            opt(self.eva_step_span_max_m),
+            opt(self.eva_fraction_span_min_m),
+            opt(self.eva_fraction_span_max_m),
         )
     }
 }

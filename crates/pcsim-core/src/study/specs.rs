@@ -26,6 +26,10 @@ use crate::model::wire::Damping;
 use crate::study::sweeps::{eva_sweep, window_sweep, EvaCase, WindowCase};
 use crate::study::window_search::{SearchSettings, Tolerances};
 
+/// The most positions across a span at which an EVA sweep takes the EVA (each is one more
+/// evaluation of the energy density).
+pub const MAX_SPAN_POSITIONS: usize = 64;
+
 fn bad(field: &str, value: impl std::fmt::Display, reason: &str) -> CaseError {
     CaseError::Invalid {
         field: field.into(),
@@ -99,12 +103,13 @@ pub struct EvaSweepSpec {
 
 impl EvaSweepSpec {
     /// The CLI's flag of each field (for its messages).
-    pub const FLAGS: [(&'static str, &'static str); 5] = [
+    pub const FLAGS: [(&'static str, &'static str); 6] = [
         ("step_m", "--step"),
         ("tolerance_j", "--tol"),
         ("fraction", "--fraction"),
         ("max_window_m", "--max-window"),
         ("snapshot_at_m", "--snapshot-at"),
+        ("span_positions", "--span-positions"),
     ];
 
     /// Check the settings, naming the field.
@@ -125,6 +130,13 @@ impl EvaSweepSpec {
         if let Some(x) = s.snapshot_at_m.filter(|x| !x.is_finite()) {
             return Err(bad("snapshot_at_m", x, "must be a finite position, m"));
         }
+        if s.span_positions > MAX_SPAN_POSITIONS {
+            return Err(bad(
+                "span_positions",
+                s.span_positions,
+                &format!("at most {MAX_SPAN_POSITIONS} positions across a span (each one a snapshot of the energy)"),
+            ));
+        }
         Ok(())
     }
 
@@ -136,7 +148,7 @@ impl EvaSweepSpec {
         let mut desc = base.to_toml_string();
         let _ = write!(
             desc,
-            "\n[sweep]\nspeeds = {:?}\ntensions = {:?}\ndampings = {:?}\nstep = {}\ntol = {}\nfraction = {}\nmax_window = {:?}\nsnapshot_at = {:?}\npoints_per_mode = {}\nsample_every = {}\nshards = {}\nseeds = {}\nversion = {}\n",
+            "\n[sweep]\nspeeds = {:?}\ntensions = {:?}\ndampings = {:?}\nstep = {}\ntol = {}\nfraction = {}\nmax_window = {:?}\nsnapshot_at = {:?}\nspan_positions = {}\npoints_per_mode = {}\nsample_every = {}\nshards = {}\nseeds = {}\nversion = {}\n",
             grid.speeds_kmh,
             grid.tensions_n,
             grid.dampings.iter().map(damping_label).collect::<Vec<_>>(),
@@ -145,6 +157,7 @@ impl EvaSweepSpec {
             s.fraction,
             s.max_window_m,
             s.snapshot_at_m,
+            s.span_positions,
             s.points_per_mode,
             s.sample_every_s,
             g.shard.count,

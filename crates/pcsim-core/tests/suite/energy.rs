@@ -216,3 +216,67 @@ fn the_energy_run_stops_after_the_section_with_a_whole_runs_outputs() {
     let to_end = 1.0 - 256.0 / setup.n_steps() as f64;
     assert!(last_beside >= to_end, "{last_beside} < {to_end}");
 }
+
+/// Issue 53, item 4: the snapshot's EVA is also taken at `span_positions` positions evenly
+/// across the span that holds the snapshot, from its first support; the row gives the band.
+/// The positions are the span's, the one at the snapshot gives the snapshot's own EVA, the band
+/// holds it, and the run goes on until the last position is passed.
+#[test]
+fn issue_53_4_the_eva_is_taken_across_the_snapshots_span() {
+    use pcsim_core::analysis::eva::{run_eva, EvaRow, EvaSettings};
+    let setup = pcsim_core::zoo::stitched_three_spans();
+    let supports = setup.model.supports_m.clone();
+    let mid = 0.5 * setup.model.length_m();
+    let span = supports
+        .windows(2)
+        .find(|w| w[0] <= mid && mid < w[1])
+        .map(|w| (w[0], w[1]))
+        .or_else(|| setup.model.span_m.map(|l| (mid, mid + l)))
+        .expect("the zoo model has supports or a span");
+    // The snapshot at the span's first support: the first position is the snapshot's.
+    let s = EvaSettings {
+        snapshot_at_m: Some(span.0),
+        ..EvaSettings::default()
+    };
+    assert_eq!(s.span_positions, 8);
+    let o = run_eva(&setup, &s, &mut |_| true).unwrap();
+    assert_eq!(o.span_positions_m.len(), 8);
+    for (k, x) in o.span_positions_m.iter().enumerate() {
+        let want = span.0 + (span.1 - span.0) * k as f64 / 8.0;
+        assert!((x - want).abs() < 1e-9, "position {k}: {x} against {want}");
+    }
+    assert_eq!(o.span_eva_step_m[0], o.snapshot.eva_step_m);
+    assert_eq!(o.span_eva_fraction_m[0], o.snapshot.eva_fraction_m);
+    // Every position is passed (the run goes on until the last): the step criterion has an
+    // answer at each (the fraction criterion may not, past the model's middle, where a window
+    // centred on the pantograph cannot hold the far end within the largest window).
+    assert!(
+        o.span_eva_step_m.iter().all(Option::is_some),
+        "every position passed: {:?}",
+        o.span_eva_step_m
+    );
+    let row = EvaRow::new(0, 250.0, 20.0, "case", &o);
+    let (lo, hi) = (
+        row.eva_step_span_min_m.unwrap(),
+        row.eva_step_span_max_m.unwrap(),
+    );
+    let at = o.snapshot.eva_step_m.unwrap();
+    assert!(lo <= at && at <= hi, "{lo} ≤ {at} ≤ {hi}");
+    assert!(lo < hi, "the EVA moves across the span: {lo} to {hi}");
+    assert!(row.to_csv().split(',').count() == EvaRow::HEADER.split(',').count());
+    // None asked: no positions, empty band.
+    let none = run_eva(
+        &setup,
+        &EvaSettings {
+            span_positions: 0,
+            ..s
+        },
+        &mut |_| true,
+    )
+    .unwrap();
+    assert!(none.span_positions_m.is_empty());
+    assert_eq!(
+        EvaRow::new(0, 250.0, 20.0, "case", &none).eva_step_span_min_m,
+        None
+    );
+}
