@@ -90,7 +90,7 @@ enum EvaSub {
 }
 
 /// What the columns of `eva.csv` mean (written into the manifest).
-const COLUMNS: &str = "lengths in m, energies in J; an EVA column is empty where its criterion was not reached within the largest window; *_max_m and *_mean_m are the EVA of the maximum over the passage and of the time average; *_span_min_m and *_span_max_m the smallest and largest snapshot EVA over the snapshot's span (eva.span_positions positions from its first support)";
+const COLUMNS: &str = "lengths in m, energies in J; an EVA column is empty where its criterion was not reached within the largest window; *_max_m and *_mean_m are the EVA of the maximum over the passage and of the time average; *_span_min_m and *_span_max_m the smallest and largest snapshot EVA over the snapshot's span (eva.span_positions positions from its first support; *_span_max_m empty where a position has no value)";
 
 fn case_stem(job: &Job) -> String {
     format!(
@@ -189,6 +189,7 @@ fn print_rows(s: &EvaSettings, done: &[&EvaOutput], rows: &[&EvaRow]) {
         };
         let band = match (r.eva_step_span_min_m, r.eva_step_span_max_m) {
             (Some(a), Some(b)) => format!("{a:.1}–{b:.1}"),
+            (Some(a), None) => format!("{a:.1}–?"),
             _ => "—".into(),
         };
         println!(

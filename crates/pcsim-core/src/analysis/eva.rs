@@ -555,7 +555,7 @@ pub struct EvaRow {
     /// The smallest EVA by the step criterion over the snapshot's span
     /// ([`EvaSettings::span_positions`] positions), m.
     pub eva_step_span_min_m: Option<f64>,
-    /// The largest, m.
+    /// The largest, m (none where a position has no value: the band's upper end unseen).
     pub eva_step_span_max_m: Option<f64>,
     /// The smallest EVA by the fraction criterion over the span, m.
     pub eva_fraction_span_min_m: Option<f64>,
@@ -563,10 +563,15 @@ pub struct EvaRow {
     pub eva_fraction_span_max_m: Option<f64>,
 }
 
-/// The smallest and the largest of the values given (none: no value).
+/// The smallest and the largest of the values (none: no value; the largest is none too where
+/// one position has no value, a criterion not reached within the largest window or a position
+/// the run did not pass, so that the band never claims an upper end it did not see).
 fn spread(v: &[Option<f64>]) -> (Option<f64>, Option<f64>) {
     let given = || v.iter().flatten().copied();
-    (given().reduce(f64::min), given().reduce(f64::max))
+    let hi = given()
+        .reduce(f64::max)
+        .filter(|_| v.iter().all(Option::is_some));
+    (given().reduce(f64::min), hi)
 }
 
 impl EvaRow {

@@ -263,6 +263,12 @@ fn issue_53_4_the_eva_is_taken_across_the_snapshots_span() {
     let at = o.snapshot.eva_step_m.unwrap();
     assert!(lo <= at && at <= hi, "{lo} ≤ {at} ≤ {hi}");
     assert!(lo < hi, "the EVA moves across the span: {lo} to {hi}");
+    // The fraction criterion is not reached past the model's middle here: its band has a lower
+    // end and no upper one (never an upper end it did not see).
+    if o.span_eva_fraction_m.iter().any(Option::is_none) {
+        assert!(row.eva_fraction_span_min_m.is_some());
+        assert_eq!(row.eva_fraction_span_max_m, None);
+    }
     assert!(row.to_csv().split(',').count() == EvaRow::HEADER.split(',').count());
     // None asked: no positions, empty band.
     let none = run_eva(
