@@ -1049,7 +1049,7 @@ fn design_section(h: &mut String, dir: &Path) -> Result<()> {
         numf(best.objective),
         base_objective,
     ]);
-    let base_feasible = base.is_some_and(|b| b.violation == 0.0 && b.error.is_none());
+    let base_feasible = base.is_some_and(pcsim_core::study::design::Evaluation::feasible);
     rows.push(vec![
         "feasible".into(),
         "yes".into(),

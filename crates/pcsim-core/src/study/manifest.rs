@@ -99,10 +99,8 @@ pub struct StudyManifest {
 impl ManifestRecord {
     /// Read a manifest's JSON `value`; a field of the wrong type is named by its key and value.
     pub fn from_value(value: serde_json::Value) -> Result<Self, String> {
-        match serde_json::from_value::<Self>(value.clone()) {
-            Ok(m) => Ok(m),
-            Err(e) => Err(Self::field_error(&value).unwrap_or_else(|| e.to_string())),
-        }
+        Self::deserialize(&value)
+            .map_err(|e| Self::field_error(&value).unwrap_or_else(|| e.to_string()))
     }
 
     /// The first top-level field of `value` that does not read on its own: `` `key` is value:
