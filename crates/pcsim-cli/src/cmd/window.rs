@@ -302,9 +302,13 @@ fn print_rows(
         );
     }
     for r in rows {
+        // Each criterion's error: of the length found, or of the longest window when none is.
         let errors = match (r.length_m, r.mean_err_pct, r.sigma_err_pct, r.max_err_pct) {
             (None, Some(m), Some(s), Some(x)) => {
                 format!(": mean {m:+.2} %, σ {s:+.2} %, max {x:+.2} %")
+            }
+            (Some(l), Some(m), Some(s), Some(x)) => {
+                format!("; at {l} m: mean {m:+.2} %, σ {s:+.2} %, max {x:+.2} %")
             }
             _ => String::new(),
         };
