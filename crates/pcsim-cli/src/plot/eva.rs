@@ -2,7 +2,7 @@
 //! `cases/*_distribution.csv`, `cases/*_window.csv`), so that a sweep, a merged sweep and `pcsim
 //! plot DIR` draw the same: E(x) for several speeds and for several tensions (linear and
 //! logarithmic), E(d_e) with each case's EVA marked by both criteria, and the EVA length against
-//! speed and against tension.
+//! speed and against tension with the step criterion's band over a span (issue 53, item 4).
 
 use anyhow::{bail, Context, Result};
 use pcsim_core::analysis::eva::EvaRow;
@@ -19,6 +19,10 @@ struct Case {
     fraction: f64,
     eva_step_m: Option<f64>,
     eva_fraction_m: Option<f64>,
+    /// The step criterion's EVA over a span (issue 53, item 4): its least and its largest value
+    /// (either empty where eva.csv has none: a sweep written before the band, or a position
+    /// without a value).
+    step_span_m: [Option<f64>; 2],
     xi_m: Vec<f64>,
     density: Vec<f64>,
     window_m: Vec<f64>,
@@ -98,6 +102,10 @@ fn read_sweep(dir: &Path) -> Result<Vec<Case>> {
             fraction: num(6)?,
             eva_step_m: opt(7),
             eva_fraction_m: opt(8),
+            step_span_m: [
+                f.get(16).and_then(|s| s.parse().ok()),
+                f.get(17).and_then(|s| s.parse().ok()),
+            ],
             xi_m: d[0].clone(),
             density: d[1].clone(),
             window_m: w[0].clone(),
@@ -271,6 +279,18 @@ fn length_figures(dir: &Path, cs: &[&Case], damping: &str) -> Result<Vec<PathBuf
                 .styled(colour, 2)
                 .marked(),
             );
+            // The step criterion's band over a span: its least and largest value, as dots.
+            let band: Vec<(f64, f64)> = sel
+                .iter()
+                .flat_map(|c| c.step_span_m.iter().flatten().map(|&e| (x(c), e)))
+                .collect();
+            if !band.is_empty() {
+                lines.push(Line::dots(
+                    format!("{g} {unit}, step criterion over a span (least, largest)"),
+                    band,
+                    colour,
+                ));
+            }
             lines.push(
                 Line::new(
                     format!("{g} {unit}, {:.0} %", 100.0 * cs[0].fraction),

@@ -813,7 +813,14 @@ fn study_answer(h: &mut String, dir: &Path, kind: StudyKind) -> Result<()> {
                 ("tension_kn", "kN"),
                 ("damping", "damping"),
                 ("eva_step_m", "EVA, the paper's step criterion [m]"),
+                ("eva_step_span_min_m", "step, least over a span [m]"),
+                ("eva_step_span_max_m", "step, largest over a span [m]"),
                 ("eva_fraction_m", "EVA, the fraction of the energy [m]"),
+                ("eva_fraction_span_min_m", "fraction, least over a span [m]"),
+                (
+                    "eva_fraction_span_max_m",
+                    "fraction, largest over a span [m]",
+                ),
                 ("converged_energy_j", "converged energy [J]"),
                 ("total_energy_j", "whole model [J]"),
             ],
@@ -878,7 +885,17 @@ fn study_answer(h: &mut String, dir: &Path, kind: StudyKind) -> Result<()> {
             ],
         ),
     };
-    if let Some(rows) = csv_columns(dir, file, cols)? {
+    // A file written before its columns over a span (issue 53, item 4): the table without them.
+    let older: Vec<(&str, &str)> = cols
+        .iter()
+        .filter(|(c, _)| !c.contains("_span_"))
+        .copied()
+        .collect();
+    let found = match csv_columns(dir, file, cols)? {
+        Some(rows) => Some((rows, cols)),
+        None => csv_columns(dir, file, &older)?.map(|rows| (rows, &older[..])),
+    };
+    if let Some((rows, cols)) = found {
         let _ = writeln!(h, "<h2 id=\"answer\">{}</h2>", esc(title));
         let head: Vec<&str> = cols.iter().map(|(_, l)| *l).collect();
         table(h, file, &head, &rows);

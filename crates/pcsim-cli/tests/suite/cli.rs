@@ -353,6 +353,14 @@ fn eva_shards_merge_to_the_unsharded_result() {
     ] {
         assert!(full.join(f).exists(), "{f}");
     }
+    // Issue 53, item 4: the length figures draw the step criterion's band over a span.
+    for f in ["eva_length_vs_speed.svg", "eva_length_vs_tension.svg"] {
+        let svg = std::fs::read_to_string(full.join(f)).unwrap();
+        assert!(
+            svg.contains("step criterion over a span (least, largest)"),
+            "{f}"
+        );
+    }
     assert!(full.join("cases/case0000_v150_t9.8_window.csv").exists());
     let mut shards = Vec::new();
     for i in 0..3 {
@@ -1116,6 +1124,23 @@ fn run_and_eva_reports_are_self_contained_pages() {
     );
     let html = check_report(&eva);
     assert!(html.contains("<h2>eva.csv</h2>"));
+    // Issue 53, item 4: the answer gives the EVA's band over a span, eva.csv's own values, and
+    // the length figure draws it.
+    let csv = std::fs::read_to_string(eva.join("eva.csv")).unwrap();
+    let (head, row) = (csv.lines().next().unwrap(), csv.lines().nth(1).unwrap());
+    let cell = |name: &str| {
+        let i = head.split(',').position(|h| h == name).unwrap();
+        row.split(',').nth(i).unwrap().to_string()
+    };
+    for (col, label) in [
+        ("eva_step_span_min_m", "step, least over a span [m]"),
+        ("eva_step_span_max_m", "step, largest over a span [m]"),
+    ] {
+        let v = cell(col);
+        assert!(!v.is_empty(), "{col} empty");
+        assert!(html.contains(label), "{label}");
+        assert!(html.contains(&format!("<td>{v}</td>")), "{col} = {v}");
+    }
     // A study's page has its command line and its base case with the sources.
     assert!(
         html.contains("eva --preset syt-7.0-9.8"),
