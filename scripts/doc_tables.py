@@ -504,13 +504,24 @@ def reach(binary, tmp, preset, validation, evaluations):
             spec.append(f'[[constraint]]\nstatistic = "{DESIGN_STAT[r["quantity"]]}"\n'
                         f'pantograph = "{pan}"\nspeeds_kmh = [{c["speed_kmh"]!r}]\n'
                         f"min = {float(lo)!r}\nmax = {float(hi)!r}\n")
-    spec.append(f"[budget]\nevaluations = {evaluations}\nseed = 1\n")
-    path = os.path.join(tmp, f"reach-{preset}.toml")
-    with open(path, "w") as f:
-        f.write("\n".join(spec))
-    out = os.path.join(tmp, f"reach-{preset}")
-    # An infeasible search exits 1 with its answer written (the least violating design).
-    pcsim(binary, "design", path, "--no-plot", "--quiet", "--out", out, codes=(0, 1))
+    # The swarm, and every corner of the box (bounds from corner runs: the envelope of a response
+    # monotone in each variable).
+    corners = 2 ** len(variables)
+    for name, budget in (("swarm", f"evaluations = {evaluations}\nseed = 1\n"),
+                         ("corners", f'evaluations = {corners}\nmethod = "corners"\n')):
+        path = os.path.join(tmp, f"reach-{preset}-{name}.toml")
+        with open(path, "w") as f:
+            f.write("\n".join(spec + [f"[budget]\n{budget}"]))
+        # An infeasible search exits 1 with its answer written (the least violating design).
+        pcsim(binary, "design", path, "--no-plot", "--quiet", "--out",
+              os.path.join(tmp, f"reach-{preset}-{name}"), codes=(0, 1))
+    with open(os.path.join(tmp, f"reach-{preset}-corners", "design.csv")) as f:
+        ctable = list(csv.reader(f))
+    chead = ctable[0]
+    cevals = [r for r in ctable[1:]
+              if r[chead.index("error")] == "" and r[chead.index("phase")] == "search"]
+    assert len(cevals) == corners, f"{len(cevals)} of {corners} corners ran"
+    out = os.path.join(tmp, f"reach-{preset}-swarm")
     with open(os.path.join(out, "design.json")) as f:
         d = json.load(f)
     answer = d["best"] if d["feasible"] else d["least_violating"]
@@ -526,14 +537,24 @@ def reach(binary, tmp, preset, validation, evaluations):
                 f"**no design meets every row**; the least violating still misses "
                 f"{len(answer['violated'])} of {sum(len(c['rows']) for c in rows)}") + ".", "",
              "| ranged guess | preset | range | " + ("the design" if d["feasible"] else
-                                                    "the least violating design") + " |",
-             "|---|---|---|---|"]
-    for (p, x, lo, hi), y in zip(variables, answer["x"]):
-        lines.append(f"| `{p}` | {x:g} | {short(lo)} – {short(hi)} | {y:.3g} |")
+                                                    "the least violating design") + " | moves a statistic at the corners |",
+             "|---|---|---|---|---|"]
+    # A variable moves nothing when flipping it alone, at every corner, leaves every statistic
+    # of every speed the same bytes.
+    stat_cols = [i for i, h in enumerate(chead) if "@" in h]
+    by_bits = {k: cevals[k] for k in range(corners)}
+    for i, ((p, x, lo, hi), y) in enumerate(zip(variables, answer["x"])):
+        moves = any(by_bits[k][j] != by_bits[k ^ (1 << i)][j]
+                    for k in range(corners) for j in stat_cols)
+        lines.append(f"| `{p}` | {x:g} | {short(lo)} – {short(hi)} | {y:.3g} | "
+                     f"{'yes' if moves else 'no'} |")
     lines += ["", "| row | range | preset | " + ("the design" if d["feasible"] else
                                                   "least violating") + " | | nearest of any "
-              f"evaluation ({len(evals)}) |", "|---|---|---|---|---|---|"]
+              f"evaluation ({len(evals)} + {corners} corners) | the corners' envelope |",
+              "|---|---|---|---|---|---|---|"]
     reached = 0
+    outside = 0
+    premise = 0
     for c in rows:
         pan = c.get("pantograph", "leading")
         k = speeds.index(c["speed_kmh"])
@@ -548,15 +569,29 @@ def reach(binary, tmp, preset, validation, evaluations):
             # The value nearest the (judged) range over every evaluation of the search.
             j = head.index(f"{tag}@{c['speed_kmh']:g}")
             jl, jh = judged(r["range"])
-            near = min((float(e[j]) for e in evals),
+            cj = chead.index(f"{tag}@{c['speed_kmh']:g}")
+            corner_values = [float(e[cj]) for e in cevals]
+            near = min([float(e[j]) for e in evals] + corner_values,
                        key=lambda v: max(jl - v, 0.0, v - jh))
             inside = jl <= near <= jh
             reached += inside
+            clo, chi = min(corner_values), max(corner_values)
+            beyond = chi < jl or clo > jh
+            outside += beyond
+            # The premise checked: the swarm's designs, inside the box, inside the envelope.
+            swarm_values = [float(e[j]) for e in evals]
+            premise += all(clo - 0.05 <= v <= chi + 0.05 for v in swarm_values)
             lines.append(f"| {r['quantity']}, {where} | {short(lo)}–{short(hi)} | "
                          f"{num(r['value'])} | {num(y)} | {'met' if ok else 'MISSED'} | "
-                         f"{num(near)}{'' if inside else ' (never met)'} |")
-    lines += ["", f"{reached} of {sum(len(c['rows']) for c in rows)} rows are met by at least one "
-              "evaluation; the others by none."]
+                         f"{num(near)}{'' if inside else ' (never met)'} | "
+                         f"{num(clo)} – {num(chi)}{' (outside the range)' if beyond else ''} |")
+    total = sum(len(c['rows']) for c in rows)
+    lines += ["", f"{reached} of {total} rows are met by at least one evaluation; the others by "
+              f"none. {outside} of {total} rows lie wholly outside the envelope of the "
+              f"{corners} corners: for a statistic monotone in each variable over its range, "
+              "no design in the box meets them. The premise, checked: on "
+              f"{premise} of {total} rows every one of the swarm's {len(evals)} designs (inside "
+              "the box) lies within the corners' envelope (± 0.05)."]
     return "\n".join(lines)
 
 

@@ -334,7 +334,14 @@ pub enum Method {
     ParticleSwarm,
     /// Nelder–Mead (argmin): one evaluation at a time, few of them on a smooth objective.
     NelderMead,
+    /// Every corner of the variables' box, 2ⁿ designs side by side, no optimiser: the envelope
+    /// of a response that is monotone in each variable over the box (bounds from corner runs,
+    /// issue 53, item 6), with the best corner as the answer.
+    Corners,
 }
+
+/// Most variables a corner plan takes (2¹² = 4 096 designs).
+pub const MAX_CORNER_VARIABLES: usize = 12;
 
 impl Method {
     /// As a spec names it.
@@ -342,6 +349,7 @@ impl Method {
         match self {
             Method::ParticleSwarm => "particle-swarm",
             Method::NelderMead => "nelder-mead",
+            Method::Corners => "corners",
         }
     }
 }
@@ -678,6 +686,28 @@ impl DesignSpec {
                     self.variables.len() + 1
                 ),
             ));
+        }
+        if b.method == Method::Corners {
+            let n = self.variables.len();
+            if n > MAX_CORNER_VARIABLES {
+                return Err(invalid(
+                    "budget.method",
+                    "corners",
+                    format!(
+                        "{n} variables have 2^{n} corners: at most {MAX_CORNER_VARIABLES} variables"
+                    ),
+                ));
+            }
+            if b.evaluations < 1 << n {
+                return Err(invalid(
+                    "budget.evaluations",
+                    b.evaluations.to_string(),
+                    format!(
+                        "the corners of {n} variables need {} evaluations",
+                        1usize << n
+                    ),
+                ));
+            }
         }
         if let Some(p) = b.particles {
             if !(2..=1000).contains(&p) {

@@ -151,7 +151,8 @@ impl Evaluation {
 pub enum StopReason {
     /// The budget's evaluations were spent.
     Evaluations,
-    /// The optimiser converged (Nelder–Mead: the simplex's costs agree).
+    /// The optimiser converged (Nelder–Mead: the simplex's costs agree; a corner plan: every
+    /// corner was run).
     Converged,
     /// The budget's wall time was spent.
     WallTime,
@@ -1106,6 +1107,15 @@ fn run_optimiser(problem: &Problem<'_>) -> Result<StopReason, CaseError> {
                         })
                 }
             }
+        }
+        Method::Corners => {
+            // Corner k takes variable i at its upper bound when bit i of k is set: one batch,
+            // in that order (the journal's), and the plan is then complete.
+            let corners: Vec<Vec<f64>> = (0..1usize << n)
+                .map(|k| (0..n).map(|i| ((k >> i) & 1) as f64).collect())
+                .collect();
+            let refs: Vec<&Vec<f64>> = corners.iter().collect();
+            problem.costs(&refs, "search").map(|_| true)
         }
     };
     match outcome {

@@ -349,3 +349,44 @@ fn a_search_from_a_base_that_cannot_be_beaten_recommends_nothing() {
     let rec = &r.evaluations[r.recommended.expect("a recommendation")];
     assert!(rec.cost < r.base.as_ref().unwrap().cost);
 }
+
+/// Issue 53, item 6: `method = "corners"` runs every corner of the box, once each, in bit
+/// order, and nothing else in its search: on the synthetic problem (the mean force equals the
+/// uplift) the corners' envelope of the mean force is the uplift's range, the exact bounds of
+/// a response monotone in its variable; the best corner is the one nearer the target. Too small
+/// a budget is refused by its field before any run.
+#[test]
+fn a_corner_plan_runs_every_corner_once_and_bounds_a_monotone_response() {
+    let spec = SYNTHETIC.replace(
+        "evaluations = 14\nmethod = \"nelder-mead\"",
+        "evaluations = 2\nmethod = \"corners\"",
+    );
+    let d = design(&spec);
+    let r = run(&d, Vec::new(), 2);
+    let search: Vec<&Evaluation> = r
+        .evaluations
+        .iter()
+        .filter(|e| e.phase == "search")
+        .collect();
+    let xs: Vec<f64> = search.iter().map(|e| e.x[0]).collect();
+    assert_eq!(xs, [60.0, 160.0]);
+    for e in &search {
+        let fm = e.values[0][0].unwrap();
+        assert!(
+            (fm - e.x[0]).abs() < 0.2,
+            "mean {fm} N at uplift {}",
+            e.x[0]
+        );
+    }
+    assert_eq!(r.evaluations[r.best.unwrap()].x, [60.0]);
+    assert_eq!(r.stop, StopReason::Converged);
+    let small = SYNTHETIC.replace(
+        "evaluations = 14\nmethod = \"nelder-mead\"",
+        "evaluations = 1\nmethod = \"corners\"",
+    );
+    let e = DesignSpec::from_toml_str(&small).unwrap_err().to_string();
+    assert!(
+        e.contains("budget.evaluations") && e.contains("need 2 evaluations"),
+        "{e}"
+    );
+}
