@@ -176,8 +176,18 @@ def test_assessment_design_and_fit_validate_against_their_schemas(tmp_path):
     with pytest.raises(jsonschema.ValidationError):
         validator("compare").validate(dict(c, comparison=dict(c["comparison"], shift_samples=0.5)))
 
+    r = subprocess.run([PCSIM, "realtime", "--preset", "benchmark-55m", "--window", "165",
+                        "--no-plot", "--quiet", "--out", str(tmp_path / "realtime")],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    rt = json.loads((tmp_path / "realtime" / "realtime.json").read_text())
+    validator("realtime").validate(rt)
+    assert rt["windows"][0]["window_m"] == 165
+    with pytest.raises(jsonschema.ValidationError):
+        validator("realtime").validate(dict(rt, windows=[dict(rt["windows"][0], modes=-1)]))
+
     # Each directory's manifest, complete, with its files and their hashes.
-    for out in ["run", "fit", "design", "compare"]:
+    for out in ["run", "fit", "design", "compare", "realtime"]:
         m = json.loads((tmp_path / out / "pcsim.json").read_text())
         assert m["complete"] is True and m["files"], m
         validator("manifest").validate(m)

@@ -6,8 +6,8 @@ use pcsim_core::study::schema::{schema, SCHEMAS};
 
 #[derive(Args)]
 pub struct SchemaArgs {
-    /// Which schema: `case`, `summary`, `montecarlo`, `assessment`, `design`, `fit`, `compare`
-    /// or `manifest` (none: list them).
+    /// Which schema: `case`, `summary`, `montecarlo`, `assessment`, `design`, `fit`, `compare`,
+    /// `realtime` or `manifest` (none: list them).
     name: Option<String>,
 }
 

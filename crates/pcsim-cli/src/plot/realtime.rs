@@ -9,8 +9,8 @@ use std::path::{Path, PathBuf};
 
 use super::{figure, Figure, Line};
 
-/// The header of `realtime.csv` (every column numeric; an empty cell where a value is absent).
-pub const HEADER: &str = "window_m,modes,moves,mean_n,std_n,mean_error_percent,std_error_percent,full_mean_n,full_std_n,measured_mean_n,measured_std_n,max_error_percent";
+/// The header of `realtime.csv`, the core's ([`REALTIME_HEADER`]).
+use pcsim_core::study::realtime::REALTIME_HEADER as HEADER;
 
 /// A CSV's header and its cells (`None` where empty or not a number).
 type Table = (Vec<String>, Vec<Vec<Option<f64>>>);

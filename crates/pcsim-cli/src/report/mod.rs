@@ -19,6 +19,7 @@ use pcsim_core::analysis::verify::Verification;
 use pcsim_core::study::compare::{CompareOutput, CompareStudy};
 use pcsim_core::study::design::DesignRecord;
 use pcsim_core::study::montecarlo::{MonteCarloOutput, MonteCarloStudy};
+use pcsim_core::study::realtime::{RealtimeOutput, RealtimeStudy};
 use pcsim_core::study::{Answer, Study, StudyKind};
 
 /// Escape text for HTML.
@@ -800,10 +801,29 @@ fn csv_columns(dir: &Path, file: &str, cols: &[(&str, &str)]) -> Result<Option<V
     Ok(Some(rows))
 }
 
+/// The answer of a study that writes its output as a typed JSON (compare.json, realtime.json),
+/// read back through its type; `None` for the others, and for a directory written before it.
+fn typed_answer(dir: &Path, kind: StudyKind) -> Result<Option<Answer>> {
+    let (compare, realtime) = (dir.join("compare.json"), dir.join("realtime.json"));
+    Ok(match kind {
+        StudyKind::Compare if compare.is_file() => {
+            Some(CompareStudy::answer(&typed::<CompareOutput>(&compare)?))
+        }
+        StudyKind::Realtime if realtime.is_file() => {
+            Some(RealtimeStudy::answer(&typed::<RealtimeOutput>(&realtime)?))
+        }
+        _ => None,
+    })
+}
+
 /// A study's answer, first in its report (issue 42, item 6): the EVA per case, the window
 /// length, the real-time window against the full model, the run beside the measurement side by
 /// side, the Monte Carlo mean with its 95 % interval.
 fn study_answer(h: &mut String, dir: &Path, kind: StudyKind) -> Result<()> {
+    if let Some(a) = typed_answer(dir, kind)? {
+        answer_section(h, &a);
+        return Ok(());
+    }
     let (title, file, cols): (&str, &str, &[(&str, &str)]) = match kind {
         StudyKind::Eva => (
             "The answer: the effective vibration area of each case",
@@ -839,6 +859,7 @@ fn study_answer(h: &mut String, dir: &Path, kind: StudyKind) -> Result<()> {
                 ("fine_checked_to_m", "every window checked up to [m]"),
             ],
         ),
+        // A real-time study written before realtime.json: its table.
         StudyKind::Realtime => (
             "The answer: the real-time window against the full model",
             "realtime.csv",
@@ -853,13 +874,6 @@ fn study_answer(h: &mut String, dir: &Path, kind: StudyKind) -> Result<()> {
                 ("full_std_n", "full model, this pantograph alone: σ [N]"),
             ],
         ),
-        StudyKind::Compare if dir.join("compare.json").is_file() => {
-            answer_section(
-                h,
-                &CompareStudy::answer(&typed::<CompareOutput>(&dir.join("compare.json"))?),
-            );
-            return Ok(());
-        }
         // A comparison written before compare.json: its table.
         StudyKind::Compare => (
             "The answer: the run beside the measurement",

@@ -11,7 +11,7 @@
 //! | `montecarlo.rs` | realisations over seeds and their spread |
 //! | `specs.rs` | the sweeps' specs: grids, EVA, window, Monte Carlo |
 //! | `sweeps.rs` | the EVA sweep, the window sweep, the validation runs, as typed rows |
-//! | `realtime.rs` | the real-time window against the full model |
+//! | `realtime.rs` | the real-time window against the full model; `pcsim realtime` as a study (realtime.csv, timeseries.csv, realtime.json, the answer) |
 //! | `window_search.rs` | the accuracy-based window length and the energy criteria's fit |
 //! | `validate.rs` | which cases, which targets, the validation table |
 //! | `design.rs` | the design search: an optimiser over case fields, the journal, the answer |

@@ -1,5 +1,7 @@
 //! Studies built from several runs: the real-time window against the full model (paper §4.2,
-//! Figs. 8–9).
+//! Figs. 8–9), and `pcsim realtime` as a study of the contract ([`RealtimeStudy`]).
+
+use serde::{Deserialize, Serialize};
 
 use crate::analysis::record::{simulate, Recorder, RunOutput};
 use crate::analysis::stats::{contact_stats, ContactStats};
@@ -9,6 +11,7 @@ use crate::error::{CaseError, SimError};
 use crate::input::case::{Case, PantographCase};
 use crate::solve::realtime::Coupling;
 use crate::solve::run::run;
+use crate::study::contract::{Answer, Study, StudyFile, StudyKind};
 
 /// Result of a window run in SIL mode.
 #[derive(Debug, Clone, PartialEq)]
@@ -167,4 +170,283 @@ pub fn window_study(
         .into_iter()
         .collect::<Result<_, _>>()?;
     Ok(WindowStudy { full, windows })
+}
+
+/// The header of `realtime.csv` (every column numeric; an empty cell where a value is absent).
+pub const REALTIME_HEADER: &str = "window_m,modes,moves,mean_n,std_n,mean_error_percent,std_error_percent,full_mean_n,full_std_n,measured_mean_n,measured_std_n,max_error_percent";
+
+/// `pcsim realtime` as a study (issue 52): the real-time window of one pantograph's case
+/// ([`crate::compile::window_case`]) at several lengths against the full model, in SIL mode
+/// ([`window_study`]), written as `realtime.csv`, `timeseries.csv` (the 0–20 Hz forces) and
+/// `realtime.json`, with the answer the terminal and the report open with. The front end loads
+/// the case, applies its flags and fills this.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RealtimeStudy {
+    /// The one-pantograph case the window follows.
+    pub case: Case,
+    /// Its name (as the terminal and the report name it).
+    pub case_name: String,
+    /// The window lengths, m.
+    pub windows_m: Vec<f64>,
+    /// Pantographs of the case as given (the window carries one of them).
+    pub together: usize,
+}
+
+/// One window against the full model (a row of `realtime.csv`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct RealtimeWindow {
+    /// Window length, m.
+    pub window_m: f64,
+    /// Modes per wire and direction in the window.
+    pub modes: usize,
+    /// Window moves made.
+    pub moves: usize,
+    /// Mean of the 0–20 Hz contact force over the analysis section, N.
+    pub mean_n: f64,
+    /// Its standard deviation, N.
+    pub std_n: f64,
+    /// Error of the mean against the full model, %.
+    pub mean_error_percent: f64,
+    /// Error of σ against the full model, %.
+    pub std_error_percent: f64,
+    /// Error of the actual maximum against the full model, %.
+    pub max_error_percent: f64,
+}
+
+/// What a real-time study gives (`realtime.json`, written and read back through this type;
+/// `pcsim schema realtime`); the filtered time histories travel beside it, in `timeseries.csv`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct RealtimeOutput {
+    /// The case's name.
+    pub case_name: String,
+    /// Train speed, km/h.
+    pub speed_kmh: f64,
+    /// The analysis section, m.
+    pub analysis_m: [f64; 2],
+    /// The pantograph the window follows (alone in the full model too).
+    pub pantograph: String,
+    /// Pantographs of the case as given.
+    pub together: usize,
+    /// The full model's modes per wire.
+    pub full_modes: usize,
+    /// The full model's mean 0–20 Hz force, N.
+    pub full_mean_n: f64,
+    /// The full model's σ, N.
+    pub full_std_n: f64,
+    /// The paper's measured mean and σ (§4.2), N, when the case is the one it measured.
+    pub measured_n: Option<[f64; 2]>,
+    /// Each window, in the order asked.
+    pub windows: Vec<RealtimeWindow>,
+    /// `timeseries.csv`'s text (not in realtime.json).
+    #[serde(skip)]
+    #[schemars(skip)]
+    pub timeseries_csv: String,
+}
+
+/// The paper's measured mean and σ (`[paper_realtime]`) when the case is the SYT preset at
+/// 222 km/h, N.
+fn paper_measurement(case_name: &str, speed_kmh: f64) -> Option<[f64; 2]> {
+    use crate::input::targets::target_value;
+    if case_name != "syt-7.0-9.8" || (speed_kmh - 222.0).abs() > 1e-9 {
+        return None;
+    }
+    Some([
+        target_value("paper_realtime", "measured_mean_n")?,
+        target_value("paper_realtime", "measured_std_n")?,
+    ])
+}
+
+/// A window that never crossed the analysis section: refused, naming the section.
+fn not_crossed(case: &Case, what: &str) -> SimError {
+    SimError::Case(CaseError::Invalid {
+        field: "run.analysis_m".into(),
+        value: format!("{:?}", case.run.analysis_m),
+        reason: format!("{what} did not cross the analysis section"),
+    })
+}
+
+/// `timeseries.csv` of a real-time study: the time, the position and the 0–20 Hz force of the
+/// full model and of each window.
+fn filtered_histories(full: &RunOutput, runs: &[WindowRun]) -> String {
+    use crate::analysis::filter::lowpass_zero_phase;
+    use crate::analysis::stats::CUTOFF_HZ;
+    use std::fmt::Write as _;
+    let fs_hz = 1.0 / full.dt_s;
+    let ff = lowpass_zero_phase(&full.pantographs[0].force_n, fs_hz, CUTOFF_HZ);
+    let wf: Vec<Vec<f64>> = runs
+        .iter()
+        .map(|r| lowpass_zero_phase(&r.force_n, fs_hz, CUTOFF_HZ))
+        .collect();
+    let mut ts = String::from("time_s,position_m,full_force_filtered_n");
+    for r in runs {
+        let _ = write!(ts, ",window_{}m_force_filtered_n", r.window_m);
+    }
+    ts.push('\n');
+    let n = ff
+        .len()
+        .min(wf.iter().map(|v| v.len()).min().unwrap_or(usize::MAX));
+    for k in 0..n {
+        let _ = write!(
+            ts,
+            "{:.6},{:.4},{:.4}",
+            full.time_s[k], full.pantographs[0].position_m[k], ff[k]
+        );
+        for w in &wf {
+            let _ = write!(ts, ",{:.4}", w[k]);
+        }
+        ts.push('\n');
+    }
+    ts
+}
+
+impl RealtimeOutput {
+    /// `realtime.csv`: one row per window ([`REALTIME_HEADER`]).
+    pub fn to_csv(&self) -> String {
+        use std::fmt::Write as _;
+        let cell = |v: Option<f64>| v.map(|x| format!("{x}")).unwrap_or_default();
+        let mut table = format!("{REALTIME_HEADER}\n");
+        for w in &self.windows {
+            let _ = writeln!(
+                table,
+                "{},{},{},{:.4},{:.4},{:.3},{:.3},{:.4},{:.4},{},{},{:.3}",
+                w.window_m,
+                w.modes,
+                w.moves,
+                w.mean_n,
+                w.std_n,
+                w.mean_error_percent,
+                w.std_error_percent,
+                self.full_mean_n,
+                self.full_std_n,
+                cell(self.measured_n.map(|m| m[0])),
+                cell(self.measured_n.map(|m| m[1])),
+                w.max_error_percent
+            );
+        }
+        table
+    }
+}
+
+impl Study for RealtimeStudy {
+    const KIND: StudyKind = StudyKind::Realtime;
+    type Output = RealtimeOutput;
+
+    fn check(&self) -> Result<(), CaseError> {
+        if self.windows_m.is_empty() {
+            return Err(CaseError::Invalid {
+                field: "window".into(),
+                value: String::new(),
+                reason: "give at least one window length".into(),
+            });
+        }
+        crate::compile::require_contact(&self.case, "the real-time window study")
+    }
+
+    fn work(&self) -> usize {
+        1 + self.windows_m.len()
+    }
+
+    fn run(&self, done: &(dyn Fn() + Sync)) -> Result<RealtimeOutput, SimError> {
+        let study = window_study(&self.case, &self.windows_m, None, &mut |_| true)?;
+        done();
+        let full = &study.full;
+        let fs = full.pantographs[0]
+            .stats
+            .ok_or_else(|| not_crossed(&self.case, "the full model's pantograph"))?;
+        let mut windows = Vec::new();
+        for (r, e) in study.windows.iter().zip(study.errors_percent()) {
+            done();
+            let (s, e) = r
+                .stats
+                .zip(e)
+                .ok_or_else(|| not_crossed(&self.case, &format!("the {} m window", r.window_m)))?;
+            windows.push(RealtimeWindow {
+                window_m: r.window_m,
+                modes: r.n_modes,
+                moves: r.moves,
+                mean_n: s.mean_n,
+                std_n: s.std_n,
+                mean_error_percent: e.mean_pct,
+                std_error_percent: e.sigma_pct,
+                max_error_percent: e.max_pct,
+            });
+        }
+        Ok(RealtimeOutput {
+            case_name: self.case_name.clone(),
+            speed_kmh: self.case.run.speed_kmh,
+            analysis_m: self.case.run.analysis_m,
+            pantograph: full.pantographs[0].name.clone(),
+            together: self.together,
+            full_modes: full.n_modes,
+            full_mean_n: fs.mean_n,
+            full_std_n: fs.std_n,
+            measured_n: paper_measurement(&self.case_name, self.case.run.speed_kmh),
+            windows,
+            timeseries_csv: filtered_histories(full, &study.windows),
+        })
+    }
+
+    fn files(&self, o: &RealtimeOutput) -> Vec<StudyFile> {
+        vec![
+            StudyFile::text("realtime.csv", o.to_csv()),
+            StudyFile::text("timeseries.csv", o.timeseries_csv.clone()),
+            StudyFile::text(
+                "realtime.json",
+                serde_json::to_string_pretty(o).expect("a record of numbers and names") + "\n",
+            ),
+        ]
+    }
+
+    fn answer(o: &RealtimeOutput) -> Answer {
+        let mut rows: Vec<(String, String)> = o
+            .windows
+            .iter()
+            .map(|w| {
+                (
+                    format!("window {} m:", w.window_m),
+                    format!(
+                        "{} modes, {} moves, mean {:.2} N ({:+.2} %), σ {:.2} N ({:+.2} %), max {:+.2} %",
+                        w.modes,
+                        w.moves,
+                        w.mean_n,
+                        w.mean_error_percent,
+                        w.std_n,
+                        w.std_error_percent,
+                        w.max_error_percent
+                    ),
+                )
+            })
+            .collect();
+        rows.push((
+            "full model:".into(),
+            format!(
+                "{} modes, mean {:.2} N, σ {:.2} N (pantograph {} alone)",
+                o.full_modes, o.full_mean_n, o.full_std_n, o.pantograph
+            ),
+        ));
+        if let Some([m, s]) = o.measured_n {
+            rows.push((
+                "measured (paper §4.2):".into(),
+                format!("mean {m:.2} N, σ {s:.2} N"),
+            ));
+        }
+        if o.together > 1 {
+            rows.push((
+                "note:".into(),
+                format!(
+                    "the window and its reference carry one pantograph, the rig's: the case runs {} together, and their waves change this one's force (pcsim run gives it among them)",
+                    o.together
+                ),
+            ));
+        }
+        Answer {
+            headline: format!(
+                "{} at {} km/h: the real-time window against the full model, 0–20 Hz contact force over {:?} m",
+                o.case_name, o.speed_kmh, o.analysis_m
+            ),
+            rows,
+            warnings: Vec::new(),
+            failures: Vec::new(),
+        }
+    }
 }

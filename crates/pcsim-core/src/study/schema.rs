@@ -22,6 +22,7 @@ pub const SCHEMAS: &[(&str, &str)] = &[
     ("design", "a design search's design.json"),
     ("fit", "a pantograph fit's fit.json"),
     ("compare", "a comparison's compare.json"),
+    ("realtime", "a real-time window study's realtime.json"),
     ("manifest", "an output directory's manifest, pcsim.json"),
 ];
 
@@ -35,6 +36,7 @@ pub fn schema(name: &str) -> Option<Value> {
         "design" => Some(output_schema::<crate::study::design::DesignRecord>()),
         "fit" => Some(output_schema::<crate::study::frf::FitRecord>()),
         "compare" => Some(output_schema::<crate::study::compare::CompareOutput>()),
+        "realtime" => Some(output_schema::<crate::study::realtime::RealtimeOutput>()),
         "manifest" => Some(output_schema::<crate::study::manifest::ManifestRecord>()),
         _ => None,
     }
