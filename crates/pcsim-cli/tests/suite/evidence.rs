@@ -49,6 +49,18 @@ fn issue_42_1_run_verify_writes_shows_and_assesses_the_verification() {
     );
     let not = v["not_converged"].as_array().unwrap().len();
     assert_eq!(text.matches("NOT CONVERGED").count(), not, "{text}");
+    // Issue 53, item 2: each statistic with its numerical error on the terminal, the change
+    // to the refined run (σ: its value and |refined − value| to 0.01 N).
+    let sigma = checks.iter().find(|c| c["statistic"] == "std_n").unwrap();
+    let (val, refined) = (
+        sigma["value"].as_f64().unwrap(),
+        sigma["refined"].as_f64().unwrap(),
+    );
+    let shown = format!("std {val:.2} ± {:.2} N", (refined - val).abs());
+    assert!(
+        text.contains("numerical (the change refined):") && text.contains(&shown),
+        "{shown} in {text}"
+    );
     let html = std::fs::read_to_string(d.join("v/report.html")).unwrap();
     assert!(html.contains("Verification: the numbers against a refined run"));
     let a = pcsim()

@@ -119,6 +119,25 @@ pub(crate) fn verification(v: &Verification, rows: &mut Rows) {
                 ),
             ));
         }
+        // Issue 53, item 2: each statistic with its numerical error, estimated as its change to
+        // the refined run (twice the modes, half the step).
+        let errors: Vec<String> = p
+            .statistics
+            .iter()
+            .map(|s| {
+                format!(
+                    "{} {:.2} ± {:.2} {}",
+                    s.statistic.trim_end_matches("_n").trim_end_matches("_mm"),
+                    s.value,
+                    (s.refined - s.value).abs(),
+                    s.unit
+                )
+            })
+            .collect();
+        rows.push((
+            format!("{:<10}", ""),
+            format!("numerical (the change refined): {}", errors.join(", ")),
+        ));
     }
     if v.not_converged.is_empty() {
         rows.push((
