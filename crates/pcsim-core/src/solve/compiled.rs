@@ -96,37 +96,39 @@ pub(crate) struct LateralProbe {
 /// their own), each a scatter of the grid's pressures onto its wires, and the loaded blocks
 /// with their coefficients.
 #[derive(Debug, Clone)]
-pub(crate) struct WindStep {
-    pub(crate) parts: Vec<WindPart>,
+#[doc(hidden)] // public for the unit tests in tests/suite/unit
+pub struct WindStep {
+    pub parts: Vec<WindPart>,
 }
 
 /// The crosswind on one basis group: the grid points inside its wires' extent and its loaded
 /// wires.
 #[derive(Debug, Clone)]
-pub(crate) struct WindPart {
-    pub(crate) sampler: PointSampler,
+#[doc(hidden)] // public for the unit tests in tests/suite/unit
+pub struct WindPart {
+    pub sampler: PointSampler,
     /// The loaded wires' slots in `WindLoad::wires` (one block of `n` modes each in `wind_q`).
-    pub(crate) slots: Vec<usize>,
+    pub slots: Vec<usize>,
     /// The grid points inside the group's basis: indices into the wind field.
-    pub(crate) grid: Vec<usize>,
+    pub grid: Vec<usize>,
     /// Loaded wires, modes, grid points.
-    pub(crate) k: usize,
-    pub(crate) n: usize,
-    pub(crate) ng: usize,
+    pub k: usize,
+    pub n: usize,
+    pub ng: usize,
     /// (local wire slot in this part's `wind_q`, block offset in the state, coefficient `d C`).
-    pub(crate) blocks: Vec<(usize, usize, f64)>,
+    pub blocks: Vec<(usize, usize, f64)>,
     /// The mean load's generalised force on every loaded wire: `P̄ ∫ sin(κ_k x) dx` with `P̄`
     /// the mean pressure at the group's first support, plus on a curved track the scatter of
     /// each grid point's own mean pressure less `P̄`.
-    pub(crate) mean: Vec<f64>,
+    pub mean: Vec<f64>,
     /// Each grid point's mean pressure per loaded wire (`k·ng`; all `P̄` on a straight track):
     /// the step's fluctuation is taken about it.
-    pub(crate) p_mean: Vec<f64>,
+    pub p_mean: Vec<f64>,
     /// Where this part's pressures (`k·ng`), forces (`k·n`) and interval forces (`3·k·n`)
     /// start in the workspace's `wind_p`, `wind_q` and `wind_c`.
-    pub(crate) p_off: usize,
-    pub(crate) q_off: usize,
-    pub(crate) c_off: usize,
+    pub p_off: usize,
+    pub q_off: usize,
+    pub c_off: usize,
 }
 
 impl WindStep {
@@ -144,7 +146,7 @@ impl WindPart {
     /// slices): the grid's pressure coefficients ([`WindLoad::pressure_quadratic`], the
     /// fluctuation about the mean in `A0`) scattered once each. `false` (and `c` not filled)
     /// when the normal wind changes sign at a grid point inside the interval.
-    pub(crate) fn interval_forces(
+    pub fn interval_forces(
         &self,
         wl: &WindLoad,
         interval: usize,
@@ -178,7 +180,7 @@ impl WindPart {
 
     /// The generalised forces at time `t` by one scatter of the step's own pressures (the law
     /// at the field's value at `t`), the mean included, into `q` (this part's slices).
-    pub(crate) fn step_forces(
+    pub fn step_forces(
         &self,
         wl: &WindLoad,
         t: f64,
@@ -281,7 +283,8 @@ pub(crate) fn invalid(field: &str, value: impl std::fmt::Display, reason: String
 #[derive(Debug, Clone)]
 pub struct CompiledModel {
     pub(crate) model: Model,
-    pub(crate) isa: Isa,
+    #[doc(hidden)]
+    pub isa: Isa,
     pub(crate) speed_m_s: f64,
     pub(crate) speed_kmh: f64,
     /// Per pantograph: its distance behind the leading one, m.
@@ -329,7 +332,8 @@ pub struct CompiledModel {
     /// Blow-out probes: displacement slots of the contact wire's lateral deviation, positions.
     pub(crate) probes: Vec<usize>,
     pub(crate) probe_x: Vec<f64>,
-    pub(crate) wind: Option<WindStep>,
+    #[doc(hidden)]
+    pub wind: Option<WindStep>,
     /// The wires' steady loads that the design does not carry (the ice's weight), projected on
     /// their modes: (offset in the modal vector, load per mode).
     pub(crate) steady_loads: Vec<(usize, Vec<f64>)>,

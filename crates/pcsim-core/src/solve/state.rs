@@ -109,7 +109,8 @@ impl<'a> ByteReader<'a> {
 /// Whether every value is finite ([`kernels::all_finite`]: no branch per value; the real-time
 /// session checks the whole state after every step). Both instruction sets give the same
 /// answer, so the best one is taken without fixing the process's choice ([`Isa::detect`]).
-fn all_finite(xs: &[f64]) -> bool {
+#[doc(hidden)] // public for the unit tests in tests/suite/unit
+pub fn all_finite(xs: &[f64]) -> bool {
     kernels::all_finite(Isa::best_available(), xs)
 }
 
@@ -284,39 +285,6 @@ impl State {
         for &b in &grp.blocks {
             let o = model.layout.blocks[b].offset;
             self.modal.a[o..o + n].fill(0.0);
-        }
-    }
-}
-
-#[cfg(test)]
-mod finite_tests {
-    use crate::solve::kernels::{self, Isa};
-
-    #[test]
-    fn all_finite_finds_any_non_finite_value() {
-        for n in 0..11 {
-            let v = vec![1.5; n];
-            assert!(super::all_finite(&v));
-            for i in 0..n {
-                for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
-                    let mut w = v.clone();
-                    w[i] = bad;
-                    assert!(!super::all_finite(&w), "n {n}, index {i}, {bad}");
-                }
-            }
-        }
-        assert!(super::all_finite(&[f64::MAX, -f64::MAX, 0.0, -0.0, 1e-310]));
-        // Both instruction sets, past the kernel's eight- and four-wide parts.
-        for isa in [Isa::Portable, Isa::best_available()] {
-            for n in [0, 3, 4, 8, 13, 29] {
-                let v = vec![-2.5e300; n];
-                assert!(kernels::all_finite(isa, &v), "{isa:?} n {n}");
-                for i in 0..n {
-                    let mut w = v.clone();
-                    w[i] = f64::INFINITY;
-                    assert!(!kernels::all_finite(isa, &w), "{isa:?} n {n}, index {i}");
-                }
-            }
         }
     }
 }

@@ -114,7 +114,8 @@ pub struct Workspace {
     pub(crate) f: Vec<f64>,
     /// Sine rows of the moving points, one after the other.
     pub(crate) rows: Vec<f64>,
-    pub(crate) scr: SamplerScratch,
+    #[doc(hidden)]
+    pub scr: SamplerScratch,
     pub(crate) imp: ImplicitScratch,
     /// Per part of a run on several threads: its sampler and implicit scratch (empty for one
     /// thread).

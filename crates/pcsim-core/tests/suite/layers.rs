@@ -310,3 +310,28 @@ fn the_stepper_and_the_stability_check_match_no_pantograph_kind() {
         assert!(own.contains(&format!("pub(crate) fn {f}(")), "{f}");
     }
 }
+
+/// Issue 53, item 3: the core is compiled once for `cargo run --release` and `cargo test
+/// --release`: its library has no test harness (`[lib] test = false`), so no test lives in
+/// `src/` (one there would never run); the unit tests are in `tests/suite/unit/`.
+#[test]
+fn the_core_keeps_no_tests_in_its_library() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let manifest = std::fs::read_to_string(root.join("Cargo.toml")).unwrap();
+    let lib = manifest.split("[lib]").nth(1).expect("a [lib] section");
+    let lib = lib.split("\n[").next().unwrap();
+    assert!(
+        lib.lines().any(|l| l.replace(' ', "") == "test=false"),
+        "{lib}"
+    );
+    let mut files = Vec::new();
+    sources(&root.join("src"), &mut files);
+    for f in files {
+        let text = std::fs::read_to_string(&f).unwrap();
+        assert!(
+            !text.contains("#[cfg(test)]") && !text.contains("#[test]"),
+            "{}: a test in the library would never run; put it in tests/suite/unit",
+            f.display()
+        );
+    }
+}

@@ -33,6 +33,7 @@ mod steady_loads;
 mod stitched;
 mod strips;
 mod threads;
+mod unit;
 mod uplift_height;
 mod verify;
 mod zoo;

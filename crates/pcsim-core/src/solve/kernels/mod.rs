@@ -337,6 +337,3 @@ pub use projection::*;
 pub use sines::*;
 pub use spectra::*;
 pub use unfolds::*;
-
-#[cfg(test)]
-mod tests;

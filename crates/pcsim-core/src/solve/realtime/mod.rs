@@ -58,13 +58,15 @@ mod projection;
 mod refusal;
 mod snapshot;
 
+#[doc(hidden)] // public for the unit tests in tests/suite/unit
+pub use line::line_origins;
 pub use line::MAX_LINE_POSITIONS;
 pub use mover::WindowMover;
 pub use projection::{basis_projection, shift_projection, shift_projection_by_integrals};
 pub use refusal::InputError;
 pub use snapshot::Snapshot;
 
-use line::{line_origins, Frame, LineMoves};
+use line::{Frame, LineMoves};
 
 /// How the real-time catenary is coupled to the pantograph.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

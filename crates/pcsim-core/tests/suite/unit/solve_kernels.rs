@@ -1,6 +1,12 @@
-//! The kernels against their scalar references and each other, bit for bit where they must be.
+//! The unit tests of `solve::kernels` (moved out of the library so that the core compiles once
+//! for `cargo run --release` and `cargo test --release`: issue 53, item 3).
 
-use super::*;
+#![allow(unused_imports)]
+
+use std::sync::OnceLock;
+// The kernels against their scalar references and each other, bit for bit where they must be.
+
+use pcsim_core::solve::kernels::*;
 
 fn data(n: usize, seed: u64) -> Vec<f64> {
     let mut x = seed;
@@ -19,7 +25,7 @@ fn the_four_lane_sines_are_the_scalar_recurrences_bytes() {
     for n in [
         1usize, 3, 4, 5, 15, 16, 17, 33, 255, 256, 257, 271, 1200, 1203,
     ] {
-        let b = crate::model::basis::SineBasis::new(1834.7, n);
+        let b = pcsim_core::model::basis::SineBasis::new(1834.7, n);
         for x in [0.0, 0.3, 17.25, 911.1, 1834.6, -2.5] {
             let mut want = vec![0.0; n];
             b.fill_sines(x, &mut want);
@@ -60,7 +66,7 @@ fn the_cholesky_substitutions_solve_and_keep_the_dot_kernels_bytes() {
         })
         .collect();
     let mut l = a.clone();
-    crate::linalg::cholesky_in_place(&mut l, n).unwrap();
+    pcsim_core::linalg::cholesky_in_place(&mut l, n).unwrap();
     let rhs = data(n, 22);
     for isa in [Isa::Portable, Isa::best_available()] {
         let (mut x, mut tmp) = (rhs.clone(), vec![0.0; n]);
