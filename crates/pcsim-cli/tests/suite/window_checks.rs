@@ -2,10 +2,10 @@
 //! `Tolerances::check`, `SearchSettings::check_for`): `pcsim window` refuses a tolerance out of
 //! (0, 1000) % and a longest window not shorter than the model, naming the flag, before any run.
 
-use std::process::Command;
+use crate::common::{ok, pcsim, scratch, stdout};
 
 fn window(extra: &[&str]) -> (Option<i32>, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_pcsim"))
+    let o = pcsim()
         .args([
             "window",
             "--preset",
@@ -75,19 +75,12 @@ fn csv_rows(path: &std::path::Path) -> Vec<std::collections::HashMap<String, Str
 /// run against the same full model).
 #[test]
 fn the_window_length_is_monotone_in_the_scan_and_realtime_agrees() {
-    let root = std::env::temp_dir().join(format!("pcsim-window-monotone-{}", std::process::id()));
+    let root = scratch("window-checks", "monotone");
     let (win, rt) = (root.join("window"), root.join("realtime"));
     let run = |args: &[&str]| {
-        let o = Command::new(env!("CARGO_BIN_EXE_pcsim"))
-            .args(args)
-            .output()
-            .unwrap();
-        assert!(
-            o.status.success(),
-            "{args:?}: {}",
-            String::from_utf8_lossy(&o.stderr)
-        );
-        String::from_utf8_lossy(&o.stdout).into_owned()
+        let o = pcsim().args(args).output().unwrap();
+        ok(&o);
+        stdout(&o)
     };
     let out = run(&[
         "window",

@@ -257,11 +257,11 @@ fn paper_measurement(case_name: &str, speed_kmh: f64) -> Option<[f64; 2]> {
 }
 
 /// A window that never crossed the analysis section: refused, naming the section.
-fn not_crossed(case: &Case, what: &str) -> SimError {
+fn not_crossed(case: &Case, window_m: f64) -> SimError {
     SimError::Case(CaseError::Invalid {
         field: "run.analysis_m".into(),
         value: format!("{:?}", case.run.analysis_m),
-        reason: format!("{what} did not cross the analysis section"),
+        reason: format!("the {window_m} m window did not cross the analysis section"),
     })
 }
 
@@ -350,16 +350,14 @@ impl Study for RealtimeStudy {
         let study = window_study(&self.case, &self.windows_m, None, &mut |_| true)?;
         done();
         let full = &study.full;
-        let fs = full.pantographs[0]
-            .stats
-            .ok_or_else(|| not_crossed(&self.case, "the full model's pantograph"))?;
+        let fs = crate::study::window_search::full_stats(&self.case, full)?;
         let mut windows = Vec::new();
         for (r, e) in study.windows.iter().zip(study.errors_percent()) {
             done();
             let (s, e) = r
                 .stats
                 .zip(e)
-                .ok_or_else(|| not_crossed(&self.case, &format!("the {} m window", r.window_m)))?;
+                .ok_or_else(|| not_crossed(&self.case, r.window_m))?;
             windows.push(RealtimeWindow {
                 window_m: r.window_m,
                 modes: r.n_modes,
