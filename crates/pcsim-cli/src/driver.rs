@@ -1,12 +1,13 @@
 //! The one driver of every study (issue 52): a command fills the study's spec from its
 //! arguments and hands it here. In order: the study's check (before anything is written), the
 //! output directory (staged under its lock), the case as given, the progress line, the run, the
-//! study's files, the manifest, the figures, the commit, the answer on the terminal, the report,
+//! study's files, its answer (`answer.json`) and declared figures (`figures.json`), the manifest, the figures, the commit, the answer on the terminal, the report,
 //! and the exit status: the outputs are always written, then a study whose answer lists failures
 //! (events not accepted, runs not made) is refused with them (exit 2).
 
 use anyhow::Result;
-use pcsim_core::study::Study;
+use pcsim_core::error::{CaseError, SimError};
+use pcsim_core::study::{AnyStudy, Ran, Study, StudyKind};
 use std::path::Path;
 
 use crate::common::Ctx;
@@ -30,9 +31,43 @@ pub struct Drive<'a> {
 }
 
 /// Drive `study` into `d.out`: returns its output (for the command's own lines).
-pub fn drive<S: Study>(study: &S, d: Drive<'_>, ctx: &Ctx) -> Result<S::Output> {
-    let kind = S::KIND;
-    study.check()?;
+pub fn drive<S: Study + Sync>(study: &S, d: Drive<'_>, ctx: &Ctx) -> Result<S::Output> {
+    let mut kept = None;
+    let mut run = |done: &(dyn Fn() + Sync)| {
+        let output = study.run(done)?;
+        let ran = Ran {
+            files: study.files(&output),
+            answer: S::answer(&output),
+            figures: study.figures(&output),
+        };
+        kept = Some(output);
+        Ok(ran)
+    };
+    let (kind, work) = (S::KIND, study.work());
+    drive_parts(kind, study.check(), work, &mut run, d, ctx)?;
+    kept.ok_or_else(|| anyhow::anyhow!("the {kind} study gave no output"))
+}
+
+/// Drive a study whose output type is erased (a spec file's, [`pcsim_core::study::from_spec`]):
+/// the same stages as [`drive`].
+pub fn drive_any(study: &dyn AnyStudy, d: Drive<'_>, ctx: &Ctx) -> Result<Ran> {
+    let mut run = |done: &(dyn Fn() + Sync)| study.run_erased(done);
+    drive_parts(study.kind(), study.check(), study.work(), &mut run, d, ctx)
+}
+
+/// A study's run, its output turned into its files, answer and figures.
+type RunParts<'a> = dyn FnMut(&(dyn Fn() + Sync)) -> Result<Ran, SimError> + 'a;
+
+/// The driver's stages, in order, for any study.
+fn drive_parts(
+    kind: StudyKind,
+    check: Result<(), CaseError>,
+    work: usize,
+    run: &mut RunParts<'_>,
+    d: Drive<'_>,
+    ctx: &Ctx,
+) -> Result<Ran> {
+    check?;
     let od = OutDir::begin(d.out)?;
     let dir = od.path();
     if let Some(t) = d.case_text {
@@ -40,7 +75,7 @@ pub fn drive<S: Study>(study: &S, d: Drive<'_>, ctx: &Ctx) -> Result<S::Output> 
     }
     let pb = Progress::new(
         kind.name(),
-        study.work() as u64,
+        work as u64,
         ctx.progress,
         &format!(
             "{} [{{bar:40}}] {{pos}}/{{len}} {} {{elapsed_precise}} eta {{eta}}",
@@ -48,15 +83,24 @@ pub fn drive<S: Study>(study: &S, d: Drive<'_>, ctx: &Ctx) -> Result<S::Output> 
             d.unit
         ),
     );
-    let output = study.run(&|| pb.inc());
+    let ran = run(&|| pb.inc());
     pb.finish();
-    let output = output?;
-    let files = study.files(&output);
-    for f in &files {
+    let ran = ran?;
+    for f in &ran.files {
         write_file(&dir.join(&f.name), &f.bytes)?;
     }
+    write_file(
+        &dir.join("answer.json"),
+        serde_json::to_string_pretty(&ran.answer)? + "\n",
+    )?;
+    if !ran.figures.is_empty() {
+        write_file(
+            &dir.join("figures.json"),
+            serde_json::to_string(&ran.figures)? + "\n",
+        )?;
+    }
     write_manifest(dir, kind.name(), d.manifest)?;
-    let answer = S::answer(&output);
+    let answer = &ran.answer;
     println!("{}", answer.headline);
     for (what, value) in &answer.rows {
         println!("  {what} {value}");
@@ -67,7 +111,7 @@ pub fn drive<S: Study>(study: &S, d: Drive<'_>, ctx: &Ctx) -> Result<S::Output> 
         Vec::new()
     };
     od.commit()?;
-    println!("wrote {}", written(d.out, &files));
+    println!("wrote {}", written(d.out, &ran.files));
     if !figures.is_empty() {
         crate::plot::report(&figures);
     }
@@ -86,7 +130,7 @@ pub fn drive<S: Study>(study: &S, d: Drive<'_>, ctx: &Ctx) -> Result<S::Output> 
             kind.name()
         );
     }
-    Ok(output)
+    Ok(ran)
 }
 
 /// The files written, as the terminal names them (`out/a.csv and out/b.json`).

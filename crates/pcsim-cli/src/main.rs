@@ -92,6 +92,9 @@ enum Command {
     /// A pantograph's frequency response at the head (`pantograph frf CASE`), and a lumped
     /// chain fitted to a measured one (`pantograph fit FRF.csv CASE`).
     Pantograph(cmd::pantograph::PantographArgs),
+    /// A study written as a spec file (TOML, its `kind` naming the study), or a study's embedded
+    /// default spec by its name; `pcsim schema` lists each such study's output and spec.
+    Study(cmd::study::StudyArgs),
 }
 
 /// Restore the default SIGPIPE action so that `pcsim … | head` ends quietly instead of panicking
@@ -157,6 +160,7 @@ fn main() {
         Command::Plot(a) => cmd::plot::plot(a),
         Command::Eva(a) => cmd::eva::eva(a, &ctx),
         Command::Realtime(a) => cmd::realtime::realtime(a, &ctx),
+        Command::Study(a) => cmd::study::study(a, &ctx),
         Command::Fmu(a) => cmd::fmu::fmu(a),
         Command::Hil(a) => cmd::hil::hil(a, &ctx),
         Command::Window(a) => cmd::window::window(a, &ctx),

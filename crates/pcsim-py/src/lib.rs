@@ -821,6 +821,44 @@ fn design(
     })
 }
 
+/// What [`study`] hands Python: the kind, the answer as JSON, the files as `(name, text)`.
+type StudyRan = (String, String, Vec<(String, String)>);
+
+/// A study written as a spec file (its `kind` names it; the core's table builds it, as for
+/// `pcsim study`): its case is a preset's name or a file read relative to `base_dir`. Returns
+/// `(kind, answer_json, files)`, files as `(name, text)` in the order the CLI writes them.
+#[pyfunction]
+#[pyo3(signature = (spec_toml, base_dir="."))]
+fn study(spec_toml: &str, base_dir: &str) -> PyResult<StudyRan> {
+    let dir = std::path::PathBuf::from(base_dir);
+    let load = |name: &str| -> Result<(pcsim_core::Case, String), pcsim_core::CaseError> {
+        let path = dir.join(name);
+        if path.is_file() {
+            let read = std::fs::File::open(&path).and_then(|f| {
+                pcsim_core::input::read_text_limited(f, pcsim_core::input::MAX_INPUT_BYTES)
+            });
+            let text = read.as_ref().cloned().unwrap_or_default();
+            let case = pcsim_core::input::case_from_file(&path.display().to_string(), read)?;
+            Ok((case, text))
+        } else {
+            let case = pcsim_core::input::case_from_preset(name)?;
+            Ok((case, presets::find(name)?.toml.to_string()))
+        }
+    };
+    let s = pcsim_core::study::from_spec(spec_toml, &load).map_err(err)?;
+    s.check().map_err(err)?;
+    let kind = s.kind().name().to_string();
+    let ran = guarded(|| s.run_erased(&|| {}).map_err(err))?;
+    let files = (ran.files.into_iter())
+        .map(|f| (f.name, String::from_utf8_lossy(&f.bytes).into_owned()))
+        .collect();
+    Ok((
+        kind,
+        serde_json::to_string(&ran.answer).map_err(err)?,
+        files,
+    ))
+}
+
 /// The names of the embedded presets.
 #[pyfunction]
 fn presets_list() -> Vec<String> {
@@ -971,6 +1009,7 @@ fn _pcsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(assess, m)?)?;
     m.add_function(wrap_pyfunction!(window, m)?)?;
     m.add_function(wrap_pyfunction!(presets_list, m)?)?;
+    m.add_function(wrap_pyfunction!(study, m)?)?;
     m.add_function(wrap_pyfunction!(zoo_geometries, m)?)?;
     m.add_function(wrap_pyfunction!(design, m)?)?;
     m.add_function(wrap_pyfunction!(pantograph_frf, m)?)?;

@@ -14,5 +14,6 @@ pub mod realtime;
 pub mod report;
 pub mod run;
 pub mod schema;
+pub mod study;
 pub mod validate;
 pub mod window;

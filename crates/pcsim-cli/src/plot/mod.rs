@@ -447,7 +447,7 @@ pub fn redraw(dir: &Path) -> Result<Vec<PathBuf>> {
 /// Redraw the figures of a directory of `kind` from its files (a command's own staging
 /// directory, before it is committed): one arm per kind, matched exhaustively.
 pub fn redraw_kind(dir: &Path, kind: StudyKind) -> Result<Vec<PathBuf>> {
-    match kind {
+    let mut files = match kind {
         StudyKind::Run => run::redraw(dir),
         StudyKind::Eva => eva::redraw(dir),
         StudyKind::Realtime => realtime::redraw(dir),
@@ -460,7 +460,52 @@ pub fn redraw_kind(dir: &Path, kind: StudyKind) -> Result<Vec<PathBuf>> {
             dir.display(),
             kind.name().trim_start_matches("pantograph-")
         ),
+    }?;
+    files.extend(declared(dir)?);
+    Ok(files)
+}
+
+/// The figures a study declared as data (`figures.json`, read back through the core's
+/// [`pcsim_core::study::Figure`]; none when the directory has no such file), each drawn as a
+/// line chart: the same code for every study that declares its figures.
+pub fn declared(dir: &Path) -> Result<Vec<PathBuf>> {
+    let p = dir.join("figures.json");
+    if !p.is_file() {
+        return Ok(Vec::new());
     }
+    let text =
+        std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
+    let figures: Vec<pcsim_core::study::Figure> = serde_json::from_str(&text)
+        .with_context(|| format!("{} is not pcsim's figures.json", p.display()))?;
+    let dots = [
+        RGBColor(200, 60, 40),
+        RGBColor(40, 90, 200),
+        RGBColor(30, 140, 60),
+    ];
+    let mut files = Vec::new();
+    for f in &figures {
+        let lines = (f.series.iter().enumerate())
+            .map(|(k, s)| {
+                let pts: Vec<(f64, f64)> = s.x.iter().copied().zip(s.y.iter().copied()).collect();
+                if s.dots {
+                    Line::dots(s.label.clone(), pts, dots[k % dots.len()])
+                } else {
+                    Line::new(s.label.clone(), pts)
+                }
+            })
+            .collect();
+        let fig = Figure {
+            title: &f.title,
+            x_label: &f.x_label,
+            y_label: &f.y_label,
+            lines,
+            log_y: false,
+            vmarks: Vec::new(),
+            hmarks: Vec::new(),
+        };
+        files.extend(figure(&dir.join(safe(&f.name)), &fig)?);
+    }
+    Ok(files)
 }
 
 /// Print the plot files written (one line).

@@ -801,9 +801,15 @@ fn csv_columns(dir: &Path, file: &str, cols: &[(&str, &str)]) -> Result<Option<V
     Ok(Some(rows))
 }
 
-/// The answer of a study that writes its output as a typed JSON (compare.json, realtime.json),
-/// read back through its type; `None` for the others, and for a directory written before it.
+/// The answer of a study driven through the contract (`answer.json`, any kind, read back
+/// through [`Answer`]), else of one that writes its output as a typed JSON (compare.json,
+/// realtime.json, read back through its type); `None` for the others, and for a directory
+/// written before them.
 fn typed_answer(dir: &Path, kind: StudyKind) -> Result<Option<Answer>> {
+    let answer = dir.join("answer.json");
+    if answer.is_file() {
+        return Ok(Some(typed::<Answer>(&answer)?));
+    }
     let (compare, realtime) = (dir.join("compare.json"), dir.join("realtime.json"));
     Ok(match kind {
         StudyKind::Compare if compare.is_file() => {

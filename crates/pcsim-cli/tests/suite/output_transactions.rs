@@ -58,7 +58,10 @@ fn issue_19_1_a_run_writes_a_complete_manifest_last_listing_its_files() {
         .output()
         .unwrap());
     let files = complete_files(&out).expect("a complete manifest");
-    assert_eq!(files, ["case.toml", "summary.json", "timeseries.csv"]);
+    assert_eq!(
+        files,
+        ["answer.json", "case.toml", "summary.json", "timeseries.csv"]
+    );
     // Nothing is left beside it: no staging directory, no lock.
     let left: Vec<String> = std::fs::read_dir(&d)
         .unwrap()
@@ -94,7 +97,7 @@ fn issue_19_1_a_reused_directory_is_replaced_whole() {
     assert!(!out.join("contact_force_leading.png").exists());
     assert_eq!(
         complete_files(&out).unwrap(),
-        ["case.toml", "summary.json", "timeseries.csv"]
+        ["answer.json", "case.toml", "summary.json", "timeseries.csv"]
     );
 }
 
@@ -271,7 +274,10 @@ fn issue_19_1_a_killed_run_never_leaves_a_directory_taken_for_complete() {
         let _ = child.wait();
         if let Some(files) = complete_files(&out) {
             complete += 1;
-            assert_eq!(files, ["case.toml", "summary.json", "timeseries.csv"]);
+            assert_eq!(
+                files,
+                ["answer.json", "case.toml", "summary.json", "timeseries.csv"]
+            );
             let n = std::fs::read_to_string(out.join("timeseries.csv"))
                 .unwrap()
                 .lines()

@@ -49,6 +49,10 @@ pub struct PantographTrace {
     /// Per collector strip (issue 43; empty for a head without strips): its place on the head
     /// and its own contact force with its statistics (the pantograph's are the sum's).
     pub strips: Vec<StripTrace>,
+    /// The contact gap, m: how far the nearest contact wire is above the running face under it
+    /// (minus the penetration while in contact; 0 for a prescribed force), by step. What an arc
+    /// at a loss of contact burns across (issue 54).
+    pub gap_m: Vec<f64>,
 }
 
 /// One collector strip's contact through a run.
@@ -184,6 +188,8 @@ pub struct Recorder {
     /// Per pantograph with several contact wires: the gap of the nearest idle wire above the
     /// contact point, by step, m (infinite when there is none).
     idle_gap: Vec<Vec<f64>>,
+    /// Per pantograph: the contact gap, by step, m.
+    gap: Vec<Vec<f64>>,
 }
 
 impl Recorder {
@@ -255,6 +261,7 @@ impl Recorder {
         ];
         Recorder {
             idle_gap: vec![Vec::new(); np],
+            gap: vec![Vec::with_capacity(n_steps); np],
             wire_force,
             wire_points,
             strip_force,
@@ -376,6 +383,7 @@ impl Recorder {
                 .collect(),
             overlaps,
             strips,
+            gap_m: std::mem::take(&mut self.gap[p]),
         }
     }
 
@@ -506,6 +514,7 @@ impl Observer for Recorder {
             }
             self.pos[p].push(s.position_m + origin);
             self.force[p].push(s.force_n);
+            self.gap[p].push(cm.contact_gap(ws, p));
             self.height[p].push(s.wire_height_m);
             if self.record_lateral {
                 self.lateral[p].push(s.lateral_m);

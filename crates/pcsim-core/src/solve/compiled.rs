@@ -750,6 +750,29 @@ impl CompiledModel {
         0.0 - ws.f[self.head_u0 + self.head_base[p] + s]
     }
 
+    /// The contact gap of pantograph `p` in the last step, m: over its vertical contact points
+    /// on a wire that is present and on the head, the least height of the wire above the running
+    /// face under it (negative while they press: the penalty's penetration, Eq. 19); 0 for a
+    /// pantograph without a head (a prescribed force), infinite when no wire is over the head.
+    pub fn contact_gap(&self, ws: &Workspace, p: usize) -> f64 {
+        if !matches!(self.model.pantographs[p].kind, PantographKind::Lumped(_)) {
+            return 0.0;
+        }
+        let mut gap = f64::INFINITY;
+        for (mi, mp) in self.moving.iter().enumerate() {
+            if mp.pantograph != p || mp.dir != Direction::Vertical {
+                continue;
+            }
+            let i = self.moving_u0 + mi;
+            if ws.absent[i] || ws.off_head[i] {
+                continue;
+            }
+            let h = self.head_u0 + self.head_base[p] + mp.head;
+            gap = gap.min(ws.u[i] - ws.u[h]);
+        }
+        gap
+    }
+
     /// The degrees of freedom of pantograph `p` in the pantograph arrays of the state.
     pub fn pantograph_dofs(&self, p: usize) -> std::ops::Range<usize> {
         let o = self.pan_off[p];

@@ -94,8 +94,9 @@ impl std::fmt::Display for StudyKind {
 }
 
 /// The answer a study's report and terminal open with: a headline, then named values (each
-/// with its unit in the name), then what the answer does not establish.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+/// with its unit in the name), then what the answer does not establish. The driver writes it
+/// as `answer.json` (`pcsim schema answer`), which the report opens with for any kind.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Answer {
     /// One sentence: what the study found.
     pub headline: String,
@@ -149,4 +150,98 @@ pub trait Study {
 
     /// The answer its report and terminal open with.
     fn answer(output: &Self::Output) -> Answer;
+
+    /// Its figures as data (drawn by the front end as line charts, the same way for every
+    /// study: `figures.json`); the studies that draw their own figures give none.
+    fn figures(&self, _output: &Self::Output) -> Vec<Figure> {
+        Vec::new()
+    }
+
+    /// The case it studies, for the manifest (a command that fills it itself gives none).
+    fn case_label(&self) -> Option<CaseLabel> {
+        None
+    }
+}
+
+/// A figure a study declares as data: one x–y chart of named series (MuJoCo's rule: the engine
+/// says what to show in model terms; the front end only draws it).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct Figure {
+    /// Its file name without the extension (`wear_profile`).
+    pub name: String,
+    /// Its title.
+    pub title: String,
+    /// The x axis' label, with its unit.
+    pub x_label: String,
+    /// The y axis' label, with its unit.
+    pub y_label: String,
+    /// Its series, drawn in order.
+    pub series: Vec<FigureSeries>,
+}
+
+/// One series of a [`Figure`].
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct FigureSeries {
+    /// Its legend.
+    pub label: String,
+    /// Its x values.
+    pub x: Vec<f64>,
+    /// Its y values (as many as `x`).
+    pub y: Vec<f64>,
+    /// Drawn as dots (a scatter) instead of a line.
+    #[serde(default)]
+    pub dots: bool,
+}
+
+/// What a study's run gave, its output type erased: the files, the answer and the figures.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ran {
+    /// The output directory's files, in order.
+    pub files: Vec<StudyFile>,
+    /// The answer.
+    pub answer: Answer,
+    /// The figures declared as data.
+    pub figures: Vec<Figure>,
+}
+
+/// A study with its output type erased: what the registry of spec-file studies hands out
+/// ([`crate::study::from_spec`]) and the one driver takes. Every [`Study`] is one.
+pub trait AnyStudy: Sync {
+    /// Its kind.
+    fn kind(&self) -> StudyKind;
+    /// [`Study::check`].
+    fn check(&self) -> Result<(), CaseError>;
+    /// [`Study::work`].
+    fn work(&self) -> usize;
+    /// [`Study::run`], then its files, answer and figures.
+    fn run_erased(&self, done: &(dyn Fn() + Sync)) -> Result<Ran, SimError>;
+    /// [`Study::case_label`].
+    fn case_label(&self) -> Option<CaseLabel>;
+}
+
+/// What a manifest says of the case a study ran: its name, its speed (km/h) and its analysis
+/// section (m).
+pub type CaseLabel = (String, f64, [f64; 2]);
+
+impl<S: Study + Sync> AnyStudy for S {
+    fn kind(&self) -> StudyKind {
+        S::KIND
+    }
+    fn check(&self) -> Result<(), CaseError> {
+        Study::check(self)
+    }
+    fn work(&self) -> usize {
+        Study::work(self)
+    }
+    fn case_label(&self) -> Option<CaseLabel> {
+        Study::case_label(self)
+    }
+    fn run_erased(&self, done: &(dyn Fn() + Sync)) -> Result<Ran, SimError> {
+        let output = self.run(done)?;
+        Ok(Ran {
+            files: self.files(&output),
+            answer: S::answer(&output),
+            figures: self.figures(&output),
+        })
+    }
 }

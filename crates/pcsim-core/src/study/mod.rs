@@ -34,4 +34,67 @@ pub mod sweeps;
 pub mod validate;
 pub mod window_search;
 
-pub use contract::{Answer, Study, StudyFile, StudyKind};
+pub use contract::{Answer, AnyStudy, Figure, FigureSeries, Ran, Study, StudyFile, StudyKind};
+
+use crate::error::CaseError;
+use crate::input::Case;
+
+/// How a front end hands a spec's `case` over: a preset's name or a file it reads (the core
+/// opens no file), as the case and its text.
+pub type CaseLoader<'a> = dyn Fn(&str) -> Result<(Case, String), CaseError> + 'a;
+
+/// A spec's text and the front end's case loader made into its study.
+pub type BuildStudy = fn(&str, &CaseLoader<'_>) -> Result<Box<dyn AnyStudy>, CaseError>;
+
+/// A study written as a spec file (`kind = "…"` and its own tables): one row of
+/// [`SPEC_STUDIES`] is all a front end needs to run it (`pcsim study SPEC`, Python's
+/// `pcsim.study`), print its schemas (`pcsim schema NAME`, `pcsim schema NAME-spec`) and offer
+/// its embedded default (MuJoCo's plugin table: a new study is one row).
+pub struct SpecStudy {
+    /// Its kind (its `kind` key in a spec, its output directory's kind).
+    pub kind: StudyKind,
+    /// What it studies, one line.
+    pub what: &'static str,
+    /// The embedded spec `pcsim study NAME` runs.
+    pub default_spec: &'static str,
+    /// Read a spec (every error names its field and value), its case through the loader.
+    pub build: BuildStudy,
+    /// The JSON Schema of its spec file.
+    pub spec_schema: fn() -> serde_json::Value,
+    /// The JSON Schema of its typed output.
+    pub output_schema: fn() -> serde_json::Value,
+}
+
+/// The studies a spec file names, one row each.
+pub const SPEC_STUDIES: &[SpecStudy] = &[];
+
+/// The row of the study named `name` (its kind's name), or `None`.
+pub fn spec_study(name: &str) -> Option<&'static SpecStudy> {
+    SPEC_STUDIES.iter().find(|s| s.kind.name() == name)
+}
+
+/// Read a spec file's text into its study: its `kind` picks the row of [`SPEC_STUDIES`].
+pub fn from_spec(text: &str, load: &CaseLoader<'_>) -> Result<Box<dyn AnyStudy>, CaseError> {
+    let v: toml::Value = toml::from_str(text).map_err(|e| CaseError::Parse(e.to_string()))?;
+    let names = || {
+        SPEC_STUDIES
+            .iter()
+            .map(|s| s.kind.name())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let kind = v
+        .get("kind")
+        .and_then(|k| k.as_str())
+        .ok_or_else(|| CaseError::Invalid {
+            field: "kind".into(),
+            value: v.get("kind").map(|k| k.to_string()).unwrap_or_default(),
+            reason: format!("a study spec names its kind: one of {}", names()),
+        })?;
+    let row = spec_study(kind).ok_or_else(|| CaseError::Invalid {
+        field: "kind".into(),
+        value: kind.into(),
+        reason: format!("not a study of a spec file: one of {}", names()),
+    })?;
+    (row.build)(text, load)
+}

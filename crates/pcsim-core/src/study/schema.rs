@@ -24,9 +24,32 @@ pub const SCHEMAS: &[(&str, &str)] = &[
     ("compare", "a comparison's compare.json"),
     ("realtime", "a real-time window study's realtime.json"),
     ("manifest", "an output directory's manifest, pcsim.json"),
+    (
+        "answer",
+        "a study's answer.json (what its report and terminal open with)",
+    ),
+    ("figures", "a study's figures.json (its figures as data)"),
 ];
 
-/// The schema named `name` (one of [`SCHEMAS`]), or `None`.
+/// Every schema `pcsim schema` prints, by name: [`SCHEMAS`], then each spec-file study's
+/// output (`NAME`) and spec (`NAME-spec`) from its row of [`crate::study::SPEC_STUDIES`].
+pub fn names() -> Vec<(String, String)> {
+    let mut v: Vec<(String, String)> = SCHEMAS
+        .iter()
+        .map(|(n, w)| (n.to_string(), w.to_string()))
+        .collect();
+    for s in crate::study::SPEC_STUDIES {
+        let n = s.kind.name();
+        v.push((n.into(), format!("a {n} study's {n}.json ({})", s.what)));
+        v.push((
+            format!("{n}-spec"),
+            format!("a {n} study's spec file (TOML)"),
+        ));
+    }
+    v
+}
+
+/// The schema named `name` (one of [`names`]), or `None`.
 pub fn schema(name: &str) -> Option<Value> {
     match name {
         "case" => Some(case_schema()),
@@ -38,7 +61,20 @@ pub fn schema(name: &str) -> Option<Value> {
         "compare" => Some(output_schema::<crate::study::compare::CompareOutput>()),
         "realtime" => Some(output_schema::<crate::study::realtime::RealtimeOutput>()),
         "manifest" => Some(output_schema::<crate::study::manifest::ManifestRecord>()),
-        _ => None,
+        "answer" => Some(output_schema::<crate::study::Answer>()),
+        "figures" => Some(output_schema::<Vec<crate::study::Figure>>()),
+        _ => {
+            let (kind, spec) = match name.strip_suffix("-spec") {
+                Some(k) => (k, true),
+                None => (name, false),
+            };
+            let row = crate::study::spec_study(kind)?;
+            Some(if spec {
+                (row.spec_schema)()
+            } else {
+                (row.output_schema)()
+            })
+        }
     }
 }
 

@@ -186,3 +186,30 @@ fn energy_balance_with_stitch_nodes() {
         "energy residual {worst} J against {scale} J"
     );
 }
+
+/// Issue 54's contact gap (`PantographTrace::gap_m`, recorded every step).
+#[test]
+fn a_runs_contact_gap_is_the_penalty_laws_other_side() {
+    // en50318-2002 at 300 km/h loses contact over 1.3 % of its section: the force is the
+    // penalty's k·max(0, −gap) at every step (Eq. 19), the gap positive exactly where the force
+    // is zero.
+    let mut case = pcsim_core::input::case_from_preset("en50318-2002").unwrap();
+    case.run.speed_kmh = 300.0;
+    let k = case.contact.stiffness_n_per_m;
+    let out = pcsim_core::run_case(&case, &mut |_| true).unwrap();
+    let p = &out.pantographs[0];
+    assert_eq!(p.gap_m.len(), p.force_n.len());
+    let (mut open, mut closed) = (0, 0);
+    for (&f, &g) in p.force_n.iter().zip(&p.gap_m) {
+        assert!(
+            (f - k * (-g).max(0.0)).abs() <= 1e-9 * k.max(1.0) * g.abs().max(1e-3),
+            "{f} vs gap {g}"
+        );
+        if g > 0.0 {
+            open += 1;
+        } else {
+            closed += 1;
+        }
+    }
+    assert!(open > 0 && closed > open, "{open} open, {closed} closed");
+}

@@ -40,6 +40,7 @@ __all__ = [
     "pantograph_frf",
     "pantograph_fit",
     "presets",
+    "study",
 ]
 
 
@@ -261,6 +262,31 @@ def _text_or_path(value: Any, what: str) -> Tuple[str, Optional[str]]:
     if not isinstance(value, str):
         raise TypeError("{}: a path or TOML text, not {}".format(what, type(value).__name__))
     return value, None
+
+
+def study(spec: Any) -> Dict[str, Any]:
+    """A study written as a spec file, its ``kind`` naming it (``"wear"``: current collection),
+    run by the core's table as ``pcsim study`` runs it: ``spec`` is the file's path or its TOML
+    text (its ``case`` a preset's name or a file beside the spec). Returns ``kind``, ``answer``
+    (headline, rows, warnings, failures), ``files`` (each file's text, as the CLI writes them)
+    and ``output`` (the typed ``KIND.json`` parsed). An answer with failures (error-level events
+    not accepted) raises ``ValueError`` naming the first, as the CLI exits with status 2."""
+    import os
+
+    text, path = _text_or_path(spec, "spec")
+    base = os.path.dirname(os.path.abspath(path)) if path else "."
+    kind, answer, files = _pcsim.study(text, base)
+    files = dict(files)
+    answer = json.loads(answer)
+    out = {
+        "kind": kind,
+        "answer": answer,
+        "files": files,
+        "output": json.loads(files["{}.json".format(kind)]) if "{}.json".format(kind) in files else None,
+    }
+    if answer["failures"]:
+        raise ValueError("the {} study is refused: {}".format(kind, answer["failures"][0]))
+    return out
 
 
 def assess(result: "Result", system: Optional[str] = None, criteria: Any = None) -> Dict[str, Any]:
