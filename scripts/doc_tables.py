@@ -695,6 +695,31 @@ def table_pantograph_fit(binary, tmp):
     return "\n".join(lines)
 
 
+def table_wear_default(binary, tmp):
+    """`pcsim study wear` (issue 54): each train's sweep against 2sv/L, its wear per passage by
+    term, NQ, the strip's life; the wire's years to its limit."""
+    out = os.path.join(tmp, "wear")
+    pcsim(binary, "study", "wear", "--no-plot", "--quiet", "--out", out)
+    with open(os.path.join(out, "wear.json")) as f:
+        w = json.load(f)
+    lines = ["| train | km/h | A | median span's sweep [m/s] | 2sv/L (±0.3 m, 60 m) | below 330 mm/s [%] | "
+             "wire per passage, mech/elec/arc [mm³] | NQ [%] | strip life [km] |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for t in w["trains"]:
+        sp = sorted(s["speed_m_s"] for s in t["sweep"]["spans"])
+        p = t["pantographs"][0]
+        terms = "/".join(f"{x:.2f}" for x in p["wire_terms_mm3"])
+        lines.append(f"| {t['name']} | {t['speed_kmh']:g} | {t['current_a']:g} | {sp[len(sp) // 2]:.4f} | "
+                     f"{2 * 0.3 * t['speed_kmh'] / 3.6 / 60:.4f} | {t['sweep']['share_below_limit_percent']:.0f} | "
+                     f"{terms} | {p['nq_percent']:.3f} | {p['strip']['life_km']:.0f} |")
+    wire = w["wire"]
+    spans = ", ".join(f"{s['start_m']:.0f}–{s['end_m']:.0f} m" for s in wire["worst_spans"])
+    lines += ["", f"The wire ({wire['section_mm2']:.0f} mm², renewed at {wire['limit_mm2']:.1f} mm² lost) "
+              f"reaches its limit first at {wire['worst_position_m']:.1f} m after "
+              f"{wire['years_to_limit']:.1f} years; the spans that wear first: {spans}."]
+    return "\n".join(lines)
+
+
 def run_stats(binary, tmp, preset, *args):
     """The leading pantograph's statistics of `pcsim run --preset PRESET ARGS`."""
     out = os.path.join(tmp, "run-" + preset + "-" + "-".join(args))
@@ -740,6 +765,7 @@ TABLES = {
     "reach-en50318-2002": table_reach_2002,
     "reach-seed-table1": table_reach_table1,
     "pantograph-fit": table_pantograph_fit,
+    "wear-default": table_wear_default,
 }
 
 

@@ -193,3 +193,31 @@ def test_assessment_design_and_fit_validate_against_their_schemas(tmp_path):
         validator("manifest").validate(m)
     with pytest.raises(jsonschema.ValidationError):
         validator("manifest").validate(dict(m, shard="x"))
+
+
+def test_a_wear_spec_and_its_outputs_validate_against_their_schemas(tmp_path):
+    # Issue 54: the shipped wear spec validates against `pcsim schema wear-spec` and a misspelt
+    # key fails it (and pcsim, naming it); a wear study's wear.json, answer.json and
+    # figures.json validate against `wear`, `answer` and `figures`, and a wrong value fails.
+    spec_file = ROOT / "presets" / "studies" / "wear-2018-like.toml"
+    text = spec_file.read_text(encoding="utf-8")
+    v = validator("wear-spec")
+    v.validate(tomllib.loads(text))
+    bad = text.replace("bin_m =", "bin_mm =")
+    assert list(v.iter_errors(tomllib.loads(bad)))
+    (tmp_path / "bad.toml").write_text(bad)
+    r = subprocess.run([PCSIM, "study", str(tmp_path / "bad.toml"), "--no-plot"],
+                       capture_output=True, text=True)
+    assert r.returncode == 2 and "bin_mm" in r.stderr, r.stderr
+    second = [i for i in range(len(text)) if text.startswith("[[trains]]", i)][1]
+    one = text[:second] + text[text.index("[law]"):]
+    (tmp_path / "spec.toml").write_text(one)
+    out = tmp_path / "out"
+    subprocess.run([PCSIM, "study", str(tmp_path / "spec.toml"), "--quiet", "--out", str(out)],
+                   check=True, capture_output=True)
+    wear = json.loads((out / "wear.json").read_text())
+    validator("wear").validate(wear)
+    validator("answer").validate(json.loads((out / "answer.json").read_text()))
+    validator("figures").validate(json.loads((out / "figures.json").read_text()))
+    wear["trains"][0]["pantographs"][0]["nq_percent"] = "none"
+    assert list(validator("wear").iter_errors(wear))

@@ -627,12 +627,24 @@ def _with_matrix_block(doc, name, text):
     return f"{doc}\n{open_}{text}{close}\n"
 
 
-def test_issue_51_every_geometry_through_python_runs_or_is_refused_by_name():
+def _one_train_wear_spec(case_file, speed_kmh):
+    """The default wear spec (``pcsim study wear --show``) with its first train only, at
+    ``speed_kmh``, naming ``case_file``."""
+    text = subprocess.run([PCSIM, "study", "wear", "--show"], check=True, capture_output=True,
+                          text=True).stdout
+    second = [i for i in range(len(text)) if text.startswith("[[trains]]", i)][1]
+    text = text[:second] + text[text.index("[law]"):]
+    text = text.replace('case = "en50318-2018-like-stitched-3d"', 'case = "{}"'.format(case_file))
+    return text.replace("speed_kmh = { value = 275.0,", "speed_kmh = { value = %r," % speed_kmh)
+
+
+def test_issue_51_every_geometry_through_python_runs_or_is_refused_by_name(tmp_path):
     """Python's table of docs/matrix.md: every geometry family of the core's zoo through
-    ``pcsim.run`` and ``RealtimeCatenary`` (a 180 m window fed a constant 100 N at the case's
-    speed for a second). Each cell runs (plausible statistics; finite heights) or is refused by
-    name (``ValueError`` naming the field). Nothing is injected; ``PCSIM_BLESS=1`` rewrites the
-    block, and the test fails while it differs."""
+    ``pcsim.run``, ``RealtimeCatenary`` (a 180 m window fed a constant 100 N at the case's
+    speed for a second) and ``pcsim.study`` (issue 54: the current-collection study of a spec
+    naming the case's file). Each cell runs (plausible statistics; finite heights; the wire
+    worn) or is refused by name (``ValueError`` naming the field). Nothing is injected;
+    ``PCSIM_BLESS=1`` rewrites the block, and the test fails while it differs."""
     import re
     rows = []
     for g, case in pcsim._pcsim.zoo_geometries():
@@ -654,8 +666,16 @@ def test_issue_51_every_geometry_through_python_runs_or_is_refused_by_name():
                 assert math.isfinite(h) and math.isfinite(w), (g, k)
             cells.append(None)
         assert (cells[1] == "wind") == ("crosswind" in g), (g, cells)
+        stem = re.sub(r"[, ]", "_", g)
+        (tmp_path / (stem + ".toml")).write_text(case.to_toml())
+        spec = tmp_path / (stem + "-wear.toml")
+        spec.write_text(_one_train_wear_spec(stem + ".toml", case.get("run.speed_kmh")))
+        w = pcsim.study(spec)
+        assert w["output"]["trains"][0]["pantographs"][0]["wire_terms_mm3"][0] > 0.0, g
+        cells.append(None)
         rows.append((g, cells))
-    text = "### Python (`pcsim.run`, `pcsim.RealtimeCatenary`)\n\n| geometry | run | real-time window (HIL) |\n|---|---|---|\n"
+    text = ("### Python (`pcsim.run`, `pcsim.RealtimeCatenary`, `pcsim.study` of a wear spec naming the case's file)\n\n"
+            "| geometry | run | real-time window (HIL) | current collection |\n|---|---|---|---|\n")
     for g, cells in rows:
         text += f"| {g} |" + "".join(" runs |" if c is None else f" refused: `{c}` |" for c in cells) + "\n"
     here = os.path.dirname(os.path.abspath(__file__))
@@ -725,3 +745,23 @@ def test_issue_52_python_defaults_are_the_clis_and_so_the_core_specs():
     run = _cli_defaults("run")
     res_doc = inspect.getdoc(pcsim.run)
     assert f"({run['sensitivity-samples']})" in res_doc and f"({run['sensitivity-seed']})" in res_doc
+
+
+def test_issue_54_the_wear_study_equals_the_clis(tmp_path):
+    # The same spec through Python and through `pcsim study`: the same files, byte for byte,
+    # and the same answer (the core's one table runs both).
+    # One train keeps it short.
+    spec = _one_train_wear_spec("en50318-2018-like-stitched-3d", 275.0)
+    path = tmp_path / "spec.toml"
+    path.write_text(spec)
+    r = pcsim.study(path)
+    assert r["kind"] == "wear"
+    out = tmp_path / "out"
+    subprocess.run([PCSIM, "study", str(path), "--no-plot", "--quiet", "--out", str(out)],
+                   check=True, capture_output=True)
+    for name, text in r["files"].items():
+        assert (out / name).read_text() == text, name
+    assert json.loads((out / "answer.json").read_text()) == r["answer"]
+    assert r["output"]["trains"][0]["name"] == "high-speed"
+    with pytest.raises(Exception, match="kind"):
+        pcsim.study(spec.replace('kind = "wear"', 'kind = "tear"'))

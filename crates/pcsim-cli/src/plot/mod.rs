@@ -455,6 +455,8 @@ pub fn redraw_kind(dir: &Path, kind: StudyKind) -> Result<Vec<PathBuf>> {
         StudyKind::Window => window::redraw(dir),
         StudyKind::Compare => compare::redraw(dir),
         StudyKind::Design => design::redraw(dir),
+        // Its figures are declared as data (below).
+        StudyKind::Wear => Ok(Vec::new()),
         StudyKind::PantographFrf | StudyKind::PantographFit => anyhow::bail!(
             "{}: a pantograph's response and fit draw their figures when they are made; run `pcsim pantograph {}` again to redraw them",
             dir.display(),

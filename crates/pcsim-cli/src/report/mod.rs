@@ -509,7 +509,8 @@ fn study_errors(dir: &Path, kind: StudyKind) -> Result<Vec<String>> {
         | StudyKind::Compare
         | StudyKind::Design
         | StudyKind::PantographFrf
-        | StudyKind::PantographFit => Ok(Vec::new()),
+        | StudyKind::PantographFit
+        | StudyKind::Wear => Ok(Vec::new()),
     }
 }
 
@@ -894,7 +895,8 @@ fn study_answer(h: &mut String, dir: &Path, kind: StudyKind) -> Result<()> {
         StudyKind::MonteCarlo => return montecarlo_answer(h, dir),
         StudyKind::PantographFit => return fit_answer(h, dir),
         StudyKind::Design => return design_section(h, dir),
-        StudyKind::Run => return Ok(()),
+        // Its answer is answer.json's (above).
+        StudyKind::Run | StudyKind::Wear => return Ok(()),
         StudyKind::PantographFrf => (
             "The answer: the pantograph's response at the head",
             "frf.csv",

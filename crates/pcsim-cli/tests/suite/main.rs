@@ -5,6 +5,7 @@ mod byte_golden;
 mod case_files;
 mod cli;
 mod common;
+mod current_collection;
 mod design;
 mod errors_downstream;
 mod evidence;

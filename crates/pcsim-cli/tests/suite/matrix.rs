@@ -1,6 +1,7 @@
 //! Issue 51: the CLI's table of docs/matrix.md. Every geometry family of the core's zoo
 //! (`pcsim_core::zoo::geometries`), written as a case file: `pcsim run CASE` and `pcsim hil CASE`
-//! (a 180 m window fed a constant 100 N at the case's speed for a second). Each cell runs (exit
+//! (a 180 m window fed a constant 100 N at the case's speed for a second), `pcsim study SPEC`
+//! (the current-collection study of a spec naming the case file). Each cell runs (exit
 //! 0, a summary with statistics; every `hil` row finite and `ok`) or is refused by name (exit 2, the
 //! message names the field). Nothing is injected. `PCSIM_BLESS=1` rewrites the block; the test
 //! fails while it differs.
@@ -74,7 +75,48 @@ fn cells(dir: &std::path::Path, g: &str, case: &pcsim_core::Case) -> Vec<Result<
             );
         }
     }
-    vec![run, hil]
+    vec![run, hil, study(dir, g, &stem, case)]
+}
+
+/// Issue 54: `pcsim study SPEC` of the current-collection study, its spec naming the case file
+/// beside it (the default spec's first train at the case's speed): exit 0 with wear.json's wire
+/// worn, or a refusal by name.
+fn study(
+    dir: &std::path::Path,
+    g: &str,
+    stem: &str,
+    case: &pcsim_core::Case,
+) -> Result<(), String> {
+    let text = pcsim_core::study::wear::DEFAULT_SPEC.replace(
+        "case = \"en50318-2018-like-stitched-3d\"",
+        &format!("case = \"{stem}.toml\""),
+    );
+    let second = text.match_indices("[[trains]]").nth(1).unwrap().0;
+    let law = text.find("[law]").unwrap();
+    let text = format!("{}{}", &text[..second], &text[law..]).replace(
+        "speed_kmh = { value = 275.0,",
+        &format!("speed_kmh = {{ value = {},", case.run.speed_kmh),
+    );
+    let spec = dir.join(format!("{stem}-wear.toml"));
+    std::fs::write(&spec, text).unwrap();
+    let out = dir.join(format!("{stem}-wear"));
+    let o = pcsim()
+        .arg("study")
+        .arg(&spec)
+        .args(["--quiet", "--no-plot", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let r = outcome(g, "study", &o);
+    if r.is_ok() {
+        let w: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("wear.json")).unwrap()).unwrap();
+        let mech = w["trains"][0]["pantographs"][0]["wire_terms_mm3"][0]
+            .as_f64()
+            .unwrap();
+        assert!(mech > 0.0, "study on {g}: {w}");
+    }
+    r
 }
 
 #[test]
@@ -86,14 +128,15 @@ fn issue_51_every_geometry_through_the_cli_runs_or_is_refused_by_name() {
         .collect();
     for (g, c) in &rows {
         assert!(c[0].is_ok(), "run on {g}: {:?}", c[0]);
+        assert!(c[2].is_ok(), "study on {g}: {:?}", c[2]);
         match &c[1] {
             Err(f) => assert!(g.contains("crosswind") && f == "wind", "{g}: {f}"),
             Ok(()) => assert!(!g.contains("crosswind"), "{g}"),
         }
     }
     let text = render_front_end(
-        "CLI (`pcsim run CASE`, `pcsim hil CASE`)",
-        &["run", "real-time window (HIL)"],
+        "CLI (`pcsim run CASE`, `pcsim hil CASE`, `pcsim study SPEC` of a wear spec naming CASE)",
+        &["run", "real-time window (HIL)", "current collection"],
         &rows,
     );
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/matrix.md");

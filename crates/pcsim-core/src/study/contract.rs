@@ -40,11 +40,14 @@ pub enum StudyKind {
     /// A chain fitted to a measured response (`pcsim pantograph fit`).
     #[serde(rename = "pantograph-fit")]
     PantographFit,
+    /// Current collection: arcing, wear, the lateral sweep, their life (`pcsim study wear`).
+    #[serde(rename = "wear")]
+    Wear,
 }
 
 impl StudyKind {
     /// Every kind, in a fixed order.
-    pub const ALL: [StudyKind; 9] = [
+    pub const ALL: [StudyKind; 10] = [
         StudyKind::Run,
         StudyKind::MonteCarlo,
         StudyKind::Eva,
@@ -54,6 +57,7 @@ impl StudyKind {
         StudyKind::Design,
         StudyKind::PantographFrf,
         StudyKind::PantographFit,
+        StudyKind::Wear,
     ];
 
     /// Its name in a manifest (`pcsim.json`'s `kind`).
@@ -68,6 +72,7 @@ impl StudyKind {
             StudyKind::Design => "design",
             StudyKind::PantographFrf => "pantograph-frf",
             StudyKind::PantographFit => "pantograph-fit",
+            StudyKind::Wear => "wear",
         }
     }
 

@@ -18,6 +18,7 @@
 //! | `manifest.rs` | what an output directory's manifest holds (written and read through one type) |
 //! | `schema.rs` | the JSON Schemas of a case file and of the outputs (`pcsim schema`) |
 //! | `frf.rs` | a pantograph's frequency response at the head, and a chain fitted to a measured one |
+//! | `wear.rs` | current collection: arcing, wear of the wire and the strips, the lateral sweep, their life over a traffic mix (a spec-file study) |
 
 pub mod compare;
 pub mod contract;
@@ -32,6 +33,7 @@ pub mod schema;
 pub mod specs;
 pub mod sweeps;
 pub mod validate;
+pub mod wear;
 pub mod window_search;
 
 pub use contract::{Answer, AnyStudy, Figure, FigureSeries, Ran, Study, StudyFile, StudyKind};
@@ -66,7 +68,14 @@ pub struct SpecStudy {
 }
 
 /// The studies a spec file names, one row each.
-pub const SPEC_STUDIES: &[SpecStudy] = &[];
+pub const SPEC_STUDIES: &[SpecStudy] = &[SpecStudy {
+    kind: StudyKind::Wear,
+    what: "current collection: arcing, wear of the contact wire and the strips, the lateral sweep, their life over a traffic mix",
+    default_spec: wear::DEFAULT_SPEC,
+    build: wear::build,
+    spec_schema: wear::spec_schema,
+    output_schema: wear::output_schema,
+}];
 
 /// The row of the study named `name` (its kind's name), or `None`.
 pub fn spec_study(name: &str) -> Option<&'static SpecStudy> {

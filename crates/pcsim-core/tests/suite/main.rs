@@ -36,4 +36,5 @@ mod threads;
 mod unit;
 mod uplift_height;
 mod verify;
+mod wear;
 mod zoo;

@@ -312,6 +312,46 @@ method = "nelder-mead"
     Ok(())
 }
 
+/// Issue 54: the current-collection study (the default spec's first train at the case's speed):
+/// the wire wears (Archard's term > 0, every bin finite), NQ within the loss of contact, the
+/// strips' wear exactly where the case models the contact point's path across the head.
+fn current_collection(case: &Case, what: &str) -> Result<(), SimError> {
+    use pcsim_core::study::wear::{WearSpec, WearStudy, DEFAULT_SPEC};
+    use pcsim_core::study::Study;
+    let mut spec = WearSpec::from_toml_str(DEFAULT_SPEC).unwrap();
+    spec.trains.truncate(1);
+    spec.trains[0].speed_kmh.value = case.run.speed_kmh;
+    let study = WearStudy {
+        spec,
+        case: case.clone(),
+    };
+    Study::check(&study)?;
+    let o = study.run(&|| {})?;
+    for p in &o.trains[0].pantographs {
+        assert!(
+            p.wire_terms_mm3[0] > 0.0 && p.wire_terms_mm3.iter().all(|v| v.is_finite()),
+            "{what}: {:?}",
+            p.wire_terms_mm3
+        );
+        assert!(
+            p.nq_percent <= p.loss_percent + 1e-12,
+            "{what}: NQ {} %, loss {} %",
+            p.nq_percent,
+            p.loss_percent
+        );
+        assert_eq!(p.strip.is_some(), o.lateral, "{what}");
+    }
+    assert!(
+        o.wire
+            .daily_mm3_per_m
+            .iter()
+            .all(|v| v.is_finite() && *v >= 0.0),
+        "{what}"
+    );
+    assert!(o.wire.years_to_limit.is_some_and(|y| y > 0.0), "{what}");
+    Ok(())
+}
+
 const CAPABILITIES: &[Capability] = &[
     ("run", run),
     ("eva", eva),
@@ -325,6 +365,7 @@ const CAPABILITIES: &[Capability] = &[
     ("verify", verification),
     ("sensitivity", sensitivity_study),
     ("validate CASE", validate_case),
+    ("current collection", current_collection),
 ];
 
 /// The matrix as Markdown: a table of cells, then every refusal with its reason.
