@@ -221,3 +221,12 @@ def test_a_wear_spec_and_its_outputs_validate_against_their_schemas(tmp_path):
     validator("figures").validate(json.loads((out / "figures.json").read_text()))
     wear["trains"][0]["pantographs"][0]["nq_percent"] = "none"
     assert list(validator("wear").iter_errors(wear))
+    # A pantograph's response through the contract (issue 52): frf.json against `frf`.
+    frf = tmp_path / "frf"
+    subprocess.run([PCSIM, "pantograph", "frf", "--preset", "en50318-2002", "--points", "20",
+                    "--quiet", "--out", str(frf)], check=True, capture_output=True)
+    doc = json.loads((frf / "frf.json").read_text())
+    validator("frf").validate(doc)
+    validator("answer").validate(json.loads((frf / "answer.json").read_text()))
+    doc["magnitude"] = "big"
+    assert list(validator("frf").iter_errors(doc))

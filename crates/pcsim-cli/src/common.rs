@@ -347,14 +347,3 @@ pub fn read_irregularity_csv(path: &Path) -> Result<pcsim_core::input::case::Irr
     pcsim_core::input::case::IrregularityCase::from_csv(&text, &path.display().to_string())
         .map_err(|e| anyhow::anyhow!("--irregularity: {e}"))
 }
-
-/// `x` with `digits` significant digits (`0.00123`, `4.66`, `1230`), for the terminal: a small
-/// value never prints as `0.00`.
-pub fn significant(x: f64, digits: usize) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return format!("{x}");
-    }
-    let magnitude = x.abs().log10().floor() as i64;
-    let decimals = (digits as i64 - 1 - magnitude).max(0) as usize;
-    format!("{x:.decimals$}")
-}

@@ -1,13 +1,14 @@
 //! `pcsim pantograph frf` (a case's pantograph: its frequency response at the head) and `pcsim
 //! pantograph fit` (a lumped chain fitted to a measured response). The computing is the core's
-//! (`study/frf.rs`); this file reads the arguments and writes the files.
+//! (`study/frf.rs`): the response is a study of the contract (`FrfStudy`, through the driver);
+//! this file reads the arguments (and writes the fit's files).
 
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand, ValueEnum};
 use std::path::{Path, PathBuf};
 
 use crate::output::{write_file, write_manifest, OutDir};
-use pcsim_core::study::frf::{fit_with, FitSpec, Quantity, Response};
+use pcsim_core::study::frf::{fit_with, FitSpec, FrfStudy, Quantity, Response};
 
 #[derive(Args)]
 pub struct PantographArgs {
@@ -89,7 +90,7 @@ struct FitArgs {
 
 pub fn pantograph(a: PantographArgs, ctx: &crate::common::Ctx) -> Result<i32> {
     match a.action {
-        Action::Frf(a) => frf(a),
+        Action::Frf(a) => frf(a, ctx),
         Action::Fit(a) => fit_cmd(a, ctx),
     }
 }
@@ -151,13 +152,13 @@ fn figures(dir: &Path, stem: &str, title: &str, responses: &[&Response]) -> Resu
     Ok(files)
 }
 
-fn frf(a: FrfArgs) -> Result<i32> {
-    let (name, p) = chain(&a.which)?;
+fn frf(a: FrfArgs, ctx: &crate::common::Ctx) -> Result<i32> {
+    let (name, pantograph) = chain(&a.which)?;
     let quantity = match a.quantity {
         Kind::ApparentMass => Quantity::ApparentMass,
         Kind::Receptance => Quantity::Receptance,
     };
-    let f = Response::log_grid(a.from_hz, a.to_hz, a.points).map_err(|e| {
+    let frequency_hz = Response::log_grid(a.from_hz, a.to_hz, a.points).map_err(|e| {
         pcsim_core::study::specs::with_flags(
             e,
             &[
@@ -167,51 +168,28 @@ fn frf(a: FrfArgs) -> Result<i32> {
             ],
         )
     })?;
-    let mut r = Response::of_model(&p, quantity, &f)?;
-    r.source = format!("pantograph {name}");
-    let od = OutDir::begin(&a.which.out)?;
-    write_file(&od.path().join("frf.csv"), r.to_csv())?;
-    write_manifest(
-        od.path(),
-        "pantograph-frf",
-        crate::output::StudyManifest {
-            pantograph: Some(name.clone()),
-            ..Default::default()
+    let manifest = crate::output::StudyManifest {
+        pantograph: Some(name.clone()),
+        ..Default::default()
+    };
+    let study = FrfStudy {
+        name,
+        pantograph,
+        quantity,
+        frequency_hz,
+    };
+    crate::driver::drive(
+        &study,
+        crate::driver::Drive {
+            out: &a.which.out,
+            case_text: None,
+            plot: true,
+            report: false,
+            manifest,
+            unit: "responses",
         },
+        ctx,
     )?;
-    let figs = figures(od.path(), "frf", &format!("pantograph {name}"), &[&r])?;
-    let shown = od.in_target(&figs);
-    od.commit()?;
-    // Its resonances: the local maxima of the receptance's magnitude.
-    let rec = Response::of_model(&p, Quantity::Receptance, &f)?;
-    let peaks: Vec<String> = (rec.peaks().iter())
-        .map(|f| format!("{} Hz", crate::common::significant(*f, 3)))
-        .collect();
-    println!(
-        "pantograph {name}: {} masses{}; receptance peaks at {} (from {} to {} Hz, {} points)",
-        p.masses_kg.len(),
-        match p.strips.len() {
-            0 => String::new(),
-            n => format!(" and {n} strips (a force shared equally, their mean displacement)"),
-        },
-        if peaks.is_empty() {
-            "none in the range".into()
-        } else {
-            peaks.join(", ")
-        },
-        a.from_hz,
-        a.to_hz,
-        a.points
-    );
-    println!(
-        "wrote {}; plots: {}",
-        a.which.out.join("frf.csv").display(),
-        shown
-            .iter()
-            .map(|x| x.display().to_string())
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
     Ok(0)
 }
 

@@ -457,8 +457,10 @@ pub fn redraw_kind(dir: &Path, kind: StudyKind) -> Result<Vec<PathBuf>> {
         StudyKind::Design => design::redraw(dir),
         // Its figures are declared as data (below).
         StudyKind::Wear => Ok(Vec::new()),
+        // A response declares its figures as data (below); one written before them has none.
+        StudyKind::PantographFrf if dir.join("figures.json").is_file() => Ok(Vec::new()),
         StudyKind::PantographFrf | StudyKind::PantographFit => anyhow::bail!(
-            "{}: a pantograph's response and fit draw their figures when they are made; run `pcsim pantograph {}` again to redraw them",
+            "{}: a pantograph's fit draws its figures when it is made (and a response written before pcsim declared its figures); run `pcsim pantograph {}` again to redraw them",
             dir.display(),
             kind.name().trim_start_matches("pantograph-")
         ),
@@ -501,7 +503,7 @@ pub fn declared(dir: &Path) -> Result<Vec<PathBuf>> {
             x_label: &f.x_label,
             y_label: &f.y_label,
             lines,
-            log_y: false,
+            log_y: f.log_y,
             vmarks: Vec::new(),
             hmarks: Vec::new(),
         };

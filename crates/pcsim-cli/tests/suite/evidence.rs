@@ -355,6 +355,19 @@ fn issue_43_3_pantograph_frf_and_fit_through_the_cli() {
     assert!(csv.starts_with("frequency_hz,magnitude_m_per_n,phase_deg\n"));
     assert_eq!(csv.lines().count(), 201);
     assert!(d.join("frf/frf_magnitude.svg").exists() && d.join("frf/frf_phase.svg").exists());
+    // Through the study contract (issue 52): frf.json read back beside frf.csv, the figures
+    // declared as data and redrawn by `pcsim plot`, the report opening with the answer.
+    let frf = json(&d.join("frf/frf.json"));
+    assert_eq!(frf["frequency_hz"].as_array().unwrap().len(), 200);
+    let peaks = frf["receptance_peaks_hz"].as_array().unwrap();
+    assert!(!peaks.is_empty(), "{frf}");
+    let o = pcsim().args(["plot", &s("frf")]).output().unwrap();
+    ok(&o);
+    assert!(stdout(&o).contains("frf_phase.svg"), "{}", stdout(&o));
+    ok(&pcsim().args(["report", &s("frf")]).output().unwrap());
+    let html = std::fs::read_to_string(d.join("frf/report.html")).unwrap();
+    let answer = html.find("id=\"answer\"").expect("an answer");
+    assert!(answer < html.find("<svg").unwrap() && html[answer..].contains("receptance peaks at"));
     // A start 25 % off the preset's chain.
     let shown = pcsim()
         .args(["presets", "show", "en50318-2002"])

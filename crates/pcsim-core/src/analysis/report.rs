@@ -17,6 +17,17 @@ pub fn round_ns(t: f64) -> f64 {
     (t * 1e9).round() / 1e9
 }
 
+/// `x` with `digits` significant digits (`0.00123`, `4.66`, `1230`), for the terminal: a small
+/// value never prints as `0.00`.
+pub fn significant(x: f64, digits: usize) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let magnitude = x.abs().log10().floor() as i64;
+    let decimals = (digits as i64 - 1 - magnitude).max(0) as usize;
+    format!("{x:.decimals$}")
+}
+
 /// The name a case reports itself with (`meta.name`, or `case`).
 pub fn case_name(case: &Case) -> String {
     if case.meta.name.is_empty() {

@@ -182,6 +182,9 @@ pub struct Figure {
     pub y_label: String,
     /// Its series, drawn in order.
     pub series: Vec<FigureSeries>,
+    /// A logarithmic y axis (values ≤ 0 left out).
+    #[serde(default)]
+    pub log_y: bool,
 }
 
 /// One series of a [`Figure`].

@@ -793,3 +793,160 @@ pub fn fit_with(
         },
     })
 }
+
+/// `pcsim pantograph frf` as a study of the contract (issue 52): a pantograph's response at
+/// the head over a grid of frequencies, written as `frf.csv` and `frf.json`, with its answer
+/// (the chain and its resonances) and its figures (magnitude and phase) declared as data.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrfStudy {
+    /// The pantograph's name (as the case names it).
+    pub name: String,
+    /// Its chain.
+    pub pantograph: Lumped,
+    /// What the response gives.
+    pub quantity: Quantity,
+    /// The frequencies, Hz ([`Response::log_grid`]).
+    pub frequency_hz: Vec<f64>,
+}
+
+/// What a response study gives (`frf.json`, written and read back through this type).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct FrfOutput {
+    /// The pantograph's name.
+    pub pantograph: String,
+    /// Its masses.
+    pub masses: usize,
+    /// Its collector strips.
+    pub strips: usize,
+    /// The magnitude's column (`magnitude_kg` or `magnitude_m_per_n`, the unit in the name).
+    pub quantity: String,
+    /// Frequencies, Hz.
+    pub frequency_hz: Vec<f64>,
+    /// The magnitude, in the unit `quantity` names.
+    pub magnitude: Vec<f64>,
+    /// The phase, °.
+    pub phase_deg: Vec<f64>,
+    /// The receptance's resonances over the grid, Hz.
+    pub receptance_peaks_hz: Vec<f64>,
+    /// `frf.csv`'s text (not in frf.json).
+    #[serde(skip)]
+    #[schemars(skip)]
+    pub csv: String,
+}
+
+impl crate::study::Study for FrfStudy {
+    const KIND: crate::study::StudyKind = crate::study::StudyKind::PantographFrf;
+    type Output = FrfOutput;
+
+    fn check(&self) -> Result<(), CaseError> {
+        if self.frequency_hz.len() < 2 {
+            return Err(inv(
+                "points",
+                self.frequency_hz.len(),
+                "between 2 and 100000",
+            ));
+        }
+        Ok(())
+    }
+
+    fn work(&self) -> usize {
+        1
+    }
+
+    fn run(&self, done: &(dyn Fn() + Sync)) -> Result<FrfOutput, crate::error::SimError> {
+        let mut r = Response::of_model(&self.pantograph, self.quantity, &self.frequency_hz)?;
+        r.source = format!("pantograph {}", self.name);
+        let rec = Response::of_model(&self.pantograph, Quantity::Receptance, &self.frequency_hz)?;
+        done();
+        Ok(FrfOutput {
+            pantograph: self.name.clone(),
+            masses: self.pantograph.masses_kg.len(),
+            strips: self.pantograph.strips.len(),
+            quantity: self.quantity.column().into(),
+            frequency_hz: r.frequency_hz.clone(),
+            magnitude: r.value.iter().map(|h| h.norm()).collect(),
+            phase_deg: r.value.iter().map(|h| h.arg().to_degrees()).collect(),
+            receptance_peaks_hz: rec.peaks(),
+            csv: r.to_csv(),
+        })
+    }
+
+    fn files(&self, o: &FrfOutput) -> Vec<crate::study::StudyFile> {
+        vec![
+            crate::study::StudyFile::text("frf.csv", o.csv.clone()),
+            crate::study::StudyFile::text(
+                "frf.json",
+                serde_json::to_string_pretty(o).unwrap_or_default() + "\n",
+            ),
+        ]
+    }
+
+    fn answer(o: &FrfOutput) -> crate::study::Answer {
+        let peaks: Vec<String> = o
+            .receptance_peaks_hz
+            .iter()
+            .map(|&f| format!("{} Hz", crate::analysis::report::significant(f, 3)))
+            .collect();
+        // The grid's ends as given (exp(ln f) may differ from f in its last digit).
+        let given = |f: f64| (f * 1e9).round() / 1e9;
+        let (from, to) = (
+            o.frequency_hz.first().copied().unwrap_or(0.0),
+            o.frequency_hz.last().copied().unwrap_or(0.0),
+        );
+        crate::study::Answer {
+            headline: format!(
+                "pantograph {}: {} masses{}; receptance peaks at {} (from {} to {} Hz, {} points)",
+                o.pantograph,
+                o.masses,
+                match o.strips {
+                    0 => String::new(),
+                    n =>
+                        format!(" and {n} strips (a force shared equally, their mean displacement)"),
+                },
+                if peaks.is_empty() {
+                    "none in the range".into()
+                } else {
+                    peaks.join(", ")
+                },
+                given(from),
+                given(to),
+                o.frequency_hz.len()
+            ),
+            ..Default::default()
+        }
+    }
+
+    fn figures(&self, o: &FrfOutput) -> Vec<crate::study::Figure> {
+        let unit = match self.quantity {
+            Quantity::Receptance => "receptance |X/F| [m/N]",
+            Quantity::ApparentMass => "apparent mass |F/A| [kg]",
+        };
+        let title = format!("pantograph {}", o.pantograph);
+        let series = |y: &[f64]| {
+            vec![crate::study::FigureSeries {
+                label: title.clone(),
+                x: o.frequency_hz.clone(),
+                y: y.to_vec(),
+                dots: false,
+            }]
+        };
+        vec![
+            crate::study::Figure {
+                name: "frf_magnitude".into(),
+                title: format!("{title}: magnitude"),
+                x_label: "frequency [Hz]".into(),
+                y_label: unit.into(),
+                series: series(&o.magnitude),
+                log_y: true,
+            },
+            crate::study::Figure {
+                name: "frf_phase".into(),
+                title: format!("{title}: phase"),
+                x_label: "frequency [Hz]".into(),
+                y_label: "phase [°]".into(),
+                series: series(&o.phase_deg),
+                log_y: false,
+            },
+        ]
+    }
+}

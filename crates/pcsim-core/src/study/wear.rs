@@ -603,6 +603,9 @@ pub struct WearOutput {
     pub years: f64,
     /// Realisations per train.
     pub realisations: usize,
+    /// The seed offsets of the realisations (added to every seed of the case's random inputs,
+    /// which case.toml gives).
+    pub seed_offsets: Vec<u64>,
     /// Whether the case models lateral motion (the strips' wear and the sweep need it).
     pub lateral: bool,
     /// Per train.
@@ -1116,6 +1119,7 @@ impl Study for WearStudy {
             section_m: self.case.run.analysis_m,
             years: self.spec.years.value,
             realisations: r,
+            seed_offsets: (0..r as u64).collect(),
             lateral,
             trains,
             wire: self.wire_life(&daily, &runs[0].supports_m),
@@ -1393,6 +1397,7 @@ fn figures(o: &WearOutput, limit_m_s: f64) -> Vec<Figure> {
             y: w.depth_mm.clone(),
             dots: false,
         }],
+        log_y: false,
     }];
     let strips: Vec<FigureSeries> = (o.trains.iter())
         .flat_map(|t| {
@@ -1413,6 +1418,7 @@ fn figures(o: &WearOutput, limit_m_s: f64) -> Vec<Figure> {
             x_label: "across the head from its centre [m]".into(),
             y_label: "depth per 1000 km [mm]".into(),
             series: strips,
+            log_y: false,
         });
     }
     let mut sweeps: Vec<FigureSeries> = (o.trains.iter())
@@ -1444,6 +1450,7 @@ fn figures(o: &WearOutput, limit_m_s: f64) -> Vec<Figure> {
             x_label: "span centre [m]".into(),
             y_label: "sweep speed [m/s]".into(),
             series: sweeps,
+            log_y: false,
         });
     }
     out

@@ -287,3 +287,30 @@ fn the_default_spec_sources_every_value_and_errors_name_their_field() {
         "kind",
     );
 }
+
+#[test]
+fn realisations_over_the_seeds_give_the_same_bytes_twice_and_name_their_seeds() {
+    use pcsim_core::study::wear::WearStudy;
+    use pcsim_core::study::Study;
+    // The zoo's catenary with an irregularity of its own: two realisations of one train.
+    let (_, case) = pcsim_core::zoo::geometries::geometries()
+        .into_iter()
+        .find(|(g, _)| *g == "catenary, irregularity")
+        .unwrap();
+    let mut s = spec();
+    s.trains.truncate(1);
+    s.trains[0].speed_kmh.value = case.run.speed_kmh;
+    s.realisations = 2;
+    let study = WearStudy { spec: s, case };
+    Study::check(&study).unwrap();
+    let a = study.run(&|| {}).unwrap();
+    let b = study.run(&|| {}).unwrap();
+    let bytes = |o| serde_json::to_string(&o).unwrap();
+    assert_eq!(bytes(a.clone()), bytes(b));
+    assert_eq!(a.seed_offsets, vec![0, 1]);
+    // A single realisation of the same case differs from their mean (the seeds matter).
+    let mut one = study.clone();
+    one.spec.realisations = 1;
+    let c = one.run(&|| {}).unwrap();
+    assert_ne!(c.wire.daily_mm3_per_m, a.wire.daily_mm3_per_m);
+}
