@@ -20,6 +20,9 @@ pub struct Drive<'a> {
     pub out: &'a Path,
     /// The case as given (every value with its source), written as `case.toml`.
     pub case_text: Option<&'a str>,
+    /// A spec-file study's spec as given, written as `study.toml` (beside the case it names,
+    /// written as `case.toml`).
+    pub spec_text: Option<&'a str>,
     /// Draw the figures.
     pub plot: bool,
     /// Write `report.html` (implies the figures).
@@ -72,6 +75,9 @@ fn drive_parts(
     let dir = od.path();
     if let Some(t) = d.case_text {
         write_file(&dir.join("case.toml"), t)?;
+    }
+    if let Some(t) = d.spec_text {
+        write_file(&dir.join("study.toml"), t)?;
     }
     let pb = Progress::new(
         kind.name(),

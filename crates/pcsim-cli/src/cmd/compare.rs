@@ -112,6 +112,7 @@ pub fn compare(a: CompareArgs, ctx: &crate::common::Ctx) -> Result<i32> {
     let drive = crate::driver::Drive {
         out: &a.out,
         case_text: case_text.as_deref(),
+        spec_text: None,
         plot: !a.no_plot,
         report: false,
         manifest,

@@ -183,6 +183,7 @@ fn frf(a: FrfArgs, ctx: &crate::common::Ctx) -> Result<i32> {
         crate::driver::Drive {
             out: &a.which.out,
             case_text: None,
+            spec_text: None,
             plot: true,
             report: false,
             manifest,

@@ -72,6 +72,7 @@ pub fn realtime(a: RealtimeArgs, ctx: &Ctx) -> Result<i32> {
         crate::driver::Drive {
             out: &a.out,
             case_text: Some(&case_text),
+            spec_text: None,
             plot: !a.no_plot,
             report: false,
             manifest,

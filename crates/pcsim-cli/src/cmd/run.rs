@@ -169,6 +169,7 @@ pub fn run(a: RunArgs, ctx: &Ctx) -> Result<i32> {
     let drive = crate::driver::Drive {
         out: &a.out,
         case_text: Some(&case_text),
+        spec_text: None,
         plot: a.plot || a.report,
         report: a.report,
         manifest: crate::output::StudyManifest {
@@ -261,6 +262,7 @@ fn seeds(
         crate::driver::Drive {
             out: &a.out,
             case_text: Some(case_text),
+            spec_text: None,
             plot: a.plot || a.report,
             report: a.report,
             manifest: crate::output::StudyManifest {

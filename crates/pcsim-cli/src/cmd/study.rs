@@ -90,6 +90,7 @@ pub fn study(a: StudyArgs, ctx: &Ctx) -> Result<i32> {
         crate::driver::Drive {
             out: &out,
             case_text: case_text.as_deref(),
+            spec_text: Some(&text),
             plot: !a.no_plot,
             report: a.report,
             manifest,

@@ -34,6 +34,7 @@ fn the_default_wear_study_answers_first_and_writes_its_typed_output() {
         "sweep_speed.svg",
         "report.html",
         "case.toml",
+        "study.toml",
     ] {
         assert!(out.join(f).is_file(), "{f}");
     }
@@ -87,6 +88,11 @@ fn the_default_wear_study_answers_first_and_writes_its_typed_output() {
         "the answer is not first"
     );
     assert!(text.contains(headline));
+    // The spec as given travels with its outputs.
+    assert_eq!(
+        std::fs::read_to_string(out.join("study.toml")).unwrap(),
+        pcsim_core::study::wear::DEFAULT_SPEC
+    );
     let m: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("pcsim.json")).unwrap()).unwrap();
     assert_eq!(m["kind"], "wear");
