@@ -39,6 +39,9 @@ use crate::study::CaseLoader;
 /// The embedded default spec: the 2018-like stitched line in 3D under a mix of three trains.
 pub const DEFAULT_SPEC: &str = include_str!("../../../../presets/studies/wear-2018-like.toml");
 
+/// Most bins of the wear profile along the line: the bound on its memory.
+pub const MAX_BINS: usize = 1_000_000;
+
 /// Most runs one study makes (trains × realisations): the bound on the work.
 pub const MAX_RUNS: usize = 256;
 
@@ -724,6 +727,17 @@ impl WearSpec {
                 "limits.wire_area_loss_percent",
                 self.limits.wire_area_loss_percent.value,
                 "a loss of section below 100 %",
+            ));
+        }
+        let [x0, x1] = case.run.analysis_m;
+        if (x1 - x0) / self.bin_m.value > MAX_BINS as f64 {
+            return Err(invalid(
+                "bin_m",
+                self.bin_m.value,
+                &format!(
+                    "the {:.0} m section in bins this short makes more than {MAX_BINS}",
+                    x1 - x0
+                ),
             ));
         }
         if self.trains.is_empty() {

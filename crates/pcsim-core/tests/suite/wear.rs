@@ -286,6 +286,11 @@ fn the_default_spec_sources_every_value_and_errors_name_their_field() {
         DEFAULT_SPEC.replace("kind = \"wear\"", "kind = \"weir\""),
         "kind",
     );
+    refused(
+        DEFAULT_SPEC.replace("bin_m = { value = 1.0", "bin_m = { value = 1e-9"),
+        "bin_m",
+    );
+    refused(DEFAULT_SPEC.replace("[[trains]]", "[[trainz]]"), "trainz");
 }
 
 #[test]
