@@ -69,16 +69,11 @@ pub fn compare(a: CompareArgs, ctx: &crate::common::Ctx) -> Result<i32> {
         .with_context(|| format!("cannot read {}", a.measured.display()))?;
     let measured_name = a.measured.display().to_string();
     let meas = MeasuredForce::from_csv(&text, &measured_name)?;
-    let supports_m: Vec<f64> = if !run.supports_m.is_empty() {
-        run.supports_m.clone()
-    } else if let Some(s) = run.span_m {
-        let last = trace.position_m.last().copied().unwrap_or(0.0);
-        (0..=((last / s).ceil() as usize + 1))
-            .map(|k| k as f64 * s)
-            .collect()
-    } else {
-        Vec::new()
-    };
+    let supports_m = pcsim_core::study::compare::support_positions(
+        &run.supports_m,
+        run.span_m,
+        trace.position_m.last().copied().unwrap_or(0.0),
+    );
     let study = CompareStudy {
         pantograph: trace.name.clone(),
         case_name: run.case_name.clone(),

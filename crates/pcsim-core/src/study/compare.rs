@@ -38,6 +38,22 @@ pub struct CompareStudy {
     pub search_m: f64,
 }
 
+/// A run's supports, the span profile's origins, m: a line's own (`supports_m`, as summary.json
+/// gives them), else the multiples of its repeating span from 0 to a span past the last position
+/// `last_m`, else none (the one derivation, for every front end).
+pub fn support_positions(supports_m: &[f64], span_m: Option<f64>, last_m: f64) -> Vec<f64> {
+    if !supports_m.is_empty() {
+        return supports_m.to_vec();
+    }
+    match span_m {
+        Some(s) if s > 0.0 && last_m.is_finite() => (0..=((last_m.max(0.0) / s).ceil() as usize
+            + 1))
+            .map(|k| k as f64 * s)
+            .collect(),
+        _ => Vec::new(),
+    }
+}
+
 /// What a comparison gives (`compare.json`, written and read back through this type; `pcsim
 /// schema compare`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]

@@ -19,5 +19,6 @@ mod solve_nufft;
 mod solve_realtime_line;
 mod solve_sampler;
 mod solve_state;
+mod study_compare;
 mod study_run;
 mod study_schema;
