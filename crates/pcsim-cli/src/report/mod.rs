@@ -827,6 +827,10 @@ fn typed_answer(dir: &Path, kind: StudyKind) -> Result<Option<Answer>> {
 /// length, the real-time window against the full model, the run beside the measurement side by
 /// side, the Monte Carlo mean with its 95 % interval.
 fn study_answer(h: &mut String, dir: &Path, kind: StudyKind) -> Result<()> {
+    // A Monte Carlo study's answer comes with its table of each statistic's interval.
+    if kind == StudyKind::MonteCarlo {
+        return montecarlo_answer(h, dir);
+    }
     if let Some(a) = typed_answer(dir, kind)? {
         answer_section(h, &a);
         return Ok(());

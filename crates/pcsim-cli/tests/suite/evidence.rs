@@ -293,6 +293,11 @@ fn issue_42_6_every_report_opens_with_its_answer() {
         .as_f64()
         .unwrap();
     assert!(html.contains(&format!("{m:.3}")), "the mean σ {m:.3}");
+    // Its table of every statistic with its interval (not only the answer.json every study has).
+    assert!(
+        html.contains("95 % interval of the mean"),
+        "no table of intervals"
+    );
 }
 
 /// `pcsim validate --verify`: every row carries its refined and stiff-contact value and
