@@ -38,11 +38,7 @@ pub fn drive<S: Study + Sync>(study: &S, d: Drive<'_>, ctx: &Ctx) -> Result<S::O
     let mut kept = None;
     let mut run = |done: &(dyn Fn() + Sync)| {
         let output = study.run(done)?;
-        let ran = Ran {
-            files: study.files(&output),
-            answer: S::answer(&output),
-            figures: study.figures(&output),
-        };
+        let ran = Ran::of(study, &output);
         kept = Some(output);
         Ok(ran)
     };

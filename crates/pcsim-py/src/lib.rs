@@ -833,17 +833,13 @@ fn study(spec_toml: &str, base_dir: &str) -> PyResult<StudyRan> {
     let dir = std::path::PathBuf::from(base_dir);
     let load = |name: &str| -> Result<(pcsim_core::Case, String), pcsim_core::CaseError> {
         let path = dir.join(name);
-        if path.is_file() {
+        let file = path.is_file().then(|| {
             let read = std::fs::File::open(&path).and_then(|f| {
                 pcsim_core::input::read_text_limited(f, pcsim_core::input::MAX_INPUT_BYTES)
             });
-            let text = read.as_ref().cloned().unwrap_or_default();
-            let case = pcsim_core::input::case_from_file(&path.display().to_string(), read)?;
-            Ok((case, text))
-        } else {
-            let case = pcsim_core::input::case_from_preset(name)?;
-            Ok((case, presets::find(name)?.toml.to_string()))
-        }
+            (path.display().to_string(), read)
+        });
+        pcsim_core::study::case_named(name, file)
     };
     let s = pcsim_core::study::from_spec(spec_toml, &load).map_err(err)?;
     s.check().map_err(err)?;

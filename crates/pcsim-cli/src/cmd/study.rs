@@ -61,15 +61,9 @@ pub fn study(a: StudyArgs, ctx: &Ctx) -> Result<i32> {
     let case_text = RefCell::new(None::<String>);
     let load = |name: &str| -> Result<(pcsim_core::input::Case, String), CaseError> {
         let path = dir.join(name);
-        let (case, t) = if path.is_file() {
-            let read = crate::common::read_input(&path);
-            let t = read.as_ref().cloned().unwrap_or_default();
-            let c = pcsim_core::input::case_from_file(&path.display().to_string(), read)?;
-            (c, t)
-        } else {
-            let c = pcsim_core::input::case_from_preset(name)?;
-            (c, pcsim_core::presets::find(name)?.toml.to_string())
-        };
+        let file = (path.is_file())
+            .then(|| (path.display().to_string(), crate::common::read_input(&path)));
+        let (case, t) = pcsim_core::study::case_named(name, file)?;
         *case_text.borrow_mut() = Some(t.clone());
         Ok((case, t))
     };

@@ -472,7 +472,7 @@ pub fn redraw_kind(dir: &Path, kind: StudyKind) -> Result<Vec<PathBuf>> {
 /// The figures a study declared as data (`figures.json`, read back through the core's
 /// [`pcsim_core::study::Figure`]; none when the directory has no such file), each drawn as a
 /// line chart: the same code for every study that declares its figures.
-pub fn declared(dir: &Path) -> Result<Vec<PathBuf>> {
+fn declared(dir: &Path) -> Result<Vec<PathBuf>> {
     let p = dir.join("figures.json");
     if !p.is_file() {
         return Ok(Vec::new());

@@ -212,6 +212,17 @@ pub struct Ran {
     pub figures: Vec<Figure>,
 }
 
+impl Ran {
+    /// What `study`'s `output` is written as: its files, its answer, its figures.
+    pub fn of<S: Study>(study: &S, output: &S::Output) -> Ran {
+        Ran {
+            files: study.files(output),
+            answer: S::answer(output),
+            figures: study.figures(output),
+        }
+    }
+}
+
 /// A study with its output type erased: what the registry of spec-file studies hands out
 /// ([`crate::study::from_spec`]) and the one driver takes. Every [`Study`] is one.
 pub trait AnyStudy: Sync {
@@ -245,11 +256,6 @@ impl<S: Study + Sync> AnyStudy for S {
         Study::case_label(self)
     }
     fn run_erased(&self, done: &(dyn Fn() + Sync)) -> Result<Ran, SimError> {
-        let output = self.run(done)?;
-        Ok(Ran {
-            files: self.files(&output),
-            answer: S::answer(&output),
-            figures: self.figures(&output),
-        })
+        Ok(Ran::of(self, &self.run(done)?))
     }
 }

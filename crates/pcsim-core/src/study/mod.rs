@@ -45,6 +45,25 @@ use crate::input::Case;
 /// opens no file), as the case and its text.
 pub type CaseLoader<'a> = dyn Fn(&str) -> Result<(Case, String), CaseError> + 'a;
 
+/// The case a spec names, by the one rule of every front end: the file of that name beside the
+/// spec (`file`: its path as shown and what the front end's read gave, when such a file
+/// exists), else the embedded preset of that name; with its text as given.
+pub fn case_named(
+    name: &str,
+    file: Option<(String, std::io::Result<String>)>,
+) -> Result<(Case, String), CaseError> {
+    match file {
+        Some((path, read)) => {
+            let text = read.as_ref().cloned().unwrap_or_default();
+            Ok((crate::input::case_from_file(&path, read)?, text))
+        }
+        None => Ok((
+            crate::input::case_from_preset(name)?,
+            crate::input::presets::find(name)?.toml.to_string(),
+        )),
+    }
+}
+
 /// A spec's text and the front end's case loader made into its study.
 pub type BuildStudy = fn(&str, &CaseLoader<'_>) -> Result<Box<dyn AnyStudy>, CaseError>;
 

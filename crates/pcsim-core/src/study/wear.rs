@@ -29,6 +29,7 @@ use crate::analysis::record::{simulate, PantographTrace, RunOutput};
 use crate::analysis::sweep::parallel_map;
 use crate::compile::Setup;
 use crate::error::{CaseError, SimError};
+use crate::input::bounds::inv;
 use crate::input::overrides::{with_overrides, OverrideValue};
 use crate::input::Case;
 use crate::study::contract::{
@@ -619,14 +620,6 @@ pub struct WearOutput {
     pub provenance: Vec<Provenance>,
 }
 
-fn invalid(field: &str, value: impl ToString, reason: &str) -> CaseError {
-    CaseError::Invalid {
-        field: field.into(),
-        value: value.to_string(),
-        reason: reason.into(),
-    }
-}
-
 impl WearSpec {
     /// Parse a spec: every error names its field.
     pub fn from_toml_str(text: &str) -> Result<WearSpec, CaseError> {
@@ -684,18 +677,14 @@ impl WearSpec {
     /// Refuse what the study cannot honour, by its field.
     pub fn check(&self, case: &Case) -> Result<(), CaseError> {
         if self.kind != "wear" {
-            return Err(invalid(
-                "kind",
-                &self.kind,
-                "a wear spec's kind is \"wear\"",
-            ));
+            return Err(inv("kind", &self.kind, "a wear spec's kind is \"wear\""));
         }
         for (field, s) in self.sourced() {
             if !s.value.is_finite() || s.value < 0.0 {
-                return Err(invalid(&field, s.value, "must be a finite number ≥ 0"));
+                return Err(inv(&field, s.value, "must be a finite number ≥ 0"));
             }
             if s.source.trim().is_empty() {
-                return Err(invalid(&field, s.value, "give its source, or `guess: why`"));
+                return Err(inv(&field, s.value, "give its source, or `guess: why`"));
             }
         }
         let positive = [
@@ -719,11 +708,11 @@ impl WearSpec {
         ];
         for (field, v) in positive {
             if v <= 0.0 {
-                return Err(invalid(field, v, "must be > 0"));
+                return Err(inv(field, v, "must be > 0"));
             }
         }
         if self.limits.wire_area_loss_percent.value >= 100.0 {
-            return Err(invalid(
+            return Err(inv(
                 "limits.wire_area_loss_percent",
                 self.limits.wire_area_loss_percent.value,
                 "a loss of section below 100 %",
@@ -731,7 +720,7 @@ impl WearSpec {
         }
         let [x0, x1] = case.run.analysis_m;
         if (x1 - x0) / self.bin_m.value > MAX_BINS as f64 {
-            return Err(invalid(
+            return Err(inv(
                 "bin_m",
                 self.bin_m.value,
                 &format!(
@@ -741,11 +730,11 @@ impl WearSpec {
             ));
         }
         if self.trains.is_empty() {
-            return Err(invalid("trains", "[]", "give at least one train"));
+            return Err(inv("trains", "[]", "give at least one train"));
         }
         for (k, t) in self.trains.iter().enumerate() {
             if t.speed_kmh.value <= 0.0 {
-                return Err(invalid(
+                return Err(inv(
                     &format!("trains[{k}].speed_kmh"),
                     t.speed_kmh.value,
                     "must be > 0",
@@ -754,7 +743,7 @@ impl WearSpec {
             let sorted = t.current_profile.windows(2).all(|w| w[1][0] > w[0][0]);
             let finite = t.current_profile.iter().flatten().all(|v| v.is_finite());
             if !sorted || !finite {
-                return Err(invalid(
+                return Err(inv(
                     &format!("trains[{k}].current_profile"),
                     format!("{:?}", t.current_profile),
                     "finite [position_m, current_a] points in increasing position",
@@ -763,12 +752,12 @@ impl WearSpec {
         }
         if self.realisations != 1 {
             if let Err(why) = crate::analysis::sweep::check_seeds(Some(self.realisations), case) {
-                return Err(invalid("realisations", self.realisations, &why));
+                return Err(inv("realisations", self.realisations, &why));
             }
         }
         let runs = self.trains.len() * self.realisations;
         if runs > MAX_RUNS {
-            return Err(invalid(
+            return Err(inv(
                 "realisations",
                 self.realisations,
                 &format!("{runs} runs (trains × realisations): at most {MAX_RUNS}"),
@@ -843,7 +832,7 @@ impl WearStudy {
             for (k, r) in runs.iter().enumerate() {
                 let tr = &r.out.pantographs[p];
                 if tr.stats.is_none() {
-                    return Err(SimError::Case(invalid(
+                    return Err(SimError::Case(inv(
                         "case.run.analysis_m",
                         format!("{:?}", self.case.run.analysis_m),
                         &format!("pantograph {} did not cross the analysis section", tr.name),
@@ -1062,7 +1051,7 @@ pub fn build(
 ) -> Result<Box<dyn crate::study::AnyStudy>, CaseError> {
     let spec = WearSpec::from_toml_str(text)?;
     let (case, _) = load(&spec.case).map_err(|e| match e {
-        CaseError::UnknownPreset(_) => invalid(
+        CaseError::UnknownPreset(_) => inv(
             "case",
             &spec.case,
             "neither a case file beside the spec nor a preset (see `pcsim presets`)",

@@ -42,6 +42,19 @@ fn trace(
     }
 }
 
+/// 3000 steps of 1 ms at 70 m/s, the force 120 ± 40 N and never lost.
+fn pressing() -> PantographTrace {
+    trace(
+        0.0,
+        70.0,
+        1e-3,
+        3000,
+        |x| 120.0 + 40.0 * (x / 7.0).sin(),
+        |_| -1e-4,
+        None,
+    )
+}
+
 fn spec() -> WearSpec {
     WearSpec::from_toml_str(DEFAULT_SPEC).unwrap()
 }
@@ -133,15 +146,7 @@ fn the_lateral_sweep_of_a_straight_zigzag_is_2sv_over_l() {
 #[test]
 fn without_a_loss_of_contact_there_is_no_arc() {
     let s = spec();
-    let tr = trace(
-        0.0,
-        70.0,
-        1e-3,
-        3000,
-        |x| 120.0 + 40.0 * (x / 7.0).sin(),
-        |_| -1e-4,
-        None,
-    );
+    let tr = pressing();
     let p = passage(
         &tr,
         1e-3,
@@ -161,15 +166,7 @@ fn without_a_loss_of_contact_there_is_no_arc() {
 #[test]
 fn a_doubled_current_doubles_the_electrical_term() {
     let s = spec();
-    let tr = trace(
-        0.0,
-        70.0,
-        1e-3,
-        3000,
-        |x| 120.0 + 40.0 * (x / 7.0).sin(),
-        |_| -1e-4,
-        None,
-    );
+    let tr = pressing();
     let b = bins([10.0, 200.0]);
     let one = passage(&tr, 1e-3, 70.0, &train(300.0), &s.law, &b, 0);
     let two = passage(&tr, 1e-3, 70.0, &train(600.0), &s.law, &b, 0);
