@@ -38,6 +38,8 @@ pub struct PlotData {
     pub supports_m: Vec<f64>,
     /// A line's overlaps (first and last shared support), m.
     pub overlaps_m: Vec<[f64; 2]>,
+    /// A line's hard spots (section insulators, neutral sections), m.
+    pub hard_spots_m: Vec<[f64; 2]>,
     pub analysis_m: [f64; 2],
     /// The flags that overrode case values (named in the titles).
     pub overrides: Vec<String>,
@@ -114,6 +116,21 @@ fn span_marks<DB: DrawingBackend>(
             .label("overlaps (two contact wires; the tension length changes)")
             .legend(move |(x, y)| {
                 Rectangle::new([(x - 6, y - 5), (x + 6, y + 5)], blue.mix(0.5).filled())
+            });
+    }
+    // The hard spots (section insulators, neutral sections), shaded red.
+    if !d.hard_spots_m.is_empty() {
+        let red = RGBColor(230, 90, 90);
+        chart
+            .draw_series(
+                d.hard_spots_m
+                    .iter()
+                    .map(|o| Rectangle::new([(o[0], y.0), (o[1], y.1)], red.mix(0.25).filled())),
+            )
+            .map_err(|e| anyhow!("{e:?}"))?
+            .label("section insulators and neutral sections")
+            .legend(move |(x, y)| {
+                Rectangle::new([(x - 6, y - 5), (x + 6, y + 5)], red.mix(0.5).filled())
             });
     }
     // The supports: dashed, in a colour of their own (the grid is solid light grey), with a
@@ -794,6 +811,14 @@ fn plot_data(summary: &RunSummary, traces: Vec<Trace>) -> PlotData {
         span_m: summary.span_m.filter(|s| *s > 0.0),
         supports_m: summary.supports_m.clone(),
         overlaps_m: summary.overlaps_m.clone(),
+        hard_spots_m: {
+            let mut v: Vec<[f64; 2]> = (summary.pantographs.iter())
+                .flat_map(|p| p.hard_spots.iter().map(|h| h.section_m))
+                .collect();
+            v.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+            v.dedup();
+            v
+        },
         analysis_m: summary.analysis_section_m,
         overrides: summary.overrides.clone(),
         traces,

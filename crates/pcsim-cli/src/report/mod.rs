@@ -154,6 +154,7 @@ pub fn write(dir: &Path) -> Result<PathBuf> {
     figures(&mut h, dir, &m.files)?;
     run_section(&mut h, &summary);
     overlaps_section(&mut h, &summary.pantographs);
+    hard_spots_section(&mut h, &summary.pantographs);
     droppers_section(&mut h, dir, summary.analysis_section_m);
     provenance(&mut h, dir, &summary.overrides)?;
     finish(dir, h)
@@ -376,6 +377,47 @@ fn sensitivity_section(h: &mut String, s: &Sensitivity) {
         &["value", "case", "range", "source", "why this range"],
         &prow,
     );
+}
+
+/// Each pantograph's passage over each hard spot of a line (section insulators, neutral
+/// sections).
+fn hard_spots_section(h: &mut String, pans: &[PantographSummary]) {
+    let rows: Vec<Vec<String>> = (pans.iter())
+        .flat_map(|p| {
+            p.hard_spots.iter().map(|o| {
+                vec![
+                    p.name.clone(),
+                    match o.kind {
+                        pcsim_core::model::HardSpotKind::SectionInsulator => "section insulator",
+                        pcsim_core::model::HardSpotKind::NeutralSection => "neutral section",
+                    }
+                    .to_string(),
+                    format!("{}–{}", n(&o.section_m[0]), n(&o.section_m[1])),
+                    n(&o.max_force_n),
+                    n(&o.min_force_n),
+                    n(&o.loss_of_contact_percent),
+                    n(&o.max_uplift_mm),
+                ]
+            })
+        })
+        .collect();
+    if !rows.is_empty() {
+        h.push_str("<h2>Passages over the hard spots</h2>\n");
+        table(
+            h,
+            "Each pantograph over each section insulator and neutral section (raw force)",
+            &[
+                "pantograph",
+                "what",
+                "where [m]",
+                "max [N]",
+                "min [N]",
+                "loss [%]",
+                "uplift [mm]",
+            ],
+            &rows,
+        );
+    }
 }
 
 /// Each pantograph's passage through each overlap of a line.

@@ -10,6 +10,7 @@ mod design;
 mod errors_downstream;
 mod evidence;
 mod fuzz_run;
+mod hard_spots;
 mod matrix;
 mod output_transactions;
 mod physics_errors;

@@ -3,7 +3,8 @@
 
 use crate::analysis::filter::lowpass_zero_phase;
 use crate::analysis::stats::{
-    contact_stats, lateral_stats, ContactStats, LateralStats, OverlapStats, CUTOFF_HZ,
+    contact_stats, hard_spot_stats, lateral_stats, ContactStats, HardSpotStats, LateralStats,
+    OverlapStats, CUTOFF_HZ,
 };
 use crate::compile::Setup;
 use crate::error::SimError;
@@ -46,6 +47,8 @@ pub struct PantographTrace {
     pub wire_forces: Vec<(String, Vec<f64>)>,
     /// The passage through each overlap of a line, in track order (those passed).
     pub overlaps: Vec<OverlapStats>,
+    /// The passage over each hard spot of a line (issue 55; those passed).
+    pub hard_spots: Vec<HardSpotStats>,
     /// Per collector strip (issue 43; empty for a head without strips): its place on the head
     /// and its own contact force with its statistics (the pantograph's are the sum's).
     pub strips: Vec<StripTrace>,
@@ -319,6 +322,15 @@ impl Recorder {
             .into_iter()
             .filter_map(|o| o.finish(&self.pos[p], &self.idle_gap[p]))
             .collect();
+        let hard_spots = (m.hard_spots.iter())
+            .filter_map(|h| {
+                let (x, height) = (&self.pos[p], &self.height[p]);
+                hard_spot_stats(h.kind, h.section_m, x, &self.force[p], |i| {
+                    let xm = x[i] - m.track_origin_m;
+                    height[i] - m.static_height(h.wire, Direction::Vertical, xm, m.track_origin_m)
+                })
+            })
+            .collect();
         let lateral = if self.lateral[p].is_empty() {
             None
         } else {
@@ -374,6 +386,7 @@ impl Recorder {
             twist_rad: std::mem::take(&mut self.twist[p]),
             head_half_width_m: pan.head_half_width_m,
             lateral,
+            hard_spots,
             wire_forces: (self.wire_points[p].iter())
                 .zip(std::mem::take(&mut self.wire_force[p]))
                 .map(|(ks, f)| {

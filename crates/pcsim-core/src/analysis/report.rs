@@ -6,7 +6,7 @@ use serde::Serialize;
 
 use crate::analysis::events::run_errors;
 use crate::analysis::record::RunOutput;
-use crate::analysis::stats::{ContactStats, LateralStats, OverlapStats};
+use crate::analysis::stats::{ContactStats, HardSpotStats, LateralStats, OverlapStats};
 use crate::input::case::Case;
 use crate::model::irregularity::IrregularityReport;
 use crate::model::wind::WindReport;
@@ -51,6 +51,9 @@ pub struct PantographSummary {
     /// Its passage through each overlap of a line (issue 21).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub overlaps: Vec<OverlapStats>,
+    /// Its passage over each section insulator and neutral section (issue 55).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub hard_spots: Vec<HardSpotStats>,
     /// Each collector strip's own contact (issue 43; `stats` above are their sum's).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub strips: Vec<StripSummary>,
@@ -230,6 +233,7 @@ impl RunSummary {
                     stats: p.stats,
                     lateral: p.lateral.clone(),
                     overlaps: p.overlaps.clone(),
+                    hard_spots: p.hard_spots.clone(),
                     strips: (p.strips.iter())
                         .map(|s| StripSummary {
                             along_m: s.along_m,

@@ -209,6 +209,62 @@ pub struct OverlapStats {
     pub samples: usize,
 }
 
+/// One pantograph's passage over a hard spot of a line (issue 55: a section insulator, a
+/// neutral section): the raw contact force and the contact wire's uplift at the contact point
+/// while the pantograph is over it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize, schemars::JsonSchema)]
+pub struct HardSpotStats {
+    /// What it is.
+    pub kind: crate::model::HardSpotKind,
+    /// Its extent along the track, m.
+    pub section_m: [f64; 2],
+    /// Largest raw contact force over it, N.
+    pub max_force_n: f64,
+    /// Smallest raw contact force over it, N.
+    pub min_force_n: f64,
+    /// Share of its samples with no contact force, %.
+    pub loss_of_contact_percent: f64,
+    /// Largest rise of the contact wire at the contact point above its static height (the
+    /// runners' included) over it, mm.
+    pub max_uplift_mm: f64,
+    /// Samples over it.
+    pub samples: usize,
+}
+
+/// The passage over `section_m` of a pantograph at positions `x` (track coordinates) with
+/// raw forces `force_n` and the contact wire's rise above its static height `rise_m` at each
+/// sample; `None` when it never was over it.
+pub fn hard_spot_stats(
+    kind: crate::model::HardSpotKind,
+    section_m: [f64; 2],
+    x: &[f64],
+    force_n: &[f64],
+    rise_m: impl Fn(usize) -> f64,
+) -> Option<HardSpotStats> {
+    let inside: Vec<usize> = (0..x.len())
+        .filter(|&i| x[i] >= section_m[0] && x[i] <= section_m[1])
+        .collect();
+    if inside.is_empty() {
+        return None;
+    }
+    let f = |i: &usize| force_n[*i];
+    Some(HardSpotStats {
+        kind,
+        section_m,
+        max_force_n: inside.iter().map(f).fold(f64::NEG_INFINITY, f64::max),
+        min_force_n: inside.iter().map(f).fold(f64::INFINITY, f64::min),
+        loss_of_contact_percent: 100.0
+            * inside.iter().filter(|&i| force_n[*i] <= 0.0).count() as f64
+            / inside.len() as f64,
+        max_uplift_mm: 1e3
+            * inside
+                .iter()
+                .map(|&i| rise_m(i))
+                .fold(f64::NEG_INFINITY, f64::max),
+        samples: inside.len(),
+    })
+}
+
 impl OverlapStats {
     /// An overlap not yet passed.
     pub fn new(section_m: [f64; 2]) -> Self {

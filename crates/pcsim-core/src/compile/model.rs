@@ -13,6 +13,9 @@ use crate::model::dof::Direction;
 use crate::model::elements::contact::{Contact, ContactLaw, Contacts};
 use crate::model::elements::dropper::{Dropper, Droppers};
 use crate::model::elements::registration::{Registration, Registrations};
+use crate::model::elements::section_insulator::{
+    curvature_stiffness_n_per_m, runner_height_m, SectionInsulator, SectionInsulators,
+};
 use crate::model::elements::steady_arm::{SteadyArm, SteadyArms};
 use crate::model::elements::stitch::{Stitch, Stitches};
 use crate::model::elements::support::{Support, Supports};
@@ -29,7 +32,7 @@ use crate::model::statics::{
 use crate::model::wind::{mean_at_height, Profile, WindLoad, WindReport, WireWind};
 use crate::model::wind_field::{FieldSpec, SpectrumModel, WindField};
 use crate::model::wire::{Section, Wire, WireRole};
-use crate::model::{Model, Node, StaticShape};
+use crate::model::{HardSpot, HardSpotKind, Model, Node, StaticShape};
 
 /// What the static shape needs of a case's catenary.
 pub fn static_design(c: &CatenaryCase) -> StaticDesign {
@@ -543,6 +546,9 @@ pub fn model_from_validated(
     if !registrations.is_empty() {
         elements.push(Box::new(Registrations(registrations)));
     }
+    if !case.section_insulator.is_empty() {
+        elements.push(Box::new(build_section_insulators(case, &dirs)?));
+    }
     elements.push(Box::new(contacts));
     let mut model = Model::new(
         wires,
@@ -557,6 +563,7 @@ pub fn model_from_validated(
         .line
         .as_ref()
         .map_or(Vec::new(), |l| l.overlap_sections_m());
+    model.hard_spots = hard_spots(case);
     model.lateral = geometry;
     model.wind = wind;
     model.irregularity = build_irregularity(case, &iced.catenary);
@@ -996,16 +1003,85 @@ fn build_pantographs(
     )
 }
 
-/// The contact wire's irregularity (the case's sources on the line), if any.
+/// The contact wire's irregularity (the case's sources on the line), if any, with the section
+/// insulators' runners ([`runner_height_m`]: the running surface's deviation from the wire's
+/// design height over each insulator, a given geometry as an irregularity is).
 fn build_irregularity(case: &Case, c: &CatenaryCase) -> Option<IrregularityProfile> {
-    (!case.irregularity.is_empty()).then(|| {
-        IrregularityProfile::build(
-            &irregularity_sources(&case.irregularity),
-            case.length_m(),
-            c.span_m,
-            &c.droppers.positions_m,
-        )
-    })
+    let runners: Vec<_> = (case.section_insulator.iter())
+        .filter(|s| s.prelift_m != 0.0)
+        .collect();
+    if case.irregularity.is_empty() && runners.is_empty() {
+        return None;
+    }
+    let mut profile = IrregularityProfile::build(
+        &irregularity_sources(&case.irregularity),
+        case.length_m(),
+        c.span_m,
+        &c.droppers.positions_m,
+    );
+    for s in runners {
+        profile.add(|x| runner_height_m(x, s.position_m, s.length_m, s.ramp_m, s.prelift_m));
+    }
+    Some(profile)
+}
+
+/// The hard spots a run reports its passage over: each section insulator (its extent) and each
+/// neutral section (its dead length), on the contact wire that holds it (a validated case).
+fn hard_spots(case: &Case) -> Vec<HardSpot> {
+    let wire = |section_m| {
+        2 * crate::input::hard_spots::tension_length_under(case, section_m).unwrap_or(0) + CONTACT
+    };
+    let insulators = case.section_insulator.iter().map(|s| HardSpot {
+        kind: HardSpotKind::SectionInsulator,
+        section_m: s.extent_m(),
+        wire: wire(s.extent_m()),
+    });
+    let neutral = case.neutral_section.iter().map(|n| {
+        // On the contact wire of the insulator it starts on.
+        let on = (case.section_insulator.iter())
+            .find(|s| (s.extent_m()[0]..=s.extent_m()[1]).contains(&n.start_m))
+            .map_or([n.start_m, n.start_m], |s| s.extent_m());
+        HardSpot {
+            kind: HardSpotKind::NeutralSection,
+            section_m: [n.start_m, n.end_m],
+            wire: wire(on),
+        }
+    });
+    insulators.chain(neutral).collect()
+}
+
+/// The section insulators of a case (issue 55): each on the contact wire of the tension length
+/// that holds it, in every modelled translation (vertical, lateral), adding its mass and its
+/// bending stiffness over the wire's (`model::elements::section_insulator`).
+fn build_section_insulators(case: &Case, dirs: &Dirs) -> Result<SectionInsulators, CaseError> {
+    let mut out = Vec::new();
+    for (i, s) in case.section_insulator.iter().enumerate() {
+        let k = crate::input::hard_spots::tension_length_under(case, s.extent_m()).map_err(
+            |reason| {
+                crate::input::bounds::inv(
+                    &format!("section_insulator[{i}].position_m"),
+                    s.position_m,
+                    &reason,
+                )
+            },
+        )?;
+        let catenary = case.line.as_ref().map_or_else(
+            || case.catenary.clone(),
+            |l| l.tension_lengths[k].catenary(&case.catenary),
+        );
+        let wire = 2 * k + CONTACT;
+        let c = curvature_stiffness_n_per_m(s.ei_nm2 - catenary.contact_wire.ei_nm2, s.length_m);
+        for &dir in dirs.all.iter().filter(|&&d| d != Direction::Torsional) {
+            let at = |x_m| Attach::Wire { wire, dir, x_m };
+            let [a, b] = s.extent_m();
+            out.push(SectionInsulator {
+                at: [at(a), at(s.position_m), at(b)],
+                mass_kg: s.mass_kg,
+                curvature_n_per_m: c,
+            });
+        }
+    }
+    Ok(SectionInsulators(out))
 }
 
 /// One dropper of the model, where it hangs, with its static data.

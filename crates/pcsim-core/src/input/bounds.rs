@@ -214,6 +214,20 @@ pub const IRREGULARITY_RMS: Bound = b((0.0, 0.5), (0.0, 0.03), "m", "0–20 mm")
 pub const IRREGULARITY_WAVELENGTH: Bound = b((0.0, 1.0e5), (0.1, 1000.0), "m", "1–200 m");
 /// A tabulated deviation of the contact wire, m.
 pub const IRREGULARITY_DEVIATION: Bound = b((-1.0, 1.0), (-0.1, 0.1), "m", "within ±30 mm");
+/// A section insulator's length, m (a guess from makers' data sheets: 1–3 m for high-speed
+/// designs; the hard bound where a point element stops meaning anything).
+pub const INSULATOR_LENGTH: Bound = b((0.1, 20.0), (0.5, 5.0), "m", "1–3 m");
+/// A section insulator's mass, kg (a guess: makers' sheets give 5–25 kg).
+pub const INSULATOR_MASS: Bound = b((0.0, 500.0), (0.0, 50.0), "kg", "5–25 kg");
+/// A section insulator's bending stiffness, N·m² (a guess: a wire's is 10²–10³, a glass-fibre
+/// rod with its runners a few 10⁴).
+pub const INSULATOR_EI: Bound = b((0.0, 1.0e8), (0.0, 1.0e6), "N·m²", "10³–10⁵ N·m²");
+/// A section insulator's pre-lift (its runners above the wire's design height), m (a guess:
+/// installation rules ask for a few centimetres at most).
+pub const INSULATOR_PRELIFT: Bound = b((-0.2, 0.2), (-0.01, 0.05), "m", "0–30 mm");
+/// A neutral section's dead length, m (a guess: short neutral sections are a few metres,
+/// phase breaks up to about 400 m).
+pub const NEUTRAL_SECTION_LENGTH: Bound = b((0.1, 5000.0), (1.0, 500.0), "m", "a few m to 400 m");
 
 /// Check `v` of `field` against `b`: an error outside the hard bounds, a warning outside the
 /// soft ones.

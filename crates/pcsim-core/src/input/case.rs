@@ -51,6 +51,12 @@ pub struct Case {
     /// The dropper wire's S–N curve, for Miner's damage (`pcsim run --dropper-forces`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dropper_fatigue: Option<DropperFatigueCase>,
+    /// Section insulators in the contact wire (issue 55, `input::hard_spots`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub section_insulator: Vec<crate::input::hard_spots::SectionInsulatorCase>,
+    /// Neutral sections: dead lengths between section insulators.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub neutral_section: Vec<crate::input::hard_spots::NeutralSectionCase>,
 }
 
 /// The dropper wire's fatigue: a Basquin S–N curve in stress range,

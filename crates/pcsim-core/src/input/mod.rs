@@ -5,6 +5,7 @@ pub mod bounds;
 pub mod case;
 pub mod criteria;
 pub mod design;
+pub mod hard_spots;
 pub mod irregularity;
 pub mod lateral;
 pub mod line;

@@ -37,6 +37,11 @@ pub const PRESETS: &[Preset] = &[
         toml: include_str!("../../../../presets/stitched-2018-like.toml"),
     },
     Preset {
+        name: "neutral-section-2018-like",
+        summary: "stitched-2018-like with a short neutral section: two section insulators 6 m apart at 915-921 m (issue 55; the insulators' data guesses)",
+        toml: include_str!("../../../../presets/neutral-section-2018-like.toml"),
+    },
+    Preset {
         name: "syt-7.0-9.8",
         summary: "Swedish stitched SYT 7.0/9.8 (reconstructed; the paper's EVA case), DSA380-type pantograph, 222 km/h",
         toml: include_str!("../../../../presets/syt-7.0-9.8.toml"),

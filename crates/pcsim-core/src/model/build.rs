@@ -5,6 +5,9 @@ use crate::model::basis::SineBasis;
 use crate::model::dof::Direction;
 use crate::model::elements::contact::{Contact, ContactLaw, Contacts};
 use crate::model::elements::registration::{Registration, Registrations};
+use crate::model::elements::section_insulator::{
+    curvature_stiffness_n_per_m, SectionInsulator, SectionInsulators,
+};
 use crate::model::elements::steady_arm::{SteadyArm, SteadyArms};
 use crate::model::elements::{Attach, PointElement};
 use crate::model::pantograph::{Pantograph, PantographKind};
@@ -40,6 +43,7 @@ pub struct ModelBuilder {
     run: BuilderRun,
     dirs: Vec<Direction>,
     registrations: Vec<Registration>,
+    insulators: Vec<SectionInsulator>,
     lateral_load_n_per_m: Option<f64>,
     vertical_load_n_per_m: f64,
 }
@@ -70,6 +74,7 @@ impl ModelBuilder {
             },
             dirs: vec![Direction::Vertical],
             registrations: Vec::new(),
+            insulators: Vec::new(),
             lateral_load_n_per_m: None,
             vertical_load_n_per_m: 0.0,
         }
@@ -150,6 +155,29 @@ impl ModelBuilder {
             },
             mass_kg,
             stiffness_n_per_m,
+        });
+        self
+    }
+
+    /// A section insulator in the vertical direction centred at `x_m`: `length_m` long, its
+    /// mass at the centre, `added_ei_nm2` stiffer in bending than the wire
+    /// ([`crate::model::elements::section_insulator`]).
+    pub fn section_insulator(
+        mut self,
+        x_m: f64,
+        length_m: f64,
+        mass_kg: f64,
+        added_ei_nm2: f64,
+    ) -> Self {
+        let at = |x_m| Attach::Wire {
+            wire: 0,
+            dir: Direction::Vertical,
+            x_m,
+        };
+        self.insulators.push(SectionInsulator {
+            at: [at(x_m - 0.5 * length_m), at(x_m), at(x_m + 0.5 * length_m)],
+            mass_kg,
+            curvature_n_per_m: curvature_stiffness_n_per_m(added_ei_nm2, length_m),
         });
         self
     }
@@ -241,6 +269,9 @@ impl ModelBuilder {
         let mut elements: Vec<Box<dyn PointElement>> = vec![Box::new(SteadyArms(self.arms))];
         if !self.registrations.is_empty() {
             elements.push(Box::new(Registrations(self.registrations)));
+        }
+        if !self.insulators.is_empty() {
+            elements.push(Box::new(SectionInsulators(self.insulators)));
         }
         elements.push(Box::new(contacts));
         let mut model = Model::new(

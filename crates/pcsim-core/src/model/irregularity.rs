@@ -122,6 +122,14 @@ impl IrregularityProfile {
         self.r_m[i] + t * (self.r_m[i + 1] - self.r_m[i])
     }
 
+    /// Add `f(x)` (m, upward positive; track coordinates) at every grid point: a given
+    /// deviation that is not a source of its own (a section insulator's runners).
+    pub fn add(&mut self, f: impl Fn(f64) -> f64) {
+        for (k, r) in self.r_m.iter_mut().enumerate() {
+            *r += f(self.x0_m + k as f64 * self.dx_m);
+        }
+    }
+
     /// RMS of the profile over `[0, length_m]`, m.
     pub fn rms_over(&self, length_m: f64) -> f64 {
         rms_of(|x| self.at(x), length_m, self.dx_m)

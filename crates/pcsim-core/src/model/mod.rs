@@ -81,6 +81,29 @@ impl StaticShape {
     }
 }
 
+/// What a hard spot of a line is (issue 55).
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum HardSpotKind {
+    /// A section insulator in the contact wire (its extent).
+    SectionInsulator,
+    /// A neutral section's dead length (between two insulators).
+    NeutralSection,
+}
+
+/// A hard spot of a line: what it is, where (track coordinates) and on which contact wire.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HardSpot {
+    /// What it is.
+    pub kind: HardSpotKind,
+    /// Its extent along the track, m.
+    pub section_m: [f64; 2],
+    /// The contact wire it lies on (index into `Model::wires`).
+    pub wire: usize,
+}
+
 /// The whole model.
 #[derive(Debug, Clone)]
 pub struct Model {
@@ -110,6 +133,9 @@ pub struct Model {
     pub supports_m: Vec<f64>,
     /// A line's overlaps: `[first, last]` shared support of each, model coordinates, m.
     pub overlaps_m: Vec<[f64; 2]>,
+    /// The line's hard spots (issue 55): each section insulator and neutral section, in track
+    /// order of the case; a run reports its passage over each.
+    pub hard_spots: Vec<HardSpot>,
     /// Track position of the model's x = 0 when it is built, m (0 for a full model; a window's
     /// origin). Stagger and irregularity are kept in track coordinates, because a window moves
     /// by whole spans but they need not repeat every span.
@@ -148,6 +174,7 @@ impl Model {
             irregularity: None,
             supports_m: Vec::new(),
             overlaps_m: Vec::new(),
+            hard_spots: Vec::new(),
             track_origin_m: 0.0,
         }
     }

@@ -246,6 +246,32 @@ pub fn current_at(train: &Train, x_m: f64) -> f64 {
     }
 }
 
+/// The train with no current over the dead lengths `dead_m` (a line's neutral sections, issue
+/// 55: the current stops over each): its current as a profile, zero from each dead length's
+/// start to its end, its own value up to a millimetre before and after.
+pub fn without_current_over(train: &Train, dead_m: &[[f64; 2]]) -> Train {
+    if dead_m.is_empty() {
+        return train.clone();
+    }
+    let eps = 1e-3;
+    let dead = |x: f64| dead_m.iter().any(|d| x >= d[0] && x <= d[1]);
+    let mut points: Vec<[f64; 2]> = (train.current_profile.iter())
+        .filter(|q| !dead(q[0]))
+        .copied()
+        .collect();
+    for &[a, b] in dead_m {
+        points.push([a - eps, current_at(train, a - eps)]);
+        points.push([a, 0.0]);
+        points.push([b, 0.0]);
+        points.push([b + eps, current_at(train, b + eps)]);
+    }
+    points.sort_by(|p, q| p[0].total_cmp(&q[0]));
+    Train {
+        current_profile: points,
+        ..train.clone()
+    }
+}
+
 /// One arc.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct ArcEvent {
@@ -824,6 +850,10 @@ impl WearStudy {
         let first = &runs[0].out;
         let mut wire = vec![0.0; self.bins(1.0).along()];
         let mut pantographs = Vec::new();
+        let dead: Vec<[f64; 2]> = (self.case.neutral_section.iter())
+            .map(|n| [n.start_m, n.end_m])
+            .collect();
+        let train = &without_current_over(train, &dead);
         for (p, tr0) in first.pantographs.iter().enumerate() {
             let hw = tr0.head_half_width_m.unwrap_or(0.8);
             let bins = self.bins(hw);

@@ -8,6 +8,7 @@
 use crate::input::case::{
     Case, IrregularityCase, LineCase, OverlapCase, SpanRun, TensionLengthCase,
 };
+use crate::input::hard_spots::{NeutralSectionCase, SectionInsulatorCase};
 use crate::input::lateral::IceCase;
 use crate::input::presets;
 
@@ -117,6 +118,34 @@ fn rough(mut c: Case) -> Case {
     c
 }
 
+/// A section insulator as the zoo and the example case take it (issue 55; every value a guess
+/// from makers' data sheets of high-speed section insulators, docs/hard-spots.md): 2 m long,
+/// 12 kg, 2·10⁴ N·m², runners with a 0.3 m lead-on and 10 mm of pre-lift.
+pub fn section_insulator(position_m: f64) -> SectionInsulatorCase {
+    SectionInsulatorCase {
+        position_m,
+        length_m: 2.0,
+        mass_kg: 12.0,
+        ei_nm2: 2.0e4,
+        ramp_m: 0.3,
+        prelift_m: 0.01,
+    }
+}
+
+/// A neutral section of `dead_m` starting at `start_m`: a section insulator at each end of the
+/// dead length.
+pub fn neutral_section(mut c: Case, start_m: f64, dead_m: f64) -> Case {
+    c.section_insulator = vec![
+        section_insulator(start_m),
+        section_insulator(start_m + dead_m),
+    ];
+    c.neutral_section = vec![NeutralSectionCase {
+        start_m,
+        end_m: start_m + dead_m,
+    }];
+    c
+}
+
 /// The crosswind preset's wind, with its wires' coefficients (sections with `aero`).
 fn windy(mut c: Case) -> Case {
     let w = presets::load("stitched-2018-like-3d-crosswind")
@@ -188,6 +217,10 @@ pub fn geometries() -> Vec<(&'static str, Case)> {
         ),
         ("catenary, ice", iced(sections(cat()))),
         ("catenary, irregularity", rough(cat())),
+        (
+            "catenary, neutral section",
+            neutral_section(cat(), 190.0, 25.0),
+        ),
         ("line", line()),
         ("line, two pantographs", two_pantographs(line())),
         ("line, collector strips", strips(line())),
@@ -196,6 +229,10 @@ pub fn geometries() -> Vec<(&'static str, Case)> {
         ("line, 3D, curve", curved_line(line3d())),
         ("line, ice", iced(sections(line()))),
         ("line, irregularity", rough(line())),
+        (
+            "line, 3D, neutral section",
+            neutral_section(line3d(), 395.0, 30.0),
+        ),
         (
             "line, 3D, crosswind, ice, irregularity",
             rough(iced(windy(line3d()))),

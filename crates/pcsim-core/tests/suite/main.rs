@@ -15,6 +15,7 @@ mod energy;
 mod fatigue;
 mod filter_golden;
 mod frf;
+mod hard_spots;
 mod irregularity;
 mod isa;
 mod lateral;

@@ -36,6 +36,7 @@ fn trace(
         lateral: None,
         wire_forces: Vec::new(),
         overlaps: Vec::new(),
+        hard_spots: Vec::new(),
         strips: Vec::new(),
         gap_m: x.iter().map(|&p| gap(p)).collect(),
         position_m: x,
@@ -315,4 +316,26 @@ fn realisations_over_the_seeds_give_the_same_bytes_twice_and_name_their_seeds() 
     one.spec.realisations = 1;
     let c = one.run(&|| {}).unwrap();
     assert_ne!(c.wire.daily_mm3_per_m, a.wire.daily_mm3_per_m);
+}
+
+#[test]
+fn no_current_flows_over_a_neutral_sections_dead_length() {
+    use pcsim_core::study::wear::{current_at, without_current_over};
+    // A constant current, and a profile: zero over each dead length, their own value elsewhere.
+    let mut profiled = train(300.0);
+    profiled.current_profile = vec![[0.0, 100.0], [1000.0, 500.0]];
+    for t in [train(300.0), profiled] {
+        let cut = without_current_over(&t, &[[200.0, 230.0], [600.0, 604.0]]);
+        for x in [200.0, 215.0, 230.0, 600.0, 602.0, 604.0] {
+            assert_eq!(current_at(&cut, x), 0.0, "at {x} m");
+        }
+        for x in [0.0, 150.0, 199.9, 230.1, 400.0, 599.5, 604.5, 900.0, 2000.0] {
+            assert!(
+                (current_at(&cut, x) - current_at(&t, x)).abs() < 1e-9,
+                "at {x} m: {} vs {}",
+                current_at(&cut, x),
+                current_at(&t, x)
+            );
+        }
+    }
 }

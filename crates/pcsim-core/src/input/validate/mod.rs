@@ -11,6 +11,7 @@ use crate::input::lateral::*;
 use crate::input::line::{LineCase, TensionLengthCase, OVERRIDES};
 
 mod catenary;
+mod hard_spots;
 mod irregularity;
 mod lateral;
 mod line;
@@ -18,6 +19,7 @@ mod pantographs;
 mod run;
 
 use catenary::*;
+use hard_spots::*;
 use irregularity::*;
 use lateral::*;
 use line::*;
@@ -59,6 +61,7 @@ impl Case {
         wind(self, &mut w)?;
         pantograph_heads(self, &mut w)?;
         irregularity(self, &mut w)?;
+        hard_spots(self, &mut w)?;
         Ok(w)
     }
 }

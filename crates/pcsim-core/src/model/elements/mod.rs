@@ -14,6 +14,7 @@
 pub mod contact;
 pub mod dropper;
 pub mod registration;
+pub mod section_insulator;
 pub mod steady_arm;
 pub mod stitch;
 pub mod support;
