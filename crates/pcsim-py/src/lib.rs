@@ -649,20 +649,32 @@ fn pantograph_fit(
     })
 }
 
-/// A run's summary (`Result.summary` as JSON) against the acceptance criteria, by the core's
-/// one assessment (the CLI's `pcsim assess`): the assessment as JSON. `criteria_toml` adds a
+/// A run's summary (`Result.summary` as JSON, `kind` "run") or the current-collection study's
+/// `wear.json` (`kind` "wear": its arcing) against the acceptance criteria, by the core's one
+/// assessment (the CLI's `pcsim assess`): the assessment as JSON. `criteria_toml` adds a
 /// user's criteria (status `user`, each with its source).
 #[pyfunction]
-#[pyo3(signature = (summary_json, system=None, criteria_toml=None))]
+#[pyo3(signature = (what_json, kind, system=None, criteria_toml=None))]
 fn assess(
-    summary_json: &str,
+    what_json: &str,
+    kind: &str,
     system: Option<&str>,
     criteria_toml: Option<&str>,
 ) -> PyResult<String> {
     use pcsim_core::analysis::assess::{assess, AssessInput};
     use pcsim_core::input::criteria::{self, System};
     guarded(|| {
-        let input = AssessInput::from_summary_json(summary_json).map_err(err)?;
+        // A run's summary.json, or the current-collection study's wear.json (its arcing).
+        let input = match kind {
+            "run" => AssessInput::from_summary_json(what_json),
+            "wear" => AssessInput::from_wear_json(what_json),
+            k => {
+                return Err(err(format!(
+                    "assess: a run or a wear study, not a {k} study"
+                )))
+            }
+        }
+        .map_err(err)?;
         let system = system
             .map(|s| System::parse_or_explain(s).map_err(|e| err(format!("system = {e}"))))
             .transpose()?;

@@ -763,5 +763,10 @@ def test_issue_54_the_wear_study_equals_the_clis(tmp_path):
         assert (out / name).read_text() == text, name
     assert json.loads((out / "answer.json").read_text()) == r["answer"]
     assert r["output"]["trains"][0]["name"] == "high-speed"
+    # Its arcing assessed as `pcsim assess` assesses the directory: the same rows.
+    a = pcsim.assess(r)
+    subprocess.run([PCSIM, "assess", "--quiet", str(out)], check=True, capture_output=True)
+    assert a["rows"] == json.loads((out / "assessment.json").read_text())["rows"]
+    assert [row["id"] for row in a["rows"]] == ["arcing-nq"] * 2
     with pytest.raises(Exception, match="kind"):
         pcsim.study(spec.replace('kind = "wear"', 'kind = "tear"'))

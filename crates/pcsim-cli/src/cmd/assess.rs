@@ -63,29 +63,32 @@ pub fn run(a: AssessArgs) -> Result<i32> {
     Ok(if a.strict && !result.passes() { 1 } else { 0 })
 }
 
-/// What the run's `summary.json` gives the assessment.
+/// What the directory gives the assessment: a run's `summary.json`, or the current-collection
+/// study's `wear.json` (its arcing), each as pcsim wrote it.
 fn read_run(dir: &Path) -> Result<AssessInput> {
+    use pcsim_core::study::StudyKind;
     let m = read_complete_manifest(dir)?;
-    if m.kind != pcsim_core::study::StudyKind::Run {
-        bail!(
-            "{} holds a `{}` study, not a run: pcsim assess takes the directory of `pcsim run`",
-            dir.display(),
-            m.kind
-        );
-    }
-    // The same check as the report's: a summary edited after pcsim wrote it (its error events
+    let (file, read): (&str, fn(&str) -> _) = match m.kind {
+        StudyKind::Run => ("summary.json", AssessInput::from_summary_json),
+        StudyKind::Wear => ("wear.json", AssessInput::from_wear_json),
+        kind => bail!(
+            "{} holds a `{kind}` study, not a run: pcsim assess takes the directory of `pcsim run` (or of `pcsim study wear`, for its arcing)",
+            dir.display()
+        ),
+    };
+    // The same check as the report's: a file edited after pcsim wrote it (its error events
     // deleted, a value changed) is not judged.
     let edited = crate::output::edited_files(dir, &m);
-    if edited.iter().any(|f| f == "summary.json") {
+    if edited.iter().any(|f| f == file) {
         bail!(
-            "{}: summary.json is not the file pcsim wrote (its bytes differ from the hash in pcsim.json): assess judges only what a run computed; run it again",
+            "{}: {file} is not the file pcsim wrote (its bytes differ from the hash in pcsim.json): assess judges only what pcsim computed; run it again",
             dir.display()
         );
     }
-    let path = dir.join("summary.json");
+    let path = dir.join(file);
     let text = std::fs::read_to_string(&path)
         .with_context(|| format!("cannot read {}", path.display()))?;
-    AssessInput::from_summary_json(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+    read(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
 }
 
 fn value(x: Option<f64>) -> String {
@@ -107,8 +110,12 @@ fn print(r: &Assessment) {
     for e in &r.run_errors {
         println!("  ERROR of the run: {e}");
     }
+    // The pantograph column as wide as its longest name (a study's `TRAIN at V km/h, NAME`).
+    let w = (r.rows.iter())
+        .filter_map(|row| row.pantograph.as_ref().map(|p| p.chars().count()))
+        .fold(10, usize::max);
     println!(
-        "  {:<22} {:<10} {:>10} {:>12} {:<16} {:<15}",
+        "  {:<22} {:<w$} {:>10} {:>12} {:<16} {:<15}",
         "criterion", "pantograph", "value", "limit", "verdict", "status"
     );
     for row in &r.rows {
@@ -117,7 +124,7 @@ fn print(r: &Assessment) {
             (v, _) => v.text().to_string(),
         };
         println!(
-            "  {:<22} {:<10} {:>10} {:>12} {:<16} {:<15}",
+            "  {:<22} {:<w$} {:>10} {:>12} {:<16} {:<15}",
             row.id,
             row.pantograph.as_deref().unwrap_or("(run)"),
             value(row.value),

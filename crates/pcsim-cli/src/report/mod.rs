@@ -761,6 +761,10 @@ fn write_study(dir: &Path, m: &crate::output::Manifest) -> Result<PathBuf> {
     // The answer first (issue 42, item 6), then the figures, then the tables.
     study_answer(&mut h, dir, m.kind)?;
     figures(&mut h, dir, &m.files)?;
+    // The current-collection study's arcing against the criteria, once `pcsim assess` wrote it.
+    if m.kind == StudyKind::Wear && m.lists("assessment.json") {
+        assessment(&mut h, dir, "")?;
+    }
     // The manifest's record as written, each entry a row.
     let record = serde_json::to_value(&m.record)?;
     let described: Vec<Vec<String>> = record

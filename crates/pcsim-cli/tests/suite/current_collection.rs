@@ -96,6 +96,30 @@ fn the_default_wear_study_answers_first_and_writes_its_typed_output() {
     let m: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("pcsim.json")).unwrap()).unwrap();
     assert_eq!(m["kind"], "wear");
+    // `pcsim assess` takes the study's arcing: NQ per train and pantograph with its clause and
+    // no limit held (none is cited); the report, made again, carries the assessment.
+    let o = pcsim()
+        .args(["assess", "--quiet"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    ok(&o);
+    let a: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("assessment.json")).unwrap())
+            .unwrap();
+    let rows = a["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 6, "three trains of two pantographs");
+    for (r, t) in rows.iter().zip(
+        trains
+            .iter()
+            .flat_map(|t| t["pantographs"].as_array().unwrap().iter()),
+    ) {
+        assert_eq!(r["id"], "arcing-nq");
+        assert_eq!(r["verdict"], "no-limit");
+        assert_eq!(r["value"], t["nq_percent"]);
+    }
+    let report = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(report.contains("Acceptance criteria") && report.contains("arcing-nq"));
 }
 
 #[test]

@@ -19,6 +19,11 @@ pub struct PantographInput {
     pub stats: Option<ContactStats>,
     /// Half the width of its head, m (lateral motion modelled).
     pub head_half_width_m: Option<f64>,
+    /// NQ, its share of time with an arc, % (the current-collection study's; none for a run).
+    pub arcing_percent: Option<f64>,
+    /// Its own speed where it differs from the input's, km/h (a train of the study's mix: the
+    /// criteria's speed ranges and formulas take it).
+    pub speed_kmh: Option<f64>,
 }
 
 /// What a run gives the assessment: its speed, its speed ratio and its pantographs.
@@ -37,6 +42,36 @@ pub struct AssessInput {
     /// whether its value is converged and whether its verdict holds refined and with the
     /// stiffer contact.
     pub verification: Option<Verification>,
+    /// What is assessed: a run (its force statistics), or the current-collection study (its
+    /// arcing only).
+    pub source: AssessSource,
+}
+
+/// What an assessment reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AssessSource {
+    /// A run's `summary.json`: the force statistics, the uplift, the speed ratio; no arcing.
+    Run,
+    /// The current-collection study's `wear.json` (issue 54): each train's pantographs' NQ.
+    CurrentCollection,
+}
+
+#[derive(Deserialize)]
+struct WearView {
+    trains: Vec<TrainView>,
+}
+
+#[derive(Deserialize)]
+struct TrainView {
+    name: String,
+    speed_kmh: f64,
+    pantographs: Vec<WearPantographView>,
+}
+
+#[derive(Deserialize)]
+struct WearPantographView {
+    name: String,
+    nq_percent: f64,
 }
 
 #[derive(Deserialize)]
@@ -82,9 +117,58 @@ impl AssessInput {
                     name: p.name,
                     stats: p.stats,
                     head_half_width_m: p.lateral.and_then(|l| l.head_half_width_m),
+                    arcing_percent: None,
+                    speed_kmh: None,
                 })
                 .collect(),
+            source: AssessSource::Run,
         })
+    }
+
+    /// What the current-collection study's `wear.json` (`study::wear::WearOutput`) gives the
+    /// assessment: each train's pantographs (named `TRAIN at V km/h, PANTOGRAPH`) with their NQ
+    /// and their train's speed (the input's is the fastest train's). An error names what is
+    /// missing or malformed.
+    pub fn from_wear_json(text: &str) -> Result<AssessInput, crate::error::CaseError> {
+        let v: WearView = serde_json::from_str(text).map_err(|e| {
+            crate::error::CaseError::Parse(format!(
+                "not a current-collection study's wear.json: {e}"
+            ))
+        })?;
+        Ok(AssessInput {
+            speed_kmh: (v.trains.iter()).fold(0.0, |a, t| a.max(t.speed_kmh)),
+            speed_ratio: None,
+            run_errors: Vec::new(),
+            verification: None,
+            pantographs: (v.trains.iter())
+                .flat_map(|t| {
+                    t.pantographs.iter().map(|p| PantographInput {
+                        name: format!("{} at {:.0} km/h, {}", t.name, t.speed_kmh, p.name),
+                        stats: None,
+                        head_half_width_m: None,
+                        arcing_percent: Some(p.nq_percent),
+                        speed_kmh: Some(t.speed_kmh),
+                    })
+                })
+                .collect(),
+            source: AssessSource::CurrentCollection,
+        })
+    }
+}
+
+/// Why criterion `c` has nothing to judge in what `source` gives (`None`: it has).
+fn not_given(c: &Criterion, source: AssessSource) -> Option<String> {
+    match (source, c.quantity == Quantity::Arcing) {
+        (AssessSource::Run, true) => Some(format!(
+            "{}: arcing is the current-collection study's (pcsim study wear): assess its directory",
+            c.id
+        )),
+        (AssessSource::CurrentCollection, false) => Some(format!(
+            "{}: the current-collection study gives the arcing only: assess a run for {}",
+            c.id,
+            c.quantity.name()
+        )),
+        _ => None,
     }
 }
 
@@ -264,13 +348,14 @@ fn stat(s: &ContactStats, q: Quantity) -> Option<f64> {
         Quantity::UpliftAtSupport => Some(s.max_uplift_at_support_mm),
         Quantity::LossOfContact => Some(s.loss_of_contact_percent),
         Quantity::LateralOffset => s.max_lateral_offset_mm,
-        Quantity::SpeedRatio => None,
+        Quantity::SpeedRatio | Quantity::Arcing => None,
     }
 }
 
 /// Why criterion `c` does not apply to a run at `v` km/h on `system` (`None`: it applies): a
-/// criterion of other supply systems, or of the system when none is given, or of other speeds.
-fn not_applicable(c: &Criterion, system: Option<System>, v: f64) -> Option<String> {
+/// criterion of other supply systems, or of the system when none is given, or of other speeds
+/// (not checked without a speed).
+fn not_applicable(c: &Criterion, system: Option<System>, v: Option<f64>) -> Option<String> {
     if !c.systems.is_empty() {
         match system {
             None => {
@@ -290,8 +375,8 @@ fn not_applicable(c: &Criterion, system: Option<System>, v: f64) -> Option<Strin
             _ => {}
         }
     }
-    match c.speed_kmh {
-        Some([lo, hi]) if !(v > lo && v <= hi) => Some(format!(
+    match (c.speed_kmh, v) {
+        (Some([lo, hi]), Some(v)) if !(v > lo && v <= hi) => Some(format!(
             "{}: applies above {lo} and up to {hi} km/h, not at {v} km/h",
             c.id
         )),
@@ -307,8 +392,13 @@ pub fn assess(input: &AssessInput, criteria: &[Criterion], system: Option<System
     let v = input.speed_kmh;
     let mut rows = Vec::new();
     let mut skipped = Vec::new();
+    // A study's trains each at their own speed: a criterion's speed range is theirs.
+    let per_train = input.pantographs.iter().any(|p| p.speed_kmh.is_some());
     for c in criteria {
-        if let Some(why) = not_applicable(c, system, v) {
+        // The speed range is checked per train below when the trains have their own.
+        let why = not_given(c, input.source)
+            .or_else(|| not_applicable(c, system, (!per_train).then_some(v)));
+        if let Some(why) = why {
             skipped.push(why);
             continue;
         }
@@ -325,10 +415,18 @@ pub fn assess(input: &AssessInput, criteria: &[Criterion], system: Option<System
                     _ => continue,
                 }
             }
+            let pv = p.speed_kmh.unwrap_or(v);
+            if let Some(why) = not_applicable(c, system, p.speed_kmh) {
+                skipped.push(format!("{why} ({})", p.name));
+                continue;
+            }
             any = true;
-            let value = p.stats.as_ref().and_then(|s| stat(s, c.quantity));
+            let value = match c.quantity {
+                Quantity::Arcing => p.arcing_percent,
+                q => p.stats.as_ref().and_then(|s| stat(s, q)),
+            };
             let of = |q: Quantity| p.stats.as_ref().and_then(|s| stat(s, q));
-            let mut r = row(c, Some(p.name.clone()), value, v, &of);
+            let mut r = row(c, Some(p.name.clone()), value, pv, &of);
             let check = (input.verification.as_ref())
                 .zip(statistic_name(c.quantity))
                 .and_then(|(ver, name)| ver.check(&p.name, name));

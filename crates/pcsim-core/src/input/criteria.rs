@@ -76,11 +76,13 @@ pub enum Quantity {
     SpeedRatio,
     /// Largest distance of the contact point from the track centre, mm (lateral motion).
     LateralOffset,
+    /// NQ: the share of time with an arc, % (the current-collection study's, issue 54).
+    Arcing,
 }
 
 impl Quantity {
     /// Every quantity, in the order they are listed.
-    pub const ALL: [Quantity; 10] = [
+    pub const ALL: [Quantity; 11] = [
         Quantity::MeanForce,
         Quantity::Std,
         Quantity::StatMin,
@@ -91,6 +93,7 @@ impl Quantity {
         Quantity::LossOfContact,
         Quantity::SpeedRatio,
         Quantity::LateralOffset,
+        Quantity::Arcing,
     ];
 
     /// Its name in files (the name of the statistic in `summary.json`).
@@ -106,6 +109,7 @@ impl Quantity {
             Quantity::LossOfContact => "loss_of_contact_percent",
             Quantity::SpeedRatio => "speed_ratio",
             Quantity::LateralOffset => "max_lateral_offset_mm",
+            Quantity::Arcing => "arcing_percent",
         }
     }
 
@@ -113,7 +117,7 @@ impl Quantity {
     pub fn unit(self) -> &'static str {
         match self {
             Quantity::UpliftAtSupport | Quantity::LateralOffset => "mm",
-            Quantity::LossOfContact => "%",
+            Quantity::LossOfContact | Quantity::Arcing => "%",
             Quantity::SpeedRatio => "",
             _ => "N",
         }

@@ -808,7 +808,9 @@ struct TrainRun {
     supports_m: Vec<f64>,
 }
 
-fn run_train(case: &Case, train: &Train, k: usize) -> Result<TrainRun, SimError> {
+/// Train number `t` of the spec in realisation `k`: a speed the case refuses is named as the
+/// train's (`trains[t].speed_kmh`).
+fn run_train(case: &Case, train: &Train, t: usize, k: usize) -> Result<TrainRun, SimError> {
     let c = with_overrides(
         &case.with_seed_offset(k as u64),
         &[(
@@ -818,7 +820,7 @@ fn run_train(case: &Case, train: &Train, k: usize) -> Result<TrainRun, SimError>
     )
     .map_err(|e| match e {
         CaseError::Invalid { value, reason, .. } => CaseError::Invalid {
-            field: "trains.speed_kmh".into(),
+            field: format!("trains[{t}].speed_kmh"),
             value,
             reason,
         },
@@ -1127,7 +1129,7 @@ impl Study for WearStudy {
             .flat_map(|t| (0..r).map(move |k| (t, k)))
             .collect();
         let runs: Vec<TrainRun> = parallel_map(&jobs, None, |&(t, k)| {
-            let run = run_train(&self.case, &self.spec.trains[t], k);
+            let run = run_train(&self.case, &self.spec.trains[t], t, k);
             done();
             run
         })

@@ -1,7 +1,7 @@
 //! The acceptance criteria (issue 22, item 3): each quoted criterion's formula reproduced at two
 //! speeds from its source, and the verdicts' rules (a limit only where one is held).
 
-use pcsim_core::analysis::assess::{assess, AssessInput, PantographInput, Verdict};
+use pcsim_core::analysis::assess::{assess, AssessInput, AssessSource, PantographInput, Verdict};
 use pcsim_core::analysis::stats::ContactStats;
 use pcsim_core::input::criteria::{self, Criterion, Status, System};
 use pcsim_core::input::targets::target_cases;
@@ -43,10 +43,13 @@ fn input(speed_kmh: f64, ratio: Option<f64>, pans: &[(f64, f64)]) -> AssessInput
                 name: format!("p{i}"),
                 stats: Some(stats(m, s)),
                 head_half_width_m: None,
+                arcing_percent: None,
+                speed_kmh: None,
             })
             .collect(),
         run_errors: Vec::new(),
         verification: None,
+        source: AssessSource::Run,
     }
 }
 
@@ -301,4 +304,77 @@ fn issue_39_1_a_runs_error_events_are_assessed_and_not_accepted() {
         .unwrap()
         .run_errors
         .is_empty());
+}
+
+#[test]
+fn issue_54_the_arcing_of_the_current_collection_study_is_assessed_without_a_limit() {
+    // wear.json as the study writes it, cut to what the assessment reads.
+    let wear = r#"{"trains": [
+        {"name": "fast", "speed_kmh": 300.0, "pantographs": [{"name": "leading", "nq_percent": 0.25}]},
+        {"name": "slow", "speed_kmh": 100.0, "pantographs": [{"name": "leading", "nq_percent": 0.0}]}
+    ]}"#;
+    let input = AssessInput::from_wear_json(wear).unwrap();
+    let a = assess(&input, &criteria::builtin(), Some(System::Ac));
+    // One row per train and pantograph: NQ, its clause, no limit held (none is cited).
+    let arcing: Vec<_> = a.rows.iter().filter(|r| r.id == "arcing-nq").collect();
+    assert_eq!(arcing.len(), 2);
+    assert_eq!(
+        arcing[0].pantograph.as_deref(),
+        Some("fast at 300 km/h, leading")
+    );
+    assert_eq!(arcing[0].value, Some(0.25));
+    assert!(arcing
+        .iter()
+        .all(|r| r.verdict == Verdict::NoLimit && r.limit.is_none()));
+    // Nothing else is judged on a study that gives the arcing only: each criterion says why.
+    assert_eq!(a.rows.len(), 2);
+    assert!(a
+        .skipped
+        .iter()
+        .any(|s| s.starts_with("std-max: the current-collection study gives the arcing only")));
+    // A run has no arcing: the criterion says where it is.
+    let run = assess(&input_for_run(), &criteria::builtin(), Some(System::Ac));
+    assert!(run.rows.iter().all(|r| r.id != "arcing-nq"));
+    assert!(run
+        .skipped
+        .iter()
+        .any(|s| s.starts_with("arcing-nq: arcing is the current-collection study's")));
+    // A user's limit above a speed (a test file, not a claim about any standard) judges each
+    // train at its own speed: the fast one against it, the slow one not, saying so.
+    let user = criteria::user_file(
+        r#"
+[[criterion]]
+id = "t-nq"
+quantity = "arcing_percent"
+kind = "max"
+limit = 0.2
+speed_kmh = [250.0, 400.0]
+clause = "test"
+source = "test fixture"
+status = "user"
+"#,
+    )
+    .unwrap();
+    let a = assess(&input, &user, None);
+    assert_eq!(a.rows.len(), 1);
+    assert_eq!(
+        a.rows[0].pantograph.as_deref(),
+        Some("fast at 300 km/h, leading")
+    );
+    assert_eq!(a.rows[0].verdict, Verdict::NotMet);
+    assert!(
+        a.skipped
+            .iter()
+            .any(|s| s.starts_with("t-nq: applies above 250")
+                && s.ends_with("(slow at 100 km/h, leading)")),
+        "{:?}",
+        a.skipped
+    );
+    // A file that is not one is refused, saying what it expected.
+    let e = AssessInput::from_wear_json("{}").unwrap_err().to_string();
+    assert!(e.contains("wear.json"), "{e}");
+}
+
+fn input_for_run() -> AssessInput {
+    input(275.0, Some(0.6), &[(120.0, 25.0)])
 }

@@ -339,3 +339,25 @@ fn no_current_flows_over_a_neutral_sections_dead_length() {
         }
     }
 }
+
+#[test]
+fn a_trains_speed_the_case_refuses_is_named_as_that_trains() {
+    use pcsim_core::error::{CaseError, SimError};
+    use pcsim_core::study::wear::WearStudy;
+    use pcsim_core::study::Study;
+    let (_, case) = pcsim_core::zoo::geometries::geometries()
+        .into_iter()
+        .find(|(g, _)| *g == "catenary")
+        .unwrap();
+    let mut s = spec();
+    s.trains.truncate(2);
+    s.trains[0].speed_kmh.value = case.run.speed_kmh;
+    s.trains[1].speed_kmh.value = 1500.0;
+    let study = WearStudy { spec: s, case };
+    match study.run(&|| {}) {
+        Err(SimError::Case(CaseError::Invalid { field, .. })) => {
+            assert_eq!(field, "trains[1].speed_kmh")
+        }
+        other => panic!("not refused by the train's field: {other:?}"),
+    }
+}

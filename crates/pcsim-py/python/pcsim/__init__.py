@@ -297,10 +297,16 @@ def assess(result: "Result", system: Optional[str] = None, criteria: Any = None)
     text (status ``"user"``, each with its source). A criterion whose limit pcsim cannot cite
     gives the value and the verdict ``"no-limit"``; ``criteria`` may also be the path of such a
     file (a path that does not exist raises ``FileNotFoundError``). The run's error-level events
-    are in ``run_errors``; with any, the run is not accepted."""
+    are in ``run_errors``; with any, the run is not accepted. ``result`` may also be what
+    ``pcsim.study`` returned for the current-collection study (``kind`` ``"wear"``): its arcing
+    (NQ per train and pantograph) is assessed, as ``pcsim assess`` does on its directory."""
     if criteria is not None:
         criteria, _ = _text_or_path(criteria, "criteria")
-    return json.loads(_pcsim.assess(json.dumps(result.summary), system, criteria))
+    if isinstance(result, dict) and result.get("kind") == "wear":
+        text, kind = result["files"]["wear.json"], "wear"
+    else:
+        text, kind = json.dumps(result.summary), "run"
+    return json.loads(_pcsim.assess(text, kind, system, criteria))
 
 
 def pantograph_frf(case: Case, pantograph: Optional[str] = None, quantity: str = "apparent-mass",
