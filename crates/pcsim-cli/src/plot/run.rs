@@ -86,6 +86,35 @@ fn columns(x: &[f64], y: &[f64], x0: f64, x1: f64) -> Vec<(f64, f64, f64, f64)> 
         .collect()
 }
 
+/// The track's `sections` shaded over the height `y` in `colour` (at its opacity), with one
+/// legend entry `label` (none drawn when there are none).
+fn shade<DB: DrawingBackend>(
+    chart: &mut ChartContext<
+        '_,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    sections: &[[f64; 2]],
+    y: (f64, f64),
+    (colour, opacity): (RGBColor, f64),
+    label: &str,
+) -> Result<()> {
+    if sections.is_empty() {
+        return Ok(());
+    }
+    chart
+        .draw_series(
+            (sections.iter())
+                .map(|o| Rectangle::new([(o[0], y.0), (o[1], y.1)], colour.mix(opacity).filled())),
+        )
+        .map_err(|e| anyhow!("{e:?}"))?
+        .label(label)
+        .legend(move |(x, y)| {
+            Rectangle::new([(x - 6, y - 5), (x + 6, y + 5)], colour.mix(0.5).filled())
+        });
+    Ok(())
+}
+
 fn span_marks<DB: DrawingBackend>(
     chart: &mut ChartContext<
         '_,
@@ -103,36 +132,21 @@ fn span_marks<DB: DrawingBackend>(
             RGBColor(255, 240, 200).mix(0.35).filled(),
         )))
         .map_err(|e| anyhow!("{e:?}"))?;
-    // A line's overlaps, shaded too (the tension lengths change there).
-    if !d.overlaps_m.is_empty() {
-        let blue = RGBColor(120, 170, 255);
-        chart
-            .draw_series(
-                d.overlaps_m
-                    .iter()
-                    .map(|o| Rectangle::new([(o[0], y.0), (o[1], y.1)], blue.mix(0.22).filled())),
-            )
-            .map_err(|e| anyhow!("{e:?}"))?
-            .label("overlaps (two contact wires; the tension length changes)")
-            .legend(move |(x, y)| {
-                Rectangle::new([(x - 6, y - 5), (x + 6, y + 5)], blue.mix(0.5).filled())
-            });
-    }
-    // The hard spots (section insulators, neutral sections), shaded red.
-    if !d.hard_spots_m.is_empty() {
-        let red = RGBColor(230, 90, 90);
-        chart
-            .draw_series(
-                d.hard_spots_m
-                    .iter()
-                    .map(|o| Rectangle::new([(o[0], y.0), (o[1], y.1)], red.mix(0.25).filled())),
-            )
-            .map_err(|e| anyhow!("{e:?}"))?
-            .label("section insulators and neutral sections")
-            .legend(move |(x, y)| {
-                Rectangle::new([(x - 6, y - 5), (x + 6, y + 5)], red.mix(0.5).filled())
-            });
-    }
+    // A line's overlaps, shaded too (the tension lengths change there), and its hard spots.
+    shade(
+        chart,
+        &d.overlaps_m,
+        y,
+        (RGBColor(120, 170, 255), 0.22),
+        "overlaps (two contact wires; the tension length changes)",
+    )?;
+    shade(
+        chart,
+        &d.hard_spots_m,
+        y,
+        (RGBColor(230, 90, 90), 0.25),
+        "section insulators and neutral sections",
+    )?;
     // The supports: dashed, in a colour of their own (the grid is solid light grey), with a
     // tick at the foot of the axis.
     let support_at =

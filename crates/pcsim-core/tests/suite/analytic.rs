@@ -8,6 +8,8 @@ use pcsim_core::model::statics::modal_static_deflection;
 use pcsim_core::model::{Direction, ModelBuilder, WireRole};
 use std::f64::consts::PI;
 
+use crate::common::{mean_period, string_with_central_mass_omega, zero_crossings};
+
 fn stepper(b: ModelBuilder) -> Stepper {
     Stepper::new(&Setup::from_builder(b.build())).unwrap()
 }
@@ -67,20 +69,6 @@ fn static_point_load_reached_by_the_time_integrator() {
     );
 }
 
-fn zero_crossings(t: &[f64], y: &[f64]) -> Vec<f64> {
-    let mut z = Vec::new();
-    for i in 1..y.len() {
-        if y[i - 1] < 0.0 && y[i] >= 0.0 {
-            z.push(t[i - 1] + (t[i] - t[i - 1]) * (-y[i - 1]) / (y[i] - y[i - 1]));
-        }
-    }
-    z
-}
-
-fn mean_period(z: &[f64]) -> f64 {
-    (z[z.len() - 1] - z[0]) / (z.len() - 1) as f64
-}
-
 #[test]
 fn natural_frequency_of_simply_supported_tensioned_beam() {
     // Beam-dominated parameters so that the EI κ⁴ term matters.
@@ -114,17 +102,7 @@ fn natural_frequency_of_string_with_central_point_mass() {
     // mass in the mass matrix.
     let (l, rho, t, m): (f64, f64, f64, f64) = (20.0, 1.0, 100.0, 2.0);
     let c = (t / rho).sqrt();
-    let g = |b: f64| 1.0 / (b * l / 2.0).tan() - m * b / (2.0 * rho);
-    let (mut lo, mut hi) = (1e-6, PI / l - 1e-9);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if g(mid) > 0.0 {
-            lo = mid
-        } else {
-            hi = mid
-        }
-    }
-    let omega = c * 0.5 * (lo + hi);
+    let omega = string_with_central_mass_omega(l, rho, t, m);
     let n = 400;
     let mut s = stepper(
         ModelBuilder::single_wire(l, n, rho, t, 0.0)

@@ -10,15 +10,10 @@ use pcsim_core::model::statics::modal_static_deflection;
 use pcsim_core::model::ModelBuilder;
 use std::f64::consts::PI;
 
+use crate::common::{mean_period, string_with_central_mass_omega, zero_crossings};
+
 fn stepper(b: ModelBuilder) -> Stepper {
     Stepper::new(&Setup::from_builder(b.build())).unwrap()
-}
-
-fn zero_crossings(t: &[f64], y: &[f64]) -> Vec<f64> {
-    (1..y.len())
-        .filter(|&i| y[i - 1] < 0.0 && y[i] >= 0.0)
-        .map(|i| t[i - 1] + (t[i] - t[i - 1]) * (-y[i - 1]) / (y[i] - y[i - 1]))
-        .collect()
 }
 
 #[test]
@@ -26,17 +21,7 @@ fn an_insulators_mass_shifts_the_first_mode_as_the_closed_form_says() {
     // A string with a mass m at its centre, symmetric modes: cot(βL/2) = m β / (2ρ), ω = c β.
     let (l, rho, t, m): (f64, f64, f64, f64) = (20.0, 1.0, 100.0, 2.0);
     let c = (t / rho).sqrt();
-    let g = |b: f64| 1.0 / (b * l / 2.0).tan() - m * b / (2.0 * rho);
-    let (mut lo, mut hi) = (1e-6, PI / l - 1e-9);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if g(mid) > 0.0 {
-            lo = mid
-        } else {
-            hi = mid
-        }
-    }
-    let omega = c * 0.5 * (lo + hi);
+    let omega = string_with_central_mass_omega(l, rho, t, m);
     let n = 400;
     // The insulator (1 m long, the string's own stiffness: no added bending) carries the mass.
     let mut s = stepper(
@@ -69,8 +54,7 @@ fn an_insulators_mass_shifts_the_first_mode_as_the_closed_form_says() {
         ts.push(s.state.t);
         ys.push(basis.eval(s.state.q(s.model(), b), l / 2.0, &mut row));
     }
-    let z = zero_crossings(&ts, &ys);
-    let measured = 2.0 * PI * (z.len() - 1) as f64 / (z[z.len() - 1] - z[0]);
+    let measured = 2.0 * PI / mean_period(&zero_crossings(&ts, &ys));
     assert!(
         (measured - omega).abs() < 5e-3 * omega,
         "ω measured {measured} vs closed form {omega}"
@@ -328,8 +312,7 @@ fn a_rigid_rails_bending_mode_between_supports_is_the_beams() {
         ts.push(s.state.t);
         ys.push(basis.eval(s.state.q(s.model(), blk), 0.5 * spacing, &mut row));
     }
-    let z = zero_crossings(&ts, &ys);
-    let measured = 2.0 * PI * (z.len() - 1) as f64 / (z[z.len() - 1] - z[0]);
+    let measured = 2.0 * PI / mean_period(&zero_crossings(&ts, &ys));
     let exact = (PI / spacing).powi(2) * (ei / rho).sqrt();
     assert!(
         (measured - exact).abs() < 1e-3 * exact,

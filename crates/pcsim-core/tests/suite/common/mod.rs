@@ -48,3 +48,33 @@ pub fn with_noise(measured: &mut pcsim_core::study::frf::Response, seed: u64) {
         *h = Complex::from_polar(m * (1.0 + 0.02 * normal()), p + 0.02 * normal());
     }
 }
+
+/// The upward zero crossings of `y(t)`, linear between samples, s.
+pub fn zero_crossings(t: &[f64], y: &[f64]) -> Vec<f64> {
+    (1..y.len())
+        .filter(|&i| y[i - 1] < 0.0 && y[i] >= 0.0)
+        .map(|i| t[i - 1] + (t[i] - t[i - 1]) * (-y[i - 1]) / (y[i] - y[i - 1]))
+        .collect()
+}
+
+/// The mean period between the first and the last of the crossings `z`, s.
+pub fn mean_period(z: &[f64]) -> f64 {
+    (z[z.len() - 1] - z[0]) / (z.len() - 1) as f64
+}
+
+/// The first natural frequency of a string (length `l`, mass per metre `rho`, tension `t`) with a
+/// point mass `m` at its centre, rad/s: the root of `cot(βL/2) = mβ/(2ρ)` below π/L, `ω = cβ`.
+pub fn string_with_central_mass_omega(l: f64, rho: f64, t: f64, m: f64) -> f64 {
+    let pi = std::f64::consts::PI;
+    let g = |b: f64| 1.0 / (b * l / 2.0).tan() - m * b / (2.0 * rho);
+    let (mut lo, mut hi) = (1e-6, pi / l - 1e-9);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if g(mid) > 0.0 {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    (t / rho).sqrt() * 0.5 * (lo + hi)
+}
