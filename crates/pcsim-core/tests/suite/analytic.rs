@@ -1,25 +1,15 @@
 //! Checks against analytic solutions: static deflection, natural frequencies (with and without
 //! a point mass), wave-front arrival, and a constant moving load against the exact modal series.
 
-use pcsim_core::compile::{Setup, Stepper};
 use pcsim_core::input::case::Damping;
 use pcsim_core::model::basis::SineBasis;
 use pcsim_core::model::statics::modal_static_deflection;
-use pcsim_core::model::{Direction, ModelBuilder, WireRole};
+use pcsim_core::model::ModelBuilder;
 use std::f64::consts::PI;
 
-use crate::common::{mean_period, string_with_central_mass_omega, zero_crossings};
-
-fn stepper(b: ModelBuilder) -> Stepper {
-    Stepper::new(&Setup::from_builder(b.build())).unwrap()
-}
-
-/// The contact wire's vertical block.
-fn wire(s: &Stepper) -> usize {
-    s.model()
-        .block(WireRole::Contact, Direction::Vertical)
-        .unwrap()
-}
+use crate::common::{
+    central_mode_omega, mean_period, stepper, string_with_central_mass_omega, wire, zero_crossings,
+};
 
 /// Deflection at the load point of a pinned tensioned Euler–Bernoulli beam under a point load
 /// `F` at `a`: `F/T [a(L−a)/L − sinh(λa) sinh(λ(L−a)) / (λ sinh λL)]`, `λ = √(T/EI)`.
@@ -109,25 +99,7 @@ fn natural_frequency_of_string_with_central_point_mass() {
             .point_mass(l / 2.0, m, 0.0)
             .run(0.0, 1.0, 1.0, 2e-4),
     );
-    let b = wire(&s);
-    // Start from the static shape under a central point load (mostly the first symmetric mode).
-    let basis = SineBasis::new(l, n);
-    s.state
-        .q_mut(s.integ.model(), b)
-        .copy_from_slice(&modal_static_deflection(
-            &basis,
-            t,
-            0.0,
-            0.0,
-            &[(l / 2.0, 1.0)],
-        ));
-    let (mut ts, mut ys) = (Vec::new(), Vec::new());
-    for _ in 0..200_000 {
-        s.step();
-        ts.push(s.state.t);
-        ys.push(s.integ.compiled().monitor(&s.ws, 0));
-    }
-    let measured = 2.0 * PI / mean_period(&zero_crossings(&ts, &ys));
+    let measured = central_mode_omega(&mut s, l, n, t, 200_000);
     assert!(
         (measured - omega).abs() < 5e-3 * omega,
         "ω measured {measured} vs exact {omega}"

@@ -3,18 +3,14 @@
 //! the wire as the discrete law's exact static solution says, between the plain string and the
 //! rigid bar), and that an insulator of zero mass and the wire's own stiffness changes nothing.
 
-use pcsim_core::compile::{Setup, Stepper};
 use pcsim_core::input::case::Damping;
 use pcsim_core::model::basis::SineBasis;
-use pcsim_core::model::statics::modal_static_deflection;
 use pcsim_core::model::ModelBuilder;
 use std::f64::consts::PI;
 
-use crate::common::{mean_period, string_with_central_mass_omega, zero_crossings};
-
-fn stepper(b: ModelBuilder) -> Stepper {
-    Stepper::new(&Setup::from_builder(b.build())).unwrap()
-}
+use crate::common::{
+    central_mode_omega, mean_period, stepper, string_with_central_mass_omega, wire, zero_crossings,
+};
 
 #[test]
 fn an_insulators_mass_shifts_the_first_mode_as_the_closed_form_says() {
@@ -30,31 +26,7 @@ fn an_insulators_mass_shifts_the_first_mode_as_the_closed_form_says() {
             .moving_force("probe", 0.0)
             .run(0.0, l / 2.0, 1.0, 2e-4),
     );
-    let basis = SineBasis::new(l, n);
-    let b = s
-        .model()
-        .block(
-            pcsim_core::model::WireRole::Contact,
-            pcsim_core::model::Direction::Vertical,
-        )
-        .unwrap();
-    s.state
-        .q_mut(s.integ.model(), b)
-        .copy_from_slice(&modal_static_deflection(
-            &basis,
-            t,
-            0.0,
-            0.0,
-            &[(l / 2.0, 1.0)],
-        ));
-    let mut row = vec![0.0; n];
-    let (mut ts, mut ys) = (Vec::new(), Vec::new());
-    for _ in 0..100_000 {
-        s.step();
-        ts.push(s.state.t);
-        ys.push(basis.eval(s.state.q(s.model(), b), l / 2.0, &mut row));
-    }
-    let measured = 2.0 * PI / mean_period(&zero_crossings(&ts, &ys));
+    let measured = central_mode_omega(&mut s, l, n, t, 100_000);
     assert!(
         (measured - omega).abs() < 5e-3 * omega,
         "ω measured {measured} vs closed form {omega}"
@@ -294,13 +266,7 @@ fn a_rigid_rails_bending_mode_between_supports_is_the_beams() {
         b = b.point_mass(spacing * j as f64, 0.0, k);
     }
     let mut s = stepper(b);
-    let blk = s
-        .model()
-        .block(
-            pcsim_core::model::WireRole::Contact,
-            pcsim_core::model::Direction::Vertical,
-        )
-        .unwrap();
+    let blk = wire(&s);
     // sin(πx/s) is the basis' mode L/s.
     let m = (l / spacing) as usize;
     s.state.q_mut(s.integ.model(), blk)[m - 1] = 0.001;

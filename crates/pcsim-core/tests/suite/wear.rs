@@ -345,10 +345,8 @@ fn a_trains_speed_the_case_refuses_is_named_as_that_trains() {
     use pcsim_core::error::{CaseError, SimError};
     use pcsim_core::study::wear::WearStudy;
     use pcsim_core::study::Study;
-    let (_, case) = pcsim_core::zoo::geometries::geometries()
-        .into_iter()
-        .find(|(g, _)| *g == "catenary")
-        .unwrap();
+    // The zoo's catenary.
+    let case = crate::common::short_en50318(8, 250.0);
     let mut s = spec();
     s.trains.truncate(2);
     s.trains[0].speed_kmh.value = case.run.speed_kmh;

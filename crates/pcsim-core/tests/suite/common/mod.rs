@@ -78,3 +78,50 @@ pub fn string_with_central_mass_omega(l: f64, rho: f64, t: f64, m: f64) -> f64 {
     }
     (t / rho).sqrt() * 0.5 * (lo + hi)
 }
+
+/// The stepper of a hand-made model.
+pub fn stepper(b: pcsim_core::model::ModelBuilder) -> pcsim_core::compile::Stepper {
+    use pcsim_core::compile::{Setup, Stepper};
+    Stepper::new(&Setup::from_builder(b.build())).unwrap()
+}
+
+/// The contact wire's vertical block of a stepper's model.
+pub fn wire(s: &pcsim_core::compile::Stepper) -> usize {
+    use pcsim_core::model::{Direction, WireRole};
+    s.model()
+        .block(WireRole::Contact, Direction::Vertical)
+        .unwrap()
+}
+
+/// The first symmetric mode of a string of length `l` with `n` modes under tension `t`, as
+/// stepped by `s`: started from the static shape under a unit load at the centre (mostly that
+/// mode), its centre's displacement over `steps` steps, ω from the mean period, rad/s.
+pub fn central_mode_omega(
+    s: &mut pcsim_core::compile::Stepper,
+    l: f64,
+    n: usize,
+    t: f64,
+    steps: usize,
+) -> f64 {
+    use pcsim_core::model::basis::SineBasis;
+    use pcsim_core::model::statics::modal_static_deflection;
+    let b = wire(s);
+    let basis = SineBasis::new(l, n);
+    s.state
+        .q_mut(s.integ.model(), b)
+        .copy_from_slice(&modal_static_deflection(
+            &basis,
+            t,
+            0.0,
+            0.0,
+            &[(l / 2.0, 1.0)],
+        ));
+    let mut row = vec![0.0; n];
+    let (mut ts, mut ys) = (Vec::new(), Vec::new());
+    for _ in 0..steps {
+        s.step();
+        ts.push(s.state.t);
+        ys.push(basis.eval(s.state.q(s.model(), b), l / 2.0, &mut row));
+    }
+    2.0 * std::f64::consts::PI / mean_period(&zero_crossings(&ts, &ys))
+}
